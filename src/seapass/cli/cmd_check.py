@@ -1,0 +1,50 @@
+"""``seapass check``: exact passivity of an SEA design or of a raw impedance ``Z(s)``."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..model import SEA, Impedance
+from ..passivity import is_passive
+from .common import add_model_options, model_from_args, print_json, values_from_args
+
+EXAMPLE = """examples:
+  seapass check --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
+      --set b1=20 --set bd=25 --set kd=5000 --json
+  seapass check --Z "(s + 1)/(s + 2)"
+  seapass check --Z "k*s/(s**2 + k)" --set k=1e8
+"""
+
+
+def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
+    p = sub.add_parser(
+        "check",
+        help="decide exactly whether a design (or an impedance Z(s)) is passive",
+        description="Exact positive-real test of the load impedance Z_L = F_L/(s X_L), "
+        "or of a raw impedance given with --Z. Decided by exact rational arithmetic and "
+        "Sturm sequences, never by a frequency grid.",
+        epilog=EXAMPLE,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    add_model_options(p)
+    p.add_argument("--Z", help="raw impedance Z(s) instead of an SEA model, e.g. '(s + 1)/(s + 2)'")
+    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    system: Impedance | SEA
+    if args.Z is not None:
+        if any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL")):
+            raise ValueError("give either --Z or the model elements --D1/--D2/--CA/--CL, not both")
+        system = Impedance(expr=args.Z, values=values_from_args(args))
+    else:
+        system = model_from_args(args)
+    result = is_passive(system)
+    if args.json:
+        print_json(result.to_dict())
+    else:
+        print(f"{result.status}: {result.detail}")
+        if result.omega is not None:
+            print(f"witness: Re Z(jw) < 0 at w = {result.omega:.6g} rad/s")
+    return 0

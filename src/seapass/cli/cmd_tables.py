@@ -1,0 +1,71 @@
+"""``seapass tables``: Tables I and II and the proposed design, derived and compared with the paper."""
+
+from __future__ import annotations
+
+import argparse
+import functools
+from pathlib import Path
+
+from ..fileio import atomic_save
+from ..freqresp import stiffness_response
+from ..tablefmt import format_latex, format_markdown, format_text
+from ..tables import REFERENCE_VALUES, TableRow, build_tables
+from .common import print_json
+
+EXAMPLE = """examples:
+  seapass tables
+  seapass tables --json
+  seapass tables --format markdown --plots figures/
+"""
+
+
+def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
+    p = sub.add_parser(
+        "tables",
+        help="derive Tables I and II and the proposed design; compare with the paper",
+        description="Derive every row from first principles and compare it with the paper's printed row.",
+        epilog=EXAMPLE,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("--json", action="store_true", help="print a JSON list of rows")
+    p.add_argument("--format", choices=("text", "markdown", "latex"), default="text")
+    p.add_argument(
+        "--plots", metavar="DIR", help="write each row's stiffness frequency response to DIR"
+    )
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    rows = build_tables()
+    if args.plots:
+        write_row_plots(rows, Path(args.plots))
+    if args.json:
+        print_json([r.to_dict() for r in rows])
+    elif args.format == "markdown":
+        print(format_markdown(rows))
+    elif args.format == "latex":
+        print(format_latex(rows))
+    else:
+        print(format_text(rows))
+    return 0
+
+
+def write_row_plots(rows: list[TableRow], out: Path) -> list[Path]:
+    """One PNG per row with the reference values of :data:`REFERENCE_VALUES`."""
+    import matplotlib.pyplot as plt
+
+    from ..plotting import plot_stiffness_response
+
+    paths = []
+    for r in rows:
+        vals = {k: REFERENCE_VALUES[k] for k in r.sea.parameters}
+        resp = stiffness_response(r.sea, values=vals, label=r.paper.name)
+        shown = ", ".join(f"{k}={v:g}" for k, v in vals.items())
+        fig = plot_stiffness_response(
+            resp, title=f"{r.paper.title}\n{shown}", reference=vals.get("k1")
+        )
+        path = out / f"{r.paper.name.replace('/', '_')}.png"
+        atomic_save(path, functools.partial(fig.savefig, dpi=120, format="png"))
+        plt.close(fig)
+        paths.append(path)
+    return paths

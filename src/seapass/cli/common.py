@@ -1,0 +1,69 @@
+"""Helpers shared by the subcommands: model options, ``--set`` parsing, JSON and atomic output."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from typing import Any
+
+from ..expr import parse_assignment
+from ..fileio import atomic_save, atomic_write, atomic_write_text
+from ..model import SEA
+
+__all__ = [
+    "add_model_options",
+    "atomic_save",
+    "atomic_write",
+    "atomic_write_text",
+    "model_from_args",
+    "print_json",
+    "values_from_args",
+]
+
+
+def add_model_options(p: argparse.ArgumentParser) -> None:
+    """``--D1 --D2 --CA --CL --set`` as used by every model command."""
+    g = p.add_argument_group("model (elements not given are 0)")
+    g.add_argument("--D1", default="0", help="transmission, e.g. 'k1 + b1*s'")
+    g.add_argument("--D2", default="0", help="load-to-ground element, e.g. 'k2'")
+    g.add_argument("--CA", default="0", help="actuator-side controller, e.g. 'kd + bd*s'")
+    g.add_argument("--CL", default="0", help="load-side controller, e.g. 'kd'")
+    g.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="parameter value, repeatable, e.g. --set m=1 --set kd=5000",
+    )
+
+
+def values_from_args(args: argparse.Namespace) -> dict[str, float]:
+    out: dict[str, float] = {}
+    for item in args.set:
+        name, val = parse_assignment(item)
+        out[name] = val
+    return out
+
+
+def model_from_args(args: argparse.Namespace, extra_free: tuple[str, ...] = ()) -> SEA:
+    values: dict[str, float | None] = dict(values_from_args(args))
+    for name in extra_free:
+        values.setdefault(name, None)
+    return SEA(D1=args.D1, D2=args.D2, CA=args.CA, CL=args.CL, values=values)
+
+
+def _clean(obj: Any) -> Any:
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    if isinstance(obj, dict):
+        return {k: _clean(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_clean(v) for v in obj]
+    return obj
+
+
+def print_json(obj: Any) -> None:
+    """Print strict JSON (non-finite floats become null)."""
+    sys.stdout.write(json.dumps(_clean(obj), indent=2, allow_nan=False) + "\n")
