@@ -17,22 +17,40 @@ from .errors import (
     UnrealizableError,
 )
 from .freqresp import FrequencyResponse, stiffness_response
+from .metrics import TrackingMetrics, settling_time, tracking_metrics
 from .model import SEA, Impedance
 from .passivity import PassivityResult, is_passive
 from .region import PassiveIntervals, PassiveMap, passive_intervals, passive_map
+from .simstudy import SimulationStudy, run_simulation_study
+from .simulate import (
+    ClosedLoop,
+    ForceImpulse,
+    ForceStep,
+    LoadDisplaced,
+    SimulationResult,
+    Step,
+    Trajectory,
+    closed_loop,
+    simulate,
+)
 from .stiffness import derive_stiffness, load_impedance, paper_eq4_stiffness, passivity_polynomial
 from .tables import build_tables
+from .tuning import TuningOptions, TuningResult, tune
 
 __version__ = "0.1.0"
 
 __all__ = [
     "SEA",
+    "ClosedLoop",
     "DegenerateModelError",
     "ExactCondition",
     "ExpressionError",
     "FileFormatError",
+    "ForceImpulse",
+    "ForceStep",
     "FrequencyResponse",
     "Impedance",
+    "LoadDisplaced",
     "ModelError",
     "NotPassiveError",
     "ParameterError",
@@ -41,10 +59,18 @@ __all__ = [
     "PassivityResult",
     "SeapassError",
     "SimulationError",
+    "SimulationResult",
+    "SimulationStudy",
+    "Step",
     "SymbolicLimitError",
+    "TrackingMetrics",
+    "Trajectory",
+    "TuningOptions",
+    "TuningResult",
     "UnrealizableError",
     "__version__",
     "build_tables",
+    "closed_loop",
     "derive_stiffness",
     "exact_passivity_condition",
     "is_passive",
@@ -53,5 +79,10 @@ __all__ = [
     "passive_intervals",
     "passive_map",
     "passivity_polynomial",
+    "run_simulation_study",
+    "settling_time",
+    "simulate",
     "stiffness_response",
+    "tracking_metrics",
+    "tune",
 ]

@@ -42,7 +42,7 @@ Poly = tuple[Fraction, ...]
 
 def normalize(coeffs: Sequence[Fraction | int]) -> Poly:
     """Strip trailing zero coefficients (highest powers)."""
-    c = [Fraction(x) for x in coeffs]
+    c = [x if type(x) is Fraction else Fraction(x) for x in coeffs]
     while c and c[-1] == 0:
         c.pop()
     return tuple(c)

@@ -12,6 +12,13 @@ from typing import Any
 __all__ = ["atomic_save", "atomic_write", "atomic_write_text"]
 
 
+def _umask_mode() -> int:
+    """Permissions a plain ``open()`` would give (mkstemp creates files 0600)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
 @contextmanager
 def atomic_write(path: str | os.PathLike[str], mode: str = "w") -> Iterator[Any]:
     """Open a temporary file beside ``path``; rename it over ``path`` only on success."""
@@ -23,6 +30,7 @@ def atomic_write(path: str | os.PathLike[str], mode: str = "w") -> Iterator[Any]
             yield fh
             fh.flush()
             os.fsync(fh.fileno())
+        os.chmod(tmp, _umask_mode())
         os.replace(tmp, target)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
@@ -42,6 +50,7 @@ def atomic_save(path: str | os.PathLike[str], save: Callable[[str], None]) -> No
     os.close(fd)
     try:
         save(tmp)
+        os.chmod(tmp, _umask_mode())
         os.replace(tmp, target)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)

@@ -1,0 +1,794 @@
+"""Time-domain simulation of an SEA driving a load mass, with exact discretization.
+
+Plant (the free-body model of :mod:`seapass.stiffness` with a load mass ``m_L``
+at the port):
+
+* actuator: ``m ẍ_A + b ẋ_A = f_A + F_1``, with ``F_1 = D1 (x_L − x_A)``
+* load: ``m_L ẍ_L = −F_1 − D2 x_L + f_ext``
+* control: ``f_A = C_A (θ_A − x_A) + C_L (θ_L − x_L)``
+
+Every element is a rational function of ``s``.  It is split by polynomial
+division into ``p0 + p1 s + N(s)/D(s)`` with ``N/D`` strictly proper.  The
+strictly proper part is realized in controllable canonical form; the
+polynomial part acts on measured positions and velocities, which are plant
+states.  A controller's ``p1 s`` term acts on the *measurement only*
+("derivative on measurement": ``p1 (θ̇ − ẋ)`` is replaced by ``−p1 ẋ``), so a
+step reference never produces an impulse.  An element whose polynomial part
+has degree 2 or more would need accelerations and raises
+:class:`~seapass.errors.UnrealizableError`.
+
+The closed loop is linear time-invariant, ``ẋ = A x + B u`` with inputs
+``u = (θ_A, θ_L, f_ext)``.  Inputs are held (ZOH) or linearly interpolated
+(first-order hold) between grid points and the state is propagated with the
+matrix exponential of an augmented matrix, so samples are exact up to
+rounding for any time step; :meth:`SimulationResult.state_at` evaluates the
+exact solution between samples.
+
+References
+----------
+.. [1] S. A. Mehta and D. P. Losey, "Combining Performance and Passivity in
+   Linear Control of Series Elastic Actuators", Eqs. (1)-(3) and Sec. V.
+.. [2] C. F. Van Loan, "Computing integrals involving the matrix exponential",
+   IEEE Trans. Automatic Control 23(3), 1978.
+.. [3] G. F. Franklin, J. D. Powell, M. Workman, *Digital Control of Dynamic
+   Systems*, 3rd ed., sec. 6.3 (ZOH and triangle-hold equivalents).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+import scipy.linalg
+import sympy as sp
+
+from .errors import ParameterError, SimulationError, UnrealizableError
+from .expr import S, symbol
+from .model import SEA
+
+__all__ = [
+    "ClosedLoop",
+    "ForceImpulse",
+    "ForceStep",
+    "LoadDisplaced",
+    "Scenario",
+    "SimulationResult",
+    "Step",
+    "Trajectory",
+    "closed_loop",
+    "closed_loop_factory",
+    "simulate",
+    "simulate_closed_loop",
+]
+
+INPUTS = ("theta_A", "theta_L", "f_ext")
+OUTPUTS = ("x_A", "v_A", "x_L", "v_L", "f_A", "f_D1", "a_L")
+MAX_STEPS = 5_000_000
+_DIVERGENCE = 1e8  # |state| above this multiple of the problem scale counts as diverged
+
+
+def _finite(value: float, name: str, *, positive: bool = False, nonzero: bool = False) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name}: expected a number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise ParameterError(f"{name} must be finite, got {v}")
+    if positive and v <= 0:
+        raise ParameterError(f"{name} must be positive, got {v:g}")
+    if nonzero and v == 0:
+        raise ParameterError(f"{name} must be nonzero")
+    return v
+
+
+def _refs(apply_to: str, value: float) -> tuple[float, float]:
+    if apply_to not in ("both", "actuator", "load"):
+        raise ParameterError(f"apply_to must be 'both', 'actuator' or 'load', got {apply_to!r}")
+    return (0.0 if apply_to == "load" else value, 0.0 if apply_to == "actuator" else value)
+
+
+# --------------------------------------------------------------------------- scenarios
+
+
+@dataclass(frozen=True)
+class Step:
+    """Reference step of ``size`` metres at ``t = 0`` from rest at the origin.
+
+    ``apply_to`` selects the references that step: ``"both"`` (θ_A = θ_L, the
+    default), ``"actuator"`` (θ_A only) or ``"load"`` (θ_L only).  The load
+    target for the tracking metrics is ``size``.
+    """
+
+    size: float = 0.5
+    apply_to: str = "both"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "size", _finite(self.size, "step size", nonzero=True))
+        _refs(self.apply_to, 1.0)
+
+
+@dataclass(frozen=True)
+class LoadDisplaced:
+    """The load starts at ``displacement`` (actuator at rest at 0), references 0.
+
+    The paper's hardware test (Sec. VI): load held at 20 mm and released.
+    Internal states of mechanical elements start in equilibrium with the
+    initial deflection; controller states start at zero.
+    """
+
+    displacement: float = 0.02
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self, "displacement", _finite(self.displacement, "displacement", nonzero=True)
+        )
+
+
+@dataclass(frozen=True)
+class ForceStep:
+    """A constant force ``force`` (N) on the load from ``t = 0``; references 0."""
+
+    force: float = 10.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "force", _finite(self.force, "force", nonzero=True))
+
+
+@dataclass(frozen=True)
+class ForceImpulse:
+    """An impulse ``impulse`` (N·s) on the resting load at ``t = 0``: ``v_L(0+) = J/m_L``."""
+
+    impulse: float = 1.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "impulse", _finite(self.impulse, "impulse", nonzero=True))
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """A reference trajectory given as samples ``(times, values)`` (s, m).
+
+    Between samples the reference is held (``interpolation="zoh"``) or
+    linearly interpolated (``"linear"``); before the first sample it equals
+    the first value and after the last it holds the last.  The simulator
+    evaluates it on its grid, which is exact when the sample times are
+    multiples of the time step.  The metrics use the last value as target.
+    """
+
+    times: Sequence[float]
+    values: Sequence[float]
+    interpolation: Literal["zoh", "linear"] = "linear"
+    apply_to: str = "both"
+
+    def __post_init__(self) -> None:
+        t = np.asarray(self.times, dtype=float)
+        v = np.asarray(self.values, dtype=float)
+        if t.ndim != 1 or v.ndim != 1 or t.shape != v.shape or t.size == 0:
+            raise ParameterError(
+                f"trajectory times and values must be 1-D of equal nonzero length, "
+                f"got shapes {t.shape} and {v.shape}"
+            )
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(v))):
+            raise ParameterError("trajectory times and values must be finite")
+        if np.any(np.diff(t) <= 0):
+            raise ParameterError("trajectory times must be strictly increasing")
+        if self.interpolation not in ("zoh", "linear"):
+            raise ParameterError(
+                f"interpolation must be 'zoh' or 'linear', got {self.interpolation!r}"
+            )
+        _refs(self.apply_to, 1.0)
+        object.__setattr__(self, "times", tuple(t.tolist()))
+        object.__setattr__(self, "values", tuple(v.tolist()))
+
+    def sample(self, t: np.ndarray) -> np.ndarray:
+        """The reference on the grid ``t``."""
+        ts, vs = np.asarray(self.times), np.asarray(self.values)
+        if self.interpolation == "linear":
+            return np.interp(t, ts, vs)
+        idx = np.clip(np.searchsorted(ts, t + 1e-12 * (1 + abs(t)), side="right") - 1, 0, None)
+        return vs[idx]
+
+
+Scenario = Step | LoadDisplaced | ForceStep | ForceImpulse | Trajectory
+
+
+# --------------------------------------------------------------------------- realization
+
+
+@dataclass(frozen=True)
+class _Element:
+    p0: float
+    p1: float
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+
+
+def _realize(num: np.ndarray, den: np.ndarray, name: str) -> _Element:
+    """Split ``num/den`` (descending coefficients) into ``p0 + p1 s`` + a canonical realization."""
+    num = np.trim_zeros(np.asarray(num, dtype=float), "f")
+    den = np.trim_zeros(np.asarray(den, dtype=float), "f")
+    if den.size == 0:
+        raise SimulationError(f"{name} has a denominator that is zero for these values")
+    if num.size == 0:
+        return _Element(0.0, 0.0, np.zeros((0, 0)), np.zeros(0), np.zeros(0))
+    num, den = num / den[0], den / den[0]
+    degree = num.size - den.size
+    if degree > 1:
+        raise UnrealizableError(
+            f"{name} is improper with {degree} more zeros than poles: the simulator "
+            f"measures only positions and velocities, so at most one derivative "
+            f"(e.g. 'kd + bd*s') is realizable; add filter poles, "
+            f"e.g. 'kd + bd*s/(1 + s/500)'"
+        )
+    q, r = np.polydiv(num, den) if degree >= 0 else (np.zeros(1), num)
+    q = np.atleast_1d(q)[::-1]
+    p0 = float(q[0]) if q.size > 0 else 0.0
+    p1 = float(q[1]) if q.size > 1 else 0.0
+    n = den.size - 1
+    r = np.atleast_1d(r)[::-1][:n]
+    C = np.zeros(n)
+    C[: r.size] = r
+    A = np.zeros((n, n))
+    if n:
+        A[:-1, 1:] = np.eye(n - 1)
+        A[-1, :] = -den[::-1][:n]
+    B = np.zeros(n)
+    if n:
+        B[-1] = 1.0
+    return _Element(p0, p1, A, B, C)
+
+
+@dataclass(frozen=True)
+class ClosedLoop:
+    """Closed-loop state space ``ẋ = A x + B u``, ``y = C x + D u``.
+
+    Attributes
+    ----------
+    A : ndarray, shape (n, n)
+    B : ndarray, shape (n, 3)
+        Input columns ``(θ_A, θ_L, f_ext)``, see :data:`INPUTS`.
+    C, D : ndarray, shapes (7, n) and (7, 3)
+        Output rows ``(x_A, v_A, x_L, v_L, f_A, f_D1, a_L)``, see :data:`OUTPUTS`.
+    states : tuple of str
+        State names; plant states ``x_A v_A x_L v_L`` first, then element states.
+    load_mass : float
+    relaxed : ndarray, shape (n, n)
+        Maps a plant configuration to the initial state with mechanical
+        element states in equilibrium (used by :class:`LoadDisplaced`).
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    states: tuple[str, ...]
+    load_mass: float
+    relaxed: np.ndarray
+
+    def __post_init__(self) -> None:
+        n = len(self.states)
+        shapes = {"A": (n, n), "B": (n, 3), "C": (7, n), "D": (7, 3), "relaxed": (n, n)}
+        for attr, shape in shapes.items():
+            arr = np.array(getattr(self, attr), dtype=float)
+            if arr.shape != shape:
+                raise SimulationError(f"ClosedLoop.{attr} has shape {arr.shape}, expected {shape}")
+            arr.flags.writeable = False
+            object.__setattr__(self, attr, arr)
+
+    @property
+    def poles(self) -> np.ndarray:
+        """Closed-loop poles (eigenvalues of ``A``)."""
+        return np.linalg.eigvals(self.A) if self.A.size else np.zeros(0, dtype=complex)
+
+    def output(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """Rows of ``C`` and ``D`` for output ``name``."""
+        i = OUTPUTS.index(name)
+        return self.C[i], self.D[i]
+
+
+def _assemble(
+    m: float, b: float, load_mass: float, elems: Mapping[str, _Element | None]
+) -> ClosedLoop:
+    names = ["x_A", "v_A", "x_L", "v_L"]
+    offsets: dict[str, int] = {}
+    for key in ("D1", "D2", "CA", "CL"):
+        e = elems.get(key)
+        offsets[key] = len(names)
+        if e is not None:
+            names += [f"{key}_z{i}" for i in range(e.A.shape[0])]
+    n = len(names)
+    width = n + 3  # rows act on [state; input]
+    unit = np.eye(width)
+    xa, va, xl, vl = unit[0], unit[1], unit[2], unit[3]
+    th_a, th_l, f_ext = unit[n], unit[n + 1], unit[n + 2]
+    M = np.zeros((n, width))
+    relaxed = np.eye(n)
+
+    def force(key: str, pos: np.ndarray, vel: np.ndarray) -> np.ndarray:
+        e = elems.get(key)
+        if e is None:
+            return np.zeros(width)
+        k = e.A.shape[0]
+        o = offsets[key]
+        out = e.p0 * pos + e.p1 * vel
+        out[o : o + k] += e.C
+        M[o : o + k, :] = e.B[:, None] * pos[None, :]
+        M[o : o + k, o : o + k] += e.A
+        if key in ("D1", "D2") and k:
+            # equilibrium z = -A^{-1} B pos for a held deflection, when A is invertible
+            try:
+                z_per_pos = -np.linalg.solve(e.A, e.B)
+            except np.linalg.LinAlgError:
+                z_per_pos = np.zeros(k)
+            relaxed[o : o + k, :] = 0.0
+            relaxed[o : o + k, :] += np.outer(z_per_pos, pos[:n])
+        return out
+
+    f1 = force("D1", xl - xa, vl - va)
+    f2 = force("D2", xl, vl)
+    fa = force("CA", th_a - xa, -va) + force("CL", th_l - xl, -vl)
+    M[0] = va
+    M[1] = (fa + f1 - b * va) / m
+    M[2] = vl
+    M[3] = (f_ext - f1 - f2) / load_mass
+    out = np.vstack([xa, va, xl, vl, fa, f1, M[3]])
+    return ClosedLoop(
+        A=M[:, :n],
+        B=M[:, n:],
+        C=out[:, :n],
+        D=out[:, n:],
+        states=tuple(names),
+        load_mass=load_mass,
+        relaxed=relaxed,
+    )
+
+
+def _coeffs(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    num, den = sp.fraction(sp.cancel(sp.together(expr)))
+    return sp.Poly(num, S), sp.Poly(den, S)
+
+
+def _plant_values(sea: SEA, values: Mapping[str, float] | None) -> tuple[dict, float, float]:
+    subs = sea.substitutions(values)
+    mb = []
+    for attr in ("m", "b"):
+        v = sp.sympify(getattr(sea, attr)).xreplace(subs)
+        if v.free_symbols:
+            raise ParameterError(
+                f"{attr} needs values for {', '.join(sorted(map(str, v.free_symbols)))}; "
+                f"give them with --set NAME=VALUE"
+            )
+        mb.append(float(v))
+    return subs, mb[0], mb[1]
+
+
+def closed_loop(
+    sea: SEA, *, load_mass: float, values: Mapping[str, float] | None = None
+) -> ClosedLoop:
+    """Build the closed-loop state space of ``sea`` driving a load of mass ``load_mass``.
+
+    Parameters
+    ----------
+    sea : SEA
+        The design; every parameter needs a value (from ``sea.values`` or ``values``).
+    load_mass : float
+        Load mass ``m_L`` in kg, positive.
+    values : mapping, optional
+        Extra or overriding parameter values.
+
+    Raises
+    ------
+    ParameterError
+        For a non-positive load mass or a parameter without a value.
+    UnrealizableError
+        For an element needing accelerations (polynomial part of degree ≥ 2).
+    """
+    load_mass = _finite(load_mass, "load mass m_L", positive=True)
+    subs, m, b = _plant_values(sea, values)
+    if m <= 0:
+        raise ParameterError(f"actuator mass m must be positive, got {m:g}")
+    elems: dict[str, _Element | None] = {}
+    for key in ("D1", "D2", "CA", "CL"):
+        expr = sp.sympify(getattr(sea, key)).xreplace(subs)
+        missing = sorted(str(x) for x in expr.free_symbols if x != S)
+        if missing:
+            raise ParameterError(
+                f"{key} needs values for {', '.join(missing)}; give them with --set NAME=VALUE"
+            )
+        if expr == 0:
+            elems[key] = None
+            continue
+        pn, pd = _coeffs(expr)
+        num = np.array([float(c) for c in pn.all_coeffs()])
+        den = np.array([float(c) for c in pd.all_coeffs()])
+        elems[key] = _realize(num, den, f"{key} = {expr}")
+    return _assemble(m, b, load_mass, elems)
+
+
+def closed_loop_factory(
+    sea: SEA, params: Sequence[str], *, load_mass: float
+) -> Callable[[Sequence[float]], ClosedLoop]:
+    """A fast builder ``f(param_values) -> ClosedLoop`` for repeated evaluation (tuning).
+
+    The element coefficients are compiled once as numeric functions of
+    ``params``; other parameters take their values from ``sea``.  Unlike
+    :func:`closed_loop` no exact cancellation is done per call, so a common
+    factor appearing at special values leaves a (harmless, cancelled) mode.
+    """
+    load_mass = _finite(load_mass, "load mass m_L", positive=True)
+    syms = [symbol(p) for p in params]
+    fixed = {k: v for k, v in sea.substitutions().items() if str(k) not in params}
+    m = float(sp.sympify(sea.m).xreplace(fixed))
+    b = float(sp.sympify(sea.b).xreplace(fixed))
+    funcs: dict[str, Any] = {}
+    for key in ("D1", "D2", "CA", "CL"):
+        expr = sp.sympify(getattr(sea, key)).xreplace(fixed)
+        extra = sorted(str(x) for x in expr.free_symbols if x != S and x not in syms)
+        if extra:
+            raise ParameterError(f"{key} needs values for {', '.join(extra)}")
+        if expr == 0:
+            funcs[key] = None
+            continue
+        pn, pd = _coeffs(expr)
+        funcs[key] = sp.lambdify([syms], [pn.all_coeffs(), pd.all_coeffs()], "numpy")
+
+    def build(x: Sequence[float]) -> ClosedLoop:
+        elems: dict[str, _Element | None] = {}
+        for key, fn in funcs.items():
+            if fn is None:
+                elems[key] = None
+                continue
+            num, den = fn(list(x))
+            elems[key] = _realize(np.array(num, float), np.array(den, float), key)
+        return _assemble(m, b, load_mass, elems)
+
+    return build
+
+
+# --------------------------------------------------------------------------- simulation
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    """Sampled response of a closed-loop simulation.
+
+    Arrays have one entry per grid time ``time`` (axis 0); for a diverging run
+    they end at the last sample before divergence (``diverged=True``).
+
+    Attributes
+    ----------
+    time, x_A, v_A, x_L, v_L, f_A : ndarray, shape (N,)
+        Time (s), positions (m), velocities (m/s) and actuator force (N).
+    energy : float
+        Work done by the actuator ``∫ f_A ẋ_A dt`` (J), exact for the LTI solution.
+    positive_work : float
+        ``∫ max(f_A ẋ_A, 0) dt`` (J), the energy the actuator injects
+        (trapezoidal rule on the samples).
+    stable : bool
+        All closed-loop poles in the open left half-plane.
+    marginal : bool
+        Not stable, but no pole in the open right half-plane.
+    diverged : bool
+        The state exceeded ``1e8`` times the problem scale and the run was cut.
+    poles : ndarray of complex
+    target : float
+        Final load reference (m), the settling target.
+    scale : float
+        Size of the motion the 2 % settling band refers to (m).
+    """
+
+    time: np.ndarray
+    x_A: np.ndarray
+    v_A: np.ndarray
+    x_L: np.ndarray
+    v_L: np.ndarray
+    f_A: np.ndarray
+    energy: float
+    positive_work: float
+    stable: bool
+    marginal: bool
+    diverged: bool
+    poles: np.ndarray
+    target: float
+    scale: float
+    has_step: bool
+    system: ClosedLoop
+    scenario: Any
+    states: np.ndarray = field(repr=False)
+    inputs: np.ndarray = field(repr=False)
+    slopes: np.ndarray = field(repr=False)
+
+    def __post_init__(self) -> None:
+        names = ("time", "x_A", "v_A", "x_L", "v_L", "f_A", "poles", "states", "inputs", "slopes")
+        for name in names:
+            arr = np.array(getattr(self, name))
+            arr.flags.writeable = False
+            object.__setattr__(self, name, arr)
+
+    @property
+    def status(self) -> str:
+        """``"stable"``, ``"marginal"`` or ``"unstable"``."""
+        if self.diverged or not (self.stable or self.marginal):
+            return "unstable"
+        return "stable" if self.stable else "marginal"
+
+    def state_at(self, t: float) -> np.ndarray:
+        """Exact state at time ``t`` (propagated from the sample before ``t``)."""
+        time = self.time
+        if not (time[0] <= t <= time[-1]):
+            raise ParameterError(f"t = {t} is outside the simulated span [0, {time[-1]}]")
+        if time.size < 2:
+            return np.array(self.states[0])
+        k = min(max(int(np.searchsorted(time, t, side="right")) - 1, 0), time.size - 2)
+        tau = t - time[k]
+        if tau == 0.0:
+            return np.array(self.states[k])
+        aug = _foh_matrix(self.system)
+        w = np.concatenate([self.states[k], self.inputs[k], self.slopes[k]])
+        return (scipy.linalg.expm(aug * tau) @ w)[: len(self.system.states)]
+
+    def output_at(self, name: str, t: float) -> float:
+        """Exact value of output ``name`` (see :data:`OUTPUTS`) at time ``t``."""
+        c, d = self.system.output(name)
+        k = min(max(int(np.searchsorted(self.time, t, side="right")) - 1, 0), self.time.size - 1)
+        u = self.inputs[k] + self.slopes[min(k, len(self.slopes) - 1)] * (t - self.time[k])
+        return float(c @ self.state_at(t) + d @ u)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "status": self.status,
+            "stable": self.stable,
+            "diverged": self.diverged,
+            "energy": self.energy,
+            "positive_work": self.positive_work,
+            "poles": [[float(p.real), float(p.imag)] for p in self.poles],
+        }
+
+
+def _foh_matrix(sys: ClosedLoop) -> np.ndarray:
+    n = sys.A.shape[0]
+    aug = np.zeros((n + 6, n + 6))
+    aug[:n, :n] = sys.A
+    aug[:n, n : n + 3] = sys.B
+    aug[n : n + 3, n + 3 :] = np.eye(3)
+    return aug
+
+
+def _scenario_setup(
+    scenario: Scenario, sys: ClosedLoop, t: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, bool, float, float, bool]:
+    """Initial state, inputs on the grid, linear-interpolation flag, target, scale, has_step."""
+    n = len(sys.states)
+    x0 = np.zeros(n)
+    u = np.zeros((t.size, 3))
+    if isinstance(scenario, Step):
+        u[:, :2] = _refs(scenario.apply_to, scenario.size)
+        return x0, u, False, scenario.size, abs(scenario.size), True
+    if isinstance(scenario, LoadDisplaced):
+        x0[2] = scenario.displacement
+        return sys.relaxed @ x0, u, False, 0.0, abs(scenario.displacement), True
+    if isinstance(scenario, ForceImpulse):
+        x0[3] = scenario.impulse / sys.load_mass
+        return x0, u, False, 0.0, 0.0, False
+    if isinstance(scenario, ForceStep):
+        u[:, 2] = scenario.force
+        return x0, u, False, 0.0, 0.0, False
+    if isinstance(scenario, Trajectory):
+        ref = scenario.sample(t)
+        ra, rl = _refs(scenario.apply_to, 1.0)
+        u[:, 0], u[:, 1] = ra * ref, rl * ref
+        target = scenario.values[-1]
+        scale = abs(target - 0.0)
+        return x0, u, scenario.interpolation == "linear", float(target), scale, scale > 0
+    raise ParameterError(f"unknown scenario {scenario!r}")
+
+
+def _propagate_constant(
+    sys: ClosedLoop, x0: np.ndarray, u0: np.ndarray, dt: float, N: int, limit: float
+) -> np.ndarray:
+    """States at ``k dt``, ``k = 0..N`` for constant input, in vectorized blocks."""
+    n = x0.size
+    aug = np.zeros((n + 3, n + 3))
+    aug[:n, :n], aug[:n, n:] = sys.A, sys.B
+    phi = scipy.linalg.expm(aug * dt)
+    block = min(64, N)
+    powers = np.empty((block, n + 3, n + 3))
+    powers[0] = np.eye(n + 3)
+    for i in range(1, block):
+        powers[i] = phi @ powers[i - 1]
+    jump = phi @ powers[-1]
+    out = np.empty((N + 1, n))
+    w = np.concatenate([x0, u0])
+    k = 0
+    with np.errstate(over="ignore", invalid="ignore"):
+        while k <= N:
+            m = min(block, N + 1 - k)
+            chunk = powers[:m] @ w
+            bad = ~np.all(np.isfinite(chunk[:, :n]) & (np.abs(chunk[:, :n]) <= limit), axis=1)
+            if bad.any():
+                first = int(np.argmax(bad))
+                out[k : k + first] = chunk[:first, :n]
+                return out[: k + first]
+            out[k : k + m] = chunk[:, :n]
+            k += m
+            w = jump @ w
+    return out
+
+
+def _propagate_general(
+    sys: ClosedLoop, x0: np.ndarray, u: np.ndarray, slopes: np.ndarray, dt: float, limit: float
+) -> np.ndarray:
+    n = x0.size
+    e = scipy.linalg.expm(_foh_matrix(sys) * dt)
+    phi, g0, g1 = e[:n, :n], e[:n, n : n + 3], e[:n, n + 3 :]
+    out = np.empty((u.shape[0], n))
+    out[0] = x = x0
+    for k in range(u.shape[0] - 1):
+        x = phi @ x + g0 @ u[k] + g1 @ slopes[k]
+        if not (np.all(np.isfinite(x)) and np.max(np.abs(x), initial=0.0) <= limit):
+            return out[: k + 1]
+        out[k + 1] = x
+    return out
+
+
+def simulate_closed_loop(
+    sys: ClosedLoop,
+    *,
+    scenario: Scenario | None = None,
+    horizon: float = 10.0,
+    dt: float = 1e-3,
+) -> SimulationResult:
+    """Simulate an already built :class:`ClosedLoop`; see :func:`simulate`."""
+    scenario = Step(0.5) if scenario is None else scenario
+    horizon = _finite(horizon, "horizon", positive=True)
+    dt = _finite(dt, "time step dt", positive=True)
+    if horizon < dt:
+        raise ParameterError(
+            f"horizon ({horizon:g} s) is shorter than the time step dt ({dt:g} s); "
+            f"give a longer horizon or a smaller dt"
+        )
+    N = math.ceil(horizon / dt - 1e-9)
+    if N > MAX_STEPS:
+        raise ParameterError(
+            f"horizon/dt = {N} steps exceeds the limit of {MAX_STEPS}; increase dt"
+        )
+    t = np.linspace(0.0, horizon, N + 1)
+    h = horizon / N
+    x0, u, linear, target, scale, has_step = _scenario_setup(scenario, sys, t)
+    slopes = np.diff(u, axis=0) / h if linear else np.zeros((N, 3))
+    mag = max(1.0, float(np.max(np.abs(u), initial=0.0)), float(np.max(np.abs(x0), initial=0.0)))
+    limit = _DIVERGENCE * mag * max(1.0, float(np.max(np.abs(sys.B), initial=0.0)))
+    if not linear and np.all(u == u[0]):
+        x = _propagate_constant(sys, x0, u[0], h, N, limit)
+    else:
+        x = _propagate_general(sys, x0, u, slopes, h, limit)
+    diverged = x.shape[0] < N + 1
+    K = x.shape[0]
+    t, u, slopes = t[:K], u[:K], slopes[: max(K - 1, 0)]
+    y = x @ sys.C.T + u @ sys.D.T
+    power = y[:, 4] * y[:, 1]
+    energy = _exact_work(sys, x, u, slopes, h)
+    positive = float(np.trapezoid(np.maximum(power, 0.0), t)) if K > 1 else 0.0
+    poles = sys.poles
+    tol = 1e-9 * max(1.0, float(np.max(np.abs(poles), initial=0.0)))
+    stable = bool(np.all(poles.real < -tol)) and not diverged
+    marginal = not stable and not diverged and bool(np.all(poles.real <= tol))
+    if not has_step:
+        # settle to the equilibrium for the final input; band relative to the motion size
+        steady = _steady_state(sys, u[-1])
+        target = steady if steady is not None else 0.0
+        scale = abs(target - float(y[0, 2]))
+        if scale == 0.0:
+            scale = float(np.max(np.abs(y[:, 2] - target), initial=0.0))
+    return SimulationResult(
+        time=t,
+        x_A=y[:, 0],
+        v_A=y[:, 1],
+        x_L=y[:, 2],
+        v_L=y[:, 3],
+        f_A=y[:, 4],
+        energy=energy,
+        positive_work=positive,
+        stable=stable,
+        marginal=marginal,
+        diverged=diverged,
+        poles=poles,
+        target=float(target),
+        scale=float(scale),
+        has_step=has_step,
+        system=sys,
+        scenario=scenario,
+        states=x,
+        inputs=u,
+        slopes=slopes,
+    )
+
+
+def _exact_work(
+    sys: ClosedLoop, x: np.ndarray, u: np.ndarray, slopes: np.ndarray, h: float
+) -> float:
+    """``∫ f_A v_A dt`` exactly: per interval a quadratic form in the augmented state.
+
+    With ``w = (x, u, u̇)`` and ``ẇ = M w`` the integral over one step is
+    ``w_kᵀ W w_k``, ``W = ∫_0^h e^{Mᵀτ} Q e^{Mτ} dτ``, from one matrix
+    exponential (Van Loan, 1978).
+    """
+    if x.shape[0] < 2:
+        return 0.0
+    M = _foh_matrix(sys)
+    cf = np.concatenate([sys.C[4], sys.D[4], np.zeros(3)])
+    cv = np.concatenate([sys.C[1], sys.D[1], np.zeros(3)])
+    Q = 0.5 * (np.outer(cf, cv) + np.outer(cv, cf))
+    N = M.shape[0]
+    big = np.zeros((2 * N, 2 * N))
+    big[:N, :N], big[:N, N:], big[N:, N:] = -M.T, Q, M
+    E = scipy.linalg.expm(big * h)
+    W = E[N:, N:].T @ E[:N, N:]
+    W = 0.5 * (W + W.T)
+    w = np.hstack([x[:-1], u[: x.shape[0] - 1], slopes[: x.shape[0] - 1]])
+    return float(np.sum((w @ W) * w))
+
+
+def _steady_state(sys: ClosedLoop, u: np.ndarray) -> float | None:
+    """Load position in equilibrium for constant input ``u``, or None if undefined."""
+    try:
+        xs = np.linalg.solve(sys.A, -sys.B @ u)
+    except np.linalg.LinAlgError:
+        return None
+    return float(xs[2]) if np.all(np.isfinite(xs)) else None
+
+
+def simulate(
+    sea: SEA,
+    *,
+    load_mass: float,
+    scenario: Scenario | None = None,
+    horizon: float = 10.0,
+    dt: float = 1e-3,
+    values: Mapping[str, float] | None = None,
+) -> SimulationResult:
+    """Simulate ``sea`` driving a load mass, exactly at the grid times.
+
+    Parameters
+    ----------
+    sea : SEA
+        The design; every parameter needs a value.
+    load_mass : float
+        Load mass ``m_L`` (kg), positive.
+    scenario : Step, LoadDisplaced, ForceStep, ForceImpulse or Trajectory
+        What happens; default ``Step(0.5)``, a 0.5 m reference step from rest.
+    horizon : float
+        Simulated time (s).
+    dt : float
+        Largest time step (s); the grid is ``linspace(0, horizon, N + 1)`` with
+        ``N = ceil(horizon/dt)``.
+    values : mapping, optional
+        Parameter values overriding ``sea.values``.
+
+    Returns
+    -------
+    SimulationResult
+        An unstable closed loop is a result (``status == "unstable"``), never an error.
+
+    Raises
+    ------
+    ParameterError
+        Non-positive load mass, horizon shorter than ``dt``, missing values.
+    UnrealizableError
+        An element needs more derivatives than positions and velocities provide.
+
+    Examples
+    --------
+    >>> from seapass.model import SEA
+    >>> sea = SEA(D1="k1 + b1*s", CA="kd + bd*s",
+    ...           values=dict(m=1, b=10, k1=1000, b1=100, kd=2000, bd=60))
+    >>> r = simulate(sea, load_mass=10, horizon=5)
+    >>> r.status
+    'stable'
+    """
+    sys = closed_loop(sea, load_mass=load_mass, values=values)
+    return simulate_closed_loop(sys, scenario=scenario, horizon=horizon, dt=dt)
