@@ -16,11 +16,20 @@ from .errors import (
     SymbolicLimitError,
     UnrealizableError,
 )
+from .experiment import (
+    ExperimentResult,
+    ImpactResult,
+    SweepResult,
+    run_experiment,
+    run_impacts,
+    run_sweep,
+)
 from .freqresp import FrequencyResponse, stiffness_response
 from .metrics import TrackingMetrics, settling_time, tracking_metrics
 from .model import SEA, Impedance
 from .passivity import PassivityResult, is_passive
 from .region import PassiveIntervals, PassiveMap, passive_intervals, passive_map
+from .rig import Rig, load_rig, paper_rig
 from .simstudy import SimulationStudy, run_simulation_study
 from .simulate import (
     ClosedLoop,
@@ -36,6 +45,7 @@ from .simulate import (
 from .stiffness import derive_stiffness, load_impedance, paper_eq4_stiffness, passivity_polynomial
 from .tables import build_tables
 from .tuning import TuningOptions, TuningResult, tune
+from .twin import TwinPlant, simulate_loop
 
 __version__ = "0.1.0"
 
@@ -44,11 +54,13 @@ __all__ = [
     "ClosedLoop",
     "DegenerateModelError",
     "ExactCondition",
+    "ExperimentResult",
     "ExpressionError",
     "FileFormatError",
     "ForceImpulse",
     "ForceStep",
     "FrequencyResponse",
+    "ImpactResult",
     "Impedance",
     "LoadDisplaced",
     "ModelError",
@@ -57,16 +69,19 @@ __all__ = [
     "PassiveIntervals",
     "PassiveMap",
     "PassivityResult",
+    "Rig",
     "SeapassError",
     "SimulationError",
     "SimulationResult",
     "SimulationStudy",
     "Step",
+    "SweepResult",
     "SymbolicLimitError",
     "TrackingMetrics",
     "Trajectory",
     "TuningOptions",
     "TuningResult",
+    "TwinPlant",
     "UnrealizableError",
     "__version__",
     "build_tables",
@@ -75,13 +90,19 @@ __all__ = [
     "exact_passivity_condition",
     "is_passive",
     "load_impedance",
+    "load_rig",
     "paper_eq4_stiffness",
+    "paper_rig",
     "passive_intervals",
     "passive_map",
     "passivity_polynomial",
+    "run_experiment",
+    "run_impacts",
     "run_simulation_study",
+    "run_sweep",
     "settling_time",
     "simulate",
+    "simulate_loop",
     "stiffness_response",
     "tracking_metrics",
     "tune",
