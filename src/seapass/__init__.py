@@ -4,6 +4,7 @@ The public surface is re-exported here explicitly; everything else is internal.
 """
 
 from .conditions import ExactCondition, exact_passivity_condition
+from .controllers import APDController, DiscreteController, LPController, OursController, discretize
 from .errors import (
     DegenerateModelError,
     ExpressionError,
@@ -30,6 +31,13 @@ from .model import SEA, Impedance
 from .passivity import PassivityResult, is_passive
 from .region import PassiveIntervals, PassiveMap, passive_intervals, passive_map
 from .rig import Rig, load_rig, paper_rig
+from .runtime import ControlLoop, HardwareInterface, SimulatedHardware
+from .sampled import (
+    SampledBoundResult,
+    SampledPassivityResult,
+    sampled_passive_bound,
+    sampled_passivity,
+)
 from .simstudy import SimulationStudy, run_simulation_study
 from .simulate import (
     ClosedLoop,
@@ -51,8 +59,11 @@ __version__ = "0.1.0"
 
 __all__ = [
     "SEA",
+    "APDController",
     "ClosedLoop",
+    "ControlLoop",
     "DegenerateModelError",
+    "DiscreteController",
     "ExactCondition",
     "ExperimentResult",
     "ExpressionError",
@@ -60,17 +71,23 @@ __all__ = [
     "ForceImpulse",
     "ForceStep",
     "FrequencyResponse",
+    "HardwareInterface",
     "ImpactResult",
     "Impedance",
+    "LPController",
     "LoadDisplaced",
     "ModelError",
     "NotPassiveError",
+    "OursController",
     "ParameterError",
     "PassiveIntervals",
     "PassiveMap",
     "PassivityResult",
     "Rig",
+    "SampledBoundResult",
+    "SampledPassivityResult",
     "SeapassError",
+    "SimulatedHardware",
     "SimulationError",
     "SimulationResult",
     "SimulationStudy",
@@ -87,6 +104,7 @@ __all__ = [
     "build_tables",
     "closed_loop",
     "derive_stiffness",
+    "discretize",
     "exact_passivity_condition",
     "is_passive",
     "load_impedance",
@@ -100,6 +118,8 @@ __all__ = [
     "run_impacts",
     "run_simulation_study",
     "run_sweep",
+    "sampled_passive_bound",
+    "sampled_passivity",
     "settling_time",
     "simulate",
     "simulate_loop",
