@@ -214,3 +214,20 @@ def test_near_boundary_of_damped_lp(eps):
     assert lo == 0.0 and hi == pytest.approx(849.1933384829667, rel=1e-15)
     assert is_passive(sea.with_values(kd=hi * (1 - eps))).passive
     assert not is_passive(sea.with_values(kd=hi * (1 + eps))).passive
+
+
+@pytest.mark.parametrize(
+    "values",
+    [
+        {"m": 1.0, "b": 10.0, "k1": 1000.0, "kd": 0.0, "bd": 1.1125e-308},
+        {"m": 1e-300, "b": 1e-300, "k1": 1e300, "kd": 0.0, "bd": 1e300},
+        {"m": 1e300, "b": 1e300, "k1": 1e300, "kd": 1e-300, "bd": 1e-300},
+    ],
+)
+def test_extreme_magnitudes_give_a_verdict_not_an_overflow(values):
+    """Load-side PD is never passive for bd > 0, even when numbers leave the double range."""
+    r = is_passive(SEA(D1="k1", CL="kd + bd*s", values=values))
+    assert r.passive is False and r.reason == "negative_real_part"
+    assert r.omega is not None and r.omega > 0
+    assert -1.0 <= r.margin <= 0.0
+    assert all(isinstance(c, float) for c in r.num + r.den)

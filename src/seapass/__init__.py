@@ -3,6 +3,8 @@
 The public surface is re-exported here explicitly; everything else is internal.
 """
 
+from .batch import BatchPassivity, batch_is_passive, compile_passivity
+from .batchsim import BatchMetrics, batch_step_metrics
 from .conditions import ExactCondition, exact_passivity_condition
 from .controllers import APDController, DiscreteController, LPController, OursController, discretize
 from .errors import (
@@ -51,6 +53,8 @@ from .simulate import (
     simulate,
 )
 from .stiffness import derive_stiffness, load_impedance, paper_eq4_stiffness, passivity_polynomial
+from .sweep import SweepSpec
+from .sweep import run_sweep as run_design_sweep
 from .tables import build_tables
 from .tuning import TuningOptions, TuningResult, tune
 from .twin import TwinPlant, simulate_loop
@@ -60,6 +64,8 @@ __version__ = "0.1.0"
 __all__ = [
     "SEA",
     "APDController",
+    "BatchMetrics",
+    "BatchPassivity",
     "ClosedLoop",
     "ControlLoop",
     "DegenerateModelError",
@@ -93,6 +99,7 @@ __all__ = [
     "SimulationStudy",
     "Step",
     "SweepResult",
+    "SweepSpec",
     "SymbolicLimitError",
     "TrackingMetrics",
     "Trajectory",
@@ -101,8 +108,11 @@ __all__ = [
     "TwinPlant",
     "UnrealizableError",
     "__version__",
+    "batch_is_passive",
+    "batch_step_metrics",
     "build_tables",
     "closed_loop",
+    "compile_passivity",
     "derive_stiffness",
     "discretize",
     "exact_passivity_condition",
@@ -114,6 +124,7 @@ __all__ = [
     "passive_intervals",
     "passive_map",
     "passivity_polynomial",
+    "run_design_sweep",
     "run_experiment",
     "run_impacts",
     "run_simulation_study",

@@ -304,25 +304,43 @@ def _margin(px: ep.Poly, pabs: ep.Poly) -> float:
 
     ``A`` is ``P`` computed with every product taken in absolute value, so the
     ratio measures how much of ``P`` survives cancellation: a design at relative
-    distance ``ε`` from a boundary has a margin of order ``ε``.
+    distance ``ε`` from a boundary has a margin of order ``ε``.  The ratio is
+    invariant to scaling ``x`` and the coefficients, so both are balanced
+    exactly (powers of two) before converting to floats.
     """
     if not px:
         return 0.0
     n = max(len(px), len(pabs))
-    c = np.array([float(px[i]) if i < len(px) else 0.0 for i in range(n)])
-    a = np.array([float(pabs[i]) if i < len(pabs) else 0.0 for i in range(n)])
-    nz = np.nonzero(a)[0]
+    c = [px[i] if i < len(px) else Fraction(0) for i in range(n)]
+    a = [pabs[i] if i < len(pabs) else Fraction(0) for i in range(n)]
+    nz = [i for i, v in enumerate(a) if v]
     lo, hi = nz[0], nz[-1]
-    scale = (a[lo] / a[hi]) ** (1.0 / (hi - lo)) if hi > lo else 1.0
-    powers = scale ** np.arange(n)
-    cs, as_ = c * powers, a * powers
-    cands = [cs[lo] / as_[lo], cs[hi] / as_[hi]]
+    k = round((_log2(a[lo]) - _log2(a[hi])) / (hi - lo)) if hi > lo else 0
+    xs = Fraction(2) ** k
+    c = [v * xs**i for i, v in enumerate(c)]
+    a = [v * xs**i for i, v in enumerate(a)]
+    top = max(a)
+    cs = np.array([float(v / top) for v in c])
+    as_ = np.array([float(v / top) for v in a])
+    cands = [float(c[lo] / a[lo]), float(c[hi] / a[hi])]
     pp, aa = np.polynomial.Polynomial(cs), np.polynomial.Polynomial(as_)
-    crit = (pp.deriv() * aa - pp * aa.deriv()).roots()
+    crit = (pp.deriv() * aa - pp * aa.deriv()).roots() if n > 1 else []
     for r in np.atleast_1d(crit):
-        if abs(r.imag) <= 1e-9 * max(1.0, abs(r.real)) and r.real > 0:
+        if abs(r.imag) <= 1e-9 * max(1.0, abs(r.real)) and r.real > 0 and aa(r.real) > 0:
             cands.append(float(pp(r.real) / aa(r.real)))
     return float(np.clip(min(cands), -1.0, 1.0))
+
+
+def _log2(q: Fraction) -> float:
+    return math.log2(q.numerator) - math.log2(q.denominator)
+
+
+def _safe_float(q: Fraction) -> float:
+    """``float(q)``, saturating to ``±inf`` beyond the double range."""
+    try:
+        return float(q)
+    except OverflowError:
+        return math.inf if q > 0 else -math.inf
 
 
 def _abs_poly(p: ep.Poly) -> ep.Poly:
@@ -334,7 +352,7 @@ def _fail(reason: str, detail: str, **kw: Any) -> PassivityResult:
 
 
 def _to_floats(p: ep.Poly, descending: bool) -> tuple[float, ...]:
-    vals = tuple(float(c) for c in p)
+    vals = tuple(_safe_float(c) for c in p)
     return tuple(reversed(vals)) if descending else vals
 
 
@@ -486,12 +504,16 @@ def _witness(px: ep.Poly) -> float:
     neg = [x for x in points if ep.evaluate(px, x) < 0 and x > 0]
     if not neg:
         raise ArithmeticError("no witness found although P changes sign")  # pragma: no cover
-    mag = [
-        abs(float(ep.evaluate(px, x))) / float(sum(abs(c) * x**i for i, c in enumerate(px)))
-        for x in neg
-    ]
-    best = neg[int(np.argmax(mag))]
-    return math.sqrt(float(best))
+    # relative depth |P|/Σ|c_i|x^i lies in [0, 1], so it converts to float safely
+    depth = [abs(ep.evaluate(px, x)) / sum(abs(c) * x**i for i, c in enumerate(px)) for x in neg]
+    best = neg[int(np.argmax([float(d) for d in depth]))]
+    return _sqrt_float(best)
+
+
+def _sqrt_float(q: Fraction) -> float:
+    """``sqrt(q)`` as a float without overflow for rationals beyond the float range."""
+    half_log = 0.5 * (math.log(q.numerator) - math.log(q.denominator))
+    return math.exp(half_log) if half_log < 709.0 else math.inf
 
 
 # ---------------------------------------------------------------- entry point
