@@ -25,8 +25,8 @@ from .experiment import (
     SweepResult,
     run_experiment,
     run_impacts,
-    run_sweep,
 )
+from .experiment import run_sweep as run_rig_sweep
 from .freqresp import FrequencyResponse, stiffness_response
 from .metrics import TrackingMetrics, settling_time, tracking_metrics
 from .model import SEA, Impedance
@@ -127,8 +127,8 @@ __all__ = [
     "run_design_sweep",
     "run_experiment",
     "run_impacts",
+    "run_rig_sweep",
     "run_simulation_study",
-    "run_sweep",
     "sampled_passive_bound",
     "sampled_passivity",
     "settling_time",
