@@ -231,3 +231,29 @@ def test_extreme_magnitudes_give_a_verdict_not_an_overflow(values):
     assert r.omega is not None and r.omega > 0
     assert -1.0 <= r.margin <= 0.0
     assert all(isinstance(c, float) for c in r.num + r.den)
+
+
+@pytest.mark.parametrize(
+    ("elements", "values", "margin"),
+    [
+        (dict(D1="k1", CL="kd"), {**PAPER, "kd": 500.0}, 1 / 3),  # (k1 - kd)/(k1 + kd)
+        (dict(D1="k1", CA="kd + bd*s"), {**PAPER, "kd": 500.0, "bd": 25.0}, 0.5),
+    ],
+)
+def test_structural_cancellation_is_not_marginal(elements, values, margin):
+    """Terms of Re N(jw)D(-jw) that cancel for every parameter value are no boundary."""
+    r = is_passive(SEA(**elements, values=values))
+    assert r.passive and not r.marginal
+    assert r.margin == pytest.approx(margin, rel=1e-12)
+
+
+def test_batch_margin_equals_scalar_margin():
+    from seapass.batch import batch_is_passive
+
+    sea = SEA(D1="k1", CL="kd", values=PAPER)
+    kd = np.array([0.0, 250.0, 500.0, 999.0])
+    res = batch_is_passive(sea, {"kd": kd})
+    for i, v in enumerate(kd):
+        assert res.margin[i] == pytest.approx(
+            is_passive(sea.with_values(kd=float(v))).margin, rel=1e-9
+        )

@@ -29,7 +29,8 @@ evaluated, reduced ``N/D``.  The verdicts are therefore identical to
 
 The passivity *margin* is the one of :class:`~seapass.passivity.PassivityResult`:
 ``min_{x ≥ 0} P(x) / A(x)`` in ``[-1, 1]``, where ``A`` is ``P`` computed with
-every coefficient product in absolute value (scale-invariant in ``N``, ``D``
+every coefficient product in absolute value, restricted to the powers of ``x``
+that ``P`` has for generic parameters (scale-invariant in ``N``, ``D``
 and ``x``; a design at relative distance ``ε`` from a boundary has a margin of
 order ``ε``).  It measures only condition 4 (``Re Z(jω) ≥ 0``); it is
 computed in floating point and is informative, the verdict never depends on it.
@@ -60,7 +61,7 @@ from . import exactpoly as ep
 from .errors import ParameterError
 from .expr import S, symbol, to_fraction
 from .model import SEA
-from .passivity import positive_real_test
+from .passivity import positive_real_test, structural_support
 from .stiffness import load_impedance
 
 __all__ = [
@@ -266,6 +267,7 @@ class PassivityKernel:
     bank: _Bank = field(repr=False, compare=False)
     n_exact: tuple[str, ...] = field(repr=False, compare=False)
     d_exact: tuple[str, ...] = field(repr=False, compare=False)
+    support: tuple[bool, ...] = field(default=(), repr=False, compare=False)
 
 
 _CACHE: dict[tuple[Any, ...], PassivityKernel] = {}
@@ -354,6 +356,7 @@ def compile_passivity(sea: SEA, params: Sequence[str]) -> PassivityKernel:
         bank=bank,
         n_exact=n_names,
         d_exact=d_names,
+        support=structural_support(num_e, den_e),
     )
     _CACHE[key] = kernel
     return kernel
@@ -570,7 +573,7 @@ def _split_jw(c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return re, im
 
 
-def _margin_batch(nv: np.ndarray, dv: np.ndarray) -> np.ndarray:
+def _margin_batch(nv: np.ndarray, dv: np.ndarray, support: Sequence[bool]) -> np.ndarray:
     """The margin of :func:`seapass.passivity.positive_real_test`, vectorized.
 
     ``min_{x≥0} P(x)/A(x)`` with ``A`` the real-part polynomial computed with
@@ -586,6 +589,10 @@ def _margin_batch(nv: np.ndarray, dv: np.ndarray) -> np.ndarray:
 
     P = _padd(_pmul(nr, dr), shift(_pmul(ni, di)))
     A = _padd(_pmul(np.abs(nr), np.abs(dr)), shift(_pmul(np.abs(ni), np.abs(di))))
+    # powers of x that cancel for every parameter value are not a nearby boundary
+    mask = np.array([i < len(support) and support[i] for i in range(A.shape[0])])
+    A[~mask] = 0.0
+    P[~mask] = 0.0
     n_c, N = P.shape
     out = np.zeros(N)
     nzA = A != 0
@@ -716,7 +723,7 @@ def _decide_chunk(
     if want_margin and np.any(ok):
         nv = np.stack([row(nm)[0] for nm in kernel.n_exact])
         dv = np.stack([row(nm)[0] for nm in kernel.d_exact])
-        margin[ok] = _margin_batch(nv[:, ok], dv[:, ok])
+        margin[ok] = _margin_batch(nv[:, ok], dv[:, ok], kernel.support)
     status[pos_cert & ~neg_cert] = 1
     status[neg_cert] = 0
     return status, margin
@@ -732,11 +739,8 @@ def _exact_one(kernel: PassivityKernel, point: Sequence[float]) -> tuple[bool, f
             "the impedance has a zero denominator for "
             + ", ".join(f"{p}={float(v):g}" for p, v in zip(kernel.params, point, strict=True))
         )
-    if num:
-        g = ep.pgcd(num, den)
-        if ep.degree(g) > 0:
-            num, den = ep.pdivmod(num, g)[0], ep.pdivmod(den, g)[0]
-    res = positive_real_test(num, den)
+    # unreduced, as is_passive passes it: a value-specific common factor is a hidden mode
+    res = positive_real_test(num, den, support=kernel.support)
     return res.passive, res.margin
 
 

@@ -58,7 +58,8 @@ TOLERANCE_POLICY = (
     "exact: every input float is converted to the rational it represents and all "
     "conditions are decided in exact rational arithmetic (Sturm sequences), so the "
     "verdict has no tolerance; a design whose scale-invariant margin "
-    "min_{x>=0} P(x)/A(x) (A: P with every product in absolute value) lies within "
+    "min_{x>=0} P(x)/A(x) (A: P with every product in absolute value, on the powers "
+    "of x that P has for generic parameter values) lies within "
     f"{MARGINAL_RTOL:g} of zero is additionally flagged 'marginal' (the margin itself "
     "is computed in floating point and is informative only)"
 )
@@ -91,7 +92,8 @@ class PassivityResult:
         A witness frequency [rad/s] with ``Re Z(jω) < 0`` when one exists.
     margin : float
         Scale-invariant margin ``min_{x>=0} P(x)/A(x)`` in [-1, 1], where ``A``
-        is ``P`` with every product in absolute value (0 for lossless designs;
+        is ``P`` with every product in absolute value, on the powers of ``x``
+        that ``P`` has for generic parameter values (0 for lossless designs;
         about ``ε`` at relative distance ``ε`` from a boundary).  Informative,
         not used for the verdict.
     marginal : bool
@@ -156,12 +158,21 @@ def exact_rational_function(
     :class:`Impedance`, an expression string/sympy expression in ``s``, or a
     ``(num, den)`` pair of descending coefficient sequences.
     """
+    num, den, _support = _evaluate(system, values)
+    return num, den
+
+
+def _evaluate(
+    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    values: Mapping[str, float] | None,
+) -> tuple[ep.Poly, ep.Poly, tuple[bool, ...] | None]:
+    """:func:`exact_rational_function` plus the structural support of ``P`` (None for raw coefficients)."""
     if isinstance(system, tuple) and len(system) == 2:
         num = ep.normalize([to_fraction(c, "num") for c in reversed(list(system[0]))])
         den = ep.normalize([to_fraction(c, "den") for c in reversed(list(system[1]))])
         if not den:
             raise ParameterError("den: the denominator is identically zero")
-        return num, den
+        return num, den, None
     if isinstance(system, str | sp.Expr):
         system = Impedance(expr=system, values=dict(values or {}))
         values = None
@@ -180,21 +191,22 @@ def exact_rational_function(
         raise ParameterError(
             f"no value for parameter(s) {', '.join(missing)}: give them, e.g. --set {missing[0]}=1"
         )
-    names, num_terms, den_terms = _compiled(z)
+    names, num_terms, den_terms, support = _compiled(z)
     vals = {k: to_fraction(v, k) for k, v in system.values.items() if v is not None}
     env = [vals[n] for n in names]
     n, d = _eval_coeffs(num_terms, env), _eval_coeffs(den_terms, env)
     if not d:
         raise ParameterError("the impedance has a zero denominator for these values")
-    return n, d
+    return n, d, support
 
 
 _Terms = tuple[tuple[tuple[tuple[int, ...], Fraction], ...], ...]
 
 
 @functools.lru_cache(maxsize=512)
-def _compiled(z: sp.Expr) -> tuple[tuple[str, ...], _Terms, _Terms]:
-    """Coefficients of ``N`` and ``D`` in ``s`` as exact polynomials in the parameters.
+def _compiled(z: sp.Expr) -> tuple[tuple[str, ...], _Terms, _Terms, tuple[bool, ...]]:
+    """Coefficients of ``N`` and ``D`` in ``s`` as exact polynomials in the parameters,
+    and the structural support of ``P(x)`` (:func:`structural_support`).
 
     Cached on the symbolic impedance, so repeated tests of one configuration
     cost only exact rational arithmetic.
@@ -215,7 +227,34 @@ def _compiled(z: sp.Expr) -> tuple[tuple[str, ...], _Terms, _Terms]:
             )
         return tuple(out)
 
-    return names, terms(num), terms(den)
+    return names, terms(num), terms(den), structural_support(num, den)
+
+
+def structural_support(num: sp.Expr, den: sp.Expr) -> tuple[bool, ...]:
+    """Which powers ``x^i`` of ``P(x) = Re N(jω) D(−jω)`` are not identically zero.
+
+    Computed with every parameter symbolic.  Terms that cancel for *all*
+    parameter values (e.g. the ``ω⁴`` terms of a pure spring with load-side P)
+    are structural, not a sign of a nearby boundary, so the margin ignores them.
+    """
+    w = sp.Dummy("w", real=True)
+    coeffs_n = sp.Poly(sp.expand(num), S).all_coeffs()[::-1]
+    coeffs_d = sp.Poly(sp.expand(den), S).all_coeffs()[::-1]
+
+    def re_im(coeffs: list[sp.Expr]) -> tuple[sp.Expr, sp.Expr]:
+        re = sum(
+            (c * (-1) ** (k // 2) * w**k for k, c in enumerate(coeffs) if k % 2 == 0), sp.S.Zero
+        )
+        im = sum(
+            (c * (-1) ** (k // 2) * w**k for k, c in enumerate(coeffs) if k % 2 == 1), sp.S.Zero
+        )
+        return re, im
+
+    nr, ni = re_im(coeffs_n)
+    dr, di = re_im(coeffs_d)
+    pw = sp.Poly(sp.expand(nr * dr + ni * di), w)
+    deg = pw.degree() if not pw.is_zero else -1
+    return tuple(pw.coeff_monomial(w ** (2 * i)) != 0 for i in range(deg // 2 + 1))
 
 
 def _eval_coeffs(terms: _Terms, env: list[Fraction]) -> ep.Poly:
@@ -324,7 +363,7 @@ def _margin(px: ep.Poly, pabs: ep.Poly) -> float:
     as_ = np.array([float(v / top) for v in a])
     cands = [float(c[lo] / a[lo]), float(c[hi] / a[hi])]
     pp, aa = np.polynomial.Polynomial(cs), np.polynomial.Polynomial(as_)
-    crit = (pp.deriv() * aa - pp * aa.deriv()).roots() if n > 1 else []
+    crit: Any = (pp.deriv() * aa - pp * aa.deriv()).roots() if n > 1 else []
     for r in np.atleast_1d(crit):
         if abs(r.imag) <= 1e-9 * max(1.0, abs(r.real)) and r.real > 0 and aa(r.real) > 0:
             cands.append(float(pp(r.real) / aa(r.real)))
@@ -347,6 +386,25 @@ def _abs_poly(p: ep.Poly) -> ep.Poly:
     return tuple(abs(c) for c in p)
 
 
+def _margin_of(num: ep.Poly, den: ep.Poly, support: Sequence[bool] | None) -> float:
+    """:func:`_margin` of ``num/den`` as given, with ``A`` restricted to ``support``."""
+    if not num:
+        return 0.0
+    nr, ni = _at_j_omega(num)
+    dr, di = _at_j_omega(den)
+    px = _even_to_x(ep.add(ep.mul(nr, dr), ep.mul(ni, di)))
+    pabs = _even_to_x(
+        ep.add(ep.mul(_abs_poly(nr), _abs_poly(dr)), ep.mul(_abs_poly(ni), _abs_poly(di)))
+    )
+    if support is not None:
+        pabs = ep.normalize(
+            [c if i < len(support) and support[i] else Fraction(0) for i, c in enumerate(pabs)]
+        )
+        if not pabs:
+            return 0.0
+    return _margin(px, pabs)
+
+
 def _fail(reason: str, detail: str, **kw: Any) -> PassivityResult:
     return PassivityResult(passive=False, reason=reason, detail=detail or _REASONS[reason], **kw)
 
@@ -359,16 +417,28 @@ def _to_floats(p: ep.Poly, descending: bool) -> tuple[float, ...]:
 # ---------------------------------------------------------------- core test
 
 
-def positive_real_test(num: ep.Poly, den: ep.Poly, *, hidden: ep.Poly = ()) -> PassivityResult:
+def positive_real_test(
+    num: ep.Poly,
+    den: ep.Poly,
+    *,
+    hidden: ep.Poly = (),
+    support: Sequence[bool] | None = None,
+) -> PassivityResult:
     """Exact positive-real test of ``Z = num/den`` (ascending Fraction coefficients).
 
     ``hidden`` is an optional polynomial of modes known to cancel (e.g. from
     a model's internal structure); a root of it in the closed right
-    half-plane makes the system not passive.
+    half-plane makes the system not passive.  A common factor of ``num`` and
+    ``den`` is such a mode too.
+
+    ``support`` (from :func:`structural_support`) marks the powers of ``x`` that
+    ``P`` has for generic parameter values; the margin is computed from
+    ``num/den`` as given and ignores cancellations outside the support.
     """
     num, den = ep.normalize(num), ep.normalize(den)
     if not den:
         raise ParameterError("the denominator is identically zero")
+    margin = _margin_of(num, den, support)
     g = ep.pgcd(num, den) if num else ep.monic(den)
     if ep.degree(g) > 0:
         hidden = ep.mul(hidden, g) if hidden else g
@@ -378,12 +448,12 @@ def positive_real_test(num: ep.Poly, den: ep.Poly, *, hidden: ep.Poly = ()) -> P
     base: dict[str, Any] = {
         "num": _to_floats(num, True),
         "den": _to_floats(den, True),
+        "margin": margin,
     }
     if not num:
         return PassivityResult(
             passive=True,
             detail="Z is identically zero",
-            margin=0.0,
             marginal=True,
             lossless=True,
             **base,
@@ -397,11 +467,6 @@ def positive_real_test(num: ep.Poly, den: ep.Poly, *, hidden: ep.Poly = ()) -> P
     p_w = ep.add(ep.mul(nr, dr), ep.mul(ni, di))
     px = _even_to_x(p_w)
     base["real_part"] = _to_floats(px, False)
-    pabs = _even_to_x(
-        ep.add(ep.mul(_abs_poly(nr), _abs_poly(dr)), ep.mul(_abs_poly(ni), _abs_poly(di)))
-    )
-    margin = _margin(px, pabs)
-    base["margin"] = margin
     base["lossless"] = not px
 
     # 1. relative degree and the pole at infinity
@@ -550,8 +615,8 @@ def is_passive(
     >>> is_passive("1/(s + 1) - 1e-9").passive
     False
     """
-    num, den = exact_rational_function(system, values)
-    result = positive_real_test(num, den)
+    num, den, support = _evaluate(system, values)
+    result = positive_real_test(num, den, support=support)
     if throw and not result.passive:
         raise NotPassiveError(f"not passive: {result.detail}")
     return result
