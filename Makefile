@@ -18,11 +18,11 @@ install: $(STAMP)
 
 ## main job: rebuild the paper's tables, figures and report
 run: $(STAMP)
-	$(BIN)/seapass tables
+	$(BIN)/seapass reproduce --out $(OUT)
 
 ## whole test suite: lint, format, types, tests
 test: $(STAMP) browser lint typecheck
-	$(BIN)/python -m pytest -q -p no:cacheprovider
+	$(BIN)/python -m pytest -p no:cacheprovider
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests $(wildcard benchmarks)

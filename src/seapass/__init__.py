@@ -3,10 +3,19 @@
 The public surface is re-exported here explicitly; everything else is internal.
 """
 
+from .analyze import analyze
 from .batch import BatchPassivity, batch_is_passive, compile_passivity
 from .batchsim import BatchMetrics, batch_step_metrics
 from .conditions import ExactCondition, exact_passivity_condition
 from .controllers import APDController, DiscreteController, LPController, OursController, discretize
+from .coupled import (
+    CoupledResult,
+    CoupledSimulation,
+    Environment,
+    coupled_stability,
+    simulate_coupled,
+)
+from .design import Design, load_design
 from .errors import (
     DegenerateModelError,
     ExpressionError,
@@ -32,6 +41,8 @@ from .metrics import TrackingMetrics, settling_time, tracking_metrics
 from .model import SEA, Impedance
 from .passivity import PassivityResult, is_passive
 from .region import PassiveIntervals, PassiveMap, passive_intervals, passive_map
+from .report import Report, write_report
+from .reproduce import reproduce
 from .rig import Rig, load_rig, paper_rig
 from .runtime import ControlLoop, HardwareInterface, SimulatedHardware
 from .sampled import (
@@ -58,6 +69,7 @@ from .sweep import run_sweep as run_design_sweep
 from .tables import build_tables
 from .tuning import TuningOptions, TuningResult, tune
 from .twin import TwinPlant, simulate_loop
+from .witness import WitnessResult, find_destabilizing_environment
 
 __version__ = "0.1.0"
 
@@ -68,8 +80,12 @@ __all__ = [
     "BatchPassivity",
     "ClosedLoop",
     "ControlLoop",
+    "CoupledResult",
+    "CoupledSimulation",
     "DegenerateModelError",
+    "Design",
     "DiscreteController",
+    "Environment",
     "ExactCondition",
     "ExperimentResult",
     "ExpressionError",
@@ -89,6 +105,7 @@ __all__ = [
     "PassiveIntervals",
     "PassiveMap",
     "PassivityResult",
+    "Report",
     "Rig",
     "SampledBoundResult",
     "SampledPassivityResult",
@@ -107,16 +124,21 @@ __all__ = [
     "TuningResult",
     "TwinPlant",
     "UnrealizableError",
+    "WitnessResult",
     "__version__",
+    "analyze",
     "batch_is_passive",
     "batch_step_metrics",
     "build_tables",
     "closed_loop",
     "compile_passivity",
+    "coupled_stability",
     "derive_stiffness",
     "discretize",
     "exact_passivity_condition",
+    "find_destabilizing_environment",
     "is_passive",
+    "load_design",
     "load_impedance",
     "load_rig",
     "paper_eq4_stiffness",
@@ -124,6 +146,7 @@ __all__ = [
     "passive_intervals",
     "passive_map",
     "passivity_polynomial",
+    "reproduce",
     "run_design_sweep",
     "run_experiment",
     "run_impacts",
@@ -133,8 +156,10 @@ __all__ = [
     "sampled_passivity",
     "settling_time",
     "simulate",
+    "simulate_coupled",
     "simulate_loop",
     "stiffness_response",
     "tracking_metrics",
     "tune",
+    "write_report",
 ]

@@ -27,7 +27,7 @@ import sympy as sp
 from sympy.logic.boolalg import Boolean, BooleanFalse, BooleanTrue
 
 from .errors import SymbolicLimitError
-from .expr import S, W
+from .expr import S, W, symbolic_time_limit
 from .model import SEA, Impedance
 from .stiffness import load_impedance, num_den, real_part_polynomial
 
@@ -205,8 +205,14 @@ def exact_passivity_condition(system: SEA | Impedance) -> ExactCondition:
     Raises
     ------
     SymbolicLimitError
-        If the expressions exceed the size budget (``MAX_OPS`` operations).
+        If the expressions exceed the size budget (``MAX_OPS`` operations) or the
+        derivation runs longer than :data:`seapass.expr.SYMBOLIC_TIME_LIMIT` seconds.
     """
+    with symbolic_time_limit(what="symbolic passivity condition"):
+        return _exact_condition(system)
+
+
+def _exact_condition(system: SEA | Impedance) -> ExactCondition:
     z = load_impedance(system) if isinstance(system, SEA) else system.expr
     if sp.count_ops(z) > MAX_OPS:
         raise SymbolicLimitError(

@@ -11,22 +11,27 @@ from __future__ import annotations
 
 import ast
 import math
-from collections.abc import Iterable, Mapping
+import signal
+import threading
+from collections.abc import Iterable, Iterator, Mapping
+from contextlib import contextmanager
 from fractions import Fraction
 
 import sympy as sp
 
-from .errors import ExpressionError, ParameterError
+from .errors import ExpressionError, ParameterError, SymbolicLimitError
 
 __all__ = [
     "STANDARD_SYMBOLS",
     "S",
     "W",
     "check_rational_in_s",
+    "check_symbolic_size",
     "parse_assignment",
     "parse_expression",
     "parse_value",
     "symbol",
+    "symbolic_time_limit",
     "to_fraction",
 ]
 
@@ -40,6 +45,13 @@ STANDARD_SYMBOLS: tuple[str, ...] = ("m", "b", "k1", "k2", "b1", "b2", "kd", "bd
 MAX_EXPRESSION_LENGTH = 2000
 MAX_NODES = 400
 MAX_EXPONENT = 12
+#: Size budget of one expression once brought to a single fraction N/D (an upper
+#: bound computed from the tree without expanding, see :func:`symbolic_size`):
+#: keeps every later sympy step (together, cancel, solve) well under a second.
+MAX_S_DEGREE = 24
+MAX_TERMS = 4000
+#: Wall-clock budget [s] of one symbolic derivation (:func:`symbolic_time_limit`).
+SYMBOLIC_TIME_LIMIT = 20.0
 _RESERVED = {"s", "w", "I", "E", "pi", "oo", "nan", "zoo"}
 
 
@@ -94,7 +106,9 @@ def parse_expression(text: str, allowed: Iterable[str] = STANDARD_SYMBOLS) -> sp
     nodes = sum(1 for _ in ast.walk(tree))
     if nodes > MAX_NODES:
         raise ExpressionError(f"expression {src!r} is too large ({nodes} nodes > {MAX_NODES})")
-    return _build(tree.body, allowed_set, src)
+    expr = _build(tree.body, allowed_set, src)
+    check_symbolic_size(expr, repr(src))
+    return expr
 
 
 def _build(node: ast.AST, allowed: set[str], src: str) -> sp.Expr:
@@ -135,7 +149,9 @@ def _build(node: ast.AST, allowed: set[str], src: str) -> sp.Expr:
         if isinstance(op, ast.Mult):
             return left * right
         if isinstance(op, ast.Div):
-            if sp.simplify(right) == 0:
+            # bounded before expanding: sp.simplify here could run for minutes
+            check_symbolic_size(right, repr(src))
+            if right == 0 or sp.expand(sp.numer(sp.together(right))) == 0:
                 raise ExpressionError(f"division by zero in {src!r}")
             return left / right
     what = type(node).__name__
@@ -168,6 +184,105 @@ def _integer_exponent(node: ast.AST, src: str) -> int:
     raise ExpressionError(f"only integer constant powers are allowed in {src!r}")
 
 
+def _multinomial(terms: int, n: int) -> int:
+    """Number of monomials of ``(t_1 + ... + t_terms)**n``, capped to stay small."""
+    return min(math.comb(terms + n - 1, n), 10**12)
+
+
+def symbolic_size(expr: sp.Expr) -> tuple[int, int]:
+    """Upper bounds ``(degree in s, number of terms)`` of ``expr`` as one fraction ``N/D``.
+
+    Computed from the expression tree without expanding anything (linear in
+    the tree size): sums of fractions multiply denominators, products add
+    degrees, powers use the multinomial count.  The degree bound is on
+    ``deg N + deg D``, the term bound on ``terms(N) + terms(D)``.
+    """
+
+    def walk(e: sp.Basic) -> tuple[int, int, int, int]:  # deg N, deg D, terms N, terms D
+        if e == S:
+            return 1, 0, 1, 1
+        if e.is_Atom:
+            return 0, 0, 1, 1
+        if isinstance(e, sp.Add):
+            dn, dd, tn, td = walk(e.args[0])
+            for a in e.args[1:]:
+                an, ad, atn, atd = walk(a)
+                dn, dd = max(dn + ad, an + dd), dd + ad
+                tn, td = min(tn * atd + atn * td, 10**12), min(td * atd, 10**12)
+            return dn, dd, tn, td
+        if isinstance(e, sp.Mul):
+            dn = dd = 0
+            tn = td = 1
+            for a in e.args:
+                an, ad, atn, atd = walk(a)
+                dn, dd = dn + an, dd + ad
+                tn, td = min(tn * atn, 10**12), min(td * atd, 10**12)
+            return dn, dd, tn, td
+        if isinstance(e, sp.Pow) and e.exp.is_Integer:
+            n = int(e.exp)
+            bn, bd, btn, btd = walk(e.base)
+            if n < 0:
+                bn, bd, btn, btd, n = bd, bn, btd, btn, -n
+            return bn * n, bd * n, _multinomial(btn, n), _multinomial(btd, n)
+        # anything else (not produced by the parser): count its atoms
+        atoms = sum(1 for _ in sp.preorder_traversal(e))
+        return atoms, atoms, atoms, atoms
+
+    dn, dd, tn, td = walk(sp.sympify(expr))
+    return dn + dd, tn + td
+
+
+def check_symbolic_size(expr: sp.Expr, what: str = "expression") -> None:
+    """Raise :class:`SymbolicLimitError` when ``expr`` exceeds the symbolic size budget.
+
+    The budget (:data:`MAX_S_DEGREE`, :data:`MAX_TERMS`) bounds the size of the
+    single fraction sympy will form, so that derivations stay fast instead of
+    hanging on adversarial input such as ``1/(s + k1 + k2 + kd + bd + m + b)**12``.
+    """
+    deg, terms = symbolic_size(expr)
+    if deg > MAX_S_DEGREE or terms > MAX_TERMS:
+        raise SymbolicLimitError(
+            f"{what} is too large for symbolic analysis (as one fraction up to degree "
+            f"{deg} in s and {terms} terms; limits {MAX_S_DEGREE} and {MAX_TERMS}): "
+            "simplify it or multiply out numeric factors"
+        )
+
+
+@contextmanager
+def symbolic_time_limit(
+    seconds: float = SYMBOLIC_TIME_LIMIT, what: str = "symbolic derivation"
+) -> Iterator[None]:
+    """Raise :class:`SymbolicLimitError` if the block runs longer than ``seconds``.
+
+    Uses ``SIGALRM`` and is therefore active only in the main thread of a
+    process whose real-time interval timer is unused; elsewhere (worker
+    threads, dask workers) the size budget of :func:`check_symbolic_size`
+    is the only guard.
+    """
+    usable = (
+        hasattr(signal, "setitimer")
+        and threading.current_thread() is threading.main_thread()
+        and signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+        and signal.getsignal(signal.SIGALRM) in (signal.SIG_DFL, None)
+    )
+    if not usable:
+        yield
+        return
+
+    def _expired(signum: int, frame: object) -> None:
+        raise SymbolicLimitError(
+            f"{what} exceeded its time budget of {seconds:g} s: simplify the model"
+        )
+
+    old = signal.signal(signal.SIGALRM, _expired)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, old)
+
+
 def check_rational_in_s(expr: sp.Expr, allowed: Iterable[str], what: str) -> sp.Expr:
     """Validate a sympy expression given directly (not as text).
 
@@ -192,6 +307,7 @@ def check_rational_in_s(expr: sp.Expr, allowed: Iterable[str], what: str) -> sp.
     expr = expr.xreplace(subs)
     if not expr.is_rational_function(S):
         raise ExpressionError(f"{what}: {expr} is not a rational function of s")
+    check_symbolic_size(expr, what)
     return expr
 
 

@@ -551,22 +551,23 @@ def _all_real_roots(g: ep.Poly) -> bool:
 
 def _witness(px: ep.Poly) -> float:
     """A frequency where ``P(ω²) < 0`` (exactly checked), preferring the most negative one."""
-    roots = ep.isolate_real_roots(px, Fraction(0), None)
     sf = ep.squarefree_part(px)
-    tight = []
-    for a, b in roots:
-        a2, b2 = ep.refine(sf, a, b, max(b, Fraction(1)) * Fraction(1, 2**40))
-        while a2 == 0 and b2 > 0:  # keep test points off x = 0
-            a2, b2 = ep.refine(sf, a2, b2, (b2 - a2) / 4)
-        tight.append((a2, b2))
+    # refine until every isolating interval starts strictly after the previous
+    # root's interval (and after 0), however close the roots are
+    tight: list[tuple[Fraction, Fraction]] = []
+    prev = Fraction(0)
+    for a, b in ep.isolate_real_roots(px, Fraction(0), None):
+        while a <= prev:
+            a, b = ep.refine(sf, a, b, (b - a) / 2)
+        tight.append((a, b))
+        prev = b
     points: list[Fraction] = []
     lo = Fraction(0)
     for a, b in tight:
-        if a > lo:
-            points.append((lo + a) / 2)
+        points.append((lo + a) / 2)
         lo = b
     points.append(lo * 2 + 1)
-    neg = [x for x in points if ep.evaluate(px, x) < 0 and x > 0]
+    neg = [x for x in points if x > 0 and ep.evaluate(px, x) < 0]
     if not neg:
         raise ArithmeticError("no witness found although P changes sign")  # pragma: no cover
     # relative depth |P|/Σ|c_i|x^i lies in [0, 1], so it converts to float safely

@@ -53,6 +53,7 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from collections.abc import Mapping
@@ -69,6 +70,7 @@ from .controllers import DiscreteController, DiscreteTF, Method
 from .errors import ModelError, NotPassiveError, ParameterError, SymbolicLimitError
 from .expr import S
 from .model import SEA
+from .passivity import is_passive
 
 __all__ = [
     "SampledBoundResult",
@@ -92,8 +94,9 @@ class SampledPassivityResult:
     ----------
     passive : bool
     reason : str
-        ``""``, ``"unstable"`` (internal sampled loop), ``"alias_injection"`` or
-        ``"negative_power"``.
+        ``""``, ``"unstable"`` (internal sampled loop), ``"alias_injection"``,
+        ``"negative_power"`` or ``"continuous_not_passive"`` (the continuous design
+        already fails; see :func:`_continuous_gate`).
     detail : str
     omega : float or None
         Witness frequency (rad/s, in ``(0, π/T]``) where ``N(ω) < 0``.
@@ -470,6 +473,7 @@ def sampled_passivity(
     T = Fraction(repr(float(period)))
     if T <= 0:
         raise ParameterError(f"period must be positive, got {period!r}")
+    _check_ranges(sea, float(period))
     if controller is not None:
         ka, kl = (tf.delayed(int(delay)) for tf in controller.transfer_functions())
     else:
@@ -478,9 +482,55 @@ def sampled_passivity(
         )
     base = {"period": float(period), "delay": int(delay), "velocity_filter": velocity_filter}
     result = _decide(sea, ka, kl, T, base)
+    if result.passive and not sea.free_parameters:
+        result = _continuous_gate(sea, result)
     if throw and not result.passive:
         raise NotPassiveError(f"not passive at T = {float(period):g} s: {result.detail}")
     return result
+
+
+#: Magnitudes the 50-digit alias sums handle reliably; outside them seapass refuses.
+VALUE_RANGE = (1e-100, 1e100)
+PERIOD_RANGE = (1e-7, 10.0)
+
+
+def _check_ranges(sea: SEA, period: float) -> None:
+    """Refuse values the sampled analysis cannot treat faithfully (denormals, 1e300...)."""
+    lo, hi = PERIOD_RANGE
+    if not lo <= period <= hi:
+        raise ParameterError(
+            f"period {period!r} s is outside the supported range [{lo:g}, {hi:g}] s"
+        )
+    lo, hi = VALUE_RANGE
+    for name, v in sea.values.items():
+        if v is not None and v != 0 and not lo <= abs(v) <= hi:
+            raise ParameterError(
+                f"{name} = {v!r} is outside the range the sampled-data analysis supports "
+                f"(0 or |value| in [{lo:g}, {hi:g}]); rescale the units"
+            )
+
+
+def _continuous_gate(sea: SEA, result: SampledPassivityResult) -> SampledPassivityResult:
+    """Never report a sampled loop passive when the continuous design is not.
+
+    Conservative policy: the alias-sum decision has been seen to miss
+    violations confined to very low ``ωT`` (a continuous violation that the
+    coupled simulation in :mod:`seapass.sampled_coupling` confirms).  Requiring
+    the exact continuous verdict as well can only turn "passive" into "not
+    passive", never the reverse.
+    """
+    cont = is_passive(sea)
+    if cont.passive:
+        return result
+    nyquist = math.pi / result.period
+    omega = cont.omega if cont.omega is not None and cont.omega <= nyquist else None
+    return dataclasses.replace(
+        result,
+        passive=False,
+        reason="continuous_not_passive",
+        detail=f"not passive in continuous time ({cont.detail}); treated as not passive when sampled",
+        omega=omega,
+    )
 
 
 def _power_function(

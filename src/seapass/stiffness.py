@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .errors import DegenerateModelError
-from .expr import S, W
+from .errors import DegenerateModelError, SymbolicLimitError
+from .expr import S, W, symbolic_size, symbolic_time_limit
 from .model import SEA
 
 __all__ = [
@@ -75,12 +75,36 @@ def derive_stiffness(sea: SEA) -> StiffnessDerivation:
     return _derive(tuple(e[k] for k in ("D1", "D2", "CA", "CL", "m", "b")))
 
 
+#: Budget of the derivation, checked on a structural bound of the closed form
+#: (see :func:`seapass.expr.symbolic_size`) before sympy starts: symbolic
+#: models at the limit derive in a few seconds, beyond it sympy can take minutes.
+MAX_MODEL_DEGREE = 16
+MAX_MODEL_TERMS = 4000
+
+
 @functools.lru_cache(maxsize=256)
 def _derive(key: tuple[sp.Expr, ...]) -> StiffnessDerivation:
     """Cached on the element expressions: the derivation does not depend on values."""
     xa, xl, fa, fl = sp.symbols("X_A X_L F_A F_L")
     e = dict(zip(("D1", "D2", "CA", "CL", "m", "b"), key, strict=True))
     alpha = e["m"] * S**2 + e["b"] * S
+    closed = (e["D1"] * (alpha + e["CA"]) + e["D2"] * (alpha + e["CA"] + e["D1"])) / (
+        alpha + e["CA"] + e["D1"]
+    ) + e["D1"] * e["CL"] / (alpha + e["CA"] + e["D1"])
+    deg, terms = symbolic_size(closed)
+    if deg > MAX_MODEL_DEGREE or terms > MAX_MODEL_TERMS:
+        raise SymbolicLimitError(
+            f"model too large for symbolic derivation (up to degree {deg} in s and {terms} "
+            f"terms; limits {MAX_MODEL_DEGREE} and {MAX_MODEL_TERMS}): use lower-order elements"
+        )
+    with symbolic_time_limit(what="stiffness derivation"):
+        return _solve(e, alpha, (xa, xl, fa, fl))
+
+
+def _solve(
+    e: dict[str, sp.Expr], alpha: sp.Expr, syms: tuple[sp.Symbol, ...]
+) -> StiffnessDerivation:
+    xa, xl, fa, fl = syms
     eqs = (
         sp.Eq(alpha * xa, fa + e["D1"] * (xl - xa)),
         sp.Eq(fl, e["D1"] * (xl - xa) + e["D2"] * xl),

@@ -1,0 +1,74 @@
+"""``seapass analyze``: the full report for a user's own design file."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+EXAMPLE = """examples:
+  seapass analyze examples/ours.toml --out results/ours
+  seapass analyze examples/load_pd_not_passive.toml --out /tmp/lpd --quick
+  seapass analyze my_design.toml --out /tmp/core --stages core   # verdict, stiffness, ranges
+
+The design file is TOML with [model] (D1, D2, CA, CL), [parameters] (a value for
+every symbol, m and b included) and optional [ranges], [simulation], [control]
+(rate in Hz, delay, velocity_filter) sections; see examples/*.toml. Unknown
+keys, wrong types and missing fields are errors naming the key.
+"""
+
+
+def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
+    p = sub.add_parser(
+        "analyze",
+        help="passivity, passive gain ranges, tuning, step response and sampled limits of a design file",
+        description="Analyse a design given as a TOML file and write a self-contained HTML "
+        "report, a Markdown report and all data (stages: passivity, stiffness, ranges, "
+        "response, tuning, sampled).",
+        epilog=EXAMPLE,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("design", metavar="DESIGN.toml", help="design file")
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    p.add_argument("--quick", action="store_true", help="reduced tuning budget and scans")
+    p.add_argument(
+        "--stages",
+        metavar="LIST",
+        help="comma-separated stages (default: all; 'core' = passivity,stiffness,ranges)",
+    )
+    p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..analyze import analyze, verdict_line
+    from ..design import load_design
+    from ..report import check_output_dir, write_report
+    from .cmd_reproduce import parse_stages
+
+    design = load_design(args.design)
+    check_output_dir(args.out)  # fail now, not after the work
+    t0 = time.perf_counter()
+    report = analyze(
+        design,
+        quick=args.quick,
+        stages=parse_stages(args.stages),
+        progress=False if args.no_progress else None,
+        log=lambda line: print(line, file=sys.stderr),
+    )
+    out = Path(args.out)
+    write_report(report, out)
+    line = verdict_line(report.sections, design)
+    if line:
+        print(f"{design.name}: {line}")
+    print(
+        f"wrote {out / 'report.html'} and {out / 'report.md'} in {time.perf_counter() - t0:.1f} s"
+    )
+    skipped = [s.key for s in report.sections if s.status == "skipped"]
+    if skipped:
+        print(f"  skipped (reason in the report): {', '.join(skipped)}", file=sys.stderr)
+    for s in report.sections:
+        if s.status == "failed":
+            print(f"  {s.key} FAILED: {s.text}", file=sys.stderr)
+    return 1 if report.failed else 0

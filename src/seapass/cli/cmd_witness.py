@@ -1,0 +1,87 @@
+"""``seapass witness``: a passive environment that destabilizes a non-passive design."""
+
+from __future__ import annotations
+
+import argparse
+import functools
+from pathlib import Path
+
+from ..model import SEA, Impedance
+from ..witness import find_destabilizing_environment
+from .common import add_model_options, atomic_save, model_from_args, print_json, values_from_args
+
+EXAMPLE = """examples:
+  seapass witness --D1 k1 --CL kd --set m=1 --set b=10 --set k1=1000 --set kd=2000 --json
+  seapass witness --D1 k1 --CL kd --set m=1 --set b=10 --set k1=1000 --set kd=2000 --out witness/
+  seapass witness --Z "(s - 1)/(s + 1)"
+"""
+
+
+def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
+    p = sub.add_parser(
+        "witness",
+        help="find a passive mass-spring-damper that destabilizes a non-passive design",
+        description="For a design that is not passive, construct a passive environment "
+        "Z_e = m_e s + b_e + k_e/s (m_e, b_e, k_e >= 0) that makes the coupled system "
+        "unstable, verified exactly; print it with the coupled poles and optionally plot "
+        "the growing oscillation. A passive design has no such environment.",
+        epilog=EXAMPLE,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    add_model_options(p)
+    p.add_argument("--Z", help="raw impedance Z(s) instead of an SEA model, e.g. '(s - 1)/(s + 1)'")
+    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.add_argument("--out", metavar="DIR", help="write witness.png and witness.json into DIR")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    system: Impedance | SEA
+    if args.Z is not None:
+        if any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL")):
+            raise ValueError("give either --Z or the model elements --D1/--D2/--CA/--CL, not both")
+        system = Impedance(expr=args.Z, values=values_from_args(args))
+    else:
+        system = model_from_args(args)
+    result = find_destabilizing_environment(system, simulate=True)
+    data = result.to_dict()
+    if args.out:
+        out = Path(args.out)
+        if out.exists() and not out.is_dir():
+            raise ValueError(f"--out {args.out}: not a directory; give a directory for the files")
+        data["figure"] = None
+        if result.found and result.simulation is not None:
+            import matplotlib.pyplot as plt
+
+            from ..plotting_witness import plot_witness
+
+            fig = plot_witness(result)
+            atomic_save(out / "witness.png", functools.partial(fig.savefig, dpi=130, format="png"))
+            plt.close(fig)
+            data["figure"] = str(out / "witness.png")
+        import json
+
+        from .common import _clean, atomic_write_text
+
+        atomic_write_text(
+            out / "witness.json", json.dumps(_clean(data), indent=2, allow_nan=False) + "\n"
+        )
+    if args.json:
+        print_json(data)
+    elif result.found:
+        env = result.environment
+        assert env is not None and result.coupled is not None
+        print(result.detail)
+        print(
+            f"environment: m_e = {env.mass:.6g} kg, b_e = {env.damping:.6g} N*s/m, "
+            f"k_e = {env.stiffness:.6g} N/m ({result.method})"
+        )
+        print(f"max real part of the coupled poles: {result.coupled.max_real_part:.6g} 1/s")
+        if result.simulation is not None:
+            print(
+                f"simulated {result.simulation.output}: grows x{result.simulation.growth_factor:.3g} "
+                f"over {result.simulation.t[-1]:.4g} s"
+            )
+    else:
+        print(result.detail)
+    return 0

@@ -1,0 +1,908 @@
+"""Hostile and malformed input: never a traceback, never a hang, never code execution.
+
+Every CLI run goes through :func:`seapass.cli.main` under a watchdog (SIGALRM,
+``WATCHDOG_S`` seconds per example); the contract checked is: exit code 0 or
+2, at most one line on stderr, no ``Traceback``.  Injection payloads try to
+create a marker file; it must never appear.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import io
+import math
+import os
+import signal
+import tomllib
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+import sympy as sp
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from seapass.cli import build_parser, main
+from seapass.errors import ExpressionError, ParameterError, SeapassError, SymbolicLimitError
+from seapass.expr import parse_assignment, parse_expression
+from seapass.fileio import atomic_save, atomic_write, atomic_write_text
+from seapass.model import SEA, Impedance
+
+WATCHDOG_S = 20.0
+REPO = Path(__file__).resolve().parents[1]
+MARKER = Path(os.environ.get("TMPDIR", "/tmp")) / f"seapass-fuzz-marker-{os.getpid()}"
+
+
+class Hang(Exception):
+    pass
+
+
+@contextlib.contextmanager
+def watchdog(seconds: float = WATCHDOG_S) -> Iterator[None]:
+    def _fire(signum, frame):
+        raise Hang(f"no answer within {seconds} s")
+
+    old = signal.signal(signal.SIGALRM, _fire)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, old)
+
+
+def run_cli(argv: list[str], codes: tuple[int, ...] = (0, 2)) -> tuple[int, str, str]:
+    out, err = io.StringIO(), io.StringIO()
+    with watchdog(), contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            code = main(argv)
+        except SystemExit as exc:  # argparse --help / --version
+            code = int(exc.code or 0)
+    e = err.getvalue()
+    assert code in codes, (argv, code, e[-2000:])
+    assert "Traceback" not in e, (argv, e[-2000:])
+    assert e.count("\n") <= 1, (argv, e[-2000:])
+    assert not MARKER.exists(), argv
+    return code, out.getvalue(), e
+
+
+def run_cli_fuzz(argv: list[str]) -> None:
+    run_cli(argv)
+
+
+# ---------------------------------------------------------------- injection
+
+PAYLOADS = [
+    "__import__('os').system('touch {m}')",
+    "open('{m}', 'w')",
+    "eval(\"open('{m}','w')\")",
+    "exec(\"open('{m}','w')\")",
+    "(lambda: open('{m}', 'w'))()",
+    "().__class__.__bases__[0].__subclasses__()",
+    "s.__class__.__init__.__globals__",
+    "k1.__reduce__()",
+    "[open('{m}','w') for _ in (1,)]",
+    'f\'{{open("{m}","w")}}\'',
+    "(x := open('{m}', 'w'))",
+    "s if open('{m}','w') else 1",
+    "__builtins__",
+    "Symbol('x')",
+    'sympify(\'open("{m}","w")\')',
+    "s[0]",
+    "*s",
+    "s @ s",
+    "s ** s",
+    "s ** 1.5",
+    "s ** (1/2)",
+    "2 ** 99999999",
+    "9" * 5000,
+    "1" + "*s" * 500,
+    "(" * 200 + "s" + ")" * 200,
+    "import os",
+    "k1;open('{m}','w')",
+    "k1\nopen('{m}','w')",
+    "\x00",
+    "s\u200b+1",
+    "ﬁ + s",
+    "𝑠 + 1",
+    "True",
+    "None",
+    "...",
+    "b'1'",
+    "'s'",
+    "1j*s",
+    "0x10*s",
+    "1_000*s",
+    "nan*s",
+    "1e999*s",
+    "1/(s-s)",
+    "k1/(kd-kd)",
+]
+
+
+def payloads() -> list[str]:
+    return [p.format(m=MARKER) for p in PAYLOADS]
+
+
+@pytest.fixture(autouse=True)
+def _no_marker():
+    MARKER.unlink(missing_ok=True)
+    yield
+    assert not MARKER.exists()
+
+
+@pytest.mark.parametrize("text", payloads())
+def test_injection_through_the_parser_does_nothing(text):
+    try:
+        expr = parse_expression(text)
+    except (ExpressionError, SymbolicLimitError):
+        pass
+    else:  # a few payloads are harmless valid arithmetic, e.g. 0x10*s
+        assert isinstance(expr, sp.Expr)
+        assert expr.free_symbols <= {sp.Symbol("s")}
+    assert not MARKER.exists()
+
+
+@pytest.mark.parametrize("text", payloads())
+def test_injection_through_models_and_cli_does_nothing(text):
+    for build in (lambda: SEA(D1="k1", CA=text), lambda: Impedance(expr=text)):
+        with contextlib.suppress(SeapassError):
+            build()
+    run_cli(["check", "--D1", "k1", "--CL", text, "--set", "m=1", "--set", "b=1"])
+    run_cli(["check", "--Z", text])
+    run_cli(["witness", "--Z", text])
+    run_cli(["check", "--D1", "k1", "--set", f"{text}=1"])
+    run_cli(["check", "--D1", "k1", "--set", f"k1={text}"])
+
+
+# ---------------------------------------------------------------- parser fuzz
+
+ALPHABET = "sk1bdmi0123456789.eE+-*/^() _,'\"[]{}:;=<>!@#$%&|~`\\\t\n" + "ωé\u200b"
+texts = st.one_of(
+    st.text(alphabet=ALPHABET, max_size=80),
+    st.text(max_size=40),
+)
+
+
+@settings(max_examples=400, deadline=2000)
+@given(text=texts)
+def test_parser_never_crashes(text):
+    try:
+        expr = parse_expression(text)
+    except (ExpressionError, SymbolicLimitError):
+        return
+    assert isinstance(expr, sp.Expr)
+
+
+_atoms = st.sampled_from(["s", "k1", "kd", "bd", "m", "0", "1", "2.5", "1e-6", "1e8", "0.0"])
+
+
+@st.composite
+def grammar(draw: st.DrawFn, depth: int = 4) -> str:
+    if depth == 0:
+        return draw(_atoms)
+    kind = draw(st.sampled_from(["atom", "add", "sub", "mul", "div", "pow", "neg", "paren"]))
+    if kind == "atom":
+        return draw(_atoms)
+    a = draw(grammar(depth - 1))
+    if kind == "neg":
+        return f"-{a}"
+    if kind == "paren":
+        return f"({a})"
+    if kind == "pow":
+        return f"({a})**{draw(st.integers(-14, 14))}"
+    b = draw(grammar(depth - 1))
+    op = {"add": "+", "sub": "-", "mul": "*", "div": "/"}[kind]
+    return f"({a}){op}({b})"
+
+
+@settings(max_examples=300, deadline=3000)
+@given(text=grammar())
+def test_grammar_expressions_parse_or_fail_cleanly(text):
+    try:
+        expr = parse_expression(text)
+    except (ExpressionError, SymbolicLimitError):
+        return
+    assert expr.is_rational_function(sp.Symbol("s"))
+    assert not expr.has(sp.zoo, sp.nan, sp.oo)
+
+
+@settings(max_examples=300, deadline=1000)
+@given(text=st.text(max_size=40))
+def test_set_assignments_never_crash(text):
+    try:
+        name, val = parse_assignment(text)
+    except ParameterError:
+        return
+    assert name.isidentifier() and math.isfinite(val)
+
+
+# ---------------------------------------------------------------- CLI fuzz
+
+ELEMENTS = [
+    "0",
+    "k1",
+    "k1 + b1*s",
+    "kd + bd*s",
+    "kd + ki/s",
+    "kd",
+    "b2*s",
+    "k2",
+    "1/s",
+    "s**12",
+    "kd*s/(s + 1)",
+    "",
+    " ",
+    "k1 +",
+    "x",
+    "s^2",
+    "1/0",
+    "-k1",
+    "1e308*s",
+    "k1*1e-300",
+    "(k1 + b1*s)**-3",
+]
+NAMES = ["m", "b", "k1", "b1", "kd", "bd", "ki", "k2", "b2", "k", "s", "_x", "1a", "", "a b"]
+NUMBERS = [
+    "1",
+    "0",
+    "-1",
+    "1e-6",
+    "1e8",
+    "2000",
+    "nan",
+    "inf",
+    "-inf",
+    "1e309",
+    "abc",
+    "",
+    "4.9e-324",
+]
+GENERIC = [
+    *NUMBERS,
+    "0:1",
+    "1:0",
+    "0:0",
+    "-1:5",
+    "1:1e12",
+    "1:nan",
+    "a:b",
+    "1:2:3",
+    "k1",
+    "kd",
+    "/nonexistent/dir/f.png",
+    "out.png",
+    "out.xyz",
+    "5",
+    "100",
+    "0.002",
+]
+MODEL_OPTS = {"--D1", "--D2", "--CA", "--CL", "--Z"}
+
+
+def _subparsers(p: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+    for a in p._actions:
+        if isinstance(a, argparse._SubParsersAction):
+            return dict(a.choices)
+    return {}
+
+
+def _commands() -> dict[tuple[str, ...], argparse.ArgumentParser]:
+    out: dict[tuple[str, ...], argparse.ArgumentParser] = {}
+    for name, sp_ in _subparsers(build_parser()).items():
+        inner = _subparsers(sp_)
+        if inner:
+            for n2, p2 in inner.items():
+                out[(name, n2)] = p2
+        else:
+            out[(name,)] = sp_
+    return out
+
+
+COMMANDS = _commands()
+# analysis commands are fast on any input; the others run long jobs on valid input
+FAST = sorted(
+    k
+    for k in COMMANDS
+    if k[0] in {"check", "bound", "region", "response", "witness"} or k[0] == "sampled"
+)
+
+
+@st.composite
+def argvs(draw: st.DrawFn, commands: list[tuple[str, ...]]) -> list[str]:
+    key = draw(st.sampled_from(commands))
+    parser = COMMANDS[key]
+    argv = list(key)
+    for a in parser._actions:
+        if a.dest == "help":
+            continue
+        if not a.option_strings:  # positional
+            if a.choices:
+                argv.append(draw(st.sampled_from([*map(str, a.choices), "bogus"])))
+            else:
+                argv.append(draw(st.sampled_from(NAMES + GENERIC)))
+            continue
+        if not draw(st.booleans()):
+            continue
+        opt = a.option_strings[-1]
+        if a.nargs == 0:
+            argv.append(opt)
+        elif opt == "--set":
+            for _ in range(draw(st.integers(1, 6))):
+                argv += [opt, f"{draw(st.sampled_from(NAMES))}={draw(st.sampled_from(NUMBERS))}"]
+        elif opt in MODEL_OPTS:
+            argv += [opt, draw(st.one_of(st.sampled_from(ELEMENTS), grammar(2)))]
+        elif a.choices:
+            argv += [opt, draw(st.sampled_from([*map(str, a.choices), "bogus"]))]
+        else:
+            argv += [opt, draw(st.sampled_from(GENERIC))]
+    if draw(st.booleans()):  # a plausible complete model makes deeper code paths reachable
+        argv += ["--set", "m=1", "--set", "b=10", "--set", "k1=1000", "--set", "kd=500"]
+    return argv
+
+
+@settings(
+    max_examples=150,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
+)
+@given(argv=argvs(FAST))
+def test_cli_fuzz_analysis_commands(argv, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    run_cli_fuzz(argv)
+
+
+OURS = [
+    "--D1",
+    "k1 + b1*s",
+    "--CA",
+    "kd + bd*s",
+    "--set",
+    "m=1",
+    "--set",
+    "b=10",
+    "--set",
+    "k1=1000",
+    "--set",
+    "b1=20",
+    "--set",
+    "bd=25",
+    "--set",
+    "kd=5000",
+]
+LP = ["--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "b=10", "--set", "k1=1000"]
+TEMPLATES = [
+    ["check", *OURS, "--json"],
+    ["check", "--Z", "(s + 1)/(s + 2)"],
+    ["bound", "kd", *LP, "--range", "0:5000", "--json"],
+    [
+        "region",
+        "kd",
+        "bd",
+        "--D1",
+        "k1",
+        "--CA",
+        "kd + bd*s",
+        "--set",
+        "m=1",
+        "--set",
+        "b=10",
+        "--set",
+        "k1=1000",
+        "--x-range",
+        "0:5000",
+        "--y-range",
+        "0:50",
+        "--nx",
+        "4",
+        "--json",
+    ],
+    ["response", *OURS, "--omega", "0.1:1e4", "--points", "50", "--json"],
+    ["witness", *LP, "--set", "kd=2000", "--json"],
+    ["sampled", "check", "--period", "0.002", *OURS, "--json"],
+    ["sampled", "bound", "kd", "--period", "0.002", *LP, "--range", "0:5000", "--json"],
+    ["simulate", *OURS, "--load-mass", "1", "--horizon", "0.5", "--json"],
+]
+
+
+@st.composite
+def mutated_argvs(draw: st.DrawFn) -> list[str]:
+    """A valid command line with one to three tokens replaced, dropped or added."""
+    argv = list(draw(st.sampled_from(TEMPLATES)))
+    for _ in range(draw(st.integers(1, 3))):
+        values = [j for j in range(1, len(argv)) if not argv[j].startswith("--")]
+        if not values:
+            break
+        i = draw(st.sampled_from(values))
+        prev = argv[i - 1]
+        action = draw(st.sampled_from(["replace"] * 6 + ["drop", "insert"]))
+        if action == "drop":
+            del argv[i]
+        elif action == "insert":
+            argv.insert(i, draw(st.sampled_from([*GENERIC, "--set", "--json", "--out", "-x"])))
+        elif prev in MODEL_OPTS:
+            argv[i] = draw(st.one_of(st.sampled_from(ELEMENTS + payloads()), grammar(2)))
+        elif prev == "--set":
+            name = draw(st.sampled_from([argv[i].split("=")[0], *NAMES]))
+            argv[i] = f"{name}={draw(st.sampled_from(NUMBERS))}"
+        else:
+            argv[i] = draw(st.sampled_from(GENERIC + NAMES))
+    return argv
+
+
+@settings(
+    max_examples=200,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
+)
+@given(argv=mutated_argvs())
+def test_cli_fuzz_mutated_valid_command_lines(argv, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    run_cli_fuzz(argv)
+
+
+SLOW_BAD = [
+    ["figure", "bogus", "--out", "x"],
+    ["figure", "sims", "--out", "x", "--horizon", "nan"],
+    ["figure", "sims", "--out", "x", "--seed", "abc"],
+    ["tables", "--format", "xml"],
+    ["reproduce", "--out", "x", "--stages", "bogus"],
+    ["reproduce", "--out", "x", "--jobs", "-3", "--stages", "tables"],
+    ["analyze", "/nonexistent/design.toml", "--out", "x"],
+    ["tune", "--design", "bogus"],
+    ["tune", "--load-mass", "nan"],
+    ["tune", "--set", "kd=1", "--bound", "kd=5:1"],
+    ["tune", "--maxiter", "-5"],
+    ["sweep", "--grid", "kd=abc"],
+    ["sweep", "--range", "1:0"],
+    ["sweep", "--sample", "-1"],
+    [
+        "simulate",
+        "--D1",
+        "k1",
+        "--CL",
+        "kd",
+        "--set",
+        "m=1",
+        "--set",
+        "b=10",
+        "--set",
+        "k1=1000",
+        "--set",
+        "kd=500",
+        "--horizon",
+        "1e12",
+        "--dt",
+        "1e-9",
+    ],
+    [
+        "simulate",
+        "--D1",
+        "k1",
+        "--CL",
+        "kd",
+        "--set",
+        "m=1",
+        "--set",
+        "b=10",
+        "--set",
+        "k1=1000",
+        "--set",
+        "kd=500",
+        "--trajectory",
+        "/nonexistent.csv",
+    ],
+    [
+        "simulate",
+        "--D1",
+        "k1",
+        "--CL",
+        "kd",
+        "--set",
+        "m=1",
+        "--set",
+        "b=10",
+        "--set",
+        "k1=1000",
+        "--set",
+        "kd=500",
+        "--dt",
+        "0",
+    ],
+    ["rig", "bogus"],
+    ["rig", "show", "--rig", "/nonexistent.toml"],
+    ["rig", "sweep", "--kd-step", "0"],
+    ["rig", "sweep", "--kd-max", "nan"],
+    ["rig", "impacts", "--rig", "/dev/null"],
+    ["sampled", "check", "--period", "0", "--D1", "k1"],
+    ["sampled", "check", "--period", "nan", "--D1", "k1"],
+    [
+        "region",
+        "kd",
+        "bd",
+        "--D1",
+        "k1",
+        "--CA",
+        "kd + bd*s",
+        "--set",
+        "m=1",
+        "--set",
+        "b=1",
+        "--set",
+        "k1=1",
+        "--nx",
+        "100000000",
+    ],
+    [
+        "response",
+        "--D1",
+        "k1",
+        "--set",
+        "m=1",
+        "--set",
+        "b=1",
+        "--set",
+        "k1=1",
+        "--points",
+        "10000000000",
+    ],
+    ["nonexistent-command"],
+    [],
+]
+
+
+@pytest.mark.parametrize("argv", SLOW_BAD, ids=lambda a: " ".join(a)[:60] or "empty")
+def test_cli_hostile_options_of_every_command(argv, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run_cli(argv)
+    assert code == 2 and err.startswith("error:")
+
+
+EXTREME_VALID = [
+    # far outside the documented span: the verdicts stay exact, the evidence may be nan
+    [
+        "witness",
+        "--D1",
+        "k1",
+        "--CL",
+        "kd",
+        "--set",
+        "m=4.9e-324",
+        "--set",
+        "b=10",
+        "--set",
+        "k1=1000",
+        "--set",
+        "kd=2000",
+        "--json",
+    ],
+    [
+        "witness",
+        "--D1",
+        "k1",
+        "--CL",
+        "kd",
+        "--set",
+        "m=1e300",
+        "--set",
+        "b=1e300",
+        "--set",
+        "k1=1e300",
+        "--set",
+        "kd=2e300",
+        "--out",
+        "w",
+    ],
+    [
+        "witness",
+        "--D1",
+        "k1",
+        "--CL",
+        "kd",
+        "--set",
+        "m=1e-300",
+        "--set",
+        "b=1e300",
+        "--set",
+        "k1=4.9e-324",
+        "--set",
+        "kd=1",
+    ],
+    [
+        "bound",
+        "kd",
+        "--D1",
+        "k1",
+        "--CL",
+        "kd",
+        "--set",
+        "m=1",
+        "--set",
+        "b=1",
+        "--set",
+        "k1=1",
+        "--range",
+        "0:1e308",
+    ],
+    ["check", "--D1", "k1", "--set", "m=1e-300", "--set", "b=1e300", "--set", "k1=4.9e-324"],
+    [
+        "witness",
+        "--D1",
+        "k1",
+        "--CL",
+        "kd",
+        "--set",
+        "m=1e-6",
+        "--set",
+        "b=1e8",
+        "--set",
+        "k1=1e8",
+        "--set",
+        "kd=1.0000001e8",
+    ],
+    ["check", "--D1", "k1", "--set", "m=1", "--set", "b=1", "--set", "k1=1", "--json", "--json"],
+]
+
+
+@pytest.mark.parametrize("argv", EXTREME_VALID, ids=lambda a: " ".join(a)[:60])
+def test_cli_extreme_but_valid_values_answer(argv, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    run_cli(argv)
+
+
+# once ZeroDivisionError, mpmath NoConvergence and OverflowError tracebacks; now range errors
+SAMPLED_CRASHES = [
+    ["--set", "k1=4.9e-324", "--period", "0.002"],
+    ["--set", "m=4.9e-324", "--set", "k1=1000", "--period", "0.002"],
+    ["--set", "k1=1000", "--period", "4.9e-324"],
+]
+
+
+@pytest.mark.parametrize("extra", SAMPLED_CRASHES, ids=["k1-denormal", "m-denormal", "T-denormal"])
+def test_sampled_check_extreme_values_answer_in_one_line(extra, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    base = [
+        "sampled",
+        "check",
+        "--D1",
+        "k1 + b1*s",
+        "--CA",
+        "kd + bd*s",
+        "--set",
+        "m=1",
+        "--set",
+        "b=10",
+        "--set",
+        "b1=20",
+        "--set",
+        "bd=25",
+        "--set",
+        "kd=5000",
+    ]
+    run_cli(base + extra)
+
+
+def test_every_subcommand_is_covered_by_a_hostile_case():
+    covered = {tuple(a[:1]) for a in SLOW_BAD if a} | {k[:1] for k in FAST}
+    assert {k[:1] for k in COMMANDS} <= covered
+
+
+# ---------------------------------------------------------------- TOML files
+
+TOML_VALUES = st.one_of(
+    st.integers(-(10**20), 10**20),
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.text(max_size=20),
+    st.booleans(),
+    st.lists(st.floats(allow_nan=True), max_size=4),
+    st.dictionaries(st.text(max_size=5), st.integers(), max_size=2),
+    st.sampled_from(payloads()),
+)
+
+
+def _mutate(draw: st.DrawFn, doc: dict) -> dict:
+    doc = {k: (dict(v) if isinstance(v, dict) else v) for k, v in doc.items()}
+    for _ in range(draw(st.integers(1, 4))):
+        section = draw(st.sampled_from([*doc, "bogus_section"]))
+        action = draw(st.sampled_from(["set", "delete", "add", "replace_section"]))
+        if action == "replace_section" or section not in doc:
+            doc[section] = draw(TOML_VALUES)
+            continue
+        if not isinstance(doc[section], dict):
+            doc[section] = draw(TOML_VALUES)
+            continue
+        keys = list(doc[section]) or ["x"]
+        key = draw(st.sampled_from(keys))
+        if action == "delete":
+            doc[section].pop(key, None)
+        elif action == "add":
+            doc[section][draw(st.text(min_size=1, max_size=8))] = draw(TOML_VALUES)
+        else:
+            doc[section][key] = draw(TOML_VALUES)
+    return doc
+
+
+def _design_doc() -> dict:
+    return tomllib.loads((REPO / "examples" / "ours.toml").read_text())
+
+
+@settings(max_examples=200, deadline=3000)
+@given(data=st.data())
+def test_design_documents_fail_with_file_format_errors(data):
+    design = pytest.importorskip("seapass.design")
+    doc = _mutate(data.draw, _design_doc())
+    try:
+        d = design.parse_design(doc)
+    except SeapassError:
+        return
+    assert d.sea() is not None
+
+
+@settings(max_examples=200, deadline=3000)
+@given(data=st.data())
+def test_rig_documents_fail_with_file_format_errors(data):
+    rig = pytest.importorskip("seapass.rig")
+    base = tomllib.loads((REPO / "src" / "seapass" / "data" / "paper_rig.toml").read_text())
+    doc = _mutate(data.draw, base)
+    try:
+        r = rig.parse_rig(doc)
+    except SeapassError:
+        return
+    assert r.period > 0
+
+
+@settings(
+    max_examples=100, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(
+    text=st.one_of(
+        st.text(max_size=200), st.binary(max_size=200).map(lambda b: b.decode("latin-1"))
+    )
+)
+def test_garbage_files_through_loaders_and_cli(text, tmp_path):
+    f = tmp_path / "garbage.toml"
+    f.write_bytes(text.encode("utf-8", "surrogatepass"))
+    from seapass.rig import load_rig
+
+    with contextlib.suppress(SeapassError):
+        load_rig(f)
+    design = pytest.importorskip("seapass.design")
+    with contextlib.suppress(SeapassError):
+        design.load_design(f)
+    run_cli(["rig", "show", "--rig", str(f)])
+
+
+def _toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, float):
+        return (
+            "nan"
+            if math.isnan(v)
+            else ("inf" if v == math.inf else "-inf" if v == -math.inf else repr(v))
+        )
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, str):
+        return _toml_key(v)
+    if isinstance(v, list):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{" + ", ".join(f"{_toml_key(k)} = {_toml_value(x)}" for k, x in v.items()) + "}"
+    raise TypeError(type(v))
+
+
+def _toml_key(k: str) -> str:
+    """A TOML basic string: escapes for quote, backslash and every non-printable character."""
+    out = []
+    for ch in k:
+        if 0xD800 <= ord(ch) <= 0xDFFF:
+            raise TypeError("surrogates cannot be written to TOML")
+        if ch in '"\\':
+            out.append("\\" + ch)
+        elif ch.isprintable() and ch != "\x7f":
+            out.append(ch)
+        else:
+            out.append(f"\\u{ord(ch):04x}" if ord(ch) <= 0xFFFF else f"\\U{ord(ch):08x}")
+    return '"' + "".join(out) + '"'
+
+
+def _dump(doc: dict) -> str:
+    top = [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in doc.items() if not isinstance(v, dict)]
+    tables = [
+        f"[{_toml_key(k)}]\n"
+        + "\n".join(f"{_toml_key(a)} = {_toml_value(b)}" for a, b in v.items())
+        for k, v in doc.items()
+        if isinstance(v, dict)
+    ]
+    return "\n".join(top) + "\n" + "\n\n".join(tables) + "\n"
+
+
+@settings(
+    max_examples=20,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
+)
+@given(data=st.data())
+def test_mutated_design_files_through_analyze(data, tmp_path):
+    """``seapass analyze FILE --stages core``: 0/1 on a loadable design, else one error line."""
+    pytest.importorskip("seapass.design")
+    doc = _mutate(data.draw, _design_doc())
+    f = tmp_path / "design.toml"
+    try:
+        f.write_text(_dump(doc), encoding="utf-8", errors="surrogatepass")
+    except (TypeError, UnicodeEncodeError):
+        return
+    out, err = io.StringIO(), io.StringIO()
+    argv = ["analyze", str(f), "--out", str(tmp_path / "out"), "--stages", "core", "--no-progress"]
+    with watchdog(), contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(argv)
+    e = err.getvalue()
+    assert code in (0, 1, 2), (code, e[-2000:])
+    assert "Traceback" not in e, e[-2000:]
+    if code == 2:
+        assert e.count("\n") == 1 and e.startswith("error:"), e[-2000:]
+    assert not MARKER.exists()
+
+
+# ---------------------------------------------------------------- atomic output
+
+
+class Boom(Exception):
+    pass
+
+
+@pytest.mark.parametrize("exc", [Boom, KeyboardInterrupt])
+def test_interrupted_atomic_write_keeps_the_old_file(tmp_path, exc):
+    target = tmp_path / "result.json"
+    target.write_text("old")
+    with pytest.raises(exc):
+        with atomic_write(target) as fh:
+            fh.write("new, half written")
+            raise exc()
+    assert target.read_text() == "old"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["result.json"]
+
+
+@pytest.mark.parametrize("exc", [Boom, KeyboardInterrupt])
+def test_interrupted_atomic_save_keeps_the_old_file(tmp_path, exc):
+    target = tmp_path / "figure.png"
+    target.write_bytes(b"old")
+
+    def save(path: str) -> None:
+        Path(path).write_bytes(b"partial")
+        raise exc()
+
+    with pytest.raises(exc):
+        atomic_save(target, save)
+    assert target.read_bytes() == b"old"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["figure.png"]
+
+
+def test_atomic_write_replaces_and_cleans_up(tmp_path):
+    target = tmp_path / "sub" / "a.txt"
+    atomic_write_text(target, "one")
+    atomic_write_text(target, "two")
+    assert target.read_text() == "two"
+    assert [p.name for p in target.parent.iterdir()] == ["a.txt"]
+
+
+def test_interrupted_cli_output_leaves_previous_files(tmp_path, monkeypatch):
+    """A KeyboardInterrupt while the witness figure is saved: old files stay, no leftovers."""
+    out = tmp_path / "w"
+    out.mkdir()
+    (out / "witness.png").write_bytes(b"old png")
+    import matplotlib.figure
+
+    def interrupted(self, *a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", interrupted)
+    argv = ["witness", "--Z", "(s - 1)/(s + 1)", "--out", str(out)]
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        code = main(argv)
+    assert code == 130 and "interrupted" in err.getvalue()
+    assert (out / "witness.png").read_bytes() == b"old png"
+    assert sorted(p.name for p in out.iterdir()) == ["witness.png"]
