@@ -278,17 +278,9 @@ def _key(sea: SEA, params: Sequence[str]) -> tuple[Any, ...]:
     return (tuple(sorted(sea.describe().items())), vals, tuple(params))
 
 
-def compile_passivity(sea: SEA, params: Sequence[str]) -> PassivityKernel:
-    """Derive (once, cached) the symbolic passivity data of ``sea`` in ``params``.
-
-    Parameters
-    ----------
-    sea : SEA
-        The configuration; values of parameters not in ``params`` are substituted exactly.
-    params : sequence of str
-        Parameters that will be given per design.  Must include every free
-        parameter of ``sea``.
-    """
+def check_batch_params(sea: SEA, params: Sequence[str]) -> tuple[str, ...]:
+    """``params`` as a tuple, checked: each appears in ``sea`` and together they cover
+    every free parameter of ``sea``."""
     params = tuple(params)
     unknown = [p for p in params if p not in sea.parameters]
     if unknown:
@@ -301,6 +293,21 @@ def compile_passivity(sea: SEA, params: Sequence[str]) -> PassivityKernel:
         raise ParameterError(
             f"no values for free parameter(s) {', '.join(missing)}: give arrays for them"
         )
+    return params
+
+
+def compile_passivity(sea: SEA, params: Sequence[str]) -> PassivityKernel:
+    """Derive (once, cached) the symbolic passivity data of ``sea`` in ``params``.
+
+    Parameters
+    ----------
+    sea : SEA
+        The configuration; values of parameters not in ``params`` are substituted exactly.
+    params : sequence of str
+        Parameters that will be given per design.  Must include every free
+        parameter of ``sea``.
+    """
+    params = check_batch_params(sea, params)
     key = _key(sea, params)
     if key in _CACHE:
         return _CACHE[key]

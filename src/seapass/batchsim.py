@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from .batch import _Bank, broadcast_values
+from .batch import _Bank, broadcast_values, check_batch_params
 from .errors import ParameterError, SimulationError, UnrealizableError
 from .expr import S, symbol, to_fraction
 from .model import SEA
@@ -106,18 +106,7 @@ def compile_step_response(sea: SEA, params: Sequence[str]) -> SimKernel:
     ``params`` are the model parameters given per design; the load mass
     ``m_L`` is always a per-design input.
     """
-    params = tuple(params)
-    unknown = [p for p in params if p not in sea.parameters]
-    if unknown:
-        raise ParameterError(
-            f"parameter(s) {', '.join(unknown)} do not appear in the model "
-            f"(its parameters are {', '.join(sea.parameters) or 'none'})"
-        )
-    missing = [p for p in sea.free_parameters if p not in params]
-    if missing:
-        raise ParameterError(
-            f"no values for free parameter(s) {', '.join(missing)}: give arrays for them"
-        )
+    params = check_batch_params(sea, params)
     vals = tuple(sorted((k, v) for k, v in sea.values.items() if k not in params))
     key = (tuple(sorted(sea.describe().items())), vals, params)
     if key in _CACHE:

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..model import SEA, Impedance
 from ..passivity import is_passive
-from .common import add_model_options, model_from_args, print_json, values_from_args
+from .common import add_model_options, print_json, system_from_args
 
 EXAMPLE = """examples:
   seapass check --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
@@ -33,13 +32,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def run(args: argparse.Namespace) -> int:
-    system: Impedance | SEA
-    if args.Z is not None:
-        if any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL")):
-            raise ValueError("give either --Z or the model elements --D1/--D2/--CA/--CL, not both")
-        system = Impedance(expr=args.Z, values=values_from_args(args))
-    else:
-        system = model_from_args(args)
+    system = system_from_args(args)
     result = is_passive(system)
     if args.json:
         print_json(result.to_dict())

@@ -6,9 +6,8 @@ import argparse
 import functools
 from pathlib import Path
 
-from ..model import SEA, Impedance
 from ..witness import find_destabilizing_environment
-from .common import add_model_options, atomic_save, model_from_args, print_json, values_from_args
+from .common import add_model_options, atomic_save, print_json, system_from_args
 
 EXAMPLE = """examples:
   seapass witness --D1 k1 --CL kd --set m=1 --set b=10 --set k1=1000 --set kd=2000 --json
@@ -36,13 +35,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def run(args: argparse.Namespace) -> int:
-    system: Impedance | SEA
-    if args.Z is not None:
-        if any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL")):
-            raise ValueError("give either --Z or the model elements --D1/--D2/--CA/--CL, not both")
-        system = Impedance(expr=args.Z, values=values_from_args(args))
-    else:
-        system = model_from_args(args)
+    system = system_from_args(args)
     result = find_destabilizing_environment(system, simulate=True)
     data = result.to_dict()
     if args.out:

@@ -10,7 +10,7 @@ from typing import Any
 
 from ..expr import parse_assignment
 from ..fileio import atomic_save, atomic_write, atomic_write_text
-from ..model import SEA
+from ..model import SEA, Impedance
 
 __all__ = [
     "add_model_options",
@@ -19,6 +19,7 @@ __all__ = [
     "atomic_write_text",
     "model_from_args",
     "print_json",
+    "system_from_args",
     "values_from_args",
 ]
 
@@ -52,6 +53,15 @@ def model_from_args(args: argparse.Namespace, extra_free: tuple[str, ...] = ()) 
     for name in extra_free:
         values.setdefault(name, None)
     return SEA(D1=args.D1, D2=args.D2, CA=args.CA, CL=args.CL, values=values)
+
+
+def system_from_args(args: argparse.Namespace) -> SEA | Impedance:
+    """The raw impedance given with ``--Z``, or else the SEA model of the element options."""
+    if getattr(args, "Z", None) is None:
+        return model_from_args(args)
+    if any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL")):
+        raise ValueError("give either --Z or the model elements --D1/--D2/--CA/--CL, not both")
+    return Impedance(expr=args.Z, values=values_from_args(args))
 
 
 def _clean(obj: Any) -> Any:
