@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import sympy as sp
-from sympy.logic.boolalg import Boolean, BooleanFalse, BooleanTrue
+from sympy.logic.boolalg import Boolean
 
 from .errors import SymbolicLimitError
 from .expr import S, W, symbolic_time_limit
@@ -250,11 +250,3 @@ def _exact_condition(system: SEA | Impedance) -> ExactCondition:
         condition=total,
         explicit=explicit,
     )
-
-
-def is_true(cond: Boolean) -> bool:
-    return isinstance(cond, BooleanTrue)
-
-
-def is_false(cond: Boolean) -> bool:
-    return isinstance(cond, BooleanFalse)

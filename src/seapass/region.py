@@ -81,10 +81,6 @@ class PassiveIntervals:
         }
 
 
-def _poly_in(expr: sp.Expr, var: sp.Symbol, p: sp.Symbol) -> sp.Poly:
-    return sp.Poly(sp.expand(expr), var, p, domain="QQ")
-
-
 def _univariate(expr: sp.Expr, p: sp.Symbol) -> ep.Poly:
     """Exact ascending coefficients of a polynomial in ``p`` (zero if identically zero)."""
     expr = sp.expand(expr)
