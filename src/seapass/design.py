@@ -47,7 +47,6 @@ from __future__ import annotations
 import math
 import os
 import re
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -55,6 +54,7 @@ from types import MappingProxyType
 from typing import Any
 
 from .errors import FileFormatError, SeapassError
+from .fileio import load_toml_file
 from .model import SEA
 
 __all__ = ["Design", "load_design", "parse_design"]
@@ -357,13 +357,4 @@ def load_design(path: str | os.PathLike[str]) -> Design:
         If the file cannot be read.
     """
     p = Path(path)
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise FileFormatError(f"{p}: invalid TOML: {exc}") from None
-    except UnicodeDecodeError:
-        raise FileFormatError(f"{p}: not a UTF-8 text file") from None
-    try:
-        return parse_design(data, base_dir=p.parent)
-    except FileFormatError as exc:
-        raise FileFormatError(f"{p}: {exc}") from None
+    return load_toml_file(p, lambda data: parse_design(data, base_dir=p.parent))

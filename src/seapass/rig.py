@@ -25,10 +25,10 @@ import os
 import tomllib
 from dataclasses import dataclass
 from importlib import resources
-from pathlib import Path
 from typing import Any
 
 from .errors import FileFormatError
+from .fileio import load_toml_file
 
 __all__ = [
     "ControlSpec",
@@ -477,17 +477,7 @@ def load_rig(path: str | os.PathLike[str]) -> Rig:
     OSError
         When the file cannot be read.
     """
-    p = Path(path)
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise FileFormatError(f"{p}: invalid TOML: {exc}") from None
-    except UnicodeDecodeError:
-        raise FileFormatError(f"{p}: not a UTF-8 text file") from None
-    try:
-        return parse_rig(data)
-    except FileFormatError as exc:
-        raise FileFormatError(f"{p}: {exc}") from None
+    return load_toml_file(path, parse_rig)
 
 
 def paper_rig() -> Rig:
