@@ -598,33 +598,3 @@ def _chunk(
             st[gi] = np.where(np.isnan(ts[gi]), NOT_SETTLED, SETTLED)
             modal[gi] = True
     return ts, fe, ov, st, modal
-    poles = np.full((N, kernel.den_deg), np.nan + 0j)
-    poles[ok] = _companion_roots(den[:, ok])
-    pmax = np.max(np.abs(poles), axis=1)
-    tol = 1e-9 * np.maximum(1.0, pmax)
-    unstable = ok & np.any(poles.real > tol[:, None], axis=1)
-    st[unstable] = UNSTABLE
-    stable = ok & np.all(poles.real < -tol[:, None], axis=1)
-    idx = np.nonzero(stable)[0]
-    if idx.size:
-        p = poles[idx]
-        nq, dq = num[:, idx], den[:, idx]
-        dd = (dq[1:].T * np.arange(1, dq.shape[0])).T
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            r = step * _poly_at(nq, p) / (p * _poly_at(dd, p))
-            y_inf = step * nq[0] / dq[0]
-        cond = np.sum(np.abs(r), axis=1) / abs(step)
-        good = np.isfinite(cond) & (cond < _COND_LIMIT) & np.isfinite(y_inf)
-        gi = idx[good]
-        if gi.size:
-            model = _Modal(p[good], r[good], y_inf[good] - step)
-            gap = band - np.abs(model.off)
-            level = np.where(gap > 0, np.minimum(1e-3 * band, 0.5 * gap), 1e-3 * band)
-            t_set = _envelope_time(model, np.maximum(level, 1e-12 * band), T)
-            ts[gi] = _settling(model, T, band, t_set)
-            eT = model.err(np.full((gi.size, 1), T))[:, 0]
-            fe[gi] = np.abs(eT)
-            ov[gi] = _overshoot(model, T, t_set, math.copysign(1.0, step)) / abs(step)
-            st[gi] = np.where(np.isnan(ts[gi]), NOT_SETTLED, SETTLED)
-            modal[gi] = True
-    return ts, fe, ov, st, modal
