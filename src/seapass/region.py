@@ -247,10 +247,6 @@ def passive_intervals(
 def _with(system: SEA | Impedance, values: Mapping[str, Any]) -> SEA | Impedance:
     vals = {k: (float(v) if isinstance(v, Fraction) else v) for k, v in values.items()}
     exact = {k: v for k, v in values.items() if isinstance(v, Fraction)}
-    if isinstance(system, SEA):
-        out: SEA | Impedance = system.with_values(**vals)
-    else:
-        out = Impedance(expr=system.expr, values={**system.values, **vals})
     if exact and any(Fraction(float(v)) != v for v in exact.values()):
         # a rational test point that is not a float: substitute it exactly
         subs = {symbol(k): sp.Rational(v.numerator, v.denominator) for k, v in exact.items()}
@@ -259,7 +255,9 @@ def _with(system: SEA | Impedance, values: Mapping[str, Any]) -> SEA | Impedance
         return Impedance(
             expr=expr.xreplace(subs), values={**system.values, **rest, **dict.fromkeys(exact)}
         )
-    return out
+    if isinstance(system, SEA):
+        return system.with_values(**vals)
+    return Impedance(expr=system.expr, values={**system.values, **vals})
 
 
 @dataclass(frozen=True)
