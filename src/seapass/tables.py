@@ -190,12 +190,11 @@ def _same_sign(derived: sp.Expr, printed: sp.Expr) -> bool:
     rest = sp.Mul(
         *[f for f in sp.Mul.make_args(ratio) if not (f == W or (f.is_Pow and f.base == W))]
     )
-    powers = (
-        sp.Poly(sp.cancel(ratio / rest), W)
-        if ratio != 0 and rest.free_symbols.isdisjoint({W})
-        else None
+    w_part = sp.cancel(ratio / rest)
+    even_power = w_part == 1 or (
+        w_part.is_Pow and w_part.base == W and w_part.exp.is_integer and w_part.exp.is_even
     )
-    if powers is None:
+    if ratio == 0 or not even_power or not rest.free_symbols.isdisjoint({W}):
         return False
     return bool(rest.is_positive)
 
