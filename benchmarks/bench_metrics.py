@@ -9,8 +9,8 @@ from typing import Any
 import numpy as np
 
 from _util import Row, fmt_rate, rate, timed
-from seapass.batchsim import batch_step_metrics, compile_step_response
-from seapass.model import SEA
+from seapass.batch.step_metrics import batch_step_metrics, compile_step_response
+from seapass.model.sea import SEA
 
 PROPOSED = SEA(
     D1="k1 + b1*s",

@@ -8,11 +8,11 @@ from pathlib import Path
 import numpy as np
 
 from _util import Row, rate, timed
-from seapass.metrics import tracking_metrics
-from seapass.model import SEA
-from seapass.passivity import is_passive
-from seapass.simulate import Step, simulate
-from seapass.sweep import GridAxis, SweepSpec, run_sweep
+from seapass.sim.metrics import tracking_metrics
+from seapass.model.sea import SEA
+from seapass.analysis.passivity import is_passive
+from seapass.sim.simulate import Step, simulate
+from seapass.sweep.runner import GridAxis, SweepSpec, run_sweep
 
 SEA_ = SEA(
     D1="k1 + b1*s",

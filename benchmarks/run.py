@@ -30,7 +30,7 @@ import bench_metrics  # noqa: E402
 import bench_passivity  # noqa: E402
 import bench_sweep  # noqa: E402
 from _util import Row, fmt_rate  # noqa: E402
-from seapass.fileio import atomic_write_text  # noqa: E402
+from seapass.files.atomic import atomic_write_text  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -121,7 +121,7 @@ def main(argv: list[str] | None = None) -> int:
         "",
         "`control.ispassive` solves the KYP linear matrix inequality numerically "
         "(cvxopt) with a tolerance; seapass decides positive-realness exactly in "
-        "rational arithmetic (`seapass.passivity.is_passive`).  The 'truth' column "
+        "rational arithmetic (`seapass.analysis.passivity.is_passive`).  The 'truth' column "
         "gives the reason the exact verdict holds.",
         "",
         "| case | seapass (exact) | python-control | right | truth |",

@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from seapass.analyze import ANALYSIS_STAGES, analyze, matching_tunable_design
+from seapass.report.analyze import ANALYSIS_STAGES, analyze, matching_tunable_design
 from seapass.cli import main
-from seapass.design import load_design
+from seapass.model.design_file import load_design
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 

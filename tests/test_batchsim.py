@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-import seapass.batchsim as bsim
-from seapass.batchsim import NOT_SETTLED, SETTLED, UNSTABLE, batch_step_metrics
+import seapass.batch.step_metrics as bsim
+from seapass.batch.step_metrics import NOT_SETTLED, SETTLED, UNSTABLE, batch_step_metrics
 from seapass.errors import ParameterError
-from seapass.model import SEA
+from seapass.model.sea import SEA
 
 PHYS = dict(m=1.0, b=10.0, k1=1000.0)
 PROPOSED = SEA(D1="k1 + b1*s", CA="kd + bd*s", values={**PHYS, "b1": None, "kd": None, "bd": None})
@@ -19,8 +19,8 @@ LP = SEA(D1="k1", CL="kd", values={**PHYS, "kd": None})
 
 
 def _scalar(sea: SEA, point: dict[str, float], load_mass: float, step: float, horizon: float):
-    simulate = pytest.importorskip("seapass.simulate")
-    metrics = pytest.importorskip("seapass.metrics")
+    simulate = pytest.importorskip("seapass.sim.simulate")
+    metrics = pytest.importorskip("seapass.sim.metrics")
     res = simulate.simulate(
         sea,
         load_mass=load_mass,
@@ -99,7 +99,7 @@ def test_short_horizon_does_not_settle_and_marks_nan() -> None:
 
 
 def test_scalar_fallback_path_gives_same_metrics(monkeypatch: pytest.MonkeyPatch) -> None:
-    pytest.importorskip("seapass.simulate")
+    pytest.importorskip("seapass.sim.simulate")
     vals = {"b1": np.array([30.0, 100.0]), "kd": np.array([800.0, 3000.0]), "bd": 60.0}
     fast = batch_step_metrics(PROPOSED, vals, load_mass=10.0)
     monkeypatch.setattr(bsim, "_COND_LIMIT", 0.0)  # every design takes the scalar path

@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.signal import cont2discrete, lfilter
 
-from seapass.controllers import (
+from seapass.sampled.controllers import (
     APDController,
     DifferenceEquation,
     DiscreteController,
@@ -21,7 +21,7 @@ from seapass.controllers import (
     filter_pole,
 )
 from seapass.errors import ParameterError, UnrealizableError
-from seapass.model import SEA
+from seapass.model.sea import SEA
 
 
 def test_backward_difference_pd_is_exact() -> None:

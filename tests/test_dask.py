@@ -9,8 +9,8 @@ import pyarrow.csv as pacsv
 import pyarrow.parquet as pq
 import pytest
 
-from seapass.model import SEA
-from seapass.sweep import GridAxis, SweepSpec, run_sweep
+from seapass.model.sea import SEA
+from seapass.sweep.runner import GridAxis, SweepSpec, run_sweep
 
 distributed = pytest.importorskip("dask.distributed")
 

@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from seapass.cli import main
-from seapass.design import Design, load_design, parse_design
+from seapass.model.design_file import Design, load_design, parse_design
 from seapass.errors import FileFormatError
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"

@@ -4,7 +4,7 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
-from seapass import exactpoly as ep
+from seapass.exact import poly as ep
 
 
 def poly_from_roots(roots):

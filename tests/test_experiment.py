@@ -11,7 +11,7 @@ import pytest
 
 from seapass.cli import main
 from seapass.errors import ParameterError
-from seapass.experiment import (
+from seapass.rig.experiment import (
     critical_gain,
     run_experiment,
     run_impacts,
@@ -20,7 +20,7 @@ from seapass.experiment import (
     settling_metrics,
     stiffness_response,
 )
-from seapass.rig import paper_rig
+from seapass.rig.rigfile import paper_rig
 
 RIG = paper_rig()
 T = np.arange(1501) * 0.002

@@ -6,7 +6,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from seapass.errors import ExpressionError, ParameterError
-from seapass.expr import S, parse_assignment, parse_expression, parse_value, symbol
+from seapass.model.expr import S, parse_assignment, parse_expression, parse_value, symbol
 
 
 @pytest.mark.parametrize(

@@ -25,9 +25,9 @@ from hypothesis import strategies as st
 
 from seapass.cli import build_parser, main
 from seapass.errors import ExpressionError, ParameterError, SeapassError, SymbolicLimitError
-from seapass.expr import parse_assignment, parse_expression
-from seapass.fileio import atomic_save, atomic_write, atomic_write_text
-from seapass.model import SEA, Impedance
+from seapass.model.expr import parse_assignment, parse_expression
+from seapass.files.atomic import atomic_save, atomic_write, atomic_write_text
+from seapass.model.sea import SEA, Impedance
 
 WATCHDOG_S = 20.0
 REPO = Path(__file__).resolve().parents[1]
@@ -730,7 +730,7 @@ def _design_doc() -> dict:
 @settings(max_examples=200, deadline=3000)
 @given(data=st.data())
 def test_design_documents_fail_with_file_format_errors(data):
-    design = pytest.importorskip("seapass.design")
+    design = pytest.importorskip("seapass.model.design_file")
     doc = _mutate(data.draw, _design_doc())
     try:
         d = design.parse_design(doc)
@@ -742,7 +742,7 @@ def test_design_documents_fail_with_file_format_errors(data):
 @settings(max_examples=200, deadline=3000)
 @given(data=st.data())
 def test_rig_documents_fail_with_file_format_errors(data):
-    rig = pytest.importorskip("seapass.rig")
+    rig = pytest.importorskip("seapass.rig.rigfile")
     base = tomllib.loads((REPO / "src" / "seapass" / "data" / "paper_rig.toml").read_text())
     doc = _mutate(data.draw, base)
     try:
@@ -763,11 +763,11 @@ def test_rig_documents_fail_with_file_format_errors(data):
 def test_garbage_files_through_loaders_and_cli(text, tmp_path):
     f = tmp_path / "garbage.toml"
     f.write_bytes(text.encode("utf-8", "surrogatepass"))
-    from seapass.rig import load_rig
+    from seapass.rig.rigfile import load_rig
 
     with contextlib.suppress(SeapassError):
         load_rig(f)
-    design = pytest.importorskip("seapass.design")
+    design = pytest.importorskip("seapass.model.design_file")
     with contextlib.suppress(SeapassError):
         design.load_design(f)
     run_cli(["rig", "show", "--rig", str(f)])
@@ -827,7 +827,7 @@ def _dump(doc: dict) -> str:
 @given(data=st.data())
 def test_mutated_design_files_through_analyze(data, tmp_path):
     """``seapass analyze FILE --stages core``: 0/1 on a loadable design, else one error line."""
-    pytest.importorskip("seapass.design")
+    pytest.importorskip("seapass.model.design_file")
     doc = _mutate(data.draw, _design_doc())
     f = tmp_path / "design.toml"
     try:

@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 
 from seapass.errors import ParameterError, SimulationError
-from seapass.rig import paper_rig
+from seapass.rig.rigfile import paper_rig
 
 RIG = paper_rig()
 
 
 def test_missing_mujoco_gives_install_hint(monkeypatch):
-    from seapass import mujoco_rig
+    from seapass.rig import mujoco_model as mujoco_rig
 
     monkeypatch.setitem(sys.modules, "mujoco", None)
     with pytest.raises(SimulationError, match=r"pip install seapass\[mujoco\]"):
@@ -23,7 +23,7 @@ def test_missing_mujoco_gives_install_hint(monkeypatch):
 
 mujoco = pytest.importorskip("mujoco")
 
-from seapass.mujoco_rig import build_mjcf, compare_with_twin, simulate_mujoco  # noqa: E402
+from seapass.rig.mujoco_model import build_mjcf, compare_with_twin, simulate_mujoco  # noqa: E402
 
 
 def test_mjcf_structure():

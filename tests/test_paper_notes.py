@@ -3,8 +3,8 @@
 import sympy as sp
 
 from seapass import SEA, exact_passivity_condition, is_passive, load_impedance, passive_intervals
-from seapass.expr import symbol
-from seapass.stiffness import passivity_polynomial
+from seapass.model.expr import symbol
+from seapass.model.stiffness import passivity_polynomial
 
 PAPER = {"m": 1.0, "b": 10.0, "k1": 1000.0}
 

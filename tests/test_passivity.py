@@ -11,11 +11,11 @@ import sympy as sp
 from hypothesis import assume, given
 from hypothesis import strategies as st
 
-from seapass.conditions import exact_passivity_condition
+from seapass.analysis.conditions import exact_passivity_condition
 from seapass.errors import NotPassiveError, ParameterError
-from seapass.expr import symbol
-from seapass.model import SEA, Impedance
-from seapass.passivity import is_passive
+from seapass.model.expr import symbol
+from seapass.model.sea import SEA, Impedance
+from seapass.analysis.passivity import is_passive
 
 PAPER = {"m": 1.0, "b": 10.0, "k1": 1000.0}
 
@@ -207,7 +207,7 @@ def test_verdict_invariant_under_change_of_units(name, data, mass_unit, time_uni
 @pytest.mark.parametrize("eps", [1e-3, 1e-6, 1e-9, 1e-12])
 def test_near_boundary_of_damped_lp(eps):
     """LP with a damped spring: boundary kd* from the discriminant; test both sides."""
-    from seapass.region import passive_intervals
+    from seapass.analysis.region import passive_intervals
 
     sea = SEA(D1="k1 + b1*s", CL="kd", values={**PAPER, "b1": 20.0})
     ((lo, hi),) = passive_intervals(sea, "kd", 0, 1e4).intervals
@@ -248,7 +248,7 @@ def test_structural_cancellation_is_not_marginal(elements, values, margin):
 
 
 def test_batch_margin_equals_scalar_margin():
-    from seapass.batch import batch_is_passive
+    from seapass.batch.verdicts import batch_is_passive
 
     sea = SEA(D1="k1", CL="kd", values=PAPER)
     kd = np.array([0.0, 250.0, 500.0, 999.0])

@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from seapass.cli import main
-from seapass.report import FigureData, Finding, Report, Section, Table, figure_png, write_report
-from seapass.reproduce import STAGES, Stage, reproduce, run_stages, select_stages, stage_keys
+from seapass.report.document import FigureData, Finding, Report, Section, Table, figure_png, write_report
+from seapass.report.reproduce import STAGES, Stage, reproduce, run_stages, select_stages, stage_keys
 
 
 @pytest.fixture(scope="module")

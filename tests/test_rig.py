@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from seapass.cli import main
 from seapass.errors import FileFormatError
-from seapass.rig import Rig, load_rig, paper_rig, parse_rig
+from seapass.rig.rigfile import Rig, load_rig, paper_rig, parse_rig
 
 PAPER = Path(__file__).resolve().parents[1] / "src" / "seapass" / "data" / "paper_rig.toml"
 

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from seapass.controllers import LPController, OursController
+from seapass.sampled.controllers import LPController, OursController
 from seapass.errors import NotPassiveError, ParameterError
-from seapass.model import SEA
-from seapass.runtime import (
+from seapass.model.sea import SEA
+from seapass.sampled.runtime import (
     ControlLoop,
     FakeClock,
     HardwareInterface,
@@ -234,8 +234,8 @@ def test_delayed_hardware_applies_commands_late() -> None:
 
 
 def test_twin_end_to_end() -> None:
-    twin = pytest.importorskip("seapass.twin")
-    rig = pytest.importorskip("seapass.rig").paper_rig()
+    twin = pytest.importorskip("seapass.rig.twin")
+    rig = pytest.importorskip("seapass.rig.rigfile").paper_rig()
     plant = twin.TwinPlant(rig, load_mass=0.1, seed=None)
     plant.reset(x_L=0.02)
     hw = SimulatedHardware(plant, delay_samples=rig.control.delay_samples)
@@ -257,8 +257,8 @@ def test_twin_end_to_end() -> None:
 
 
 def test_twin_nonpassive_lp_is_refused_then_stopped_safely() -> None:
-    twin = pytest.importorskip("seapass.twin")
-    rig = pytest.importorskip("seapass.rig").paper_rig()
+    twin = pytest.importorskip("seapass.rig.twin")
+    rig = pytest.importorskip("seapass.rig.rigfile").paper_rig()
     design = SEA(D1="k1 + b1*s", CL="kd", values={**rig.model_values(), "kd": 3000.0})
     plant = twin.TwinPlant(rig, load_mass=0.6, seed=None)
     plant.reset(x_L=0.02)

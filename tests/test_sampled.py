@@ -13,12 +13,12 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from seapass import sampled as sm
-from seapass import sampled_coupling as smc
+from seapass.sampled import passivity as sm
+from seapass.sampled import coupling as smc
 from seapass.cli import main
 from seapass.errors import ModelError, NotPassiveError, ParameterError
-from seapass.expr import S
-from seapass.model import SEA
+from seapass.model.expr import S
+from seapass.model.sea import SEA
 
 T = 0.002
 RIG = {"m": 1.02, "b": 10.0, "k1": 1005.0, "b1": 30.0}
@@ -130,7 +130,7 @@ def test_colgate_schenkel_virtual_damper_limit() -> None:
 
 
 def test_lp_approaches_continuous_bound_for_fast_sampling() -> None:
-    from seapass.region import passive_intervals
+    from seapass.analysis.region import passive_intervals
 
     kc = passive_intervals(lp(kd=None), "kd", 0, 1e5).intervals[0][1]
     assert kc == pytest.approx(849.148, rel=1e-4)
@@ -274,7 +274,7 @@ def test_cli_check_and_errors(tmp_path, capsys) -> None:  # type: ignore[no-unty
 
 
 def test_plot_bound_table_and_scan(tmp_path) -> None:  # type: ignore[no-untyped-def]
-    from seapass.plotting_sampled import plot_bound_scan, plot_bound_table, save_figure
+    from seapass.plot.sampled import plot_bound_scan, plot_bound_table, save_figure
 
     rows = [
         {"design": "Ours", "b1": 30.0, "bd": 0.0, "max_passive": 10009.8},

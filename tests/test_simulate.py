@@ -13,9 +13,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from seapass.errors import ParameterError, UnrealizableError
-from seapass.expr import S, parse_expression, symbol
-from seapass.model import SEA
-from seapass.simulate import (
+from seapass.model.expr import S, parse_expression, symbol
+from seapass.model.sea import SEA
+from seapass.sim.simulate import (
     ForceImpulse,
     ForceStep,
     LoadDisplaced,

@@ -3,9 +3,9 @@
 import pytest
 import sympy as sp
 
-from seapass.expr import S, symbol
-from seapass.model import SEA
-from seapass.stiffness import (
+from seapass.model.expr import S, symbol
+from seapass.model.sea import SEA
+from seapass.model.stiffness import (
     derive_stiffness,
     load_impedance,
     paper_eq4_stiffness,

@@ -10,12 +10,12 @@ import pyarrow.csv as pacsv
 import pyarrow.parquet as pq
 import pytest
 
-from seapass.batch import batch_is_passive
-from seapass.batchsim import batch_step_metrics
+from seapass.batch.verdicts import batch_is_passive
+from seapass.batch.step_metrics import batch_step_metrics
 from seapass.cli import main
 from seapass.errors import FileFormatError, ParameterError
-from seapass.model import SEA
-from seapass.sweep import (
+from seapass.model.sea import SEA
+from seapass.sweep.runner import (
     GridAxis,
     RangeAxis,
     SweepSpec,

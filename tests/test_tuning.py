@@ -8,10 +8,10 @@ from dataclasses import replace
 import pytest
 
 from seapass.errors import ParameterError
-from seapass.passivity import is_passive
-from seapass.region import passive_intervals
-from seapass.simstudy import QUICK_OPTIONS, run_simulation_study
-from seapass.tuning import DESIGNS, TuningOptions, design_sea, normalize_design, tune
+from seapass.analysis.passivity import is_passive
+from seapass.analysis.region import passive_intervals
+from seapass.paper.simstudy import QUICK_OPTIONS, run_simulation_study
+from seapass.sim.tuning import DESIGNS, TuningOptions, design_sea, normalize_design, tune
 
 QUICK = replace(QUICK_OPTIONS, maxiter=8)
 

@@ -11,8 +11,8 @@ from hypothesis import strategies as st
 from scipy.linalg import expm
 
 from seapass.errors import ParameterError, SimulationError
-from seapass.rig import paper_rig
-from seapass.twin import TwinPlant, linear_matrices, simulate_loop
+from seapass.rig.rigfile import paper_rig
+from seapass.rig.twin import TwinPlant, linear_matrices, simulate_loop
 
 RIG = paper_rig()
 

@@ -19,7 +19,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from seapass.cli import main
-from seapass.coupled import (
+from seapass.analysis.coupled import (
     CoupledResult,
     Environment,
     classify_polynomial,
@@ -27,9 +27,9 @@ from seapass.coupled import (
     coupled_stability,
 )
 from seapass.errors import DegenerateModelError, NotPassiveError, ParameterError
-from seapass.model import SEA
-from seapass.passivity import is_passive
-from seapass.witness import find_destabilizing_environment, simulate_coupled
+from seapass.model.sea import SEA
+from seapass.analysis.passivity import is_passive
+from seapass.analysis.witness import find_destabilizing_environment, simulate_coupled
 
 control = pytest.importorskip("control")
 
@@ -349,7 +349,7 @@ def test_cli_witness_out_must_be_a_directory(capsys, tmp_path):
 
 
 def test_plot_needs_a_found_witness():
-    from seapass.plotting_witness import plot_witness
+    from seapass.plot.witness import plot_witness
 
     w = find_destabilizing_environment("(s + 1)/(s + 2)")
     with pytest.raises(ValueError, match="found witness"):

@@ -12,10 +12,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from seapass.cli import main
-from seapass.conditions import exact_passivity_condition
-from seapass.coupled import Environment, coupled_stability
+from seapass.analysis.conditions import exact_passivity_condition
+from seapass.analysis.coupled import Environment, coupled_stability
 from seapass.errors import ExpressionError, SymbolicLimitError
-from seapass.expr import (
+from seapass.model.expr import (
     MAX_S_DEGREE,
     S,
     parse_expression,
@@ -23,10 +23,10 @@ from seapass.expr import (
     symbolic_size,
     symbolic_time_limit,
 )
-from seapass.model import SEA, Impedance
-from seapass.passivity import MARGINAL_RTOL, TOLERANCE_POLICY, is_passive
-from seapass.region import passive_intervals
-from seapass.stiffness import load_impedance
+from seapass.model.sea import SEA, Impedance
+from seapass.analysis.passivity import MARGINAL_RTOL, TOLERANCE_POLICY, is_passive
+from seapass.analysis.region import passive_intervals
+from seapass.model.stiffness import load_impedance
 
 CONFIGS = {
     "LP": dict(D1="k1", CL="kd"),

@@ -3,19 +3,19 @@
 The public surface is re-exported here explicitly; everything else is internal.
 """
 
-from .analyze import analyze
-from .batch import BatchPassivity, batch_is_passive, compile_passivity
-from .batchsim import BatchMetrics, batch_step_metrics
-from .conditions import ExactCondition, exact_passivity_condition
-from .controllers import APDController, DiscreteController, LPController, OursController, discretize
-from .coupled import (
+from .report.analyze import analyze
+from .batch.verdicts import BatchPassivity, batch_is_passive, compile_passivity
+from .batch.step_metrics import BatchMetrics, batch_step_metrics
+from .analysis.conditions import ExactCondition, exact_passivity_condition
+from .sampled.controllers import APDController, DiscreteController, LPController, OursController, discretize
+from .analysis.coupled import (
     CoupledResult,
     CoupledSimulation,
     Environment,
     coupled_stability,
     simulate_coupled,
 )
-from .design import Design, load_design
+from .model.design_file import Design, load_design
 from .errors import (
     DegenerateModelError,
     ExpressionError,
@@ -28,31 +28,31 @@ from .errors import (
     SymbolicLimitError,
     UnrealizableError,
 )
-from .experiment import (
+from .rig.experiment import (
     ExperimentResult,
     ImpactResult,
     SweepResult,
     run_experiment,
     run_impacts,
 )
-from .experiment import run_sweep as run_rig_sweep
-from .freqresp import FrequencyResponse, stiffness_response
-from .metrics import TrackingMetrics, settling_time, tracking_metrics
-from .model import SEA, Impedance
-from .passivity import PassivityResult, is_passive
-from .region import PassiveIntervals, PassiveMap, passive_intervals, passive_map
-from .report import Report, write_report
-from .reproduce import reproduce
-from .rig import Rig, load_rig, paper_rig
-from .runtime import ControlLoop, HardwareInterface, SimulatedHardware
-from .sampled import (
+from .rig.experiment import run_sweep as run_rig_sweep
+from .analysis.freqresp import FrequencyResponse, stiffness_response
+from .sim.metrics import TrackingMetrics, settling_time, tracking_metrics
+from .model.sea import SEA, Impedance
+from .analysis.passivity import PassivityResult, is_passive
+from .analysis.region import PassiveIntervals, PassiveMap, passive_intervals, passive_map
+from .report.document import Report, write_report
+from .report.reproduce import reproduce
+from .rig.rigfile import Rig, load_rig, paper_rig
+from .sampled.runtime import ControlLoop, HardwareInterface, SimulatedHardware
+from .sampled.passivity import (
     SampledBoundResult,
     SampledPassivityResult,
     sampled_passive_bound,
     sampled_passivity,
 )
-from .simstudy import SimulationStudy, run_simulation_study
-from .simulate import (
+from .paper.simstudy import SimulationStudy, run_simulation_study
+from .sim.simulate import (
     ClosedLoop,
     ForceImpulse,
     ForceStep,
@@ -63,13 +63,13 @@ from .simulate import (
     closed_loop,
     simulate,
 )
-from .stiffness import derive_stiffness, load_impedance, paper_eq4_stiffness, passivity_polynomial
-from .sweep import SweepSpec
-from .sweep import run_sweep as run_design_sweep
-from .tables import build_tables
-from .tuning import TuningOptions, TuningResult, tune
-from .twin import TwinPlant, simulate_loop
-from .witness import WitnessResult, find_destabilizing_environment
+from .model.stiffness import derive_stiffness, load_impedance, paper_eq4_stiffness, passivity_polynomial
+from .sweep.runner import SweepSpec
+from .sweep.runner import run_sweep as run_design_sweep
+from .paper.tables import build_tables
+from .sim.tuning import TuningOptions, TuningResult, tune
+from .rig.twin import TwinPlant, simulate_loop
+from .analysis.witness import WitnessResult, find_destabilizing_environment
 
 __version__ = "0.1.0"
 

@@ -42,9 +42,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..analyze import analyze, verdict_line
-    from ..design import load_design
-    from ..report import check_output_dir, write_report
+    from ..report.analyze import analyze, verdict_line
+    from ..model.design_file import load_design
+    from ..report.document import check_output_dir, write_report
     from .cmd_reproduce import parse_stages
 
     design = load_design(args.design)

@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 
 from ..errors import ParameterError
-from ..expr import parse_value
-from ..region import passive_intervals
+from ..model.expr import parse_value
+from ..analysis.region import passive_intervals
 from .common import add_model_options, model_from_args, print_json
 
 EXAMPLE = """example:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..passivity import is_passive
+from ..analysis.passivity import is_passive
 from .common import add_model_options, print_json, system_from_args
 
 EXAMPLE = """examples:

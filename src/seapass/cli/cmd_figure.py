@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..fileio import atomic_save, atomic_write_text
+from ..files.atomic import atomic_save, atomic_write_text
 
 EXAMPLE = """examples:
   seapass figure sims --out figures/
@@ -42,9 +42,9 @@ def run(args: argparse.Namespace) -> int:
 
     import matplotlib.pyplot as plt
 
-    from ..plotting_sim import plot_simulation_study
-    from ..simstudy import run_simulation_study
-    from ..tuning import TuningOptions
+    from ..plot.sim import plot_simulation_study
+    from ..paper.simstudy import run_simulation_study
+    from ..sim.tuning import TuningOptions
 
     out = Path(args.out)
     if out.exists() and not out.is_dir():

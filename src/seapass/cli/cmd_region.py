@@ -7,8 +7,8 @@ import argparse
 import numpy as np
 
 from ..errors import ParameterError
-from ..fileio import atomic_save
-from ..region import passive_map
+from ..files.atomic import atomic_save
+from ..analysis.region import passive_map
 from .cmd_bound import parse_range
 from .common import add_model_options, model_from_args, print_json
 
@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     if args.out:
         import matplotlib.pyplot as plt
 
-        from ..plotting import plot_passive_map
+        from ..plot.analysis import plot_passive_map
 
         fig = plot_passive_map(pmap, title="exact passive region")
         atomic_save(args.out, lambda p: fig.savefig(p, dpi=130, format=args.out.rsplit(".", 1)[-1]))

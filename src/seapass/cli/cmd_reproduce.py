@@ -62,8 +62,8 @@ def parse_stages(text: str | None) -> list[str] | None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..report import check_output_dir, write_report
-    from ..reproduce import reproduce
+    from ..report.document import check_output_dir, write_report
+    from ..report.reproduce import reproduce
 
     out = Path(args.out)
     check_output_dir(out)  # fail now, not after minutes of work
@@ -81,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _summary(report: object, out: Path, seconds: float) -> None:
-    from ..report import Report
+    from ..report.document import Report
 
     assert isinstance(report, Report)
     n = {v: sum(1 for _s, f in report.findings if f.verdict == v) for v in ("agrees", "differs")}

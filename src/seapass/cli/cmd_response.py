@@ -8,8 +8,8 @@ import functools
 import numpy as np
 
 from ..errors import ParameterError
-from ..fileio import atomic_save
-from ..freqresp import stiffness_response
+from ..files.atomic import atomic_save
+from ..analysis.freqresp import stiffness_response
 from .cmd_bound import parse_range
 from .common import add_model_options, model_from_args, print_json
 
@@ -46,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
     if args.out:
         import matplotlib.pyplot as plt
 
-        from ..plotting import plot_stiffness_response
+        from ..plot.analysis import plot_stiffness_response
 
         k1 = sea.values.get("k1")
         fig = plot_stiffness_response(resp, title="rendered stiffness", reference=k1)

@@ -10,9 +10,9 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ParameterError
-from ..experiment import run_experiment, run_impacts
-from ..fileio import atomic_write_text
-from ..rig import Rig, load_rig, paper_rig
+from ..rig.experiment import run_experiment, run_impacts
+from ..files.atomic import atomic_write_text
+from ..rig.rigfile import Rig, load_rig, paper_rig
 from .common import print_json
 
 _SWEEP_EPILOG = """\
@@ -146,7 +146,7 @@ def _sweep(args: argparse.Namespace) -> int:
         progress=not args.no_progress and not args.json,
     )
     if args.out:
-        from ..plotting_rig import plot_sweep, plot_traces, save_figure
+        from ..plot.rig import plot_sweep, plot_traces, save_figure
 
         out = Path(args.out)
         rows = [r for s in result.sweeps for r in s.rows()]
@@ -181,7 +181,7 @@ def _impacts(args: argparse.Namespace) -> int:
     rig = _rig(args)
     result = run_impacts(rig)
     if args.out:
-        from ..plotting_rig import plot_impacts, save_figure
+        from ..plot.rig import plot_impacts, save_figure
 
         out = Path(args.out)
         rows = [

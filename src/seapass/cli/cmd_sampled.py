@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ParameterError
-from ..expr import parse_value
+from ..model.expr import parse_value
 from .common import add_model_options, atomic_write_text, model_from_args, print_json
 
 EXAMPLE = """examples:
@@ -106,7 +106,7 @@ def _loop_kw(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def run_bound(args: argparse.Namespace) -> int:
-    from ..sampled import sampled_passive_bound
+    from ..sampled.passivity import sampled_passive_bound
 
     lo, hi = _range(args.range)
     sea = model_from_args(args, extra_free=(args.param,))
@@ -128,7 +128,7 @@ def run_bound(args: argparse.Namespace) -> int:
     )
     out = res.to_dict()
     if args.out:
-        from ..plotting_sampled import plot_bound_scan, save_figure
+        from ..plot.sampled import plot_bound_scan, save_figure
 
         d = Path(args.out)
         buf = io.StringIO()
@@ -149,13 +149,13 @@ def run_bound(args: argparse.Namespace) -> int:
 
 
 def run_check(args: argparse.Namespace) -> int:
-    from ..sampled import sampled_passivity, sampled_power_curve
+    from ..sampled.passivity import sampled_passivity, sampled_power_curve
 
     sea = model_from_args(args)
     kw = _loop_kw(args)
     res = sampled_passivity(sea, **kw)
     if args.out:
-        from ..plotting_sampled import plot_power_curve, save_figure
+        from ..plot.sampled import plot_power_curve, save_figure
 
         d = Path(args.out)
         atomic_write_text(d / "sampled_check.json", json.dumps(res.to_dict(), indent=2))

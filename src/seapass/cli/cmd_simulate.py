@@ -10,10 +10,10 @@ from typing import Any
 import numpy as np
 
 from ..errors import FileFormatError, SeapassError
-from ..fileio import atomic_save
-from ..metrics import tracking_metrics
-from ..passivity import is_passive
-from ..simulate import (
+from ..files.atomic import atomic_save
+from ..sim.metrics import tracking_metrics
+from ..analysis.passivity import is_passive
+from ..sim.simulate import (
     ForceImpulse,
     ForceStep,
     LoadDisplaced,
@@ -152,7 +152,7 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         import matplotlib.pyplot as plt
 
-        from ..plotting_sim import plot_simulation
+        from ..plot.sim import plot_simulation
 
         fig = plot_simulation(result, met)
         fmt = Path(args.plot).suffix.lstrip(".") or "png"

@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from ..errors import ParameterError
-from ..sweep import SweepSpec, heatmap_data, parse_grid, parse_range, run_sweep
+from ..sweep.runner import SweepSpec, heatmap_data, parse_grid, parse_range, run_sweep
 from .common import add_model_options, model_from_args, print_json
 
 EXAMPLE = """examples:
@@ -112,7 +112,7 @@ def run(args: argparse.Namespace) -> int:
         return 130
     summary = result.to_dict()
     if heat is not None:
-        from ..plotting_sweep import save_sweep_heatmap
+        from ..plot.sweep import save_sweep_heatmap
 
         data = heatmap_data(Path(result.path), heat[0], heat[1])
         save_sweep_heatmap(data, args.out_fig, title=f"{spec.n_designs} designs")

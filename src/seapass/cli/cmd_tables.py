@@ -6,10 +6,10 @@ import argparse
 import functools
 from pathlib import Path
 
-from ..fileio import atomic_save
-from ..freqresp import stiffness_response
-from ..tablefmt import format_latex, format_markdown, format_text
-from ..tables import REFERENCE_VALUES, TableRow, build_tables
+from ..files.atomic import atomic_save
+from ..analysis.freqresp import stiffness_response
+from ..paper.tablefmt import format_latex, format_markdown, format_text
+from ..paper.tables import REFERENCE_VALUES, TableRow, build_tables
 from .common import print_json
 
 EXAMPLE = """examples:
@@ -54,7 +54,7 @@ def write_row_plots(rows: list[TableRow], out: Path) -> list[Path]:
     """One PNG per row with the reference values of :data:`REFERENCE_VALUES`."""
     import matplotlib.pyplot as plt
 
-    from ..plotting import plot_stiffness_response
+    from ..plot.analysis import plot_stiffness_response
 
     paths = []
     for r in rows:

@@ -6,9 +6,9 @@ import argparse
 from dataclasses import replace
 
 from ..errors import ParameterError
-from ..expr import parse_value
-from ..simstudy import QUICK_OPTIONS
-from ..tuning import TuningOptions, tune
+from ..model.expr import parse_value
+from ..paper.simstudy import QUICK_OPTIONS
+from ..sim.tuning import TuningOptions, tune
 from .common import print_json
 
 EXAMPLE = """examples:

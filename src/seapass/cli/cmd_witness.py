@@ -6,7 +6,7 @@ import argparse
 import functools
 from pathlib import Path
 
-from ..witness import find_destabilizing_environment
+from ..analysis.witness import find_destabilizing_environment
 from .common import add_model_options, atomic_save, print_json, system_from_args
 
 EXAMPLE = """examples:
@@ -46,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
         if result.found and result.simulation is not None:
             import matplotlib.pyplot as plt
 
-            from ..plotting_witness import plot_witness
+            from ..plot.witness import plot_witness
 
             fig = plot_witness(result)
             atomic_save(out / "witness.png", functools.partial(fig.savefig, dpi=130, format="png"))

@@ -8,9 +8,9 @@ import math
 import sys
 from typing import Any
 
-from ..expr import parse_assignment
-from ..fileio import atomic_save, atomic_write, atomic_write_text
-from ..model import SEA, Impedance
+from ..model.expr import parse_assignment
+from ..files.atomic import atomic_save, atomic_write, atomic_write_text
+from ..model.sea import SEA, Impedance
 
 __all__ = [
     "add_model_options",

@@ -1,0 +1,115 @@
+"""Frequency response of the rendered stiffness ``F_L/X_L(jω)`` (the paper's "Frequency Response" column)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from ..errors import ParameterError
+from ..model.expr import S
+from ..model.sea import SEA
+from ..model.stiffness import derive_stiffness
+
+__all__ = ["FrequencyResponse", "stiffness_coefficients", "stiffness_response"]
+
+
+@dataclass(frozen=True)
+class FrequencyResponse:
+    """``|F_L/X_L(jω)|`` and its phase.
+
+    Attributes
+    ----------
+    omega : ndarray, shape (n,)
+        Angular frequencies [rad/s].
+    magnitude : ndarray, shape (n,)
+        ``|F_L/X_L(jω)|`` [N/m].
+    phase : ndarray, shape (n,)
+        Phase [deg], unwrapped.
+    static : float
+        ``F_L/X_L(0)`` [N/m] (``inf`` when the port is held by an integrator).
+    high_frequency : float
+        ``lim_{ω→∞} |F_L/X_L(jω)|`` [N/m] (``inf`` when it grows without bound).
+    """
+
+    omega: np.ndarray
+    magnitude: np.ndarray
+    phase: np.ndarray
+    static: float
+    high_frequency: float
+    label: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "omega": self.omega.tolist(),
+            "magnitude": self.magnitude.tolist(),
+            "phase_deg": self.phase.tolist(),
+            "static": self.static,
+            "high_frequency": self.high_frequency,
+        }
+
+
+def stiffness_coefficients(
+    sea: SEA, values: Mapping[str, float] | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Numerator and denominator of ``F_L/X_L`` as float arrays, descending powers of ``s``."""
+    model = sea.with_values(**values) if values else sea
+    if model.free_parameters:
+        names = ", ".join(model.free_parameters)
+        raise ParameterError(f"no value for parameter(s) {names}: give them with --set")
+    expr = derive_stiffness(model).stiffness.xreplace(model.substitutions())
+    num, den = sp.fraction(sp.cancel(sp.together(expr)))
+    n = np.array([float(c) for c in sp.Poly(num, S).all_coeffs()])
+    d = np.array([float(c) for c in sp.Poly(den, S).all_coeffs()])
+    return n, d
+
+
+def stiffness_response(
+    sea: SEA,
+    omega: np.ndarray | None = None,
+    *,
+    values: Mapping[str, float] | None = None,
+    label: str = "",
+) -> FrequencyResponse:
+    """Evaluate ``F_L/X_L(jω)`` of ``sea``.
+
+    Parameters
+    ----------
+    sea : SEA
+        Model with values for all parameters.
+    omega : array_like, shape (n,), optional
+        Frequencies [rad/s]; default 400 log-spaced points over 1e-1..1e4.
+    values : mapping, optional
+        Overriding parameter values.
+
+    Returns
+    -------
+    FrequencyResponse
+    """
+    w = np.logspace(-1, 4, 400) if omega is None else np.asarray(omega, dtype=float)
+    if w.ndim != 1 or np.any(~np.isfinite(w)) or np.any(w < 0):
+        raise ParameterError(
+            f"omega must be a 1-D array of finite non-negative values, got shape {w.shape}"
+        )
+    n, d = stiffness_coefficients(sea, values)
+    h = np.polyval(n, 1j * w) / np.polyval(d, 1j * w)
+    nz_n = np.trim_zeros(n[::-1], "f")
+    nz_d = np.trim_zeros(d[::-1], "f")
+    static = (
+        float(nz_n[0] / nz_d[0])
+        if len(n) - len(nz_n) == len(d) - len(nz_d)
+        else (np.inf if len(n) - len(nz_n) < len(d) - len(nz_d) else 0.0)
+    )
+    deg_gap = (len(n) - 1) - (len(d) - 1)
+    high = abs(n[0] / d[0]) if deg_gap == 0 else (np.inf if deg_gap > 0 else 0.0)
+    return FrequencyResponse(
+        omega=w,
+        magnitude=np.abs(h),
+        phase=np.degrees(np.unwrap(np.angle(h))),
+        static=float(static),
+        high_frequency=float(high),
+        label=label or sea.name,
+    )

@@ -1,0 +1,623 @@
+"""Exact passivity (positive-realness) of a port impedance.
+
+A rational impedance ``Z = N/D`` (real coefficients, reduced) is positive real,
+hence passive and coupled-stable with every passive environment, if and only if
+
+1. its relative degree ``deg D − deg N`` is −1, 0 or 1;
+2. it has no pole in the open right half-plane;
+3. its poles on the imaginary axis, including ``s = 0`` and ``s = ∞``, are
+   simple with real positive residues;
+4. ``Re Z(jω) ≥ 0`` for every ``ω`` that is not a pole.
+
+Every condition is decided in exact rational arithmetic: each float input is
+converted to the rational number it represents, so the verdict is exact for
+the numbers given.  Condition 4 is the sign of the even polynomial
+``P(ω) = Re(N(jω) D(−jω))``, decided by Sturm sequences on ``P`` as a
+polynomial in ``x = ω²`` over ``x ≥ 0``.  No frequency grid is used.
+
+References
+----------
+.. [1] B. D. O. Anderson and S. Vongpanitlerd, *Network Analysis and Synthesis*,
+   Prentice-Hall, 1973, sec. 5.1 (positive real functions).
+.. [2] J. E. Colgate and N. Hogan, "Robust control of dynamically interacting
+   systems", Int. J. Control 48(1), 1988.
+.. [3] S. A. Mehta and D. P. Losey, "Combining Performance and Passivity in
+   Linear Control of Series Elastic Actuators", Eqs. (5)-(7).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from ..exact import poly as ep
+from ..errors import NotPassiveError, ParameterError
+from ..model.expr import S, to_fraction
+from ..model.sea import SEA, Impedance
+from ..model.stiffness import load_impedance
+
+__all__ = [
+    "TOLERANCE_POLICY",
+    "PassivityResult",
+    "exact_rational_function",
+    "is_passive",
+    "positive_real_test",
+]
+
+#: Relative margin below which an exact verdict is flagged ``marginal``.
+MARGINAL_RTOL = 1e-9
+
+TOLERANCE_POLICY = (
+    "exact: every input float is converted to the rational it represents and all "
+    "conditions are decided in exact rational arithmetic (Sturm sequences), so the "
+    "verdict has no tolerance; a design whose scale-invariant margin "
+    "min_{x>=0} P(x)/A(x) (A: P with every product in absolute value, on the powers "
+    "of x that P has for generic parameter values) lies within "
+    f"{MARGINAL_RTOL:g} of zero is additionally flagged 'marginal' (the margin itself "
+    "is computed in floating point and is informative only)"
+)
+
+_REASONS = {
+    "": "positive real",
+    "relative_degree": "relative degree is not -1, 0 or 1",
+    "rhp_pole": "pole in the open right half-plane",
+    "repeated_axis_pole": "repeated pole on the imaginary axis",
+    "axis_residue": "imaginary-axis pole with a residue that is not real and positive",
+    "infinity_residue": "pole at infinity with a negative coefficient",
+    "negative_real_part": "Re Z(jw) < 0 at some frequency",
+    "hidden_unstable_mode": "cancelled (hidden) mode in the closed right half-plane",
+}
+
+
+@dataclass(frozen=True)
+class PassivityResult:
+    """Outcome of an exact positive-real test.
+
+    Attributes
+    ----------
+    passive : bool
+        Exact verdict for the given numbers.
+    reason : str
+        ``""`` when passive, else a code such as ``"negative_real_part"``.
+    detail : str
+        Human-readable explanation.
+    omega : float or None
+        A witness frequency [rad/s] with ``Re Z(jω) < 0`` when one exists.
+    margin : float
+        Scale-invariant margin ``min_{x>=0} P(x)/A(x)`` in [-1, 1], where ``A``
+        is ``P`` with every product in absolute value, on the powers of ``x``
+        that ``P`` has for generic parameter values (0 for lossless designs;
+        about ``ε`` at relative distance ``ε`` from a boundary).  Informative,
+        not used for the verdict.
+    marginal : bool
+        The verdict sits within :data:`MARGINAL_RTOL` of the boundary.
+    lossless : bool
+        ``Re Z(jω) ≡ 0``.
+    num, den : tuple of float
+        Reduced ``Z = N/D`` coefficients, descending powers of ``s``.
+    real_part : tuple of float
+        Coefficients of ``P`` in ``x = ω²``, ascending powers.
+    tolerance : str
+        The tolerance policy used (:data:`TOLERANCE_POLICY`).
+    """
+
+    passive: bool
+    reason: str = ""
+    detail: str = ""
+    omega: float | None = None
+    margin: float = math.nan
+    marginal: bool = False
+    lossless: bool = False
+    num: tuple[float, ...] = ()
+    den: tuple[float, ...] = ()
+    real_part: tuple[float, ...] = ()
+    axis_poles: tuple[float, ...] = field(default=())
+    tolerance: str = TOLERANCE_POLICY
+
+    @property
+    def status(self) -> str:
+        """``"passive"``, ``"not passive"``, or either with ``" (marginal)"``."""
+        base = "passive" if self.passive else "not passive"
+        return f"{base} (marginal)" if self.marginal else base
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "passive": self.passive,
+            "status": self.status,
+            "reason": self.reason,
+            "detail": self.detail,
+            "omega": self.omega,
+            "margin": self.margin,
+            "marginal": self.marginal,
+            "lossless": self.lossless,
+            "num": list(self.num),
+            "den": list(self.den),
+            "real_part_x": list(self.real_part),
+            "axis_poles": list(self.axis_poles),
+            "tolerance": self.tolerance,
+        }
+
+
+# ---------------------------------------------------------------- conversion
+
+
+def exact_rational_function(
+    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    values: Mapping[str, float] | None = None,
+) -> tuple[ep.Poly, ep.Poly]:
+    """Exact ``(N, D)`` of the impedance of ``system``, ascending Fraction coefficients.
+
+    ``system`` may be an :class:`SEA` (its load impedance ``Z_L``), an
+    :class:`Impedance`, an expression string/sympy expression in ``s``, or a
+    ``(num, den)`` pair of descending coefficient sequences.
+    """
+    num, den, _support = _evaluate(system, values)
+    return num, den
+
+
+def _evaluate(
+    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    values: Mapping[str, float] | None,
+) -> tuple[ep.Poly, ep.Poly, tuple[bool, ...] | None]:
+    """:func:`exact_rational_function` plus the structural support of ``P`` (None for raw coefficients)."""
+    if isinstance(system, tuple) and len(system) == 2:
+        num = ep.normalize([to_fraction(c, "num") for c in reversed(list(system[0]))])
+        den = ep.normalize([to_fraction(c, "den") for c in reversed(list(system[1]))])
+        if not den:
+            raise ParameterError("den: the denominator is identically zero")
+        return num, den, None
+    if isinstance(system, str | sp.Expr):
+        system = Impedance(expr=system, values=dict(values or {}))
+        values = None
+    if values:
+        if not isinstance(system, SEA | Impedance):
+            raise TypeError("values= applies to SEA and Impedance systems only")
+        system = _with_values(system, values)
+    if isinstance(system, SEA):
+        z = load_impedance(system)
+    elif isinstance(system, Impedance):
+        z = system.expr
+    else:
+        raise TypeError(f"cannot test passivity of {type(system).__name__}")
+    missing = system.free_parameters
+    if missing:
+        raise ParameterError(
+            f"no value for parameter(s) {', '.join(missing)}: give them, e.g. --set {missing[0]}=1"
+        )
+    names, num_terms, den_terms, support = _compiled(z)
+    vals = {k: to_fraction(v, k) for k, v in system.values.items() if v is not None}
+    env = [vals[n] for n in names]
+    n, d = _eval_coeffs(num_terms, env), _eval_coeffs(den_terms, env)
+    if not d:
+        raise ParameterError("the impedance has a zero denominator for these values")
+    return n, d, support
+
+
+_Terms = tuple[tuple[tuple[tuple[int, ...], Fraction], ...], ...]
+
+
+@functools.lru_cache(maxsize=512)
+def _compiled(z: sp.Expr) -> tuple[tuple[str, ...], _Terms, _Terms, tuple[bool, ...]]:
+    """Coefficients of ``N`` and ``D`` in ``s`` as exact polynomials in the parameters,
+    and the structural support of ``P(x)`` (:func:`structural_support`).
+
+    Cached on the symbolic impedance, so repeated tests of one configuration
+    cost only exact rational arithmetic.
+    """
+    num, den = sp.fraction(sp.cancel(sp.together(z)))
+    params = sorted((x for x in (num.free_symbols | den.free_symbols) if x != S), key=str)
+    names = tuple(str(x) for x in params)
+
+    def terms(expr: sp.Expr) -> _Terms:
+        out = []
+        for c in sp.Poly(sp.expand(expr), S).all_coeffs()[::-1]:
+            pc = sp.Poly(c, *params, domain="QQ") if params else sp.Poly(c, S, domain="QQ")
+            out.append(
+                tuple(
+                    (tuple(mon) if params else (), Fraction(int(q.p), int(q.q)))
+                    for mon, q in zip(pc.monoms(), pc.coeffs(), strict=True)
+                )
+            )
+        return tuple(out)
+
+    return names, terms(num), terms(den), structural_support(num, den)
+
+
+def structural_support(num: sp.Expr, den: sp.Expr) -> tuple[bool, ...]:
+    """Which powers ``x^i`` of ``P(x) = Re N(jω) D(−jω)`` are not identically zero.
+
+    Computed with every parameter symbolic.  Terms that cancel for *all*
+    parameter values (e.g. the ``ω⁴`` terms of a pure spring with load-side P)
+    are structural, not a sign of a nearby boundary, so the margin ignores them.
+    """
+    w = sp.Dummy("w", real=True)
+    coeffs_n = sp.Poly(sp.expand(num), S).all_coeffs()[::-1]
+    coeffs_d = sp.Poly(sp.expand(den), S).all_coeffs()[::-1]
+
+    def re_im(coeffs: list[sp.Expr]) -> tuple[sp.Expr, sp.Expr]:
+        re = sum(
+            (c * (-1) ** (k // 2) * w**k for k, c in enumerate(coeffs) if k % 2 == 0), sp.S.Zero
+        )
+        im = sum(
+            (c * (-1) ** (k // 2) * w**k for k, c in enumerate(coeffs) if k % 2 == 1), sp.S.Zero
+        )
+        return re, im
+
+    nr, ni = re_im(coeffs_n)
+    dr, di = re_im(coeffs_d)
+    pw = sp.Poly(sp.expand(nr * dr + ni * di), w)
+    deg = pw.degree() if not pw.is_zero else -1
+    return tuple(pw.coeff_monomial(w ** (2 * i)) != 0 for i in range(deg // 2 + 1))
+
+
+def _eval_coeffs(terms: _Terms, env: list[Fraction]) -> ep.Poly:
+    out = []
+    for coeff in terms:
+        acc = Fraction(0)
+        for mon, q in coeff:
+            t = q
+            for v, e in zip(env, mon, strict=False):
+                if e:
+                    t *= v**e
+            acc += t
+        out.append(acc)
+    return ep.normalize(out)
+
+
+def _with_values(system: SEA | Impedance, values: Mapping[str, float]) -> SEA | Impedance:
+    merged = dict(system.values)
+    merged.update(values)
+    if isinstance(system, SEA):
+        return system.with_values(**merged)
+    return Impedance(expr=system.expr, values=merged)
+
+
+# ---------------------------------------------------------------- helpers
+
+
+def _at_j_omega(p: ep.Poly) -> tuple[ep.Poly, ep.Poly]:
+    """Real and imaginary parts of ``p(jω)`` as real polynomials in ``ω``."""
+    re = [Fraction(0)] * len(p)
+    im = [Fraction(0)] * len(p)
+    for k, c in enumerate(p):
+        sign = -1 if (k // 2) % 2 else 1
+        if k % 2 == 0:
+            re[k] = sign * c
+        else:
+            im[k] = sign * c
+    return ep.normalize(re), ep.normalize(im)
+
+
+def _axis_factor(g: ep.Poly) -> ep.Poly:
+    """``∏(s − jω_i)`` over the roots ``ω_i`` of ``g`` (all real, conjugate-symmetric)."""
+    n = ep.degree(g)
+    lead = g[-1]
+    out = []
+    for k, c in enumerate(g):
+        if (n + k) % 2:
+            if c != 0:
+                raise ArithmeticError("imaginary-axis factor is not conjugate-symmetric")
+            out.append(Fraction(0))
+            continue
+        sign = (-1) ** k * (-1) ** ((n + k) // 2)
+        out.append(sign * c / lead)
+    return ep.normalize(out)
+
+
+def _is_hurwitz(p: ep.Poly) -> bool:
+    """Exact Routh test: all roots of ``p`` in the open left half-plane."""
+    if ep.degree(p) <= 0:
+        return bool(p)
+    desc = list(reversed(p))
+    if desc[0] < 0:
+        desc = [-c for c in desc]
+    rows = [desc[0::2], desc[1::2]]
+    n = len(desc) - 1
+    for _ in range(n - 1):
+        a, b = rows[-2], rows[-1]
+        if not b or b[0] <= 0:
+            return False
+        new = []
+        for i in range(len(a) - 1):
+            bi1 = b[i + 1] if i + 1 < len(b) else Fraction(0)
+            new.append((b[0] * a[i + 1] - a[0] * bi1) / b[0])
+        rows.append(new)
+    return all(r and r[0] > 0 for r in rows[: n + 1])
+
+
+def _even_to_x(p: ep.Poly) -> ep.Poly:
+    if any(p[k] != 0 for k in range(1, len(p), 2)):
+        raise ArithmeticError("Re(N(jw)D(-jw)) is not even in w")
+    return ep.normalize(list(p[0::2]))
+
+
+def _margin(px: ep.Poly, pabs: ep.Poly) -> float:
+    """Scale-invariant margin ``min_{x>=0} P(x)/A(x)`` in [-1, 1] (floating point).
+
+    ``A`` is ``P`` computed with every product taken in absolute value, so the
+    ratio measures how much of ``P`` survives cancellation: a design at relative
+    distance ``ε`` from a boundary has a margin of order ``ε``.  The ratio is
+    invariant to scaling ``x`` and the coefficients, so both are balanced
+    exactly (powers of two) before converting to floats.
+    """
+    if not px:
+        return 0.0
+    n = max(len(px), len(pabs))
+    c = [px[i] if i < len(px) else Fraction(0) for i in range(n)]
+    a = [pabs[i] if i < len(pabs) else Fraction(0) for i in range(n)]
+    nz = [i for i, v in enumerate(a) if v]
+    lo, hi = nz[0], nz[-1]
+    k = round((_log2(a[lo]) - _log2(a[hi])) / (hi - lo)) if hi > lo else 0
+    xs = Fraction(2) ** k
+    c = [v * xs**i for i, v in enumerate(c)]
+    a = [v * xs**i for i, v in enumerate(a)]
+    top = max(a)
+    cs = np.array([float(v / top) for v in c])
+    as_ = np.array([float(v / top) for v in a])
+    cands = [float(c[lo] / a[lo]), float(c[hi] / a[hi])]
+    pp, aa = np.polynomial.Polynomial(cs), np.polynomial.Polynomial(as_)
+    crit: Any = (pp.deriv() * aa - pp * aa.deriv()).roots() if n > 1 else []
+    for r in np.atleast_1d(crit):
+        if abs(r.imag) <= 1e-9 * max(1.0, abs(r.real)) and r.real > 0 and aa(r.real) > 0:
+            cands.append(float(pp(r.real) / aa(r.real)))
+    return float(np.clip(min(cands), -1.0, 1.0))
+
+
+def _log2(q: Fraction) -> float:
+    return math.log2(q.numerator) - math.log2(q.denominator)
+
+
+def _safe_float(q: Fraction) -> float:
+    """``float(q)``, saturating to ``±inf`` beyond the double range."""
+    try:
+        return float(q)
+    except OverflowError:
+        return math.inf if q > 0 else -math.inf
+
+
+def _abs_poly(p: ep.Poly) -> ep.Poly:
+    return tuple(abs(c) for c in p)
+
+
+def _margin_of(num: ep.Poly, den: ep.Poly, support: Sequence[bool] | None) -> float:
+    """:func:`_margin` of ``num/den`` as given, with ``A`` restricted to ``support``."""
+    if not num:
+        return 0.0
+    nr, ni = _at_j_omega(num)
+    dr, di = _at_j_omega(den)
+    px = _even_to_x(ep.add(ep.mul(nr, dr), ep.mul(ni, di)))
+    pabs = _even_to_x(
+        ep.add(ep.mul(_abs_poly(nr), _abs_poly(dr)), ep.mul(_abs_poly(ni), _abs_poly(di)))
+    )
+    if support is not None:
+        pabs = ep.normalize(
+            [c if i < len(support) and support[i] else Fraction(0) for i, c in enumerate(pabs)]
+        )
+        if not pabs:
+            return 0.0
+    return _margin(px, pabs)
+
+
+def _fail(reason: str, detail: str, **kw: Any) -> PassivityResult:
+    return PassivityResult(passive=False, reason=reason, detail=detail or _REASONS[reason], **kw)
+
+
+def _to_floats(p: ep.Poly, descending: bool) -> tuple[float, ...]:
+    vals = tuple(_safe_float(c) for c in p)
+    return tuple(reversed(vals)) if descending else vals
+
+
+# ---------------------------------------------------------------- core test
+
+
+def positive_real_test(
+    num: ep.Poly,
+    den: ep.Poly,
+    *,
+    hidden: ep.Poly = (),
+    support: Sequence[bool] | None = None,
+) -> PassivityResult:
+    """Exact positive-real test of ``Z = num/den`` (ascending Fraction coefficients).
+
+    ``hidden`` is an optional polynomial of modes known to cancel (e.g. from
+    a model's internal structure); a root of it in the closed right
+    half-plane makes the system not passive.  A common factor of ``num`` and
+    ``den`` is such a mode too.
+
+    ``support`` (from :func:`structural_support`) marks the powers of ``x`` that
+    ``P`` has for generic parameter values; the margin is computed from
+    ``num/den`` as given and ignores cancellations outside the support.
+    """
+    num, den = ep.normalize(num), ep.normalize(den)
+    if not den:
+        raise ParameterError("the denominator is identically zero")
+    margin = _margin_of(num, den, support)
+    g = ep.pgcd(num, den) if num else ep.monic(den)
+    if ep.degree(g) > 0:
+        hidden = ep.mul(hidden, g) if hidden else g
+        num, den = ep.pdivmod(num, g)[0], ep.pdivmod(den, g)[0]
+    if den[-1] < 0:
+        num, den = ep.scale(num, Fraction(-1)), ep.scale(den, Fraction(-1))
+    base: dict[str, Any] = {
+        "num": _to_floats(num, True),
+        "den": _to_floats(den, True),
+        "margin": margin,
+    }
+    if not num:
+        return PassivityResult(
+            passive=True,
+            detail="Z is identically zero",
+            marginal=True,
+            lossless=True,
+            **base,
+        )
+    if hidden and _pole_defect(hidden)[0]:
+        return _fail("hidden_unstable_mode", "", **base)
+
+    # 4 (computed first, so the margin and witness are always reported)
+    nr, ni = _at_j_omega(num)
+    dr, di = _at_j_omega(den)
+    p_w = ep.add(ep.mul(nr, dr), ep.mul(ni, di))
+    px = _even_to_x(p_w)
+    base["real_part"] = _to_floats(px, False)
+    base["lossless"] = not px
+
+    # 1. relative degree and the pole at infinity
+    rel = ep.degree(den) - ep.degree(num)
+    if rel not in (-1, 0, 1):
+        return _fail("relative_degree", f"relative degree is {rel}; it must be -1, 0 or 1", **base)
+    if rel == -1 and num[-1] / den[-1] <= 0:
+        return _fail("infinity_residue", "Z ~ c*s at high frequency with c <= 0", **base)
+
+    # 2./3. poles: imaginary-axis part and the rest
+    defect, g_ax = _pole_defect(den)
+    if defect:
+        return _fail(defect, "", **base)
+    axis: list[tuple[Fraction, Fraction]] = []
+    if ep.degree(g_ax) > 0:
+        axis = ep.isolate_real_roots(g_ax, Fraction(0), None)
+        if ep.evaluate(g_ax, Fraction(0)) == 0:
+            axis = [(Fraction(0), Fraction(0)), *axis]
+    base["axis_poles"] = tuple(ep.root_value(g_ax, a, b) if a != b else float(a) for a, b in axis)
+    dd = ep.derivative(den)
+    ddr, ddi = _at_j_omega(dd)
+    # residue at jω0 ∝ N(jω0)·conj(D'(jω0)): imaginary part must vanish, real part > 0
+    res_re = ep.add(ep.mul(nr, ddr), ep.mul(ni, ddi))
+    res_im = ep.sub(ep.mul(ni, ddr), ep.mul(nr, ddi))
+    gsf = ep.squarefree_part(g_ax) if axis else ()
+    for a, b in axis:
+        if ep.sign_at_root(res_im, gsf, a, b) != 0 or ep.sign_at_root(res_re, gsf, a, b) <= 0:
+            w0 = float(a) if a == b else ep.root_value(gsf, a, b)
+            return _fail(
+                "axis_residue",
+                f"the pole at s = j*{w0:.6g} has a residue that is not real and positive",
+                **base,
+            )
+
+    # 4. Re Z(jω) >= 0 for all ω
+    marginal = abs(margin) <= MARGINAL_RTOL
+    if not px:
+        return PassivityResult(
+            passive=True, detail="lossless: Re Z(jw) = 0 for all w", marginal=True, **base
+        )
+    odd = ep.positive_roots_odd_multiplicity(px)
+    if ep.count_real_roots(odd, Fraction(0), None) == 0 and px[-1] > 0:
+        return PassivityResult(passive=True, detail=_REASONS[""], marginal=marginal, **base)
+    witness = _witness(px)
+    return _fail(
+        "negative_real_part",
+        f"Re Z(jw) < 0 at w = {witness:.6g} rad/s",
+        omega=witness,
+        marginal=marginal,
+        **base,
+    )
+
+
+def _pole_defect(den: ep.Poly) -> tuple[str, ep.Poly]:
+    """Reason code (``""`` if none) why the roots of ``den`` are not admissible poles.
+
+    Admissible: open left half-plane, or simple on the imaginary axis.  Also
+    returns ``gcd(Re den(jω), Im den(jω))``, whose real roots are the axis poles.
+    """
+    dr, di = _at_j_omega(den)
+    g_ax = ep.pgcd(dr, di)
+    rest = den
+    if ep.degree(g_ax) > 0:
+        # a non-real root of g_ax is a pair of roots mirrored about the axis
+        if not _all_real_roots(g_ax):
+            return "rhp_pole", g_ax
+        if ep.degree(ep.squarefree_part(g_ax)) != ep.degree(g_ax):
+            return "repeated_axis_pole", g_ax
+        rest, rem = ep.pdivmod(den, _axis_factor(g_ax))
+        if rem:
+            raise ArithmeticError("axis factor does not divide the denominator")  # pragma: no cover
+    if not _is_hurwitz(rest):
+        return "rhp_pole", g_ax
+    return "", g_ax
+
+
+def _all_real_roots(g: ep.Poly) -> bool:
+    sf = ep.squarefree_part(g)
+    lo = -ep.cauchy_bound(sf)
+    return ep.count_real_roots(sf, lo, None) == ep.degree(sf)
+
+
+def _witness(px: ep.Poly) -> float:
+    """A frequency where ``P(ω²) < 0`` (exactly checked), preferring the most negative one."""
+    sf = ep.squarefree_part(px)
+    # refine until every isolating interval starts strictly after the previous
+    # root's interval (and after 0), however close the roots are
+    tight: list[tuple[Fraction, Fraction]] = []
+    prev = Fraction(0)
+    for a, b in ep.isolate_real_roots(px, Fraction(0), None):
+        while a <= prev:
+            a, b = ep.refine(sf, a, b, (b - a) / 2)
+        tight.append((a, b))
+        prev = b
+    points: list[Fraction] = []
+    lo = Fraction(0)
+    for a, b in tight:
+        points.append((lo + a) / 2)
+        lo = b
+    points.append(lo * 2 + 1)
+    neg = [x for x in points if x > 0 and ep.evaluate(px, x) < 0]
+    if not neg:
+        raise ArithmeticError("no witness found although P changes sign")  # pragma: no cover
+    # relative depth |P|/Σ|c_i|x^i lies in [0, 1], so it converts to float safely
+    depth = [abs(ep.evaluate(px, x)) / sum(abs(c) * x**i for i, c in enumerate(px)) for x in neg]
+    best = neg[int(np.argmax([float(d) for d in depth]))]
+    return _sqrt_float(best)
+
+
+def _sqrt_float(q: Fraction) -> float:
+    """``sqrt(q)`` as a float without overflow for rationals beyond the float range."""
+    half_log = 0.5 * (math.log(q.numerator) - math.log(q.denominator))
+    return math.exp(half_log) if half_log < 709.0 else math.inf
+
+
+# ---------------------------------------------------------------- entry point
+
+
+def is_passive(
+    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    *,
+    values: Mapping[str, float] | None = None,
+    throw: bool = False,
+) -> PassivityResult:
+    """Decide exactly whether the port impedance of ``system`` is positive real.
+
+    Parameters
+    ----------
+    system : SEA, Impedance, str, sympy.Expr or (num, den)
+        An SEA (its load impedance ``Z_L = F_L/(s X_L)`` is tested), a raw
+        impedance, an expression in ``s`` such as ``"(s + 1)/(s + 2)"``, or a
+        pair of descending coefficient sequences.
+    values : mapping, optional
+        Parameter values overriding those stored in ``system``.
+    throw : bool, default False
+        Raise :class:`~seapass.errors.NotPassiveError` instead of returning a
+        non-passive result.
+
+    Returns
+    -------
+    PassivityResult
+
+    Examples
+    --------
+    >>> is_passive("(s + 1)/(s + 2)").passive
+    True
+    >>> is_passive("1/(s + 1) - 1e-9").passive
+    False
+    """
+    num, den, support = _evaluate(system, values)
+    result = positive_real_test(num, den, support=support)
+    if throw and not result.passive:
+        raise NotPassiveError(f"not passive: {result.detail}")
+    return result

@@ -1,0 +1,315 @@
+"""The exact set of passive values of one free parameter, and 2-D passive maps.
+
+With every parameter but one (``p``) fixed to exact rationals, each condition
+of the positive-real test can change its truth value only at a *critical
+value* of ``p``: a real root of one of
+
+* the leading coefficients of ``N`` and ``D`` in ``s`` (relative degree, poles at ∞);
+* ``Res_s(N, D)`` (a pole-zero cancellation);
+* ``Res_ω(Re D(jω), Im D(jω))`` after removing their generic common factor
+  (a pole crossing the imaginary axis), and the discriminant, leading and
+  constant coefficients of that factor together with its resultants with the
+  residue polynomials (imaginary-axis poles and their residues);
+* the discriminant, leading and lowest coefficients of ``P(x) = Re N(jω) D(−jω)``
+  in ``x = ω²`` after removing generic factors (a root of ``P`` entering
+  ``x > 0``).
+
+Between consecutive critical values the verdict is constant, so one exact
+test at a rational point inside each gap, plus exact tests at the rational
+critical values, gives the exact passive set.  Irrational end points are
+reported as floats rounded to nearest.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from ..exact import poly as ep
+from ..errors import ParameterError
+from ..model.expr import S, symbol, to_fraction
+from ..model.sea import SEA, Impedance
+from .passivity import is_passive
+from ..model.stiffness import load_impedance
+
+__all__ = ["PassiveIntervals", "PassiveMap", "passive_intervals", "passive_map"]
+
+_X = sp.Symbol("x")
+_OM = sp.Symbol("omega")
+
+
+@dataclass(frozen=True)
+class PassiveIntervals:
+    """Exact passive set of one parameter within ``[lo, hi]``.
+
+    Attributes
+    ----------
+    param : str
+    lo, hi : float
+        The search range.
+    intervals : list of (float, float)
+        Disjoint closed intervals, sorted, whose union is the passive set
+        (a single passive point appears as ``(v, v)``).
+    critical_values : list of float
+        Every value in the range where the verdict may change.
+    """
+
+    param: str
+    lo: float
+    hi: float
+    intervals: list[tuple[float, float]] = field(default_factory=list)
+    critical_values: list[float] = field(default_factory=list)
+
+    def contains(self, value: float) -> bool:
+        return any(a <= value <= b for a, b in self.intervals)
+
+    @property
+    def passive_everywhere(self) -> bool:
+        return len(self.intervals) == 1 and self.intervals[0] == (self.lo, self.hi)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "param": self.param,
+            "range": [self.lo, self.hi],
+            "intervals": [list(iv) for iv in self.intervals],
+            "critical_values": list(self.critical_values),
+        }
+
+
+def _univariate(expr: sp.Expr, p: sp.Symbol) -> ep.Poly:
+    """Exact ascending coefficients of a polynomial in ``p`` (zero if identically zero)."""
+    expr = sp.expand(expr)
+    if expr == 0:
+        return ()
+    poly = sp.Poly(expr, p, domain="QQ")
+    return ep.normalize([Fraction(int(c.p), int(c.q)) for c in poly.all_coeffs()[::-1]])
+
+
+def _re_im_at_jw(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """Real and imaginary parts of ``expr(jω)`` for a polynomial in ``s`` with real coefficients."""
+    coeffs = sp.Poly(expr, S).all_coeffs()[::-1]
+    re = sum((c * (-1) ** (k // 2) * _OM**k for k, c in enumerate(coeffs) if k % 2 == 0), sp.S.Zero)
+    im = sum((c * (-1) ** (k // 2) * _OM**k for k, c in enumerate(coeffs) if k % 2 == 1), sp.S.Zero)
+    return sp.expand(re), sp.expand(im)
+
+
+def _critical_polys(z: sp.Expr, p: sp.Symbol) -> list[sp.Expr]:
+    num, den = sp.fraction(sp.cancel(sp.together(z)))
+    # clear denominators in p so both are polynomials in (s, p)
+    num, den = sp.expand(num), sp.expand(den)
+    out: list[sp.Expr] = []
+    pn, pd = sp.Poly(num, S), sp.Poly(den, S)
+    out += [pn.LC(), pd.LC()]
+    if pn.degree() > 0 and pd.degree() > 0:
+        out.append(sp.resultant(num, den, S))
+    else:
+        out += [pn.as_expr(), pd.as_expr()] if pn.degree() <= 0 else [pd.as_expr()]
+    re_d, im_d = _re_im_at_jw(den)
+    re_n, im_n = _re_im_at_jw(num)
+    g = sp.gcd(re_d, im_d) if im_d != 0 else re_d
+    g = sp.expand(g)
+    if im_d != 0:
+        r1, r2 = sp.cancel(re_d / g), sp.cancel(im_d / g)
+        if sp.Poly(r1, _OM).degree() > 0 and sp.Poly(r2, _OM).degree() > 0:
+            out.append(sp.resultant(r1, r2, _OM))
+        else:
+            out += [sp.Poly(r1, _OM).LC(), sp.Poly(r2, _OM).LC()]
+    if g.has(_OM):
+        gp = sp.Poly(g, _OM)
+        out += [gp.LC(), g.subs(_OM, 0)]
+        if gp.degree() > 1:
+            out.append(sp.discriminant(g, _OM))
+        ddr, ddi = _re_im_at_jw(sp.diff(den, S))
+        for res in (sp.expand(re_n * ddr + im_n * ddi), sp.expand(im_n * ddr - re_n * ddi)):
+            if res != 0:
+                out.append(sp.resultant(g, res, _OM) if gp.degree() > 0 else res)
+    # real part polynomial in x = ω²
+    pw = sp.expand(re_n * re_d + im_n * im_d)
+    if pw != 0:
+        px = sp.expand(pw.subs(_OM, sp.sqrt(_X)))
+        poly = sp.Poly(px, _X)
+        # remove the generic power of x and generic repeated factors
+        k = min(m[0] for m in poly.monoms())
+        q = sp.Poly(sp.cancel(px / _X**k), _X)
+        q = sp.Poly(sp.sqf_part(q.as_expr()), _X) if q.degree() > 0 else q
+        out += [poly.LC(), q.as_expr().subs(_X, 0)]
+        if q.degree() > 1:
+            out.append(sp.discriminant(q.as_expr(), _X))
+        # each coefficient of P matters where P may vanish identically
+        out += [c for c in poly.all_coeffs() if c.has(p)]
+    return [sp.expand(e) for e in out if sp.expand(e) != 0]
+
+
+def _critical_values(
+    polys: list[sp.Expr], p: sp.Symbol, lo: Fraction, hi: Fraction
+) -> list[tuple[Fraction, Fraction]]:
+    """Sorted critical values in ``[lo, hi]``: ``(r, r)`` for rational roots, tight
+    isolating intervals ``(a, b]`` (relative width 2^-60) for irrational ones."""
+    factors: set[sp.Expr] = set()
+    for e in polys:
+        if not e.has(p):
+            continue
+        for f, _mult in sp.factor_list(sp.Poly(e, p, domain="QQ"))[1]:
+            factors.add(f.monic().as_expr())
+    out: list[tuple[Fraction, Fraction]] = []
+    for f in factors:
+        q = _univariate(f, p)
+        if ep.degree(q) == 1:
+            r = -q[0] / q[1]
+            if lo <= r <= hi:
+                out.append((r, r))
+            continue
+        for a, b in ep.isolate_real_roots(q, lo, hi):
+            a, b = ep.refine(q, a, b, max(abs(b), Fraction(1)) * Fraction(1, 2**40))
+            scale_ = min(abs(a), abs(b)) or Fraction(1, 2**40)
+            out.append(ep.refine(q, a, b, scale_ * Fraction(1, 2**60)))
+    return sorted(set(out))
+
+
+def passive_intervals(
+    system: SEA | Impedance,
+    param: str,
+    lo: float,
+    hi: float,
+    *,
+    values: Mapping[str, float] | None = None,
+) -> PassiveIntervals:
+    """Exact set of values of ``param`` in ``[lo, hi]`` for which ``system`` is passive.
+
+    Parameters
+    ----------
+    system : SEA or Impedance
+        Model with values for every parameter except ``param``.
+    param : str
+        The free parameter, e.g. ``"kd"``.
+    lo, hi : float
+        Search range, ``lo <= hi``.
+    values : mapping, optional
+        Extra or overriding parameter values.
+
+    Returns
+    -------
+    PassiveIntervals
+    """
+    lo_q, hi_q = to_fraction(lo, "lo"), to_fraction(hi, "hi")
+    if lo_q > hi_q:
+        raise ParameterError(f"empty range {lo}:{hi}: the lower bound must not exceed the upper")
+    merged = {k: v for k, v in system.values.items() if k != param}
+    merged.update({k: v for k, v in (values or {}).items() if k != param})
+    if param not in system.parameters:
+        raise ParameterError(
+            f"parameter {param!r} does not appear in the model (its parameters: "
+            f"{', '.join(system.parameters) or 'none'})"
+        )
+    free = [n for n in system.parameters if n != param and merged.get(n) is None]
+    if free:
+        raise ParameterError(f"no value for parameter(s) {', '.join(free)}: give them with --set")
+    p = symbol(param)
+    base = _with(system, {**merged, param: None})
+    z = load_impedance(base) if isinstance(base, SEA) else base.expr
+    z = z.xreplace(base.substitutions())
+    crit = _critical_values(_critical_polys(z, p), p, lo_q, hi_q)
+
+    def verdict(x: Fraction) -> bool:
+        return is_passive(_with(system, {**merged, param: x})).passive
+
+    # one exact test per open gap and at each rational critical value
+    pieces: list[tuple[Fraction, Fraction, bool]] = []
+    cursor = lo_q
+    for a, b in crit:
+        if a > cursor:
+            pieces.append((cursor, a, verdict((cursor + a) / 2)))
+        if a == b:
+            pieces.append((a, a, verdict(a)))
+        cursor = b
+    if hi_q > cursor or not pieces:
+        pieces.append((cursor, hi_q, verdict((cursor + hi_q) / 2)))
+    result: list[tuple[float, float]] = []
+    for start, end, ok in pieces:
+        if not ok:
+            continue
+        a_f, b_f = float(start), float(end)
+        if result and a_f <= np.nextafter(result[-1][1], np.inf):
+            result[-1] = (result[-1][0], max(result[-1][1], b_f))
+        else:
+            result.append((a_f, b_f))
+    crit_f = [float((a + b) / 2) for a, b in crit]
+    return PassiveIntervals(
+        param=param, lo=float(lo_q), hi=float(hi_q), intervals=result, critical_values=crit_f
+    )
+
+
+def _with(system: SEA | Impedance, values: Mapping[str, Any]) -> SEA | Impedance:
+    vals = {k: (float(v) if isinstance(v, Fraction) else v) for k, v in values.items()}
+    exact = {k: v for k, v in values.items() if isinstance(v, Fraction)}
+    if exact and any(Fraction(float(v)) != v for v in exact.values()):
+        # a rational test point that is not a float: substitute it exactly
+        subs = {symbol(k): sp.Rational(v.numerator, v.denominator) for k, v in exact.items()}
+        expr = load_impedance(system) if isinstance(system, SEA) else system.expr
+        rest = {k: v for k, v in vals.items() if k not in exact}
+        return Impedance(
+            expr=expr.xreplace(subs), values={**system.values, **rest, **dict.fromkeys(exact)}
+        )
+    if isinstance(system, SEA):
+        return system.with_values(**vals)
+    return Impedance(expr=system.expr, values={**system.values, **vals})
+
+
+@dataclass(frozen=True)
+class PassiveMap:
+    """Passive region over two parameters.
+
+    ``intervals[i]`` is the exact passive set of ``param_y`` at ``x[i]``;
+    ``mask`` has axes ``(len(y), len(x))`` and marks grid points inside it.
+    """
+
+    param_x: str
+    param_y: str
+    x: np.ndarray
+    y: np.ndarray
+    intervals: list[list[tuple[float, float]]]
+    mask: np.ndarray
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "param_x": self.param_x,
+            "param_y": self.param_y,
+            "x": self.x.tolist(),
+            "intervals": [[list(iv) for iv in ivs] for ivs in self.intervals],
+        }
+
+
+def passive_map(
+    system: SEA | Impedance,
+    param_x: str,
+    x_values: Sequence[float] | np.ndarray,
+    param_y: str,
+    y_range: tuple[float, float],
+    *,
+    y_points: int = 200,
+    values: Mapping[str, float] | None = None,
+) -> PassiveMap:
+    """Exact passive set of ``param_y`` along each value in ``x_values`` of ``param_x``.
+
+    The boundary along ``param_y`` is exact at every ``x``; ``mask`` samples it
+    on a ``y_points`` grid only for drawing.
+    """
+    xs = np.asarray(x_values, dtype=float)
+    if xs.ndim != 1 or xs.size == 0:
+        raise ParameterError(f"x_values must be a non-empty 1-D sequence, got shape {xs.shape}")
+    ys = np.linspace(float(y_range[0]), float(y_range[1]), y_points)
+    ivs: list[list[tuple[float, float]]] = []
+    mask = np.zeros((ys.size, xs.size), dtype=bool)
+    for i, xv in enumerate(xs):
+        res = passive_intervals(
+            system, param_y, y_range[0], y_range[1], values={**(values or {}), param_x: float(xv)}
+        )
+        ivs.append(res.intervals)
+        for a, b in res.intervals:
+            mask[:, i] |= (ys >= a) & (ys <= b)
+    return PassiveMap(param_x=param_x, param_y=param_y, x=xs, y=ys, intervals=ivs, mask=mask)

@@ -1,0 +1,238 @@
+"""Immutable model objects: a 1-DoF series elastic actuator and a raw impedance.
+
+These sit at the bottom of the package: they parse and validate their inputs
+and hold data; all analysis lives in the modules above.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any
+
+import sympy as sp
+
+from ..errors import DegenerateModelError, ExpressionError, ParameterError
+from .expr import (
+    STANDARD_SYMBOLS,
+    S,
+    check_rational_in_s,
+    parse_expression,
+    symbol,
+    to_fraction,
+    validate_values,
+)
+
+__all__ = ["SEA", "ExprLike", "Impedance"]
+
+from typing import TypeAlias
+
+ExprLike: TypeAlias = str | sp.Expr | int | float
+
+_ELEMENTS = ("D1", "D2", "CA", "CL")
+
+
+def _as_expr(value: ExprLike, allowed: Iterable[str], what: str) -> sp.Expr:
+    if isinstance(value, sp.Expr):
+        return _checked_expr(value, frozenset(allowed), what)
+    if isinstance(value, str):
+        try:
+            return parse_expression(value, allowed)
+        except ExpressionError as exc:
+            raise ExpressionError(f"{what}: {exc}") from None
+    if isinstance(value, bool):
+        raise ExpressionError(f"{what}: expected an expression, got a boolean")
+    if isinstance(value, int | float):
+        return sp.Rational(to_fraction(value, what))
+    return check_rational_in_s(value, allowed, what)
+
+
+@functools.lru_cache(maxsize=1024)
+def _checked_expr(value: sp.Expr, allowed: frozenset[str], what: str) -> sp.Expr:
+    """Validation of sympy input is pure, so it is cached (models are rebuilt often)."""
+    return check_rational_in_s(value, allowed, what)
+
+
+@functools.lru_cache(maxsize=1024)
+def _denominator(expr: sp.Expr) -> sp.Expr:
+    return sp.fraction(sp.together(expr))[1]
+
+
+def _freeze_values(values: Mapping[str, Any] | None) -> Mapping[str, float | None]:
+    out: dict[str, float | None] = {}
+    for name, val in (values or {}).items():
+        out[name] = None if val is None else validate_values({name: val})[name]
+    return MappingProxyType(out)
+
+
+@dataclass(frozen=True)
+class SEA:
+    """A 1-DoF series elastic actuator with linear control.
+
+    The actuator (mass ``m``, viscous damping ``b`` to ground) is driven by
+    ``f_A = C_A(θ_A − x_A) + C_L(θ_L − x_L)`` and joined to a massless load port
+    by the transmission ``D1(s)``; ``D2(s)`` joins the port to ground.  Every
+    element is a rational function of ``s``, given as safe text such as
+    ``"k1 + b1*s"`` or as a sympy expression.  Elements not given are 0.
+
+    Parameters
+    ----------
+    D1, D2, CA, CL : str or sympy.Expr or number
+        Transmission, load-to-ground element, actuator-side and load-side controllers.
+    m, b : str or sympy.Expr or number
+        Actuator mass and damping, the symbols ``m`` and ``b`` by default.
+    values : mapping of str to float or None
+        Parameter values; ``None`` declares a free parameter.  Any name used in
+        an expression must be one of ``m b k1 k2 b1 b2 kd bd ki`` or a key here.
+
+    Raises
+    ------
+    ExpressionError
+        For unknown symbols or expressions that are not rational in ``s``.
+    ParameterError
+        For non-finite values or a mass that is not positive.
+    DegenerateModelError
+        When the load port is connected to nothing (``D1 = D2 = 0``).
+    """
+
+    D1: Any = 0
+    D2: Any = 0
+    CA: Any = 0
+    CL: Any = 0
+    m: Any = "m"
+    b: Any = "b"
+    values: Mapping[str, float | None] = field(default_factory=dict)
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        vals = _freeze_values(self.values)
+        object.__setattr__(self, "values", vals)
+        allowed = set(STANDARD_SYMBOLS) | set(vals)
+        for attr in (*_ELEMENTS, "m", "b"):
+            object.__setattr__(self, attr, _as_expr(getattr(self, attr), allowed, attr))
+        for attr in ("m", "b"):
+            if S in getattr(self, attr).free_symbols:
+                raise ExpressionError(f"{attr} must not depend on s")
+        if self.D1 == 0 and self.D2 == 0:
+            raise DegenerateModelError(
+                "degenerate model: D1 = D2 = 0 leaves the load port connected to nothing; "
+                "give a transmission, e.g. --D1 'k1'"
+            )
+        mass = self.numeric(self.m) if not (self.m.free_symbols - self.known) else None
+        if mass is not None and mass <= 0:
+            raise ParameterError(f"actuator mass m must be positive, got {float(mass):g}")
+        for attr in _ELEMENTS:
+            den = _denominator(getattr(self, attr))
+            if den.free_symbols <= self.known | {S} and sp.expand(self.numeric(den)) == 0:
+                raise DegenerateModelError(f"{attr} has a denominator that is identically zero")
+
+    @property
+    def known(self) -> set[sp.Symbol]:
+        """Symbols whose numeric value is given."""
+        return {symbol(k) for k, v in self.values.items() if v is not None}
+
+    @property
+    def parameters(self) -> tuple[str, ...]:
+        """Names of all parameters the model uses, sorted."""
+        syms: set[sp.Basic] = set()
+        for attr in (*_ELEMENTS, "m", "b"):
+            syms |= getattr(self, attr).free_symbols
+        return tuple(sorted(str(x) for x in syms if x != S))
+
+    @property
+    def free_parameters(self) -> tuple[str, ...]:
+        """Parameters used by the model that have no numeric value."""
+        return tuple(p for p in self.parameters if self.values.get(p) is None)
+
+    def elements(self) -> dict[str, sp.Expr]:
+        """The four elements plus ``m`` and ``b`` as sympy expressions."""
+        return {a: getattr(self, a) for a in (*_ELEMENTS, "m", "b")}
+
+    def substitutions(
+        self, extra: Mapping[str, float] | None = None
+    ) -> dict[sp.Symbol, sp.Rational]:
+        """Exact rational substitutions for every parameter with a value."""
+        vals = {k: v for k, v in self.values.items() if v is not None}
+        if extra:
+            vals.update(validate_values(extra))
+        return {symbol(k): sp.Rational(to_fraction(v, k)) for k, v in vals.items()}
+
+    def numeric(self, expr: sp.Expr) -> sp.Expr:
+        """Substitute the known values into ``expr`` exactly."""
+        return sp.sympify(expr).xreplace(self.substitutions())
+
+    def with_values(self, **values: float | None) -> SEA:
+        """A copy with some parameter values changed or added."""
+        merged = dict(self.values)
+        merged.update(values)
+        return dataclasses.replace(self, values=merged)
+
+    def describe(self) -> dict[str, str]:
+        """Element expressions as strings (``0`` for absent elements)."""
+        return {k: str(v) for k, v in self.elements().items()}
+
+
+@dataclass(frozen=True)
+class Impedance:
+    """A raw rational impedance ``Z(s)`` with optional parameter values.
+
+    Give either ``expr`` (text or sympy) or ``num`` and ``den``.  Coefficient
+    sequences for ``num``/``den`` are in *descending* powers of ``s``, as in
+    numpy and python-control.
+    """
+
+    expr: Any = None
+    num: Any = None
+    den: Any = None
+    values: Mapping[str, float | None] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        vals = _freeze_values(self.values)
+        object.__setattr__(self, "values", vals)
+        allowed = set(STANDARD_SYMBOLS) | set(vals)
+        if self.expr is not None:
+            if self.num is not None or self.den is not None:
+                raise ExpressionError("give either expr or num/den, not both")
+            z = _as_expr(self.expr, allowed, "Z")
+        else:
+            if self.num is None or self.den is None:
+                raise ExpressionError("give Z as an expression or as both num and den")
+            z = _poly_expr(self.num, allowed, "num") / _poly_expr(self.den, allowed, "den")
+        num, den = sp.fraction(sp.cancel(sp.together(z)))
+        if sp.expand(den) == 0:
+            raise DegenerateModelError("Z has a zero denominator")
+        object.__setattr__(self, "expr", num / den)
+        object.__setattr__(self, "num", None)
+        object.__setattr__(self, "den", None)
+
+    @property
+    def parameters(self) -> tuple[str, ...]:
+        return tuple(sorted(str(x) for x in self.expr.free_symbols if x != S))
+
+    @property
+    def free_parameters(self) -> tuple[str, ...]:
+        return tuple(p for p in self.parameters if self.values.get(p) is None)
+
+    def substitutions(self) -> dict[sp.Symbol, sp.Rational]:
+        return {
+            symbol(k): sp.Rational(to_fraction(v, k))
+            for k, v in self.values.items()
+            if v is not None
+        }
+
+
+def _poly_expr(coeffs: Any, allowed: Iterable[str], what: str) -> sp.Expr:
+    if isinstance(coeffs, str | sp.Expr):
+        return _as_expr(coeffs, allowed, what)
+    try:
+        seq = list(coeffs)
+    except TypeError:
+        return _as_expr(coeffs, allowed, what)
+    if not seq:
+        raise ExpressionError(f"{what}: empty coefficient list")
+    n = len(seq) - 1
+    terms = [_as_expr(c, allowed, f"{what}[{i}]") * S ** (n - i) for i, c in enumerate(seq)]
+    return sp.Add(*terms)

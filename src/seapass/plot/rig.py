@@ -1,0 +1,149 @@
+"""Figures of the rig experiment; they only consume result objects of :mod:`seapass.rig.experiment`.
+
+:func:`plot_sweep` follows the bottom row of the paper's Fig. 3 (settling time
+and steady-state error against ``kd``, LP/Ours × load masses, dotted line at
+LP's instability gain); :func:`plot_impacts` shows the perceived stiffness
+(Eq. (10) frequency response, ``k_out`` against the impact time scale and
+against ``b1``); :func:`save_figure` writes PNG + PDF atomically.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.figure import Figure
+
+from ..rig.experiment import ExperimentResult, ImpactResult, SweepResult
+from ..files.atomic import atomic_save
+
+__all__ = ["plot_impacts", "plot_sweep", "plot_traces", "save_figure"]
+
+_COLORS = {"LP": "tab:red", "ours": "tab:blue"}
+_STYLES = ("-", "--", "-.", ":")
+_LABEL = {"LP": "LP", "ours": "Ours"}
+
+
+def _style(sweeps: tuple[SweepResult, ...], s: SweepResult) -> str:
+    masses = sorted({x.load_mass for x in sweeps})
+    return _STYLES[masses.index(s.load_mass) % len(_STYLES)]
+
+
+def plot_sweep(result: ExperimentResult) -> Figure:
+    """Settling time and steady-state error against ``kd`` (paper Fig. 3, bottom row)."""
+    fig, (ax_t, ax_e) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
+    for s in result.sweeps:
+        kw = {"color": _COLORS[s.design], "linestyle": _style(result.sweeps, s)}
+        label = f"{_LABEL[s.design]}, $m_L$ = {s.load_mass:g} kg"
+        ax_t.plot(s.kd, s.settling_time, marker=".", ms=3, label=label, **kw)
+        ax_e.plot(s.kd, s.steady_state_error * 1e3, marker=".", ms=3, label=label, **kw)
+        if s.design == "LP" and s.unstable_gain_twin is not None:
+            for ax in (ax_t, ax_e):
+                ax.axvline(
+                    s.unstable_gain_twin, color="k", linestyle=":", linewidth=1.2, **{"alpha": 0.8}
+                )
+            ax_t.annotate(
+                f"LP unstable\n$m_L$={s.load_mass:g}",
+                (s.unstable_gain_twin, 0.95),
+                xycoords=("data", "axes fraction"),
+                fontsize=8,
+                ha="right",
+                va="top",
+            )
+    cap = max(
+        (
+            float(np.nanmax(s.settling_time))
+            for s in result.sweeps
+            if np.isfinite(s.settling_time).any()
+        ),
+        default=2.0,
+    )
+    ax_t.set_ylim(0, max(2.0, cap) * 1.05)
+    ax_t.set_xlabel("controller stiffness $k_d$ (N/m)")
+    ax_t.set_ylabel("settling time (s)  [gaps: did not settle in 2 s]")
+    ax_t.set_title("Settling time")
+    ax_e.set_xlabel("controller stiffness $k_d$ (N/m)")
+    ax_e.set_ylabel("steady-state error of $x_L$ (mm)")
+    ax_e.set_yscale("symlog", linthresh=0.1)
+    ax_e.set_title("Steady-state error")
+    for ax in (ax_t, ax_e):
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle(f"Digital twin of {result.rig_name}: load from 20 mm to 0")
+    return fig
+
+
+def plot_traces(sweep: SweepResult, kd_values: list[float] | None = None) -> Figure:
+    """Measured load position against time for a few gains of one sweep."""
+    fig, ax = plt.subplots(figsize=(6, 4), constrained_layout=True)
+    picks = kd_values or list(np.unique(np.quantile(sweep.kd, [0.1, 0.4, 0.7, 1.0])))
+    for kd in picks:
+        i = int(np.argmin(np.abs(sweep.kd - kd)))
+        ax.plot(sweep.t, sweep.x_L[i] * 1e3, label=f"$k_d$ = {sweep.kd[i]:g} ({sweep.status[i]})")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("load position $x_L$ (mm)")
+    ax.set_title(f"{_LABEL[sweep.design]}, $m_L$ = {sweep.load_mass:g} kg")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    return fig
+
+
+def plot_impacts(result: ImpactResult) -> Figure:
+    """Perceived stiffness: Eq. (10) response, ``k_out`` vs time scale and vs ``b1``."""
+    fig, (ax_f, ax_w, ax_b) = plt.subplots(1, 3, figsize=(13, 4), constrained_layout=True)
+    ax_f.loglog(result.omega, result.eq10_magnitude, label="Eq. (10), massless port")
+    ax_f.loglog(result.omega, result.eq10_with_load, "--", label="with load-side mass")
+    ax_f.axhline(result.k1, color="gray", linestyle=":", label="$k_1$")
+    ax_f.axhline(2292.0, color="k", linestyle="-.", linewidth=0.8, label="paper $k_{out}$")
+    ax_f.set_xlabel("frequency $\\omega$ (rad/s)")
+    ax_f.set_ylabel("$|F_L/X_L(j\\omega)|$ (N/m)")
+    ax_f.set_title(f"Ours, $k_d$={result.kd:g}, $b_d$={result.bd:g}")
+    ax_w.loglog(
+        result.windows * 1e3, result.k_out_vs_window, "o-", label="twin (friction, encoders)"
+    )
+    ax_w.loglog(
+        result.windows * 1e3, result.k_out_linear_vs_window, "s--", label="linear, exact positions"
+    )
+    ax_w.axhline(result.k1, color="gray", linestyle=":", label="$k_1$")
+    ax_w.axhline(
+        result.static_stiffness, color="gray", linestyle="--", linewidth=0.8, label="static"
+    )
+    ax_w.axhspan(2292.0 - 91.6, 2292.0 + 91.6, color="k", alpha=0.15, label="paper 2292±91.6")
+    ax_w.axvline(result.window * 1e3, color="k", linestyle=":", linewidth=0.8)
+    ax_w.set_xlabel("read-out time after impact onset (ms)")
+    ax_w.set_ylabel("$k_{out} = F_L/X_L$ (N/m)")
+    ax_w.set_title("Dependence on impact time scale")
+    ax_b.errorbar(
+        result.b1_values,
+        result.k_out_vs_b1,
+        yerr=result.k_out_vs_b1_std,
+        fmt="o-",
+        capsize=3,
+        label="twin, mean ± std",
+    )
+    ax_b.axhline(result.k1, color="gray", linestyle=":", label="$k_1$")
+    ax_b.axhspan(2292.0 - 91.6, 2292.0 + 91.6, color="k", alpha=0.15, label="paper")
+    ax_b.set_xlabel("damper viscous coefficient $b_1$ (N s/m)")
+    ax_b.set_ylabel(f"$k_{{out}}$ at {result.window * 1e3:g} ms (N/m)")
+    ax_b.set_title(f"{result.forces.size} impacts per $b_1$")
+    for ax in (ax_f, ax_w, ax_b):
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    return fig
+
+
+def save_figure(fig: Figure, out_dir: str | os.PathLike[str], stem: str) -> list[Path]:
+    """Write ``stem.png`` and ``stem.pdf`` atomically into ``out_dir``; close the figure."""
+    out = Path(out_dir)
+    paths = [out / f"{stem}.png", out / f"{stem}.pdf"]
+    try:
+        for p in paths:
+            atomic_save(p, lambda tmp: fig.savefig(tmp, dpi=150))
+    finally:
+        plt.close(fig)
+    return paths

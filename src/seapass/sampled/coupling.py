@@ -1,0 +1,192 @@
+"""Simulation check of the sampled-data bound: the digital loop coupled to passive environments.
+
+The sampled SEA loop (ZOH force, sampled encoders, the deployed discrete
+controller) is coupled to a mass-spring(-damper) environment at the port and
+discretized exactly; a spectral radius above one is a destabilizing passive
+environment.  This is the empirical counterpart of :func:`seapass.sampled.passivity.sampled_passivity`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from .controllers import DiscreteTF, Method
+from ..errors import ModelError, ParameterError
+from ..model.expr import S
+from ..model.sea import SEA
+from .passivity import _tf2ss_z, controller_tfs
+
+__all__ = ["CoupledCheck", "coupled_check", "coupled_closed_loop", "find_destabilizing_environment"]
+
+
+@dataclass(frozen=True)
+class CoupledCheck:
+    """Sampled closed loop coupled to a mass–spring–damper environment at the port.
+
+    Attributes
+    ----------
+    env_mass, env_stiffness, env_damping : float
+        The passive environment (kg, N/m, N s/m).
+    spectral_radius : float
+        Of the exact discrete-time closed loop (states at the sampling instants,
+        ZOH discretized by the matrix exponential); ``< 1`` means stable.
+    """
+
+    env_mass: float
+    env_stiffness: float
+    env_damping: float
+    spectral_radius: float
+
+    @property
+    def stable(self) -> bool:
+        return self.spectral_radius < 1.0
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "env_mass": self.env_mass,
+            "env_stiffness": self.env_stiffness,
+            "env_damping": self.env_damping,
+            "spectral_radius": self.spectral_radius,
+            "stable": self.stable,
+        }
+
+
+def _kb(expr: sp.Expr, what: str) -> tuple[float, float]:
+    poly = sp.Poly(sp.expand(expr), S)
+    if sp.denom(sp.together(expr)).free_symbols or poly.degree() > 1:
+        raise ModelError(f"coupled simulation supports {what} = k + b*s only, got {expr}")
+    c = [*poly.all_coeffs()[::-1], 0, 0]
+    return float(c[0]), float(c[1])
+
+
+def _coupled_plant(sea: SEA) -> tuple[float, ...]:
+    e = {k: sea.numeric(v) for k, v in sea.elements().items()}
+    return (float(e["m"]), float(e["b"]), *_kb(e["D1"], "D1"), *_kb(e["D2"], "D2"))
+
+
+def coupled_closed_loop(
+    sea: SEA,
+    *,
+    period: float,
+    env_mass: float,
+    env_stiffness: float = 0.0,
+    env_damping: float = 0.0,
+    delay: int = 0,
+    velocity_filter: float | None = None,
+    method: Method = "tustin",
+    tfs: tuple[DiscreteTF, DiscreteTF] | None = None,
+    _plant: tuple[float, ...] | None = None,
+) -> np.ndarray:
+    """Closed-loop transition matrix over one period (plant states first: x_A, v_A, x_L, v_L).
+
+    ``tfs`` (from :func:`controller_tfs`) skips re-discretizing the controller.
+    """
+    from scipy.linalg import expm
+
+    if not env_mass > 0:
+        raise ParameterError(f"env_mass must be positive, got {env_mass!r}")
+    m, b, k1, b1, k2, b2 = _plant or _coupled_plant(sea)
+    me, ke, be = float(env_mass), float(env_stiffness), float(env_damping)
+    A = np.array(
+        [
+            [0.0, 1.0, 0.0, 0.0],
+            [-k1 / m, -(b + b1) / m, k1 / m, b1 / m],
+            [0.0, 0.0, 0.0, 1.0],
+            [k1 / me, b1 / me, -(k1 + k2 + ke) / me, -(b1 + b2 + be) / me],
+        ]
+    )
+    B = np.array([[0.0], [1.0 / m], [0.0], [0.0]])
+    big = np.zeros((5, 5))
+    big[:4, :4], big[:4, 4:] = A * period, B * period
+    E = expm(big)
+    Ad, Bd = E[:4, :4], E[:4, 4:]
+    ka, kl = tfs or controller_tfs(
+        sea, period=period, delay=delay, velocity_filter=velocity_filter, method=method
+    )
+    blocks = []
+    rows = [np.array([[1.0, 0.0, 0.0, 0.0]]), np.array([[0.0, 0.0, 1.0, 0.0]])]
+    acl = Ad.copy()
+    for tf, cy in zip((ka, kl), rows, strict=True):
+        Ak, Bk, Ck, Dk = _tf2ss_z(tf)
+        acl = acl - Bd @ Dk @ cy
+        blocks.append((Ak, Bk, Ck, cy))
+    nk = [blk[0].shape[0] for blk in blocks]
+    n = 4 + sum(nk)
+    out = np.zeros((n, n))
+    out[:4, :4] = acl
+    off = 4
+    for (Ak, Bk, Ck, cy), nki in zip(blocks, nk, strict=True):
+        out[:4, off : off + nki] = -Bd @ Ck
+        out[off : off + nki, :4] = Bk @ cy
+        out[off : off + nki, off : off + nki] = Ak
+        off += nki
+    return out
+
+
+def coupled_check(
+    sea: SEA,
+    *,
+    period: float,
+    env_mass: float,
+    env_stiffness: float = 0.0,
+    env_damping: float = 0.0,
+    **kw: Any,
+) -> CoupledCheck:
+    """Stability of the sampled loop coupled to one passive environment."""
+    acl = coupled_closed_loop(
+        sea,
+        period=period,
+        env_mass=env_mass,
+        env_stiffness=env_stiffness,
+        env_damping=env_damping,
+        **kw,
+    )
+    rho = float(np.max(np.abs(np.linalg.eigvals(acl))))
+    return CoupledCheck(float(env_mass), float(env_stiffness), float(env_damping), rho)
+
+
+def find_destabilizing_environment(
+    sea: SEA,
+    *,
+    period: float,
+    masses: Any = None,
+    stiffnesses: Any = None,
+    damping: float = 0.0,
+    **kw: Any,
+) -> CoupledCheck:
+    """The environment of a grid (masses × stiffnesses, kg × N/m) with the largest spectral radius.
+
+    Defaults: 13 masses in ``[1e-3, 10]`` kg and 0 plus 13 stiffnesses in
+    ``[10, 1e5]`` N/m.  A returned check with ``stable == False`` is a concrete
+    passive environment that the sampled loop destabilizes.
+    """
+    ms = np.logspace(-3, 1, 13) if masses is None else np.atleast_1d(masses)
+    ks = np.r_[0.0, np.logspace(1, 5, 13)] if stiffnesses is None else np.atleast_1d(stiffnesses)
+    tfs = controller_tfs(
+        sea,
+        period=period,
+        delay=kw.get("delay", 0),
+        velocity_filter=kw.get("velocity_filter"),
+        method=kw.get("method", "tustin"),
+    )
+    params = _coupled_plant(sea)
+    best: CoupledCheck | None = None
+    for me in ms:
+        for ke in ks:
+            c = coupled_check(
+                sea,
+                period=period,
+                env_mass=float(me),
+                env_stiffness=float(ke),
+                env_damping=damping,
+                tfs=tfs,
+                _plant=params,
+            )
+            if best is None or c.spectral_radius > best.spectral_radius:
+                best = c
+    assert best is not None
+    return best

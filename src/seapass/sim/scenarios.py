@@ -1,0 +1,144 @@
+"""Simulation scenarios: what drives the closed loop (reference steps, displaced load, forces, trajectories).
+
+Each scenario is an immutable value object validated on construction; the
+simulator in :mod:`seapass.sim.simulate` turns it into initial conditions and an
+input signal ``u(t) = (θ_A, θ_L, f_ext)``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from ..errors import ParameterError
+
+__all__ = ["ForceImpulse", "ForceStep", "LoadDisplaced", "Scenario", "Step", "Trajectory"]
+
+
+def _finite(value: float, name: str, *, positive: bool = False, nonzero: bool = False) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name}: expected a number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise ParameterError(f"{name} must be finite, got {v}")
+    if positive and v <= 0:
+        raise ParameterError(f"{name} must be positive, got {v:g}")
+    if nonzero and v == 0:
+        raise ParameterError(f"{name} must be nonzero")
+    return v
+
+
+def _refs(apply_to: str, value: float) -> tuple[float, float]:
+    if apply_to not in ("both", "actuator", "load"):
+        raise ParameterError(f"apply_to must be 'both', 'actuator' or 'load', got {apply_to!r}")
+    return (0.0 if apply_to == "load" else value, 0.0 if apply_to == "actuator" else value)
+
+
+# --------------------------------------------------------------------------- scenarios
+
+
+@dataclass(frozen=True)
+class Step:
+    """Reference step of ``size`` metres at ``t = 0`` from rest at the origin.
+
+    ``apply_to`` selects the references that step: ``"both"`` (θ_A = θ_L, the
+    default), ``"actuator"`` (θ_A only) or ``"load"`` (θ_L only).  The load
+    target for the tracking metrics is ``size``.
+    """
+
+    size: float = 0.5
+    apply_to: str = "both"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "size", _finite(self.size, "step size", nonzero=True))
+        _refs(self.apply_to, 1.0)
+
+
+@dataclass(frozen=True)
+class LoadDisplaced:
+    """The load starts at ``displacement`` (actuator at rest at 0), references 0.
+
+    The paper's hardware test (Sec. VI): load held at 20 mm and released.
+    Internal states of mechanical elements start in equilibrium with the
+    initial deflection; controller states start at zero.
+    """
+
+    displacement: float = 0.02
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self, "displacement", _finite(self.displacement, "displacement", nonzero=True)
+        )
+
+
+@dataclass(frozen=True)
+class ForceStep:
+    """A constant force ``force`` (N) on the load from ``t = 0``; references 0."""
+
+    force: float = 10.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "force", _finite(self.force, "force", nonzero=True))
+
+
+@dataclass(frozen=True)
+class ForceImpulse:
+    """An impulse ``impulse`` (N·s) on the resting load at ``t = 0``: ``v_L(0+) = J/m_L``."""
+
+    impulse: float = 1.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "impulse", _finite(self.impulse, "impulse", nonzero=True))
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """A reference trajectory given as samples ``(times, values)`` (s, m).
+
+    Between samples the reference is held (``interpolation="zoh"``) or
+    linearly interpolated (``"linear"``); before the first sample it equals
+    the first value and after the last it holds the last.  The simulator
+    evaluates it on its grid, which is exact when the sample times are
+    multiples of the time step.  The metrics use the last value as target.
+    """
+
+    times: Sequence[float]
+    values: Sequence[float]
+    interpolation: Literal["zoh", "linear"] = "linear"
+    apply_to: str = "both"
+
+    def __post_init__(self) -> None:
+        t = np.asarray(self.times, dtype=float)
+        v = np.asarray(self.values, dtype=float)
+        if t.ndim != 1 or v.ndim != 1 or t.shape != v.shape or t.size == 0:
+            raise ParameterError(
+                f"trajectory times and values must be 1-D of equal nonzero length, "
+                f"got shapes {t.shape} and {v.shape}"
+            )
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(v))):
+            raise ParameterError("trajectory times and values must be finite")
+        if np.any(np.diff(t) <= 0):
+            raise ParameterError("trajectory times must be strictly increasing")
+        if self.interpolation not in ("zoh", "linear"):
+            raise ParameterError(
+                f"interpolation must be 'zoh' or 'linear', got {self.interpolation!r}"
+            )
+        _refs(self.apply_to, 1.0)
+        object.__setattr__(self, "times", tuple(t.tolist()))
+        object.__setattr__(self, "values", tuple(v.tolist()))
+
+    def sample(self, t: np.ndarray) -> np.ndarray:
+        """The reference on the grid ``t``."""
+        ts, vs = np.asarray(self.times), np.asarray(self.values)
+        if self.interpolation == "linear":
+            return np.interp(t, ts, vs)
+        idx = np.clip(np.searchsorted(ts, t + 1e-12 * (1 + abs(t)), side="right") - 1, 0, None)
+        return vs[idx]
+
+
+Scenario = Step | LoadDisplaced | ForceStep | ForceImpulse | Trajectory
