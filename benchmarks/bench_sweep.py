@@ -12,7 +12,7 @@ from seapass.sim.metrics import tracking_metrics
 from seapass.model.sea import SEA
 from seapass.analysis.passivity import is_passive
 from seapass.sim.simulate import Step, simulate
-from seapass.sweep.runner import GridAxis, SweepSpec, run_sweep
+from seapass.sweep import GridAxis, SweepSpec, run_design_sweep
 
 SEA_ = SEA(
     D1="k1 + b1*s",
@@ -39,7 +39,7 @@ def run(quick: bool) -> tuple[list[Row], list[str]]:
         chunk_size=8192,
     )
     with tempfile.TemporaryDirectory() as tmp:
-        t_ours = timed(lambda: run_sweep(spec, Path(tmp) / "s.parquet", progress=False))
+        t_ours = timed(lambda: run_design_sweep(spec, Path(tmp) / "s.parquet", progress=False))
     idx, vals = spec.chunk_values(0)
     n_naive = 6 if quick else 30
     pick = np.linspace(0, idx.size - 1, n_naive).astype(int)
@@ -48,7 +48,7 @@ def run(quick: bool) -> tuple[list[Row], list[str]]:
     n = spec.n_designs
     row = Row(
         task="sweep: verdict + margin + step metrics per design, written to Parquet",
-        ours=f"seapass sweep (run_sweep), {n:,} designs",
+        ours=f"seapass sweep (run_design_sweep), {n:,} designs",
         ours_rate=rate(n, t_ours.seconds),
         peer=f"naive loop (is_passive + simulate + tracking_metrics), {n_naive} designs",
         peer_rate=rate(n_naive, t_naive.seconds),

@@ -8,7 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from seapass.report.analyze import ANALYSIS_STAGES, analyze, matching_tunable_design
+from seapass.report.analyze import ANALYSIS_STAGES, analyze
+from seapass.report.stages.design_dynamics import matching_tunable_design
 from seapass.cli import main
 from seapass.model.design_file import load_design
 

@@ -10,7 +10,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from seapass.model.sea import SEA
-from seapass.sweep.runner import GridAxis, SweepSpec, run_sweep
+from seapass.sweep import GridAxis, SweepSpec, run_design_sweep
 
 distributed = pytest.importorskip("dask.distributed")
 
@@ -32,18 +32,18 @@ def _assert_same(a, b) -> None:
 
 
 def test_local_cluster_matches_single_process(tmp_path: Path) -> None:
-    ref = pq.read_table(run_sweep(SPEC, tmp_path / "ref.parquet", progress=False).path)
-    res = run_sweep(SPEC, tmp_path / "dask.parquet", scheduler="local", progress=False)
+    ref = pq.read_table(run_design_sweep(SPEC, tmp_path / "ref.parquet", progress=False).path)
+    res = run_design_sweep(SPEC, tmp_path / "dask.parquet", scheduler="local", progress=False)
     assert res.chunks_computed == SPEC.n_chunks
     _assert_same(pq.read_table(res.path), ref)
 
 
 def test_existing_scheduler_address(tmp_path: Path) -> None:
-    ref = pacsv.read_csv(run_sweep(SPEC, tmp_path / "ref.csv", progress=False).path)
+    ref = pacsv.read_csv(run_design_sweep(SPEC, tmp_path / "ref.csv", progress=False).path)
     with distributed.LocalCluster(
         n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
     ) as cluster:
-        res = run_sweep(
+        res = run_design_sweep(
             SPEC, tmp_path / "d.csv", scheduler=cluster.scheduler_address, progress=False
         )
     _assert_same(pacsv.read_csv(res.path), ref)

@@ -11,15 +11,9 @@ import pytest
 
 from seapass.cli import main
 from seapass.errors import ParameterError
-from seapass.rig.experiment import (
-    critical_gain,
-    run_experiment,
-    run_impacts,
-    run_sweep,
-    sampled_loop_matrix,
-    settling_metrics,
-    stiffness_response,
-)
+from seapass.rig.experiment import run_experiment, run_rig_sweep, settling_metrics
+from seapass.rig.impacts import rig_stiffness_response, run_impacts
+from seapass.rig.predictions import critical_gain, sampled_loop_matrix
 from seapass.rig.rigfile import paper_rig
 
 RIG = paper_rig()
@@ -84,12 +78,12 @@ def test_sampled_matrix_without_delay_is_zoh_loop():
 
 def test_coarse_sweep_lp_and_ours():
     kd = [0.0, 300.0, 900.0, 2000.0]
-    lp = run_sweep(RIG, design="LP", load_mass=0.6, kd=kd)
+    lp = run_rig_sweep(RIG, design="LP", load_mass=0.6, kd=kd)
     assert lp.status[0] == "stuck"
     assert lp.status[1] == "settled" and lp.status[3] == "unstable"
     assert lp.unstable_gain_twin == 2000.0
     assert 900.0 <= lp.unstable_gain_sampled <= lp.unstable_gain_continuous
-    ours = run_sweep(RIG, design="ours", load_mass=0.6, kd=kd, predictions=False)
+    ours = run_rig_sweep(RIG, design="ours", load_mass=0.6, kd=kd, predictions=False)
     assert all(s == "settled" for s in ours.status[1:])
     assert ours.unstable_gain_twin is None
     # error set by dry friction: falls with gain
@@ -97,9 +91,9 @@ def test_coarse_sweep_lp_and_ours():
     rows = ours.rows()
     assert rows[0]["settling_time"] is None and rows[1]["design"] == "ours"
     with pytest.raises(ParameterError, match="design"):
-        run_sweep(RIG, design="PD", load_mass=0.1, kd=kd)
+        run_rig_sweep(RIG, design="PD", load_mass=0.1, kd=kd)
     with pytest.raises(ParameterError, match="kd"):
-        run_sweep(RIG, design="LP", load_mass=0.1, kd=[[1.0]])
+        run_rig_sweep(RIG, design="LP", load_mass=0.1, kd=[[1.0]])
 
 
 def test_experiment_findings_on_coarse_grid():
@@ -115,7 +109,7 @@ def test_experiment_findings_on_coarse_grid():
 def test_stiffness_response_is_eq10():
     w = np.array([1e-3, 5.0, 50.0, 500.0])
     kd, bd = 1000.0, 25.0
-    mag, with_load = stiffness_response(RIG, w, kd=kd, bd=bd, load_mass=0.1)
+    mag, with_load = rig_stiffness_response(RIG, w, kd=kd, bd=bd, load_mass=0.1)
     m, b, k1, b1 = RIG.actuator_mass, RIG.actuator_damping, RIG.damper.k1, RIG.damper.b1
     s = 1j * w
     a = m * s**2 + b * s

@@ -2,7 +2,8 @@
 
 import sympy as sp
 
-from seapass import SEA, exact_passivity_condition, is_passive, load_impedance, passive_intervals
+from seapass import SEA, exact_passivity_condition, is_passive, passive_intervals
+from seapass.model import load_impedance
 from seapass.model.expr import symbol
 from seapass.model.stiffness import passivity_polynomial
 

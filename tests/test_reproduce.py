@@ -9,8 +9,11 @@ from pathlib import Path
 import pytest
 
 from seapass.cli import main
-from seapass.report.document import FigureData, Finding, Report, Section, Table, figure_png, write_report
-from seapass.report.reproduce import STAGES, Stage, reproduce, run_stages, select_stages, stage_keys
+from seapass.plot.style import figure_bytes
+from seapass.report.document import FigureData, Finding, Report, Section, Table
+from seapass.report.output import write_report
+from seapass.report.pipeline import Stage, run_stages, select_stages
+from seapass.report.reproduce import STAGES, reproduce, stage_keys
 
 
 @pytest.fixture(scope="module")
@@ -78,7 +81,7 @@ def test_figures_are_byte_stable() -> None:
         fig, ax = plt.subplots()
         ax.plot([0, 1], [1, 0], label="x")
         ax.legend()
-        return figure_png(fig)
+        return figure_bytes(fig)
 
     assert draw() == draw()
 
@@ -94,7 +97,7 @@ def test_same_outputs_every_run(core: Path, tmp_path: Path) -> None:
 
 
 def _tiny(key: str = "a") -> Section:
-    png = figure_png(__import__("matplotlib.pyplot").pyplot.figure(figsize=(1, 1)))
+    png = figure_bytes(__import__("matplotlib.pyplot").pyplot.figure(figsize=(1, 1)))
     return Section(
         key=key, title=key.upper(), text="hello `x` **y**\n\n- one\n- two",
         tables=(Table("t_" + key, "T", ("a", "b"), ((1.5, True), (None, False))),),
@@ -140,17 +143,23 @@ def test_failed_and_skipped_stages_are_reported() -> None:
     def bad(quick: bool) -> Section:
         raise ValueError("broken input")
 
-    def missing(quick: bool) -> Section:
-        raise ImportError("No module named 'seapass.nothing'")
+    def broken_import(quick: bool) -> Section:
+        raise ImportError("No module named 'seapass.nothing'", name="seapass.nothing")
+
+    def no_mujoco(quick: bool) -> Section:
+        raise ImportError("No module named 'mujoco'", name="mujoco")
 
     secs = run_stages(
-        [Stage("a", "A", bad), Stage("b", "B", missing), Stage("c", "C", lambda q: _tiny("c"))],
+        [Stage("a", "A", bad), Stage("b", "B", broken_import), Stage("m", "M", no_mujoco),
+         Stage("c", "C", lambda q: _tiny("c"))],
         progress=False,
-    )
-    assert [s.status for s in secs] == ["failed", "skipped", "ok"]
-    assert "broken input" in secs[0].text
+    )  # fmt: skip
+    # a broken import is a bug and fails loudly; only a named optional extra is skipped
+    assert [s.status for s in secs] == ["failed", "failed", "skipped", "ok"]
+    assert "broken input" in secs[0].text and "seapass.nothing" in secs[1].text
+    assert "seapass[mujoco]" in secs[2].text
     report = Report("R", "i", secs)
-    assert report.failed == ["a"]
+    assert report.failed == ["a", "b"]
 
 
 def test_stage_selection(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:

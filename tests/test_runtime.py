@@ -234,7 +234,7 @@ def test_delayed_hardware_applies_commands_late() -> None:
 
 
 def test_twin_end_to_end() -> None:
-    twin = pytest.importorskip("seapass.rig.twin")
+    twin = pytest.importorskip("seapass.rig.plant")
     rig = pytest.importorskip("seapass.rig.rigfile").paper_rig()
     plant = twin.TwinPlant(rig, load_mass=0.1, seed=None)
     plant.reset(x_L=0.02)
@@ -257,7 +257,7 @@ def test_twin_end_to_end() -> None:
 
 
 def test_twin_nonpassive_lp_is_refused_then_stopped_safely() -> None:
-    twin = pytest.importorskip("seapass.rig.twin")
+    twin = pytest.importorskip("seapass.rig.plant")
     rig = pytest.importorskip("seapass.rig.rigfile").paper_rig()
     design = SEA(D1="k1 + b1*s", CL="kd", values={**rig.model_values(), "kd": 3000.0})
     plant = twin.TwinPlant(rig, load_mass=0.6, seed=None)

@@ -157,9 +157,9 @@ def test_bound_agrees_with_coupled_stability(make, inside: float, outside: float
     good, bad = make(kd=inside), make(kd=outside)
     assert sm.sampled_passivity(good, period=T).passive
     assert not sm.sampled_passivity(bad, period=T).passive
-    worst_good = smc.find_destabilizing_environment(good, period=T)
+    worst_good = smc.worst_sampled_environment(good, period=T)
     assert worst_good.stable
-    found = smc.find_destabilizing_environment(bad, period=T)
+    found = smc.worst_sampled_environment(bad, period=T)
     assert not found.stable  # a concrete passive environment the loop destabilizes
     assert found.env_mass > 0 and found.env_stiffness >= 0
 
@@ -274,7 +274,8 @@ def test_cli_check_and_errors(tmp_path, capsys) -> None:  # type: ignore[no-unty
 
 
 def test_plot_bound_table_and_scan(tmp_path) -> None:  # type: ignore[no-untyped-def]
-    from seapass.plot.sampled import plot_bound_scan, plot_bound_table, save_figure
+    from seapass.plot.sampled import plot_bound_scan, plot_bound_table
+    from seapass.plot.style import save_figure
 
     rows = [
         {"design": "Ours", "b1": 30.0, "bd": 0.0, "max_passive": 10009.8},
@@ -284,5 +285,5 @@ def test_plot_bound_table_and_scan(tmp_path) -> None:  # type: ignore[no-untyped
     ]
     save_figure(plot_bound_table(rows, title="500 Hz"), tmp_path / "t.png")
     res = sm.SampledBoundResult("kd", T, 0.0, 10.0, [(0.0, 4.0)], 4.0, [(0.0, True), (10.0, False)])
-    save_figure(plot_bound_scan(res).figure, tmp_path / "s.png")
+    save_figure(plot_bound_scan(res), tmp_path / "s.png")
     assert (tmp_path / "t.png").stat().st_size > 0 and (tmp_path / "s.png").stat().st_size > 0

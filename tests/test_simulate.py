@@ -15,16 +15,8 @@ from hypothesis import strategies as st
 from seapass.errors import ParameterError, UnrealizableError
 from seapass.model.expr import S, parse_expression, symbol
 from seapass.model.sea import SEA
-from seapass.sim.simulate import (
-    ForceImpulse,
-    ForceStep,
-    LoadDisplaced,
-    Step,
-    Trajectory,
-    closed_loop,
-    closed_loop_factory,
-    simulate,
-)
+from seapass.model.realization import closed_loop, closed_loop_factory
+from seapass.sim import ForceImpulse, ForceStep, LoadDisplaced, Step, Trajectory, simulate
 
 PLANT = {"m": 1.0, "b": 10.0, "k1": 1000.0}
 s = S

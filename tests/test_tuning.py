@@ -11,7 +11,8 @@ from seapass.errors import ParameterError
 from seapass.analysis.passivity import is_passive
 from seapass.analysis.region import passive_intervals
 from seapass.paper.simstudy import QUICK_OPTIONS, run_simulation_study
-from seapass.sim.tuning import DESIGNS, TuningOptions, design_sea, normalize_design, tune
+from seapass.model.catalog import design as catalog_design
+from seapass.sim.tuning import TuningOptions, design_sea, tune
 
 QUICK = replace(QUICK_OPTIONS, maxiter=8)
 
@@ -42,7 +43,7 @@ def test_quick_tune_gives_passive_settling_design_within_limits(design):
     for gain, (lo, hi) in res.bounds.items():
         assert lo <= res.gains[gain] <= hi
     d = res.to_dict()
-    assert d["design"] == design and set(d["gains"]) == set(DESIGNS[design].tuned)
+    assert d["design"] == design and set(d["gains"]) == set(catalog_design(design).gains)
     json.dumps(d)
 
 
@@ -69,7 +70,7 @@ def test_keyboard_interrupt_aborts_cleanly():
 
 
 def test_bad_design_and_options():
-    assert normalize_design("OURS") == "ours" and normalize_design("apd") == "APD"
+    assert catalog_design("OURS").key == "ours" and catalog_design("apd").key == "APD"
     with pytest.raises(ParameterError, match="unknown design"):
         tune("PID", options=QUICK, progress=False)
     with pytest.raises(ParameterError):

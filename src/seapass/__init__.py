@@ -1,165 +1,133 @@
 """seapass: design series elastic actuators that are both passive (safe) and accurate.
 
-The public surface is re-exported here explicitly; everything else is internal.
+The top level holds the few names most users need; everything else lives in
+one subpackage per concept (see ``docs/architecture.md``):
+
+==================  =====================================================
+subpackage          what lives there
+==================  =====================================================
+``seapass.exact``   the exact polynomial kernel
+``seapass.model``   ``SEA``, the safe parser, stiffness, catalog, design files
+``seapass.analysis``  exact passivity, conditions, passive sets, witnesses
+``seapass.sim``     simulation, tracking metrics, tuning
+``seapass.batch``   vectorized verdicts and step metrics
+``seapass.sampled``  discrete controllers, sampled-data passivity, runtime
+``seapass.rig``     rig files, the digital twin, the paper's experiment
+``seapass.sweep``   resumable design-space sweeps (local or Dask)
+``seapass.paper``   Tables I and II, the simulation study
+``seapass.plot``    every figure
+``seapass.report``  ``reproduce`` and ``analyze`` reports
+``seapass.cli``     the ``seapass`` command
+==================  =====================================================
+
+Names are loaded on first use, so ``import seapass`` is fast.
+
+Examples
+--------
+>>> import seapass as sp
+>>> sea = sp.SEA(D1="k1", CL="kd", values=dict(m=1, b=10, k1=1000, kd=500))
+>>> sp.is_passive(sea).passive
+True
 """
 
-from .report.analyze import analyze
-from .batch.verdicts import BatchPassivity, batch_is_passive, compile_passivity
-from .batch.step_metrics import BatchMetrics, batch_step_metrics
-from .analysis.conditions import ExactCondition, exact_passivity_condition
-from .sampled.controllers import APDController, DiscreteController, LPController, OursController, discretize
-from .analysis.coupled import (
-    CoupledResult,
-    CoupledSimulation,
-    Environment,
-    coupled_stability,
-    simulate_coupled,
-)
-from .model.design_file import Design, load_design
-from .errors import (
-    DegenerateModelError,
-    ExpressionError,
-    FileFormatError,
-    ModelError,
-    NotPassiveError,
-    ParameterError,
-    SeapassError,
-    SimulationError,
-    SymbolicLimitError,
-    UnrealizableError,
-)
-from .rig.experiment import (
-    ExperimentResult,
-    ImpactResult,
-    SweepResult,
-    run_experiment,
-    run_impacts,
-)
-from .rig.experiment import run_sweep as run_rig_sweep
-from .analysis.freqresp import FrequencyResponse, stiffness_response
-from .sim.metrics import TrackingMetrics, settling_time, tracking_metrics
-from .model.sea import SEA, Impedance
-from .analysis.passivity import PassivityResult, is_passive
-from .analysis.region import PassiveIntervals, PassiveMap, passive_intervals, passive_map
-from .report.document import Report, write_report
-from .report.reproduce import reproduce
-from .rig.rigfile import Rig, load_rig, paper_rig
-from .sampled.runtime import ControlLoop, HardwareInterface, SimulatedHardware
-from .sampled.passivity import (
-    SampledBoundResult,
-    SampledPassivityResult,
-    sampled_passive_bound,
-    sampled_passivity,
-)
-from .paper.simstudy import SimulationStudy, run_simulation_study
-from .sim.simulate import (
-    ClosedLoop,
-    ForceImpulse,
-    ForceStep,
-    LoadDisplaced,
-    SimulationResult,
-    Step,
-    Trajectory,
-    closed_loop,
-    simulate,
-)
-from .model.stiffness import derive_stiffness, load_impedance, paper_eq4_stiffness, passivity_polynomial
-from .sweep.runner import SweepSpec
-from .sweep.runner import run_sweep as run_design_sweep
-from .paper.tables import build_tables
-from .sim.tuning import TuningOptions, TuningResult, tune
-from .rig.twin import TwinPlant, simulate_loop
-from .analysis.witness import WitnessResult, find_destabilizing_environment
+from __future__ import annotations
 
-__version__ = "0.1.0"
+import importlib
+from typing import TYPE_CHECKING, Any
+
+from .errors import SeapassError
+from .version import __version__
+
+# name -> module that defines it
+_LAZY: dict[str, str] = {
+    "SEA": "model.sea",
+    "Impedance": "model.sea",
+    "Design": "model.design_file",
+    "load_design": "model.design_file",
+    "derive_stiffness": "model.stiffness",
+    "is_passive": "analysis.passivity",
+    "PassivityResult": "analysis.passivity",
+    "passive_intervals": "analysis.region",
+    "passive_map": "analysis.region",
+    "exact_passivity_condition": "analysis.conditions",
+    "stiffness_response": "analysis.freqresp",
+    "find_destabilizing_environment": "analysis.witness",
+    "simulate": "sim.simulate",
+    "Step": "sim.scenarios",
+    "tracking_metrics": "sim.metrics",
+    "tune": "sim.tuning",
+    "sampled_passivity": "sampled.passivity",
+    "sampled_passive_bound": "sampled.passivity",
+    "load_rig": "rig.rigfile",
+    "paper_rig": "rig.rigfile",
+    "analyze": "report.analyze",
+    "reproduce": "report.reproduce",
+    "write_report": "report.output",
+}
+
+_SUBPACKAGES = frozenset(
+    {"analysis", "batch", "cli", "errors", "exact", "files", "model", "paper", "plot",
+     "report", "rig", "sampled", "sim", "sweep"}
+)  # fmt: skip
 
 __all__ = [
     "SEA",
-    "APDController",
-    "BatchMetrics",
-    "BatchPassivity",
-    "ClosedLoop",
-    "ControlLoop",
-    "CoupledResult",
-    "CoupledSimulation",
-    "DegenerateModelError",
     "Design",
-    "DiscreteController",
-    "Environment",
-    "ExactCondition",
-    "ExperimentResult",
-    "ExpressionError",
-    "FileFormatError",
-    "ForceImpulse",
-    "ForceStep",
-    "FrequencyResponse",
-    "HardwareInterface",
-    "ImpactResult",
     "Impedance",
-    "LPController",
-    "LoadDisplaced",
-    "ModelError",
-    "NotPassiveError",
-    "OursController",
-    "ParameterError",
-    "PassiveIntervals",
-    "PassiveMap",
     "PassivityResult",
-    "Report",
-    "Rig",
-    "SampledBoundResult",
-    "SampledPassivityResult",
     "SeapassError",
-    "SimulatedHardware",
-    "SimulationError",
-    "SimulationResult",
-    "SimulationStudy",
     "Step",
-    "SweepResult",
-    "SweepSpec",
-    "SymbolicLimitError",
-    "TrackingMetrics",
-    "Trajectory",
-    "TuningOptions",
-    "TuningResult",
-    "TwinPlant",
-    "UnrealizableError",
-    "WitnessResult",
     "__version__",
     "analyze",
-    "batch_is_passive",
-    "batch_step_metrics",
-    "build_tables",
-    "closed_loop",
-    "compile_passivity",
-    "coupled_stability",
     "derive_stiffness",
-    "discretize",
     "exact_passivity_condition",
     "find_destabilizing_environment",
     "is_passive",
     "load_design",
-    "load_impedance",
     "load_rig",
-    "paper_eq4_stiffness",
     "paper_rig",
     "passive_intervals",
     "passive_map",
-    "passivity_polynomial",
     "reproduce",
-    "run_design_sweep",
-    "run_experiment",
-    "run_impacts",
-    "run_rig_sweep",
-    "run_simulation_study",
     "sampled_passive_bound",
     "sampled_passivity",
-    "settling_time",
     "simulate",
-    "simulate_coupled",
-    "simulate_loop",
     "stiffness_response",
     "tracking_metrics",
     "tune",
     "write_report",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        value = getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
+        globals()[name] = value
+        return value
+    if name in _SUBPACKAGES:
+        return importlib.import_module(f"{__name__}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_LAZY, *_SUBPACKAGES})
+
+
+if TYPE_CHECKING:  # what type checkers and IDEs see
+    from .analysis.conditions import exact_passivity_condition
+    from .analysis.freqresp import stiffness_response
+    from .analysis.passivity import PassivityResult, is_passive
+    from .analysis.region import passive_intervals, passive_map
+    from .analysis.witness import find_destabilizing_environment
+    from .model.design_file import Design, load_design
+    from .model.sea import SEA, Impedance
+    from .model.stiffness import derive_stiffness
+    from .report.analyze import analyze
+    from .report.output import write_report
+    from .report.reproduce import reproduce
+    from .rig.rigfile import load_rig, paper_rig
+    from .sampled.passivity import sampled_passive_bound, sampled_passivity
+    from .sim.metrics import tracking_metrics
+    from .sim.scenarios import Step
+    from .sim.simulate import simulate
+    from .sim.tuning import tune

@@ -1,1 +1,38 @@
-"""analysis."""
+"""Continuous-time analysis: exact passivity, conditions, passive sets, responses, witnesses.
+
+What lives here: :mod:`~seapass.analysis.passivity` (the exact positive-real
+test), :mod:`~seapass.analysis.conditions` (symbolic necessary-and-sufficient
+conditions), :mod:`~seapass.analysis.region` (exact passive intervals and 2-D
+maps), :mod:`~seapass.analysis.freqresp` (the stiffness frequency response),
+:mod:`~seapass.analysis.coupled` (coupled stability with an environment) and
+:mod:`~seapass.analysis.witness` (a passive environment that destabilizes a
+design that is not passive).
+
+May import: :mod:`seapass.errors`, :mod:`seapass.exact`, :mod:`seapass.model`.
+"""
+
+from .conditions import ExactCondition, exact_passivity_condition
+from .coupled import CoupledResult, Environment, coupled_stability, simulate_coupled
+from .freqresp import FrequencyResponse, stiffness_response
+from .passivity import PassivityResult, is_passive
+from .region import PassiveIntervals, PassiveMap, passive_intervals, passive_map
+from .witness import WitnessResult, find_destabilizing_environment
+
+__all__ = [
+    "CoupledResult",
+    "Environment",
+    "ExactCondition",
+    "FrequencyResponse",
+    "PassiveIntervals",
+    "PassiveMap",
+    "PassivityResult",
+    "WitnessResult",
+    "coupled_stability",
+    "exact_passivity_condition",
+    "find_destabilizing_environment",
+    "is_passive",
+    "passive_intervals",
+    "passive_map",
+    "simulate_coupled",
+    "stiffness_response",
+]

@@ -53,12 +53,12 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from ..exact import poly as ep
 from ..errors import DegenerateModelError, ParameterError
+from ..exact import poly as ep
+from ..exact.axis import all_real_roots, at_j_omega, axis_factor, is_hurwitz
 from ..model.expr import to_fraction
 from ..model.sea import SEA, Impedance
-from .passivity import _all_real_roots, _at_j_omega, _axis_factor, _is_hurwitz
-from .passivity import exact_rational_function as _exact_rational_function
+from .passivity import exact_rational_function
 
 __all__ = [
     "CoupledResult",
@@ -219,17 +219,17 @@ def classify_polynomial(p: ep.Poly) -> tuple[str, bool, bool]:
     p = ep.normalize(p)
     if not p:
         raise DegenerateModelError("the characteristic polynomial is identically zero")
-    if ep.degree(p) == 0 or _is_hurwitz(p):
+    if ep.degree(p) == 0 or is_hurwitz(p):
         return "stable", False, False
-    re, im = _at_j_omega(p)
+    re, im = at_j_omega(p)
     g = ep.pgcd(re, im)  # real roots w of g <-> roots s = jw of p, with multiplicity
     rest, repeated = p, False
     if ep.degree(g) > 0:
-        if not _all_real_roots(g):
+        if not all_real_roots(g):
             return "unstable", True, False  # a root pair mirrored about the axis
         repeated = ep.degree(ep.squarefree_part(g)) != ep.degree(g)
-        rest = ep.pdivmod(p, _axis_factor(g))[0]
-    rhp = not _is_hurwitz(rest)
+        rest = ep.pdivmod(p, axis_factor(g))[0]
+    rhp = not is_hurwitz(rest)
     if rhp or repeated:
         return "unstable", rhp, repeated
     return "marginally stable", False, False
@@ -289,7 +289,7 @@ def _as_polys(
 ) -> tuple[ep.Poly, ep.Poly]:
     if isinstance(system, Environment):
         return system.polynomials()
-    num, den = _exact_rational_function(system, values)
+    num, den = exact_rational_function(system, values)
     if den[-1] < 0:
         num, den = ep.scale(num, Fraction(-1)), ep.scale(den, Fraction(-1))
     return num, den

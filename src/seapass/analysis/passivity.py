@@ -37,8 +37,18 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..exact import poly as ep
 from ..errors import NotPassiveError, ParameterError
+from ..exact import poly as ep
+from ..exact.axis import (
+    all_real_roots,
+    at_j_omega,
+    axis_factor,
+    even_to_x,
+    is_hurwitz,
+    log2,
+    negative_point,
+    safe_float,
+)
 from ..model.expr import S, to_fraction
 from ..model.sea import SEA, Impedance
 from ..model.stiffness import load_impedance
@@ -282,62 +292,6 @@ def _with_values(system: SEA | Impedance, values: Mapping[str, float]) -> SEA | 
 # ---------------------------------------------------------------- helpers
 
 
-def _at_j_omega(p: ep.Poly) -> tuple[ep.Poly, ep.Poly]:
-    """Real and imaginary parts of ``p(jω)`` as real polynomials in ``ω``."""
-    re = [Fraction(0)] * len(p)
-    im = [Fraction(0)] * len(p)
-    for k, c in enumerate(p):
-        sign = -1 if (k // 2) % 2 else 1
-        if k % 2 == 0:
-            re[k] = sign * c
-        else:
-            im[k] = sign * c
-    return ep.normalize(re), ep.normalize(im)
-
-
-def _axis_factor(g: ep.Poly) -> ep.Poly:
-    """``∏(s − jω_i)`` over the roots ``ω_i`` of ``g`` (all real, conjugate-symmetric)."""
-    n = ep.degree(g)
-    lead = g[-1]
-    out = []
-    for k, c in enumerate(g):
-        if (n + k) % 2:
-            if c != 0:
-                raise ArithmeticError("imaginary-axis factor is not conjugate-symmetric")
-            out.append(Fraction(0))
-            continue
-        sign = (-1) ** k * (-1) ** ((n + k) // 2)
-        out.append(sign * c / lead)
-    return ep.normalize(out)
-
-
-def _is_hurwitz(p: ep.Poly) -> bool:
-    """Exact Routh test: all roots of ``p`` in the open left half-plane."""
-    if ep.degree(p) <= 0:
-        return bool(p)
-    desc = list(reversed(p))
-    if desc[0] < 0:
-        desc = [-c for c in desc]
-    rows = [desc[0::2], desc[1::2]]
-    n = len(desc) - 1
-    for _ in range(n - 1):
-        a, b = rows[-2], rows[-1]
-        if not b or b[0] <= 0:
-            return False
-        new = []
-        for i in range(len(a) - 1):
-            bi1 = b[i + 1] if i + 1 < len(b) else Fraction(0)
-            new.append((b[0] * a[i + 1] - a[0] * bi1) / b[0])
-        rows.append(new)
-    return all(r and r[0] > 0 for r in rows[: n + 1])
-
-
-def _even_to_x(p: ep.Poly) -> ep.Poly:
-    if any(p[k] != 0 for k in range(1, len(p), 2)):
-        raise ArithmeticError("Re(N(jw)D(-jw)) is not even in w")
-    return ep.normalize(list(p[0::2]))
-
-
 def _margin(px: ep.Poly, pabs: ep.Poly) -> float:
     """Scale-invariant margin ``min_{x>=0} P(x)/A(x)`` in [-1, 1] (floating point).
 
@@ -354,7 +308,7 @@ def _margin(px: ep.Poly, pabs: ep.Poly) -> float:
     a = [pabs[i] if i < len(pabs) else Fraction(0) for i in range(n)]
     nz = [i for i, v in enumerate(a) if v]
     lo, hi = nz[0], nz[-1]
-    k = round((_log2(a[lo]) - _log2(a[hi])) / (hi - lo)) if hi > lo else 0
+    k = round((log2(a[lo]) - log2(a[hi])) / (hi - lo)) if hi > lo else 0
     xs = Fraction(2) ** k
     c = [v * xs**i for i, v in enumerate(c)]
     a = [v * xs**i for i, v in enumerate(a)]
@@ -370,18 +324,6 @@ def _margin(px: ep.Poly, pabs: ep.Poly) -> float:
     return float(np.clip(min(cands), -1.0, 1.0))
 
 
-def _log2(q: Fraction) -> float:
-    return math.log2(q.numerator) - math.log2(q.denominator)
-
-
-def _safe_float(q: Fraction) -> float:
-    """``float(q)``, saturating to ``±inf`` beyond the double range."""
-    try:
-        return float(q)
-    except OverflowError:
-        return math.inf if q > 0 else -math.inf
-
-
 def _abs_poly(p: ep.Poly) -> ep.Poly:
     return tuple(abs(c) for c in p)
 
@@ -390,10 +332,10 @@ def _margin_of(num: ep.Poly, den: ep.Poly, support: Sequence[bool] | None) -> fl
     """:func:`_margin` of ``num/den`` as given, with ``A`` restricted to ``support``."""
     if not num:
         return 0.0
-    nr, ni = _at_j_omega(num)
-    dr, di = _at_j_omega(den)
-    px = _even_to_x(ep.add(ep.mul(nr, dr), ep.mul(ni, di)))
-    pabs = _even_to_x(
+    nr, ni = at_j_omega(num)
+    dr, di = at_j_omega(den)
+    px = even_to_x(ep.add(ep.mul(nr, dr), ep.mul(ni, di)))
+    pabs = even_to_x(
         ep.add(ep.mul(_abs_poly(nr), _abs_poly(dr)), ep.mul(_abs_poly(ni), _abs_poly(di)))
     )
     if support is not None:
@@ -410,7 +352,7 @@ def _fail(reason: str, detail: str, **kw: Any) -> PassivityResult:
 
 
 def _to_floats(p: ep.Poly, descending: bool) -> tuple[float, ...]:
-    vals = tuple(_safe_float(c) for c in p)
+    vals = tuple(safe_float(c) for c in p)
     return tuple(reversed(vals)) if descending else vals
 
 
@@ -462,10 +404,10 @@ def positive_real_test(
         return _fail("hidden_unstable_mode", "", **base)
 
     # 4 (computed first, so the margin and witness are always reported)
-    nr, ni = _at_j_omega(num)
-    dr, di = _at_j_omega(den)
+    nr, ni = at_j_omega(num)
+    dr, di = at_j_omega(den)
     p_w = ep.add(ep.mul(nr, dr), ep.mul(ni, di))
-    px = _even_to_x(p_w)
+    px = even_to_x(p_w)
     base["real_part"] = _to_floats(px, False)
     base["lossless"] = not px
 
@@ -487,7 +429,7 @@ def positive_real_test(
             axis = [(Fraction(0), Fraction(0)), *axis]
     base["axis_poles"] = tuple(ep.root_value(g_ax, a, b) if a != b else float(a) for a, b in axis)
     dd = ep.derivative(den)
-    ddr, ddi = _at_j_omega(dd)
+    ddr, ddi = at_j_omega(dd)
     # residue at jω0 ∝ N(jω0)·conj(D'(jω0)): imaginary part must vanish, real part > 0
     res_re = ep.add(ep.mul(nr, ddr), ep.mul(ni, ddi))
     res_im = ep.sub(ep.mul(ni, ddr), ep.mul(nr, ddi))
@@ -510,7 +452,7 @@ def positive_real_test(
     odd = ep.positive_roots_odd_multiplicity(px)
     if ep.count_real_roots(odd, Fraction(0), None) == 0 and px[-1] > 0:
         return PassivityResult(passive=True, detail=_REASONS[""], marginal=marginal, **base)
-    witness = _witness(px)
+    witness = negative_point(px)
     return _fail(
         "negative_real_part",
         f"Re Z(jw) < 0 at w = {witness:.6g} rad/s",
@@ -526,60 +468,21 @@ def _pole_defect(den: ep.Poly) -> tuple[str, ep.Poly]:
     Admissible: open left half-plane, or simple on the imaginary axis.  Also
     returns ``gcd(Re den(jω), Im den(jω))``, whose real roots are the axis poles.
     """
-    dr, di = _at_j_omega(den)
+    dr, di = at_j_omega(den)
     g_ax = ep.pgcd(dr, di)
     rest = den
     if ep.degree(g_ax) > 0:
         # a non-real root of g_ax is a pair of roots mirrored about the axis
-        if not _all_real_roots(g_ax):
+        if not all_real_roots(g_ax):
             return "rhp_pole", g_ax
         if ep.degree(ep.squarefree_part(g_ax)) != ep.degree(g_ax):
             return "repeated_axis_pole", g_ax
-        rest, rem = ep.pdivmod(den, _axis_factor(g_ax))
+        rest, rem = ep.pdivmod(den, axis_factor(g_ax))
         if rem:
             raise ArithmeticError("axis factor does not divide the denominator")  # pragma: no cover
-    if not _is_hurwitz(rest):
+    if not is_hurwitz(rest):
         return "rhp_pole", g_ax
     return "", g_ax
-
-
-def _all_real_roots(g: ep.Poly) -> bool:
-    sf = ep.squarefree_part(g)
-    lo = -ep.cauchy_bound(sf)
-    return ep.count_real_roots(sf, lo, None) == ep.degree(sf)
-
-
-def _witness(px: ep.Poly) -> float:
-    """A frequency where ``P(ω²) < 0`` (exactly checked), preferring the most negative one."""
-    sf = ep.squarefree_part(px)
-    # refine until every isolating interval starts strictly after the previous
-    # root's interval (and after 0), however close the roots are
-    tight: list[tuple[Fraction, Fraction]] = []
-    prev = Fraction(0)
-    for a, b in ep.isolate_real_roots(px, Fraction(0), None):
-        while a <= prev:
-            a, b = ep.refine(sf, a, b, (b - a) / 2)
-        tight.append((a, b))
-        prev = b
-    points: list[Fraction] = []
-    lo = Fraction(0)
-    for a, b in tight:
-        points.append((lo + a) / 2)
-        lo = b
-    points.append(lo * 2 + 1)
-    neg = [x for x in points if x > 0 and ep.evaluate(px, x) < 0]
-    if not neg:
-        raise ArithmeticError("no witness found although P changes sign")  # pragma: no cover
-    # relative depth |P|/Σ|c_i|x^i lies in [0, 1], so it converts to float safely
-    depth = [abs(ep.evaluate(px, x)) / sum(abs(c) * x**i for i, c in enumerate(px)) for x in neg]
-    best = neg[int(np.argmax([float(d) for d in depth]))]
-    return _sqrt_float(best)
-
-
-def _sqrt_float(q: Fraction) -> float:
-    """``sqrt(q)`` as a float without overflow for rationals beyond the float range."""
-    half_log = 0.5 * (math.log(q.numerator) - math.log(q.denominator))
-    return math.exp(half_log) if half_log < 709.0 else math.inf
 
 
 # ---------------------------------------------------------------- entry point

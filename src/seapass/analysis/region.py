@@ -30,12 +30,12 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..exact import poly as ep
 from ..errors import ParameterError
+from ..exact import poly as ep
 from ..model.expr import S, symbol, to_fraction
 from ..model.sea import SEA, Impedance
-from .passivity import is_passive
 from ..model.stiffness import load_impedance
+from .passivity import is_passive
 
 __all__ = ["PassiveIntervals", "PassiveMap", "passive_intervals", "passive_map"]
 

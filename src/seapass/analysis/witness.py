@@ -41,7 +41,10 @@ from typing import Any, TypeAlias
 import numpy as np
 import sympy as sp
 
+from ..errors import NotPassiveError
 from ..exact import poly as ep
+from ..exact.axis import at_j_omega, even_to_x, negative_point
+from ..model.sea import SEA, Impedance
 from .coupled import (
     CoupledResult,
     CoupledSimulation,
@@ -53,22 +56,11 @@ from .coupled import (
     simulate_coupled,
     to_float,
 )
-from ..errors import NotPassiveError
-from ..model.sea import SEA, Impedance
-from .passivity import (
-    PassivityResult,
-    _at_j_omega,
-    _even_to_x,
-    _witness,
-    exact_rational_function,
-    is_passive,
-)
+from .passivity import PassivityResult, exact_rational_function, is_passive
 
 __all__ = [
-    "CoupledSimulation",
     "WitnessResult",
     "find_destabilizing_environment",
-    "simulate_coupled",
 ]
 
 SystemLike: TypeAlias = SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]]
@@ -142,8 +134,8 @@ class WitnessResult:
 
 def _z_at(num: ep.Poly, den: ep.Poly, w: Fraction) -> tuple[Fraction, Fraction]:
     """Exact ``(Re, Im)`` of ``Z(jw)``."""
-    nr, ni = (ep.evaluate(p, w) for p in _at_j_omega(num))
-    dr, di = (ep.evaluate(p, w) for p in _at_j_omega(den))
+    nr, ni = (ep.evaluate(p, w) for p in at_j_omega(num))
+    dr, di = (ep.evaluate(p, w) for p in at_j_omega(den))
     mag = dr * dr + di * di
     if mag == 0:
         raise ZeroDivisionError("w is a pole of Z")
@@ -151,7 +143,7 @@ def _z_at(num: ep.Poly, den: ep.Poly, w: Fraction) -> tuple[Fraction, Fraction]:
 
 
 def _eval_jw(p: ep.Poly, w: Fraction) -> tuple[Fraction, Fraction]:
-    re, im = _at_j_omega(p)
+    re, im = at_j_omega(p)
     return ep.evaluate(re, w), ep.evaluate(im, w)
 
 
@@ -175,16 +167,16 @@ def _dz_abs(num: ep.Poly, den: ep.Poly, w: Fraction) -> float:
 
 def _negative_frequencies(num: ep.Poly, den: ep.Poly) -> list[float]:
     """Frequencies with ``Re Z(jω) < 0`` (exact check), the most negative first."""
-    nr, ni = _at_j_omega(num)
-    dr, di = _at_j_omega(den)
-    px = _even_to_x(ep.add(ep.mul(nr, dr), ep.mul(ni, di)))
+    nr, ni = at_j_omega(num)
+    dr, di = at_j_omega(den)
+    px = even_to_x(ep.add(ep.mul(nr, dr), ep.mul(ni, di)))
     if not px:
         return []
     odd = ep.positive_roots_odd_multiplicity(px)
     if px[-1] > 0 and ep.count_real_roots(odd, Fraction(0), None) == 0:
         return []
     try:
-        out = [_witness(px)]
+        out = [negative_point(px)]
         # a few more, log-spaced across the band where P < 0, for robustness
         roots = [
             ep.root_value(ep.squarefree_part(px), a, b)

@@ -40,119 +40,35 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import sympy as sp
 
-from .verdicts import _Bank, broadcast_values, check_batch_params
-from ..errors import ParameterError, SimulationError, UnrealizableError
-from ..model.expr import S, symbol, to_fraction
+from ..errors import ParameterError, SimulationError
 from ..model.sea import SEA
+from ..sim.metrics import SETTLING_CODES, Settling
+from .inputs import broadcast_values
+from .step_kernel import (
+    COND_LIMIT,
+    LOAD_MASS,
+    ModalForm,
+    SimKernel,
+    companion_roots,
+    compile_step_response,
+    poly_at,
+)
 
 __all__ = [
-    "INVALID",
-    "NOT_SETTLED",
-    "SETTLED",
-    "STATUS_NAMES",
-    "UNSTABLE",
     "BatchMetrics",
-    "SimKernel",
     "batch_step_metrics",
-    "compile_step_response",
 ]
 
-LOAD_MASS = "m_L"
 _K1 = 256  # coarse grid points per design
 _K2 = 64  # subdivision of the last uncertain interval
-_COND_LIMIT = 1e6  # Σ|r_i| / |step| above which the modal form is not trusted
-SETTLED, NOT_SETTLED, UNSTABLE, INVALID = 0, 1, 2, 3
-STATUS_NAMES = ("settled", "did not settle", "unstable", "invalid")
-
-
-def _reference_part(expr: sp.Expr) -> sp.Expr:
-    """``C(s)`` without the ``s`` term of its polynomial part (derivative on measurement)."""
-    if expr == 0:
-        return expr
-    num, den = sp.fraction(sp.cancel(sp.together(expr)))
-    q, _r = sp.div(sp.Poly(num, S), sp.Poly(den, S))
-    if q.degree() >= 2:
-        raise UnrealizableError(
-            f"controller {expr} needs accelerations (polynomial part of degree {q.degree()}); "
-            "add filter poles, e.g. 'kd + bd*s/(1 + s/500)'"
-        )
-    q1 = q.as_expr().coeff(S, 1) if q.degree() == 1 else 0
-    return sp.expand(expr - q1 * S)
-
-
-@dataclass(frozen=True)
-class SimKernel:
-    """Compiled closed-loop transfer function ``X_L/Θ`` of one configuration."""
-
-    sea: SEA
-    params: tuple[str, ...]  # per-design parameters, the load mass last
-    num_deg: int
-    den_deg: int
-    bank: _Bank = field(repr=False, compare=False)
-
-
-_CACHE: dict[tuple[Any, ...], SimKernel] = {}
-
-
-def compile_step_response(sea: SEA, params: Sequence[str]) -> SimKernel:
-    """Derive (once, cached) ``G(s) = X_L/Θ`` of ``sea`` with a load mass, in ``params``.
-
-    ``params`` are the model parameters given per design; the load mass
-    ``m_L`` is always a per-design input.
-    """
-    params = check_batch_params(sea, params)
-    vals = tuple(sorted((k, v) for k, v in sea.values.items() if k not in params))
-    key = (tuple(sorted(sea.describe().items())), vals, params)
-    if key in _CACHE:
-        return _CACHE[key]
-    fixed = {
-        symbol(k): sp.Rational(to_fraction(v, k))
-        for k, v in sea.values.items()
-        if v is not None and k not in params
-    }
-    e = {k: sp.sympify(v).xreplace(fixed) for k, v in sea.elements().items()}
-    ml = sp.Symbol(LOAD_MASS, positive=True)
-    xa, xl, fa, th = sp.symbols("X_A X_L F_A Theta")
-    eqs = [
-        sp.Eq((e["m"] * S**2 + e["b"] * S) * xa, fa + e["D1"] * (xl - xa)),
-        sp.Eq(ml * S**2 * xl, -e["D1"] * (xl - xa) - e["D2"] * xl),
-        sp.Eq(
-            fa,
-            _reference_part(e["CA"]) * th
-            - e["CA"] * xa
-            + _reference_part(e["CL"]) * th
-            - e["CL"] * xl,
-        ),
-    ]
-    sol = sp.solve(eqs, [xa, xl, fa], dict=True)
-    if len(sol) != 1:
-        raise ParameterError("the closed loop has no unique solution for this configuration")
-    g = sp.cancel(sp.together(sol[0][xl] / th))
-    num_e, den_e = sp.fraction(g)
-    num = sp.Poly(num_e, S).all_coeffs()[::-1]
-    den = sp.Poly(den_e, S).all_coeffs()[::-1]
-    syms = [symbol(p) for p in params] + [ml]
-    bank = _Bank(syms)
-    for i, c in enumerate(num):
-        bank.add(f"n{i}", c)
-    for i, c in enumerate(den):
-        bank.add(f"d{i}", c)
-    bank.freeze()
-    kernel = SimKernel(
-        sea=sea,
-        params=(*params, LOAD_MASS),
-        num_deg=len(num) - 1,
-        den_deg=len(den) - 1,
-        bank=bank,
-    )
-    _CACHE[key] = kernel
-    return kernel
+# int8 codes of the batch status arrays (:class:`~seapass.sim.metrics.Settling`)
+SETTLED, NOT_SETTLED = Settling.SETTLED.code, Settling.NOT_SETTLED.code
+UNSTABLE, INVALID = Settling.UNSTABLE.code, Settling.INVALID.code
 
 
 @dataclass(frozen=True)
@@ -171,7 +87,7 @@ class BatchMetrics:
     status : ndarray of int8
         0 settled, 1 did not settle within the horizon, 2 unstable, 3 invalid
         (the scalar simulator rejected the values, e.g. a zero actuator mass;
-        metrics NaN).  :data:`STATUS_NAMES` maps codes to the words used by
+        metrics NaN).  :data:`seapass.sim.metrics.SETTLING_CODES` maps codes to the words used by
         :func:`seapass.sim.metrics.tracking_metrics`.
     modal : ndarray of bool
         True where the vectorized modal solution was used, False where the
@@ -199,66 +115,12 @@ class BatchMetrics:
     def unstable(self) -> np.ndarray:
         return self.status == UNSTABLE
 
+    def status_names(self) -> np.ndarray:
+        """``status`` as :class:`~seapass.sim.metrics.Settling` members (object array)."""
+        return np.array(SETTLING_CODES, dtype=object)[self.status]
+
 
 # --------------------------------------------------------------------------- modal core
-
-
-def _poly_at(coeffs: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """Evaluate ascending coefficients ``coeffs`` (deg+1, N) at ``z`` (N, n)."""
-    acc = np.zeros(z.shape, dtype=complex)
-    for c in coeffs[::-1]:
-        acc = acc * z + c[:, None]
-    return acc
-
-
-def _companion_roots(den: np.ndarray) -> np.ndarray:
-    """Roots of monic-normalized ascending ``den`` (n+1, N) as (N, n) complex."""
-    n = den.shape[0] - 1
-    N = den.shape[1]
-    comp = np.zeros((N, n, n))
-    if n > 1:
-        idx = np.arange(n - 1)
-        comp[:, idx + 1, idx] = 1.0
-    comp[:, :, -1] = -(den[:n] / den[n]).T
-    return np.linalg.eigvals(comp)
-
-
-class _Modal:
-    """Closed-form error ``e(t) = x_L(t) − θ`` for a set of designs.
-
-    Only one pole of each conjugate pair is kept, its residue doubled, so
-    ``e = off + Re Σ_k r_k e^{p_k t}`` (padding modes have ``r = 0``).
-    """
-
-    def __init__(self, poles: np.ndarray, res: np.ndarray, offset: np.ndarray) -> None:
-        self.p, self.r, self.off = poles, res, offset
-        self.rp = np.abs(res * poles)
-        self.rpp = np.abs(res * poles * poles)
-        self.ra = np.abs(res)
-
-    def take(self, idx: np.ndarray) -> _Modal:
-        return _Modal(self.p[idx], self.r[idx], self.off[idx])
-
-    def err(self, t: np.ndarray) -> np.ndarray:
-        """``e`` at times ``t`` of shape (N, m)."""
-        z = np.exp(self.p[:, :, None] * t[:, None, :])
-        return self.off[:, None] + np.einsum("nk,nkm->nm", self.r, z).real
-
-    def grid(self, t0: np.ndarray, h: np.ndarray, K: int) -> tuple[np.ndarray, np.ndarray]:
-        """``e`` (N, K+1) and the envelopes of ``|ė|`` and ``|ë|`` (N, 2, K+1) on ``t0 + h·k``."""
-        pw = np.empty((*self.p.shape, K + 1), dtype=complex)
-        pw[:, :, 0] = np.exp(self.p * t0[:, None])
-        pw[:, :, 1:] = np.exp(self.p * h[:, None])[:, :, None]
-        np.cumprod(pw, axis=2, out=pw)
-        e = self.off[:, None] + np.einsum("nk,nkm->nm", self.r, pw).real
-        dec = np.empty((*self.p.shape, K + 1))
-        dec[:, :, 0] = np.exp(self.p.real * t0[:, None])
-        dec[:, :, 1:] = np.exp(self.p.real * h[:, None])[:, :, None]
-        np.cumprod(dec, axis=2, out=dec)
-        env = np.stack(
-            [np.einsum("nk,nkm->nm", self.rp, dec), np.einsum("nk,nkm->nm", self.rpp, dec)], axis=1
-        )
-        return e, env
 
 
 def _halve_pairs(p: np.ndarray, r: np.ndarray) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
@@ -301,7 +163,7 @@ def _last_uncertain(e: np.ndarray, env: np.ndarray, h: np.ndarray, band: float) 
     return np.where(unsure.any(axis=1), K - 1 - rev, -1)
 
 
-def _settling(model: _Modal, T: float, band: float, t_end: np.ndarray) -> np.ndarray:
+def _settling(model: ModalForm, T: float, band: float, t_end: np.ndarray) -> np.ndarray:
     """Settling times (NaN where ``|e(T)| > band``) for designs with a stable modal form."""
     N = t_end.shape[0]
     out = np.full(N, np.nan)
@@ -385,7 +247,7 @@ def _settling(model: _Modal, T: float, band: float, t_end: np.ndarray) -> np.nda
     return out
 
 
-def _argmax_abs(model: _Modal, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+def _argmax_abs(model: ModalForm, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """Golden-section maximizer of ``|e|`` on ``[lo, hi]`` (one interval per design)."""
     g = (math.sqrt(5) - 1) / 2
     for _ in range(24):
@@ -397,7 +259,7 @@ def _argmax_abs(model: _Modal, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     return 0.5 * (lo + hi)
 
 
-def _overshoot(model: _Modal, T: float, t_end: np.ndarray, direction: float) -> np.ndarray:
+def _overshoot(model: ModalForm, T: float, t_end: np.ndarray, direction: float) -> np.ndarray:
     N = t_end.shape[0]
     h = t_end / _K1
     e, _ = model.grid(np.zeros(N), h, _K1)
@@ -417,7 +279,7 @@ def _overshoot(model: _Modal, T: float, t_end: np.ndarray, direction: float) -> 
     return np.maximum.reduce([peak, e[np.arange(N), k], eT, np.zeros(N)])
 
 
-def _envelope_time(model: _Modal, level: np.ndarray, T: float) -> np.ndarray:
+def _envelope_time(model: ModalForm, level: np.ndarray, T: float) -> np.ndarray:
     """Smallest ``t ≤ T`` (bisection) after which ``Σ|r_i| e^{Re p_i t} ≤ level``."""
     N = level.shape[0]
     re = model.p.real
@@ -446,7 +308,7 @@ def _scalar_metrics(
 
     res = simulate(sea, load_mass=load_mass, scenario=Step(step), horizon=T, dt=1e-3, values=point)
     m = tracking_metrics(res, tolerance=tol)
-    st = {"settled": SETTLED, "did not settle": NOT_SETTLED}.get(m.status, UNSTABLE)
+    st = m.status.code
     ts = m.settling_time if m.settling_time is not None else math.nan
     os_ = m.overshoot if m.overshoot is not None else math.nan
     return ts, m.final_error, os_, st
@@ -569,7 +431,7 @@ def _chunk(
     if kernel.den_deg == 0 or not np.any(ok):
         return ts, fe, ov, st, modal
     poles = np.full((N, kernel.den_deg), np.nan + 0j)
-    poles[ok] = _companion_roots(den[:, ok])
+    poles[ok] = companion_roots(den[:, ok])
     pmax = np.max(np.abs(poles), axis=1)
     tol = 1e-9 * np.maximum(1.0, pmax)
     unstable = ok & np.any(poles.real > tol[:, None], axis=1)
@@ -581,13 +443,13 @@ def _chunk(
         nq, dq = num[:, idx], den[:, idx]
         dd = (dq[1:].T * np.arange(1, dq.shape[0])).T
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            r = step * _poly_at(nq, p) / (p * _poly_at(dd, p))
+            r = step * poly_at(nq, p) / (p * poly_at(dd, p))
             y_inf = step * nq[0] / dq[0]
         cond = np.sum(np.abs(r), axis=1) / abs(step)
-        good = np.isfinite(cond) & (cond < _COND_LIMIT) & np.isfinite(y_inf)
+        good = np.isfinite(cond) & (cond < COND_LIMIT) & np.isfinite(y_inf)
         for rows, pp, rr in _halve_pairs(p[good], r[good]):
             gi = idx[good][rows]
-            model = _Modal(pp, rr, y_inf[good][rows] - step)
+            model = ModalForm(pp, rr, y_inf[good][rows] - step)
             gap = band - np.abs(model.off)
             level = np.where(gap > 0, np.minimum(1e-3 * band, 0.5 * gap), 1e-3 * band)
             t_set = _envelope_time(model, np.maximum(level, 1e-12 * band), T)

@@ -1,23 +1,44 @@
 """The ``seapass`` command line.
 
 Each subcommand lives in its own module ``seapass.cli.cmd_<name>`` that defines
-``register(subparsers)``; modules are discovered automatically, so adding a
-command never touches this file.  Every :class:`~seapass.errors.SeapassError`
-(and ``ValueError`` raised while validating input) becomes one line on stderr
-and exit code 2.
+``register(subparsers)``; :data:`COMMANDS` lists them in ``--help`` order (add a
+command by adding its module and one line there).  Every
+:class:`~seapass.errors.SeapassError` (and ``ValueError`` raised while
+validating input) becomes one line on stderr and exit code 2.
+
+May import: everything in seapass (the CLI is the top layer).  The backend
+is never chosen here: figures are drawn on bare figures
+(:func:`seapass.plot.style.bare_figures`).
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
-import pkgutil
 import sys
 from collections.abc import Sequence
 
 from ..errors import SeapassError
 
-__all__ = ["main", "run"]
+__all__ = ["COMMANDS", "main", "run"]
+
+#: The subcommand modules (``seapass.cli.cmd_<name>``), in ``--help`` order.
+COMMANDS: tuple[str, ...] = (
+    "check",
+    "bound",
+    "region",
+    "response",
+    "witness",
+    "tables",
+    "simulate",
+    "tune",
+    "sampled",
+    "sweep",
+    "rig",
+    "analyze",
+    "reproduce",
+    "figure",
+)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -41,11 +62,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
-    package = importlib.import_module(__name__)
-    for info in sorted(pkgutil.iter_modules(package.__path__), key=lambda i: i.name):
-        if info.name.startswith("cmd_"):
-            module = importlib.import_module(f"{__name__}.{info.name}")
-            module.register(sub)
+    for name in COMMANDS:
+        importlib.import_module(f"{__name__}.cmd_{name}").register(sub)
     return parser
 
 

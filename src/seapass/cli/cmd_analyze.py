@@ -7,6 +7,8 @@ import sys
 import time
 from pathlib import Path
 
+from ..report.document import SectionStatus
+
 EXAMPLE = """examples:
   seapass analyze examples/ours.toml --out results/ours
   seapass analyze examples/load_pd_not_passive.toml --out /tmp/lpd --quick
@@ -42,9 +44,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..report.analyze import analyze, verdict_line
     from ..model.design_file import load_design
-    from ..report.document import check_output_dir, write_report
+    from ..report.analyze import analyze, verdict_line
+    from ..report.output import check_output_dir, write_report
     from .cmd_reproduce import parse_stages
 
     design = load_design(args.design)
@@ -65,10 +67,10 @@ def run(args: argparse.Namespace) -> int:
     print(
         f"wrote {out / 'report.html'} and {out / 'report.md'} in {time.perf_counter() - t0:.1f} s"
     )
-    skipped = [s.key for s in report.sections if s.status == "skipped"]
+    skipped = [s.key for s in report.sections if s.status == SectionStatus.SKIPPED]
     if skipped:
         print(f"  skipped (reason in the report): {', '.join(skipped)}", file=sys.stderr)
     for s in report.sections:
-        if s.status == "failed":
+        if s.status == SectionStatus.FAILED:
             print(f"  {s.key} FAILED: {s.text}", file=sys.stderr)
     return 1 if report.failed else 0

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
+from ..analysis.region import passive_intervals
 from ..errors import ParameterError
 from ..model.expr import parse_value
-from ..analysis.region import passive_intervals
 from .common import add_model_options, model_from_args, print_json
 
 EXAMPLE = """example:

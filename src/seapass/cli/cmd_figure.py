@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..files.atomic import atomic_save, atomic_write_text
+from ..files.atomic import atomic_write_text
+from .common import save_plot
 
 EXAMPLE = """examples:
   seapass figure sims --out figures/
@@ -40,10 +41,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
-    import matplotlib.pyplot as plt
-
-    from ..plot.sim import plot_simulation_study
     from ..paper.simstudy import run_simulation_study
+    from ..plot.sim import plot_simulation_study
     from ..sim.tuning import TuningOptions
 
     out = Path(args.out)
@@ -57,12 +56,7 @@ def run(args: argparse.Namespace) -> int:
         progress=False if args.no_progress else None,
     )
     # compute everything first, then write each file atomically
-    fig = plot_simulation_study(study)
-    try:
-        atomic_save(out / "sims.png", lambda p: fig.savefig(p, dpi=150, format="png"))
-        atomic_save(out / "sims.pdf", lambda p: fig.savefig(p, format="pdf"))
-    finally:
-        plt.close(fig)
+    save_plot(lambda: plot_simulation_study(study), out / "sims", formats=("png", "pdf"))
     atomic_write_text(out / "sims.csv", study.timeseries_csv())
     atomic_write_text(out / "sims_table.csv", study.table_csv())
     atomic_write_text(out / "sims_table.json", study.table_json())

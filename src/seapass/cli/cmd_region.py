@@ -6,11 +6,10 @@ import argparse
 
 import numpy as np
 
-from ..errors import ParameterError
-from ..files.atomic import atomic_save
 from ..analysis.region import passive_map
+from ..errors import ParameterError
 from .cmd_bound import parse_range
-from .common import add_model_options, model_from_args, print_json
+from .common import add_model_options, model_from_args, print_json, save_plot
 
 EXAMPLE = """example:
   seapass region kd b1 --D1 "k1 + b1*s" --CL kd --set m=1 --set b=10 --set k1=1000 \\
@@ -47,13 +46,9 @@ def run(args: argparse.Namespace) -> int:
     sea = model_from_args(args, extra_free=(args.x, args.y))
     pmap = passive_map(sea, args.x, np.linspace(x_lo, x_hi, args.nx), args.y, y_range)
     if args.out:
-        import matplotlib.pyplot as plt
+        from ..plot.region import plot_passive_map
 
-        from ..plot.analysis import plot_passive_map
-
-        fig = plot_passive_map(pmap, title="exact passive region")
-        atomic_save(args.out, lambda p: fig.savefig(p, dpi=130, format=args.out.rsplit(".", 1)[-1]))
-        plt.close(fig)
+        save_plot(lambda: plot_passive_map(pmap, title="exact passive region"), args.out)
     if args.json:
         print_json(pmap.to_dict())
     elif not args.out:

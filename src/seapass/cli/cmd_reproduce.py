@@ -7,6 +7,8 @@ import sys
 import time
 from pathlib import Path
 
+from ..report.document import SectionStatus
+
 EXAMPLE = """examples:
   seapass reproduce --out results/
   seapass reproduce --out /tmp/preview --quick
@@ -62,7 +64,7 @@ def parse_stages(text: str | None) -> list[str] | None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..report.document import check_output_dir, write_report
+    from ..report.output import check_output_dir, write_report
     from ..report.reproduce import reproduce
 
     out = Path(args.out)
@@ -90,9 +92,9 @@ def _summary(report: object, out: Path, seconds: float) -> None:
         f"{len(report.sections)} sections, {n['agrees']} findings agree with the paper, "
         f"{n['differs']} differ"
     )
-    skipped = [s.key for s in report.sections if s.status == "skipped"]
+    skipped = [s.key for s in report.sections if s.status == SectionStatus.SKIPPED]
     if skipped:
         print(f"  skipped (reason in the report): {', '.join(skipped)}", file=sys.stderr)
     for s in report.sections:
-        if s.status == "failed":
+        if s.status == SectionStatus.FAILED:
             print(f"  {s.key} FAILED: {s.text}", file=sys.stderr)

@@ -3,15 +3,14 @@
 from __future__ import annotations
 
 import argparse
-import functools
+from pathlib import Path
 
 import numpy as np
 
-from ..errors import ParameterError
-from ..files.atomic import atomic_save
 from ..analysis.freqresp import stiffness_response
+from ..errors import ParameterError
 from .cmd_bound import parse_range
-from .common import add_model_options, model_from_args, print_json
+from .common import add_model_options, model_from_args, print_json, save_plot
 
 EXAMPLE = """example:
   seapass response --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1005 \\
@@ -44,15 +43,13 @@ def run(args: argparse.Namespace) -> int:
     sea = model_from_args(args)
     resp = stiffness_response(sea, np.logspace(np.log10(lo), np.log10(hi), args.points))
     if args.out:
-        import matplotlib.pyplot as plt
-
-        from ..plot.analysis import plot_stiffness_response
+        from ..plot.response import plot_stiffness_response
 
         k1 = sea.values.get("k1")
-        fig = plot_stiffness_response(resp, title="rendered stiffness", reference=k1)
-        fmt = args.out.rsplit(".", 1)[-1] if "." in args.out else "png"
-        atomic_save(args.out, functools.partial(fig.savefig, dpi=130, format=fmt))
-        plt.close(fig)
+        save_plot(
+            lambda: plot_stiffness_response(resp, title="rendered stiffness", reference=k1),
+            args.out if Path(args.out).suffix else f"{args.out}.png",
+        )
     if args.json:
         print_json(resp.to_dict())
     elif not args.out:

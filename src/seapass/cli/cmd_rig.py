@@ -4,16 +4,18 @@ from __future__ import annotations
 
 import argparse
 import csv
+import functools
 import io
 import math
 from pathlib import Path
 from typing import Any
 
 from ..errors import ParameterError
-from ..rig.experiment import run_experiment, run_impacts
 from ..files.atomic import atomic_write_text
+from ..rig.experiment import run_experiment
+from ..rig.impacts import run_impacts
 from ..rig.rigfile import Rig, load_rig, paper_rig
-from .common import print_json
+from .common import print_json, save_plot
 
 _SWEEP_EPILOG = """\
 examples:
@@ -146,14 +148,15 @@ def _sweep(args: argparse.Namespace) -> int:
         progress=not args.no_progress and not args.json,
     )
     if args.out:
-        from ..plot.rig import plot_sweep, plot_traces, save_figure
+        from ..plot.rig import plot_rig_sweep, plot_traces
 
         out = Path(args.out)
         rows = [r for s in result.sweeps for r in s.rows()]
         atomic_write_text(out / "sweep.csv", _csv(rows))
-        save_figure(plot_sweep(result), out, "sweep")
+        save_plot(lambda: plot_rig_sweep(result), out / "sweep", formats=("png", "pdf"))
         for s in result.sweeps:
-            save_figure(plot_traces(s), out, f"traces_{s.design}_{s.load_mass:g}kg")
+            stem = out / f"traces_{s.design}_{s.load_mass:g}kg"
+            save_plot(functools.partial(plot_traces, s), stem, formats=("png", "pdf"))
     if args.json:
         print_json(result.to_dict())
         return 0
@@ -181,7 +184,7 @@ def _impacts(args: argparse.Namespace) -> int:
     rig = _rig(args)
     result = run_impacts(rig)
     if args.out:
-        from ..plot.rig import plot_impacts, save_figure
+        from ..plot.rig import plot_impacts
 
         out = Path(args.out)
         rows = [
@@ -189,7 +192,7 @@ def _impacts(args: argparse.Namespace) -> int:
             for i, (f, k) in enumerate(zip(result.forces, result.k_out, strict=True))
         ]
         atomic_write_text(out / "impacts.csv", _csv(rows))
-        save_figure(plot_impacts(result), out, "impacts")
+        save_plot(lambda: plot_impacts(result), out / "impacts", formats=("png", "pdf"))
     if args.json:
         print_json(result.to_dict())
         return 0

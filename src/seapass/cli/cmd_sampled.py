@@ -11,7 +11,7 @@ from typing import Any
 
 from ..errors import ParameterError
 from ..model.expr import parse_value
-from .common import add_model_options, atomic_write_text, model_from_args, print_json
+from .common import add_model_options, atomic_write_text, model_from_args, print_json, save_plot
 
 EXAMPLE = """examples:
   seapass sampled bound kd --period 0.002 --D1 "k1 + b1*s" --CL "kd" \\
@@ -128,7 +128,7 @@ def run_bound(args: argparse.Namespace) -> int:
     )
     out = res.to_dict()
     if args.out:
-        from ..plot.sampled import plot_bound_scan, save_figure
+        from ..plot.sampled import plot_bound_scan
 
         d = Path(args.out)
         buf = io.StringIO()
@@ -137,8 +137,7 @@ def run_bound(args: argparse.Namespace) -> int:
             buf.write(f"{x!r},{int(v)}\n")
         atomic_write_text(d / f"sampled_bound_{args.param}.csv", buf.getvalue())
         atomic_write_text(d / f"sampled_bound_{args.param}.json", json.dumps(out, indent=2))
-        ax = plot_bound_scan(res)
-        save_figure(ax.figure, d / f"sampled_bound_{args.param}.png")
+        save_plot(lambda: plot_bound_scan(res), d / f"sampled_bound_{args.param}.png")
     if args.json:
         print_json(out)
     else:
@@ -155,7 +154,7 @@ def run_check(args: argparse.Namespace) -> int:
     kw = _loop_kw(args)
     res = sampled_passivity(sea, **kw)
     if args.out:
-        from ..plot.sampled import plot_power_curve, save_figure
+        from ..plot.sampled import plot_power_curve
 
         d = Path(args.out)
         atomic_write_text(d / "sampled_check.json", json.dumps(res.to_dict(), indent=2))
@@ -163,8 +162,7 @@ def run_check(args: argparse.Namespace) -> int:
             w, n = sampled_power_curve(sea, **kw)
             rows = "".join(f"{a!r},{b!r}\n" for a, b in zip(w, n, strict=True))
             atomic_write_text(d / "sampled_power.csv", "omega_rad_s,N\n" + rows)
-            ax = plot_power_curve(w, n, period=args.period)
-            save_figure(ax.figure, d / "sampled_power.png")
+            save_plot(lambda: plot_power_curve(w, n, period=args.period), d / "sampled_power.png")
     if args.json:
         print_json(res.to_dict())
     else:

@@ -9,10 +9,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FileFormatError, SeapassError
-from ..files.atomic import atomic_save
-from ..sim.metrics import tracking_metrics
 from ..analysis.passivity import is_passive
+from ..errors import FileFormatError, SeapassError
+from ..sim.metrics import tracking_metrics
 from ..sim.simulate import (
     ForceImpulse,
     ForceStep,
@@ -22,7 +21,7 @@ from ..sim.simulate import (
     Trajectory,
     simulate,
 )
-from .common import add_model_options, model_from_args, print_json
+from .common import add_model_options, model_from_args, print_json, save_plot
 
 EXAMPLE = """examples:
   seapass simulate --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
@@ -150,14 +149,10 @@ def run(args: argparse.Namespace) -> int:
         }
     )
     if args.plot:
-        import matplotlib.pyplot as plt
-
         from ..plot.sim import plot_simulation
 
-        fig = plot_simulation(result, met)
-        fmt = Path(args.plot).suffix.lstrip(".") or "png"
-        atomic_save(args.plot, lambda p: fig.savefig(p, dpi=130, format=fmt))
-        plt.close(fig)
+        plot_path = args.plot if Path(args.plot).suffix else f"{args.plot}.png"
+        save_plot(lambda: plot_simulation(result, met), plot_path)
     if args.json:
         print_json(out)
     else:

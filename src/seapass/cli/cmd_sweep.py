@@ -7,8 +7,8 @@ import sys
 from pathlib import Path
 
 from ..errors import ParameterError
-from ..sweep.runner import SweepSpec, heatmap_data, parse_grid, parse_range, run_sweep
-from .common import add_model_options, model_from_args, print_json
+from ..sweep import SweepSpec, heatmap_data, parse_grid, parse_range, run_design_sweep
+from .common import add_model_options, model_from_args, print_json, save_plot
 
 EXAMPLE = """examples:
   seapass sweep --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
@@ -96,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
                     f"--heatmap: {h!r} is not swept; swept parameters: {', '.join(spec.names)}"
                 )
     try:
-        result = run_sweep(
+        result = run_design_sweep(
             spec,
             args.out,
             resume=args.resume,
@@ -112,10 +112,10 @@ def run(args: argparse.Namespace) -> int:
         return 130
     summary = result.to_dict()
     if heat is not None:
-        from ..plot.sweep import save_sweep_heatmap
+        from ..plot.sweep import plot_sweep_heatmap
 
         data = heatmap_data(Path(result.path), heat[0], heat[1])
-        save_sweep_heatmap(data, args.out_fig, title=f"{spec.n_designs} designs")
+        save_plot(lambda: plot_sweep_heatmap(data, title=f"{spec.n_designs} designs"), args.out_fig)
         summary["figure"] = args.out_fig
     print_json(summary)
     return 0

@@ -6,11 +6,11 @@ import argparse
 import functools
 from pathlib import Path
 
-from ..files.atomic import atomic_save
 from ..analysis.freqresp import stiffness_response
+from ..model.catalog import REFERENCE_VALUES
 from ..paper.tablefmt import format_latex, format_markdown, format_text
-from ..paper.tables import REFERENCE_VALUES, TableRow, build_tables
-from .common import print_json
+from ..paper.tables import TableRow, build_tables
+from .common import print_json, save_plot
 
 EXAMPLE = """examples:
   seapass tables
@@ -52,20 +52,20 @@ def run(args: argparse.Namespace) -> int:
 
 def write_row_plots(rows: list[TableRow], out: Path) -> list[Path]:
     """One PNG per row with the reference values of :data:`REFERENCE_VALUES`."""
-    import matplotlib.pyplot as plt
-
-    from ..plot.analysis import plot_stiffness_response
+    from ..plot.response import plot_stiffness_response
 
     paths = []
     for r in rows:
         vals = {k: REFERENCE_VALUES[k] for k in r.sea.parameters}
         resp = stiffness_response(r.sea, values=vals, label=r.paper.name)
         shown = ", ".join(f"{k}={v:g}" for k, v in vals.items())
-        fig = plot_stiffness_response(
-            resp, title=f"{r.paper.title}\n{shown}", reference=vals.get("k1")
-        )
         path = out / f"{r.paper.name.replace('/', '_')}.png"
-        atomic_save(path, functools.partial(fig.savefig, dpi=120, format="png"))
-        plt.close(fig)
+        draw = functools.partial(
+            plot_stiffness_response,
+            resp,
+            title=f"{r.paper.title}\n{shown}",
+            reference=vals.get("k1"),
+        )
+        save_plot(draw, path)
         paths.append(path)
     return paths

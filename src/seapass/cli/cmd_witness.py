@@ -3,11 +3,17 @@
 from __future__ import annotations
 
 import argparse
-import functools
 from pathlib import Path
 
 from ..analysis.witness import find_destabilizing_environment
-from .common import add_model_options, atomic_save, print_json, system_from_args
+from .common import (
+    add_model_options,
+    atomic_write_text,
+    json_text,
+    print_json,
+    save_plot,
+    system_from_args,
+)
 
 EXAMPLE = """examples:
   seapass witness --D1 k1 --CL kd --set m=1 --set b=10 --set k1=1000 --set kd=2000 --json
@@ -44,21 +50,11 @@ def run(args: argparse.Namespace) -> int:
             raise ValueError(f"--out {args.out}: not a directory; give a directory for the files")
         data["figure"] = None
         if result.found and result.simulation is not None:
-            import matplotlib.pyplot as plt
-
             from ..plot.witness import plot_witness
 
-            fig = plot_witness(result)
-            atomic_save(out / "witness.png", functools.partial(fig.savefig, dpi=130, format="png"))
-            plt.close(fig)
+            save_plot(lambda: plot_witness(result), out / "witness.png")
             data["figure"] = str(out / "witness.png")
-        import json
-
-        from .common import _clean, atomic_write_text
-
-        atomic_write_text(
-            out / "witness.json", json.dumps(_clean(data), indent=2, allow_nan=False) + "\n"
-        )
+        atomic_write_text(out / "witness.json", json_text(data))
     if args.json:
         print_json(data)
     elif result.found:

@@ -5,11 +5,14 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
-from ..model.expr import parse_assignment
 from ..files.atomic import atomic_save, atomic_write, atomic_write_text
+from ..model.expr import parse_assignment
 from ..model.sea import SEA, Impedance
 
 __all__ = [
@@ -17,8 +20,10 @@ __all__ = [
     "atomic_save",
     "atomic_write",
     "atomic_write_text",
+    "json_text",
     "model_from_args",
     "print_json",
+    "save_plot",
     "system_from_args",
     "values_from_args",
 ]
@@ -64,6 +69,11 @@ def system_from_args(args: argparse.Namespace) -> SEA | Impedance:
     return Impedance(expr=args.Z, values=values_from_args(args))
 
 
+def json_text(obj: Any) -> str:
+    """Strict JSON text (non-finite floats become null), with a final newline."""
+    return json.dumps(_clean(obj), indent=2, allow_nan=False) + "\n"
+
+
 def _clean(obj: Any) -> Any:
     if isinstance(obj, float) and not math.isfinite(obj):
         return None
@@ -76,4 +86,20 @@ def _clean(obj: Any) -> Any:
 
 def print_json(obj: Any) -> None:
     """Print strict JSON (non-finite floats become null)."""
-    sys.stdout.write(json.dumps(_clean(obj), indent=2, allow_nan=False) + "\n")
+    sys.stdout.write(json_text(obj))
+
+
+def save_plot(
+    draw: Callable[[], Any], path: str | os.PathLike[str], *, formats: Sequence[str] | None = None
+) -> list[Path]:
+    """Draw a figure in the seapass style on a bare figure and save it atomically.
+
+    ``draw()`` calls a :mod:`seapass.plot` function without Axes and returns
+    its Axes.  ``path`` with a suffix writes that format; without one, every
+    format in ``formats`` (default PNG, SVG and PDF).
+    """
+    from ..plot.style import bare_figures, figure_style, save_figure
+
+    with figure_style(), bare_figures():
+        axes = draw()
+        return save_figure(axes, path, formats=formats)

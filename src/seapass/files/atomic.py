@@ -1,27 +1,47 @@
-"""Atomic file output: an interrupted run never leaves a half-written file."""
+"""Atomic file output: an interrupted run never leaves a half-written file.
+
+Temporary files and directories are created beside their target with
+``os.open(..., 0o666)`` / ``os.mkdir(..., 0o777)``, so the process umask
+applies to them exactly as to a plain ``open()``; nothing here reads or
+changes the umask (which would race with other threads).
+"""
 
 from __future__ import annotations
 
 import os
-import tempfile
-import tomllib
+import secrets
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any
 
-from ..errors import FileFormatError
-
-__all__ = ["atomic_save", "atomic_write", "atomic_write_text", "load_toml_file"]
-
-T = TypeVar("T")
+__all__ = ["atomic_save", "atomic_write", "atomic_write_text", "sibling_dir", "sibling_file"]
 
 
-def _umask_mode() -> int:
-    """Permissions a plain ``open()`` would give (mkstemp creates files 0600)."""
-    mask = os.umask(0)
-    os.umask(mask)
-    return 0o666 & ~mask
+def sibling_file(target: Path, suffix: str = ".part") -> tuple[int, Path]:
+    """Create a new empty file beside ``target`` with default permissions; ``(fd, path)``."""
+    for _ in range(100):
+        tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}{suffix}")
+        try:
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_CLOEXEC, 0o666)
+        except FileExistsError:
+            continue
+        return fd, tmp
+    raise FileExistsError(f"could not create a temporary file beside {target}")  # pragma: no cover
+
+
+def sibling_dir(target: Path, suffix: str = ".part") -> Path:
+    """Create a new empty directory beside ``target`` with default permissions."""
+    for _ in range(100):
+        tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}{suffix}")
+        try:
+            os.mkdir(tmp, 0o777)
+        except FileExistsError:
+            continue
+        return tmp
+    raise FileExistsError(
+        f"could not create a temporary directory beside {target}"
+    )  # pragma: no cover
 
 
 @contextmanager
@@ -29,57 +49,37 @@ def atomic_write(path: str | os.PathLike[str], mode: str = "w") -> Iterator[Any]
     """Open a temporary file beside ``path``; rename it over ``path`` only on success."""
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=target.parent)
+    fd, tmp = sibling_file(target)
     try:
         with os.fdopen(fd, mode) as fh:
             yield fh
             fh.flush()
             os.fsync(fh.fileno())
-        os.chmod(tmp, _umask_mode())
         os.replace(tmp, target)
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        tmp.unlink(missing_ok=True)
         raise
 
 
 def atomic_write_text(path: str | os.PathLike[str], text: str) -> None:
+    """Write ``text`` (UTF-8) to ``path`` atomically."""
     with atomic_write(path) as fh:
         fh.write(text)
 
 
 def atomic_save(path: str | os.PathLike[str], save: Callable[[str], None]) -> None:
-    """Call ``save(tmp_path)`` (e.g. ``fig.savefig``) and rename the result over ``path``."""
+    """Call ``save(tmp_path)`` (e.g. ``fig.savefig``) and rename the result over ``path``.
+
+    The temporary path keeps ``path``'s suffix, so savers that pick a format
+    from the suffix write the right one.
+    """
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=target.parent)
+    fd, tmp = sibling_file(target, suffix=target.suffix)
     os.close(fd)
     try:
-        save(tmp)
-        os.chmod(tmp, _umask_mode())
+        save(str(tmp))
         os.replace(tmp, target)
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        tmp.unlink(missing_ok=True)
         raise
-
-
-def load_toml_file(path: str | os.PathLike[str], parse: Callable[[dict[str, Any]], T]) -> T:
-    """Read a TOML file and ``parse`` its table; every error names the file.
-
-    Raises
-    ------
-    FileFormatError
-        For invalid TOML, non-UTF-8 text, or content ``parse`` rejects.
-    OSError
-        If the file cannot be read.
-    """
-    p = Path(path)
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise FileFormatError(f"{p}: invalid TOML: {exc}") from None
-    except UnicodeDecodeError:
-        raise FileFormatError(f"{p}: not a UTF-8 text file") from None
-    try:
-        return parse(data)
-    except FileFormatError as exc:
-        raise FileFormatError(f"{p}: {exc}") from None

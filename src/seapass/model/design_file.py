@@ -54,7 +54,7 @@ from types import MappingProxyType
 from typing import Any
 
 from ..errors import FileFormatError, SeapassError
-from ..files.atomic import load_toml_file
+from ..files.toml import load_toml_file
 from .sea import SEA
 
 __all__ = ["Design", "load_design", "parse_design"]

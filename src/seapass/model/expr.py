@@ -16,6 +16,7 @@ import threading
 from collections.abc import Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from fractions import Fraction
+from types import MappingProxyType
 
 import sympy as sp
 
@@ -23,10 +24,12 @@ from ..errors import ExpressionError, ParameterError, SymbolicLimitError
 
 __all__ = [
     "STANDARD_SYMBOLS",
+    "UNITS",
     "S",
     "W",
     "check_rational_in_s",
     "check_symbolic_size",
+    "finite_number",
     "parse_assignment",
     "parse_expression",
     "parse_value",
@@ -41,6 +44,12 @@ W = sp.Symbol("w", real=True)
 
 #: Parameter names every model may use without declaring them.
 STANDARD_SYMBOLS: tuple[str, ...] = ("m", "b", "k1", "k2", "b1", "b2", "kd", "bd", "ki")
+
+#: SI units of the standard parameters (and of the load mass ``m_L``), for labels.
+UNITS: Mapping[str, str] = MappingProxyType(
+    {"m": "kg", "b": "N·s/m", "k1": "N/m", "k2": "N/m", "b1": "N·s/m", "b2": "N·s/m",
+     "kd": "N/m", "bd": "N·s/m", "ki": "N/(m·s)", "m_L": "kg"}
+)  # fmt: skip
 
 MAX_EXPRESSION_LENGTH = 2000
 MAX_NODES = 400
@@ -365,3 +374,20 @@ def validate_values(values: Mapping[str, object]) -> dict[str, float]:
         _check_name(name)
         out[name] = float(to_fraction(val, name))  # type: ignore[arg-type,unused-ignore]
     return out
+
+
+def finite_number(
+    value: float, name: str, *, positive: bool = False, nonzero: bool = False
+) -> float:
+    """``value`` as a finite float, or a :class:`ParameterError` naming ``name``."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name}: expected a number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise ParameterError(f"{name} must be finite, got {v}")
+    if positive and v <= 0:
+        raise ParameterError(f"{name} must be positive, got {v:g}")
+    if nonzero and v == 0:
+        raise ParameterError(f"{name} must be nonzero")
+    return v

@@ -16,9 +16,8 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ParameterError, SimulationError, UnrealizableError
-from .expr import S, symbol
+from .expr import S, finite_number, symbol
 from .sea import SEA
-from ..sim.scenarios import _finite
 
 __all__ = ["INPUTS", "OUTPUTS", "ClosedLoop", "closed_loop", "closed_loop_factory"]
 
@@ -218,7 +217,7 @@ def closed_loop(
     UnrealizableError
         For an element needing accelerations (polynomial part of degree ≥ 2).
     """
-    load_mass = _finite(load_mass, "load mass m_L", positive=True)
+    load_mass = finite_number(load_mass, "load mass m_L", positive=True)
     subs, m, b = _plant_values(sea, values)
     if m <= 0:
         raise ParameterError(f"actuator mass m must be positive, got {m:g}")
@@ -250,7 +249,7 @@ def closed_loop_factory(
     :func:`closed_loop` no exact cancellation is done per call, so a common
     factor appearing at special values leaves a (harmless, cancelled) mode.
     """
-    load_mass = _finite(load_mass, "load mass m_L", positive=True)
+    load_mass = finite_number(load_mass, "load mass m_L", positive=True)
     syms = [symbol(p) for p in params]
     fixed = {k: v for k, v in sea.substitutions().items() if str(k) not in params}
     m = float(sp.sympify(sea.m).xreplace(fixed))

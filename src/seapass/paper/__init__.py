@@ -1,1 +1,22 @@
-"""paper."""
+"""What is specific to the paper: Tables I and II compared, and the simulation study.
+
+What lives here: :mod:`~seapass.paper.tables` (the printed rows next to what
+seapass derives, each bound classified), :mod:`~seapass.paper.tablefmt` (text,
+Markdown and LaTeX renderings of them) and :mod:`~seapass.paper.simstudy`
+(Sec. V: LP, APD and Ours tuned at one load mass, tested at three).
+
+May import: everything in :mod:`seapass.sweep` and below (in practice
+:mod:`seapass.model`, :mod:`seapass.analysis`, :mod:`seapass.sim`).
+"""
+
+from .simstudy import SimulationStudy, run_simulation_study
+from .tables import PAPER_ROWS, PaperRow, TableRow, build_tables
+
+__all__ = [
+    "PAPER_ROWS",
+    "PaperRow",
+    "SimulationStudy",
+    "TableRow",
+    "build_tables",
+    "run_simulation_study",
+]

@@ -26,9 +26,10 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError
+from ..model.catalog import design as catalog_design
 from ..sim.metrics import TrackingMetrics, tracking_metrics
 from ..sim.simulate import SimulationResult, Step, simulate
-from ..sim.tuning import DESIGNS, TuningOptions, TuningResult, normalize_design, tune
+from ..sim.tuning import TuningOptions, TuningResult, tune
 
 __all__ = ["QUICK_OPTIONS", "SimulationStudy", "StudyRow", "run_simulation_study"]
 
@@ -208,7 +209,7 @@ def run_simulation_study(
     -------
     SimulationStudy
     """
-    keys = tuple(normalize_design(d) for d in designs)
+    keys = tuple(catalog_design(d).key for d in designs)
     if not keys:
         raise ParameterError("designs is empty")
     ms = tuple(float(m) for m in masses)
@@ -244,6 +245,3 @@ def run_simulation_study(
         horizon=horizon,
         dt=dt,
     )
-
-
-DESIGN_LABELS = {k: v.label for k, v in DESIGNS.items()}

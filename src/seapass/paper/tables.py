@@ -28,79 +28,104 @@ import numpy as np
 import sympy as sp
 
 from ..analysis.conditions import exact_passivity_condition
+from ..analysis.passivity import is_passive
+from ..model.catalog import REFERENCE_VALUES, CatalogDesign
+from ..model.catalog import design as catalog_design
 from ..model.expr import STANDARD_SYMBOLS, W, parse_expression, symbol
 from ..model.sea import SEA
-from ..analysis.passivity import is_passive
 from ..model.stiffness import derive_stiffness, paper_eq4_stiffness, passivity_polynomial
 
-__all__ = ["PAPER_ROWS", "REFERENCE_VALUES", "PaperRow", "TableRow", "build_tables"]
+__all__ = ["PAPER_ROWS", "PaperRow", "TableRow", "build_tables", "paper_bound_set", "parse_bound"]
 
 _ALLOWED = (*STANDARD_SYMBOLS, "w")
 
 
 @dataclass(frozen=True)
 class PaperRow:
-    """One row as printed in the paper (strings parseable with ``m b k1 k2 b1 b2 kd bd ki s w``)."""
+    """What the paper prints for one catalog row (parseable with ``m b k1 k2 b1 b2 kd bd ki s w``).
 
-    table: str
-    name: str
-    title: str
-    D1: str
-    D2: str
-    CA: str
-    CL: str
+    The row's structure (elements, title, table) is the catalog entry ``key``
+    (:mod:`seapass.model.catalog`); this holds only the paper's printed text.
+    """
+
+    key: str
     stiffness: str
     condition: str
     bound: str
     notes: str = ""
 
+    @property
+    def design(self) -> CatalogDesign:
+        return catalog_design(self.key)
+
+    @property
+    def table(self) -> str:
+        return self.design.table
+
+    @property
+    def name(self) -> str:
+        return self.design.key
+
+    @property
+    def title(self) -> str:
+        return self.design.title
+
+    @property
+    def D1(self) -> str:
+        return self.design.D1
+
+    @property
+    def D2(self) -> str:
+        return self.design.D2
+
+    @property
+    def CA(self) -> str:
+        return self.design.CA
+
+    @property
+    def CL(self) -> str:
+        return self.design.CL
+
 
 PAPER_ROWS: tuple[PaperRow, ...] = (
-    PaperRow("I", "mech/pure-spring", "Pure spring", "k1", "0", "0", "kd",
+    PaperRow("mech/pure-spring",
              "k1*(m*s**2 + b*s + kd)/(m*s**2 + b*s + k1)",
              "b*k1*(k1 - kd)*w**2", "kd <= k1"),
-    PaperRow("I", "mech/spring-spring", "Disjointed spring-spring", "k1", "k2", "0", "kd",
+    PaperRow("mech/spring-spring",
              "((k1 + k2)*(m*s**2 + b*s) + k1*kd)/(m*s**2 + b*s + k1)",
              "b*k1*(k1 + k2 - kd)*w**2", "kd <= k1 + k2"),
-    PaperRow("I", "mech/parallel-spring-damper", "Parallel spring-damper", "k1 + b1*s", "0", "0", "kd",
+    PaperRow("mech/parallel-spring-damper",
              "(k1 + b1*s)*(m*s**2 + b*s + kd)/(m*s**2 + b*s + k1 + b1*s)",
              "(b**2 + b*b1 - m*kd)*b1*w**4 + (k1 - kd)*b*k1*w**2",
              "(kd <= k1) & (kd <= (b**2 + b*b1)/m)"),
-    PaperRow("I", "mech/disjoint-spring-damper", "Disjointed spring-damper", "k1", "b2*s", "0", "kd",
+    PaperRow("mech/disjoint-spring-damper",
              "((k1 + b2*s)*(m*s**2 + b*s) + k1*kd)/(m*s**2 + b*s + k1)",
              "m*b2*w**6 + b2*(b**2 - m*k1)*w**4 + b*k1*(k1 - kd)*w**2",
              "(kd <= k1) & (k1 <= b**2/m)"),
-    PaperRow("II", "ctrl/load-P", "Load-side P", "k1", "0", "0", "kd",
+    PaperRow("ctrl/load-P",
              "k1*(m*s**2 + b*s + kd)/(m*s**2 + b*s + k1)",
              "b*k1*(k1 - kd*w**2)", "kd <= k1"),
-    PaperRow("II", "ctrl/load-PD", "Load-side PD", "k1", "0", "0", "kd + bd*s",
+    PaperRow("ctrl/load-PD",
              "k1*(m*s**2 + b*s + bd*s + kd)/(m*s**2 + b*s + k1)",
              "k1*(b*k1 + bd*k1 - b*kd)*w**2 - bd*k1*m*w**4",
              "(kd <= (b + bd)*k1/b) & (-bd*k1*m >= 0)"),
-    PaperRow("II", "ctrl/load-PI", "Load-side PI", "k1", "0", "0", "kd + ki/s",
+    PaperRow("ctrl/load-PI",
              "k1*(m*s**2 + b*s + kd + ki/s)/(m*s**2 + b*s + k1)",
              "k1*(b*k1 - b*kd + ki*m)*w**2 - ki*k1**2", "False"),
-    PaperRow("II", "ctrl/act-P", "Actuator-side P", "k1", "0", "kd", "0",
+    PaperRow("ctrl/act-P",
              "k1*(m*s**2 + b*s + kd)/(m*s**2 + b*s + k1 + kd)",
              "b*k1**2*w**2", "True"),
-    PaperRow("II", "ctrl/act-PD", "Actuator-side PD", "k1", "0", "kd + bd*s", "0",
+    PaperRow("ctrl/act-PD",
              "k1*(m*s**2 + b*s + bd*s + kd)/(m*s**2 + b*s + bd*s + k1 + kd)",
              "k1**2*(b + bd)*w**2", "True"),
-    PaperRow("II", "ctrl/act-PI", "Actuator-side PI", "k1", "0", "kd + ki/s", "0",
+    PaperRow("ctrl/act-PI",
              "k1*(m*s**2 + b*s + kd + ki/s)/(m*s**2 + b*s + k1 + kd + ki/s)",
              "b*k1**2*w**2 - ki*k1**2", "False"),
-    PaperRow("proposed", "proposed", "Proposed: damped transmission + actuator-side PD",
-             "k1 + b1*s", "0", "kd + bd*s", "0",
+    PaperRow("proposed",
              "(k1 + b1*s)*(m*s**2 + b*s + bd*s + kd)/(m*s**2 + b*s + (b1 + bd)*s + k1 + kd)",
              "m**2*b1*w**6 + b1*((b + bd)**2 + b*b1 + b1*bd - 2*m*kd)*w**4 + (b1*kd**2 + b*k1**2 + bd*k1**2)*w**2",
              "kd <= ((b + bd)**2 + b*b1 + b1*bd)/(2*m)"),
 )  # fmt: skip
-
-#: Representative values (paper Sec. V: m, b, k1; others chosen to illustrate) for plots and checks.
-REFERENCE_VALUES: dict[str, float] = {
-    "m": 1.0, "b": 10.0, "k1": 1000.0, "k2": 1000.0, "b1": 20.0, "b2": 20.0,
-    "kd": 500.0, "bd": 25.0, "ki": 100.0,
-}  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -152,7 +177,7 @@ def _parse(text: str) -> sp.Expr:
     return expr.xreplace({symbol("w"): W})
 
 
-def _parse_bound(text: str) -> Any:
+def parse_bound(text: str) -> Any:
     """Parse a bound such as ``(kd <= k1) & (kd <= b/m)`` safely (comparisons joined by ``&``)."""
     text = text.strip()
     if text in ("True", "False"):
@@ -212,7 +237,7 @@ def _probe_designs(row: PaperRow, sea: SEA, rng: np.random.Generator) -> list[di
 
 
 def _classify_bound(row: PaperRow, sea: SEA, exact: Any) -> tuple[str, dict[str, float] | None]:
-    bound = _parse_bound(row.bound)
+    bound = parse_bound(row.bound)
     if bound == sp.false and exact == sp.false:
         return "agrees (not passive)", None
     if bound == exact or sp.simplify(sp.Equivalent(bound, exact)) == sp.true:
@@ -309,3 +334,20 @@ def _row_notes(
     elif status == "sufficient only":
         notes.append("the paper's stated bound is sufficient but not necessary")
     return notes
+
+
+def paper_bound_set(bound_text: str, values: dict[str, float], lo: float, hi: float) -> Any:
+    """The set of ``kd`` in ``[lo, hi]`` that the paper's bound admits (sympy set)."""
+    bound = parse_bound(bound_text)
+    kd = symbol("kd")
+    dom = sp.Interval(sp.Rational(lo), sp.Rational(hi))
+    if bound in (sp.true, sp.false):
+        return dom if bound == sp.true else sp.EmptySet
+    subs = {symbol(k): sp.Rational(str(v)) for k, v in values.items() if k != "kd"}
+    out: Any = dom
+    for rel in sp.And.make_args(bound.xreplace(subs)):
+        if rel in (sp.true, sp.false):
+            out = out if rel == sp.true else sp.EmptySet
+            continue
+        out = sp.Intersection(out, sp.solveset(rel, kd, domain=dom))
+    return out

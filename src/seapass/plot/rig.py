@@ -1,42 +1,41 @@
-"""Figures of the rig experiment; they only consume result objects of :mod:`seapass.rig.experiment`.
+"""Figures of the rig experiment; they only consume result objects of :mod:`seapass.rig`.
 
-:func:`plot_sweep` follows the bottom row of the paper's Fig. 3 (settling time
-and steady-state error against ``kd``, LP/Ours × load masses, dotted line at
-LP's instability gain); :func:`plot_impacts` shows the perceived stiffness
+:func:`plot_rig_sweep` follows the bottom row of the paper's Fig. 3 (settling
+time and steady-state error against ``kd``, LP/Ours × load masses, dotted line
+at LP's instability gain); :func:`plot_impacts` shows the perceived stiffness
 (Eq. (10) frequency response, ``k_out`` against the impact time scale and
-against ``b1``); :func:`save_figure` writes PNG + PDF atomically.
+against ``b1``); :func:`plot_deploy` shows runs of the deployed controller.
 """
 
 from __future__ import annotations
 
-import os
-from pathlib import Path
+from collections.abc import Sequence
+from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
-from matplotlib.figure import Figure
 
-from ..rig.experiment import ExperimentResult, ImpactResult, SweepResult
-from ..files.atomic import atomic_save
+from ..rig.experiment import ExperimentResult, RigSweepResult
+from ..rig.impacts import ImpactResult
+from .style import axes_grid
 
-__all__ = ["plot_impacts", "plot_sweep", "plot_traces", "save_figure"]
+__all__ = ["plot_deploy", "plot_impacts", "plot_rig_sweep", "plot_traces"]
 
 _COLORS = {"LP": "tab:red", "ours": "tab:blue"}
 _STYLES = ("-", "--", "-.", ":")
 _LABEL = {"LP": "LP", "ours": "Ours"}
 
 
-def _style(sweeps: tuple[SweepResult, ...], s: SweepResult) -> str:
+def _style(sweeps: tuple[RigSweepResult, ...], s: RigSweepResult) -> str:
     masses = sorted({x.load_mass for x in sweeps})
     return _STYLES[masses.index(s.load_mass) % len(_STYLES)]
 
 
-def plot_sweep(result: ExperimentResult) -> Figure:
-    """Settling time and steady-state error against ``kd`` (paper Fig. 3, bottom row)."""
-    fig, (ax_t, ax_e) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
+def plot_rig_sweep(result: ExperimentResult, *, axes: Any = None) -> Any:
+    """Settling time and steady-state error against ``kd`` (paper Fig. 3, bottom row).
+
+    Returns the two Axes.
+    """
+    ax_t, ax_e = axes_grid(axes, 1, 2, figsize=(10, 4))[0]
     for s in result.sweeps:
         kw = {"color": _COLORS[s.design], "linestyle": _style(result.sweeps, s)}
         label = f"{_LABEL[s.design]}, $m_L$ = {s.load_mass:g} kg"
@@ -74,13 +73,15 @@ def plot_sweep(result: ExperimentResult) -> Figure:
     for ax in (ax_t, ax_e):
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle(f"Digital twin of {result.rig_name}: load from 20 mm to 0")
-    return fig
+    ax_t.figure.suptitle(f"Digital twin of {result.rig_name}: load from 20 mm to 0")
+    return np.array([ax_t, ax_e])
 
 
-def plot_traces(sweep: SweepResult, kd_values: list[float] | None = None) -> Figure:
-    """Measured load position against time for a few gains of one sweep."""
-    fig, ax = plt.subplots(figsize=(6, 4), constrained_layout=True)
+def plot_traces(
+    sweep: RigSweepResult, kd_values: list[float] | None = None, *, ax: Any = None
+) -> Any:
+    """Measured load position against time for a few gains of one sweep; returns the Axes."""
+    ax = axes_grid(ax, 1, 1, figsize=(6, 4))[0, 0]
     picks = kd_values or list(np.unique(np.quantile(sweep.kd, [0.1, 0.4, 0.7, 1.0])))
     for kd in picks:
         i = int(np.argmin(np.abs(sweep.kd - kd)))
@@ -90,12 +91,15 @@ def plot_traces(sweep: SweepResult, kd_values: list[float] | None = None) -> Fig
     ax.set_title(f"{_LABEL[sweep.design]}, $m_L$ = {sweep.load_mass:g} kg")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
-    return fig
+    return ax
 
 
-def plot_impacts(result: ImpactResult) -> Figure:
-    """Perceived stiffness: Eq. (10) response, ``k_out`` vs time scale and vs ``b1``."""
-    fig, (ax_f, ax_w, ax_b) = plt.subplots(1, 3, figsize=(13, 4), constrained_layout=True)
+def plot_impacts(result: ImpactResult, *, axes: Any = None) -> Any:
+    """Perceived stiffness: Eq. (10) response, ``k_out`` vs time scale and vs ``b1``.
+
+    Returns the three Axes.
+    """
+    ax_f, ax_w, ax_b = axes_grid(axes, 1, 3, figsize=(13, 4))[0]
     ax_f.loglog(result.omega, result.eq10_magnitude, label="Eq. (10), massless port")
     ax_f.loglog(result.omega, result.eq10_with_load, "--", label="with load-side mass")
     ax_f.axhline(result.k1, color="gray", linestyle=":", label="$k_1$")
@@ -134,16 +138,26 @@ def plot_impacts(result: ImpactResult) -> Figure:
     for ax in (ax_f, ax_w, ax_b):
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-    return fig
+    return np.array([ax_f, ax_w, ax_b])
 
 
-def save_figure(fig: Figure, out_dir: str | os.PathLike[str], stem: str) -> list[Path]:
-    """Write ``stem.png`` and ``stem.pdf`` atomically into ``out_dir``; close the figure."""
-    out = Path(out_dir)
-    paths = [out / f"{stem}.png", out / f"{stem}.pdf"]
-    try:
-        for p in paths:
-            atomic_save(p, lambda tmp: fig.savefig(tmp, dpi=150))
-    finally:
-        plt.close(fig)
-    return paths
+def plot_deploy(runs: Sequence[tuple[str, Any]], *, axes: Any = None) -> Any:
+    """Load position and saturated force command of deployed-controller runs.
+
+    ``runs`` holds ``(label, record)`` with a :class:`seapass.sampled.runtime.LoopRecord`
+    each.  Returns the two Axes.
+    """
+    a1, a2 = axes_grid(axes, 1, 2, figsize=(10, 3.6))[0]
+    for label, rec in runs:
+        a1.plot(rec.t, np.asarray(rec.x_L) * 1e3, lw=1.4, label=label)
+        a2.plot(rec.t, rec.command, lw=1.0, label=label)
+    a1.set_xlabel("time [s]")
+    a1.set_ylabel("measured load position x_L [mm]")
+    a1.set_title("Load position (reference 0)")
+    a2.set_xlabel("time [s]")
+    a2.set_ylabel("force command [N]")
+    a2.set_title("Saturated command")
+    for ax in (a1, a2):
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=9)
+    return np.array([a1, a2])

@@ -8,28 +8,21 @@ References
 
 from __future__ import annotations
 
-import os
+import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
-from ..files.atomic import atomic_save
 from ..sampled.passivity import SampledBoundResult
+from .style import axes_grid
 
-__all__ = ["plot_bound_scan", "plot_bound_table", "plot_power_curve", "save_figure"]
-
-plt.rcParams.update({"font.size": 11, "axes.titlesize": 12, "axes.labelsize": 11})
+__all__ = ["plot_bound_scan", "plot_bound_table", "plot_power_curve", "plot_sampled_limits"]
 
 
 def plot_bound_scan(result: SampledBoundResult, ax: Any = None) -> Any:
-    """Passive intervals of ``result.param`` and the scan verdicts."""
-    if ax is None:
-        _fig, ax = plt.subplots(figsize=(7, 2.6))
+    """Passive intervals of ``result.param`` and the scan verdicts; returns the Axes."""
+    ax = axes_grid(ax, 1, 1, figsize=(7, 2.6))[0, 0]
     for i, (lo, hi) in enumerate(result.intervals):
         ax.axvspan(lo, hi, color="tab:green", alpha=0.25, label="passive" if i == 0 else None)
     xs = np.array([x for x, _ in result.samples])
@@ -55,9 +48,8 @@ def plot_bound_scan(result: SampledBoundResult, ax: Any = None) -> Any:
 def plot_power_curve(
     omega: np.ndarray, values: np.ndarray, *, period: float, ax: Any = None, label: str = "N(ω)"
 ) -> Any:
-    """The normalised power function ``N(ω)`` up to Nyquist (illustration only)."""
-    if ax is None:
-        _fig, ax = plt.subplots(figsize=(7, 3.2))
+    """The normalised power function ``N(ω)`` up to Nyquist (illustration only); returns the Axes."""
+    ax = axes_grid(ax, 1, 1, figsize=(7, 3.2))[0, 0]
     ax.semilogx(omega / (2 * np.pi), values, label=label)
     ax.axhline(0.0, color="k", lw=0.8)
     ax.axvline(1 / (2 * period), color="gray", ls=":", label="Nyquist")
@@ -67,12 +59,15 @@ def plot_power_curve(
     return ax
 
 
-def plot_bound_table(rows: Sequence[Mapping[str, Any]], *, title: str = "") -> Any:
+def plot_bound_table(
+    rows: Sequence[Mapping[str, Any]], *, title: str = "", axes: Any = None
+) -> Any:
     """Largest passive ``kd`` vs ``bd`` (Ours, one line per ``b1``) and vs ``b1`` (LP).
 
-    ``rows`` are dicts with keys ``design`` ("LP"/"Ours"), ``b1``, ``bd``, ``max_passive``.
+    ``rows`` are dicts with keys ``design`` ("LP"/"Ours"), ``b1``, ``bd``,
+    ``max_passive``.  Returns the two Axes.
     """
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4))
+    a1, a2 = axes_grid(axes, 1, 2, figsize=(11, 4))[0]
     ours = [r for r in rows if r["design"] == "Ours"]
     for b1 in sorted({r["b1"] for r in ours}):
         pts = sorted((r["bd"], r["max_passive"]) for r in ours if r["b1"] == b1)
@@ -97,12 +92,36 @@ def plot_bound_table(rows: Sequence[Mapping[str, Any]], *, title: str = "") -> A
     a2.set_title("LP")
     a2.legend(fontsize=9)
     if title:
-        fig.suptitle(title)
-    fig.tight_layout()
-    return fig
+        a1.figure.suptitle(title)
+    return np.array([a1, a2])
 
 
-def save_figure(fig: Any, path: str | os.PathLike[str]) -> None:
-    """Save atomically and close."""
-    atomic_save(path, fig.savefig)
-    plt.close(fig)
+def plot_sampled_limits(rows: Sequence[tuple[Any, ...]], *, period: float, ax: Any = None) -> Any:
+    """Largest passive ``kd``: continuous, sampled ideal, sampled with delay and filter.
+
+    ``rows`` are ``(label, _, cap, continuous, ideal, rig)`` with None for "none"
+    and ``inf`` for "every value up to ``cap``".  Returns the Axes.
+    """
+    labels = ("continuous", f"{1 / period:g} Hz ideal", f"{1 / period:g} Hz + delay + filter")
+    ax = axes_grid(ax, 1, 1, figsize=(7.5, 3.8))[0, 0]
+    width = 0.26
+    for j, lab in enumerate(labels):
+        xs, hs = [], []
+        for i, r in enumerate(rows):
+            v = r[3 + j]
+            v = r[2] if v is not None and math.isinf(v) else (0.0 if v is None else v)
+            xs.append(i + (j - 1) * width)
+            hs.append(max(v, 1.0))
+        ax.bar(xs, hs, width, label=lab)
+        for x, h, r in zip(xs, hs, rows, strict=True):
+            v = r[3 + j]
+            text = "all (≥ limit)" if v is not None and math.isinf(v) else f"{h:.0f}"
+            ax.text(x, h * 1.1, text, ha="center", va="bottom", fontsize=8)
+    ax.set_yscale("log")
+    ax.set_xticks(range(len(rows)), [r[0] for r in rows])
+    ax.set_ylabel("largest passive kd [N/m]")
+    ax.set_ylim(100, 1e6)
+    ax.set_title(f"Passive kd, continuous vs sampled (T = {period * 1e3:g} ms)")
+    ax.legend(fontsize=9, loc="upper left")
+    ax.grid(True, axis="y", alpha=0.3)
+    return ax

@@ -6,19 +6,19 @@ Plotting only consumes result objects from :mod:`seapass.sim.simulate`,
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
-
-from ..sim.metrics import TrackingMetrics
+from ..model.catalog import design as catalog_design
+from ..model.expr import UNITS
 from ..paper.simstudy import SimulationStudy
+from ..sim.metrics import TrackingMetrics
 from ..sim.simulate import SimulationResult
-from ..sim.tuning import DESIGNS
+from .style import axes_grid
 
-__all__ = ["plot_simulation", "plot_simulation_study"]
+__all__ = ["plot_simulation", "plot_simulation_study", "plot_step_responses", "plot_tradeoff"]
 
 _MASS_COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple")
 
@@ -28,9 +28,13 @@ def plot_simulation(
     metrics: TrackingMetrics | None = None,
     *,
     title: str = "",
+    axes: Any = None,
 ) -> Any:
-    """Positions and actuator force of one run; the settling band and time if given."""
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(6.5, 5.2), sharex=True, constrained_layout=True)
+    """Positions and actuator force of one run; the settling band and time if given.
+
+    Returns the two Axes (positions, force).
+    """
+    ax1, ax2 = axes_grid(axes, 2, 1, figsize=(6.5, 5.2), sharex=True)[:, 0]
     ax1.plot(result.time, result.x_L, lw=1.8, label="load x_L")
     ax1.plot(result.time, result.x_A, lw=1.2, ls="--", label="actuator x_A")
     ax1.axhline(result.target, color="0.3", lw=0.8, label=f"target {result.target:g} m")
@@ -58,16 +62,17 @@ def plot_simulation(
     ax2.set_xlabel("time [s]")
     ax2.set_ylabel("actuator force f_A [N]")
     ax2.grid(True, alpha=0.3)
-    return fig
+    return np.array([ax1, ax2])
 
 
-def plot_simulation_study(study: SimulationStudy) -> Any:
-    """One panel per design: load position vs time for every load mass (paper Fig. 4)."""
+def plot_simulation_study(study: SimulationStudy, *, axes: Any = None) -> Any:
+    """One panel per design: load position vs time for every load mass (paper Fig. 4).
+
+    Returns the Axes, one per design.
+    """
     n = len(study.designs)
-    fig, axes = plt.subplots(
-        1, n, figsize=(4.6 * n, 3.9), sharey=True, constrained_layout=True, squeeze=False
-    )
-    for ax, design in zip(axes[0], study.designs, strict=True):
+    grid = axes_grid(axes, 1, n, figsize=(4.6 * n, 3.9), sharey=True)
+    for ax, design in zip(grid[0], study.designs, strict=True):
         for i, mass in enumerate(study.masses):
             res = study.runs[(design, mass)]
             met = study.row(design, mass).metrics
@@ -86,15 +91,67 @@ def plot_simulation_study(study: SimulationStudy) -> Any:
         ax.axhline(study.step, color="0.3", lw=0.8, ls="--")
         ax.axhspan(study.step * 0.98, study.step * 1.02, color="0.88", zorder=0)
         gains = ", ".join(f"{k}={v:.3g}" for k, v in study.tuning[design].gains.items())
-        ax.set_title(f"{DESIGNS[design].label}\n{gains}", fontsize=10)
+        ax.set_title(f"{catalog_design(design).label}\n{gains}", fontsize=10)
         ax.set_xlabel("time [s]")
         ax.grid(True, alpha=0.3)
         ax.legend(loc="lower right", fontsize=8)
-    axes[0][0].set_ylabel("load position x_L [m]")
-    fig.suptitle(
+    grid[0][0].set_ylabel("load position x_L [m]")
+    grid[0][0].figure.suptitle(
         f"{study.step:g} m step; gains tuned at m_L = "
         f"{next(iter(study.tuning.values())).options.load_mass:g} kg "
         "under the exact passivity constraint",
         fontsize=11,
     )
-    return fig
+    return grid[0]
+
+
+def plot_tradeoff(maps: Sequence[tuple[Any, ...]], *, axes: Any = None) -> Any:
+    """Settling time over 2-D gain grids; grey where not passive, blank where it did not settle.
+
+    ``maps`` holds ``(label, x name, y name, xs, ys, passive mask, settling times,
+    best)`` per panel, with ``best = (time, x, y)`` of the fastest passive design or
+    None.  Returns the Axes, one per map.
+    """
+    grid = axes_grid(axes, 1, len(maps), figsize=(5.6 * len(maps), 4.4))[0]
+    for ax, (label, xn, yn, xs, ys, pas, ts, best) in zip(grid, maps, strict=True):
+        ax.pcolormesh(xs, ys, np.where(pas, np.nan, 1.0), cmap="Greys", vmin=0, vmax=2,
+                      shading="nearest")  # fmt: skip
+        mesh = ax.pcolormesh(xs, ys, np.where(pas, ts, np.nan), cmap="viridis_r",
+                             shading="nearest")  # fmt: skip
+        ax.figure.colorbar(mesh, ax=ax, label="2 % settling time [s]")
+        if best is not None:
+            ax.plot(best[1], best[2], "r*", ms=14, label=f"fastest passive: {best[0]:.3g} s")
+            ax.legend(loc="upper right", fontsize=9)
+        ax.set_xlabel(f"{xn} [{UNITS.get(xn, 'SI')}]")
+        ax.set_ylabel(f"{yn} [{UNITS.get(yn, 'SI')}]")
+        ax.set_title(f"{label}: grey = not passive, blank = did not settle", fontsize=10)
+    return grid
+
+
+def plot_step_responses(
+    runs: Sequence[tuple[float, Any, Any]], *, step: float, title: str = "", ax: Any = None
+) -> Any:
+    """Load position after a reference step, one line per load mass; returns the Axes.
+
+    ``runs`` holds ``(load mass, SimulationResult, TrackingMetrics)``.  An
+    unstable run is drawn until it leaves ±10 steps, so the axes stay readable.
+    """
+    ax = axes_grid(ax, 1, 1, figsize=(7, 3.8))[0, 0]
+    limit = 10 * abs(step)
+    for mass, res, met in runs:
+        ts = f"settles in {met.settling_time:.3g} s" if met.settled else str(met.status)
+        out = np.flatnonzero(np.abs(res.x_L) > limit)
+        x = np.array(res.x_L, dtype=float)
+        if out.size:
+            x[out[0] :] = np.nan
+            ts += f", |x_L| > {limit:g} m at {res.time[out[0]]:.3g} s"
+        ax.plot(res.time, x, lw=1.5, label=f"m_L = {mass:g} kg ({ts})")
+    ax.axhline(step, color="0.3", lw=0.8, ls="--", label=f"target {step:g} m")
+    ax.axhspan(step * 0.98, step * 1.02, color="0.88", zorder=0)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("load position x_L [m]")
+    if title:
+        ax.set_title(title)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right")
+    return ax

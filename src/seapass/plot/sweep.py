@@ -5,37 +5,19 @@ Figures only consume :class:`seapass.sweep.runner.HeatmapData`; nothing is compu
 
 from __future__ import annotations
 
-import os
+from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
-from matplotlib.figure import Figure
-from matplotlib.lines import Line2D
 
-from ..files.atomic import atomic_save
-from ..sweep.runner import HeatmapData
+from ..model.expr import UNITS
+from ..sweep.heatmap import HeatmapData
+from .style import axes_grid
 
-__all__ = ["plot_sweep_heatmap", "save_sweep_heatmap"]
-
-_UNITS = {
-    "kd": "N/m",
-    "k1": "N/m",
-    "k2": "N/m",
-    "ki": "N/(m·s)",
-    "bd": "N·s/m",
-    "b1": "N·s/m",
-    "b2": "N·s/m",
-    "b": "N·s/m",
-    "m": "kg",
-    "m_L": "kg",
-}
+__all__ = ["plot_sweep_heatmap"]
 
 
 def _label(name: str) -> str:
-    unit = _UNITS.get(name)
+    unit = UNITS.get(name)
     return f"{name} [{unit}]" if unit else name
 
 
@@ -46,13 +28,17 @@ def _edges(c: np.ndarray) -> np.ndarray:
     return np.concatenate([[c[0] - (mid[0] - c[0])], mid, [c[-1] + (c[-1] - mid[-1])]])
 
 
-def plot_sweep_heatmap(data: HeatmapData, *, title: str = "") -> Figure:
+def plot_sweep_heatmap(data: HeatmapData, *, title: str = "", axes: Any = None) -> Any:
     """Passive fraction (left) and mean settling time of settled designs (right).
 
     The passive region's boundary (passive fraction 0.5) is drawn on both panels.
+    Returns the Axes (one, or two when the sweep has settling times).
     """
+    from matplotlib.lines import Line2D
+
     panels = 2 if data.settling_time is not None else 1
-    fig, axes = plt.subplots(1, panels, figsize=(6.0 * panels, 4.8), squeeze=False)
+    axes = axes_grid(axes, 1, panels, figsize=(6.0 * panels, 4.8))
+    fig = axes[0, 0].figure
     xe, ye = _edges(data.x_centers), _edges(data.y_centers)
     ax = axes[0, 0]
     m = ax.pcolormesh(xe, ye, data.passive_fraction, cmap="RdYlGn", vmin=0.0, vmax=1.0)
@@ -83,14 +69,4 @@ def plot_sweep_heatmap(data: HeatmapData, *, title: str = "") -> Figure:
             a.legend(handles=[handle], loc="upper right", fontsize=9)
     if title:
         fig.suptitle(title)
-    fig.tight_layout()
-    return fig
-
-
-def save_sweep_heatmap(data: HeatmapData, path: str | os.PathLike[str], *, title: str = "") -> None:
-    """Render :func:`plot_sweep_heatmap` and save it atomically."""
-    fig = plot_sweep_heatmap(data, title=title)
-    try:
-        atomic_save(path, lambda tmp: fig.savefig(tmp, dpi=120))
-    finally:
-        plt.close(fig)
+    return axes[0]

@@ -7,18 +7,15 @@ from __future__ import annotations
 
 from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
 from ..analysis.witness import WitnessResult
+from .style import axes_grid
 
 __all__ = ["plot_witness"]
 
 
-def plot_witness(result: WitnessResult, *, title: str = "") -> Any:
+def plot_witness(result: WitnessResult, *, title: str = "", axes: Any = None) -> Any:
     """Two panels: the coupled impulse response with its ``e^{σt}`` envelope, and the poles.
 
     Parameters
@@ -27,16 +24,19 @@ def plot_witness(result: WitnessResult, *, title: str = "") -> Any:
         A result with ``found`` True and a simulation.
     title : str, optional
         Figure title (default: the environment's parameters).
+    axes : sequence of two matplotlib.axes.Axes, optional
+        Where to draw; a new figure if None.
 
     Returns
     -------
-    matplotlib.figure.Figure
+    numpy.ndarray of matplotlib.axes.Axes
+        The response and the pole panels.
     """
     if not result.found or result.simulation is None or result.coupled is None:
         raise ValueError("plot_witness needs a found witness with a simulation (simulate=True)")
     sim, env, coupled = result.simulation, result.environment, result.coupled
     assert env is not None
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4.2), constrained_layout=True)
+    ax1, ax2 = axes_grid(axes, 1, 2, figsize=(10, 4.2))[0]
     unit = "m/(N·s)" if sim.output == "port displacement" else "a.u."
     ax1.plot(sim.t, sim.y, lw=0.9, color="tab:blue", label=sim.output)
     if sim.growth_rate > 0:
@@ -74,7 +74,7 @@ def plot_witness(result: WitnessResult, *, title: str = "") -> Any:
     ax2.set_title(f"coupled system: {coupled.status}")
     ax2.grid(True, alpha=0.3)
     ax2.legend(loc="best", fontsize=9)
-    fig.suptitle(
+    ax1.figure.suptitle(
         title
         or (
             f"not passive ({result.reason}): destabilized by m_e = {env.mass:.3g} kg, "
@@ -82,7 +82,7 @@ def plot_witness(result: WitnessResult, *, title: str = "") -> Any:
         ),
         fontsize=11,
     )
-    return fig
+    return np.array([ax1, ax2])
 
 
 def _symlog_ticks(lo: float, hi: float, lin: float) -> list[float]:

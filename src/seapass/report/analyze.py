@@ -35,47 +35,26 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from functools import partial
 
-from .stages.design_core import (
-    UNITS,
-    stage_passivity,
-    stage_ranges,
-    stage_response,
-    stage_stiffness,
-    values_text,
-)
-from .stages.design_extra import (
-    matching_experiment_design,
-    matching_tunable_design,
-    stage_rig,
-    stage_sampled,
-    stage_tuning,
-    stage_witness,
-)
 from ..model.design_file import Design
-from .document import Report, Section, to_json
-from .reproduce import Stage, run_stages, select_stages
+from .document import Report, Section, SectionStatus, Verdict, to_json
+from .pipeline import Stage, run_stages, select_stages
+from .stages import design_dynamics, design_hardware, design_passivity
+from .stages.design_passivity import values_text
 
-__all__ = [
-    "ANALYSIS_STAGES",
-    "UNITS",
-    "analyze",
-    "matching_experiment_design",
-    "matching_tunable_design",
-    "verdict_line",
-]
+__all__ = ["ANALYSIS_STAGES", "analyze", "verdict_line"]
 
 
 # ----------------------------------------------------------------- entry point
 
 _STAGE_FUNCS: tuple[tuple[str, str, Callable[[Design, bool], Section]], ...] = (
-    ("passivity", "Passivity verdict", stage_passivity),
-    ("witness", "Destabilizing environment", stage_witness),
-    ("stiffness", "Stiffness frequency response", stage_stiffness),
-    ("ranges", "Exact passive ranges", stage_ranges),
-    ("response", "Step response", stage_response),
-    ("tuning", "Tuned gains", stage_tuning),
-    ("sampled", "Sampled-data passivity", stage_sampled),
-    ("rig", "Digital twin of the rig", stage_rig),
+    ("passivity", "Passivity verdict", design_passivity.stage_passivity),
+    ("witness", "Destabilizing environment", design_passivity.stage_witness),
+    ("stiffness", "Stiffness frequency response", design_dynamics.stage_stiffness),
+    ("ranges", "Exact passive ranges", design_passivity.stage_ranges),
+    ("response", "Step response", design_dynamics.stage_response),
+    ("tuning", "Tuned gains", design_dynamics.stage_tuning),
+    ("sampled", "Sampled-data passivity", design_hardware.stage_sampled),
+    ("rig", "Digital twin of the rig", design_hardware.stage_rig),
 )
 
 #: Stage keys of :func:`analyze`, in order.
@@ -141,13 +120,13 @@ def analyze(
 
 def verdict_line(sections: Sequence[Section], design: Design) -> str:
     """One line: the continuous verdict and, when analysed, the sampled-data one."""
-    by = {s.key: s for s in sections if s.status == "ok" and s.findings}
+    by = {s.key: s for s in sections if s.status == SectionStatus.OK and s.findings}
     parts = []
     if "passivity" in by:
-        ok = by["passivity"].findings[0].verdict == "agrees"
+        ok = by["passivity"].findings[0].verdict == Verdict.AGREES
         parts.append("passive" if ok else "NOT passive at the given values")
     if "sampled" in by:
-        ok = by["sampled"].findings[0].verdict == "agrees"
+        ok = by["sampled"].findings[0].verdict == Verdict.AGREES
         rate = f"{design.control_rate:g} Hz" if design.control_rate else "the control rate"
         parts.append(f"{'passive' if ok else 'NOT passive'} under sampled-data control at {rate}")
     if len(parts) == 2:

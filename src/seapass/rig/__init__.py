@@ -1,1 +1,33 @@
-"""rig."""
+"""The hardware rig: its file, the digital twin, and the paper's experiment on it.
+
+What lives here: :mod:`~seapass.rig.rigfile` (:class:`Rig` and its strict TOML
+loader), :mod:`~seapass.rig.plant` (the nonlinear plant: friction, saturation,
+encoders), :mod:`~seapass.rig.twin` (batches of sampled closed loops on it),
+:mod:`~seapass.rig.experiment`, :mod:`~seapass.rig.impacts`,
+:mod:`~seapass.rig.predictions` and :mod:`~seapass.rig.findings` (the paper's
+Section VI on the twin) and :mod:`~seapass.rig.mujoco_model` (an optional
+MuJoCo cross-check; needs the ``mujoco`` extra).
+
+May import: everything in :mod:`seapass.sampled` and below.
+"""
+
+from .experiment import ExperimentResult, RigSweepResult, run_experiment, run_rig_sweep
+from .impacts import ImpactResult, run_impacts
+from .plant import TwinPlant
+from .rigfile import Rig, load_rig, paper_rig
+from .twin import LoopResult, simulate_loop
+
+__all__ = [
+    "ExperimentResult",
+    "ImpactResult",
+    "LoopResult",
+    "Rig",
+    "RigSweepResult",
+    "TwinPlant",
+    "load_rig",
+    "paper_rig",
+    "run_experiment",
+    "run_impacts",
+    "run_rig_sweep",
+    "simulate_loop",
+]

@@ -28,8 +28,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ParameterError, SimulationError
+from .plant import TwinPlant
 from .rigfile import Rig
-from .twin import TwinPlant, simulate_loop
+from .twin import simulate_loop
 
 __all__ = ["MujocoComparison", "MujocoRun", "build_mjcf", "compare_with_twin", "simulate_mujoco"]
 

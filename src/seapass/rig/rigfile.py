@@ -28,7 +28,7 @@ from importlib import resources
 from typing import Any
 
 from ..errors import FileFormatError
-from ..files.atomic import load_toml_file
+from ..files.toml import load_toml_file
 
 __all__ = [
     "ControlSpec",

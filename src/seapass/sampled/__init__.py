@@ -1,1 +1,44 @@
-"""sampled."""
+"""Sampled-data control: discrete controllers, sampled passivity, the fixed-rate runtime.
+
+What lives here: :mod:`~seapass.sampled.controllers` (exact discretization and
+the deployable difference equations), :mod:`~seapass.sampled.passivity`
+(passivity of the continuous port under the digital controller, and passive
+bounds), :mod:`~seapass.sampled.coupling` (the digital loop coupled to passive
+environments, a simulation check) and :mod:`~seapass.sampled.runtime` (a
+fixed-rate control loop with safety, for hardware or the twin).
+
+May import: :mod:`seapass.errors`, :mod:`seapass.exact`, :mod:`seapass.model`,
+:mod:`seapass.analysis`, :mod:`seapass.sim`, :mod:`seapass.batch`.
+"""
+
+from .controllers import (
+    APDController,
+    DiscreteController,
+    DiscreteTF,
+    LPController,
+    OursController,
+    discretize,
+)
+from .passivity import (
+    SampledBoundResult,
+    SampledPassivityResult,
+    sampled_passive_bound,
+    sampled_passivity,
+)
+from .runtime import ControlLoop, HardwareInterface, SimulatedHardware
+
+__all__ = [
+    "APDController",
+    "ControlLoop",
+    "DiscreteController",
+    "DiscreteTF",
+    "HardwareInterface",
+    "LPController",
+    "OursController",
+    "SampledBoundResult",
+    "SampledPassivityResult",
+    "SimulatedHardware",
+    "discretize",
+    "sampled_passive_bound",
+    "sampled_passivity",
+]

@@ -49,6 +49,7 @@ __all__ = [
     "OursController",
     "discretize",
     "filter_pole",
+    "state_space",
 ]
 
 Method = Literal["tustin", "zoh", "backward"]
@@ -398,3 +399,20 @@ class OursController(DiscreteController):
         sea = SEA(D1="k1 + b1*s", CA=_pd(kd, bd), values={"k1": 1.0, "b1": 1.0}, name="Ours")
         base = DiscreteController.from_sea(sea, period, **kw)  # type: ignore[arg-type]
         super().__init__(base.CA, base.CL, float(period), "Ours")
+
+
+def state_space(tf: DiscreteTF) -> tuple[np.ndarray, ...]:
+    """Direct-form-II-transposed state space ``(A, B, C, D)`` of ``tf``, as it runs."""
+    n = max(len(tf.num), len(tf.den))
+    b = np.array([float(c) for c in tf.num] + [0.0] * (n - len(tf.num)))
+    a = np.array([float(c) for c in tf.den] + [0.0] * (n - len(tf.den)))
+    k = n - 1
+    A = np.zeros((k, k))
+    if k:
+        A[:, 0] = -a[1:]
+        A[:-1, 1:] = np.eye(k - 1)
+    B = (b[1:] - a[1:] * b[0]).reshape(k, 1)
+    C = np.zeros((1, k))
+    if k:
+        C[0, 0] = 1.0
+    return A, B, C, np.array([[b[0]]])

@@ -14,13 +14,13 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from .controllers import DiscreteTF, Method
 from ..errors import ModelError, ParameterError
 from ..model.expr import S
 from ..model.sea import SEA
-from .passivity import _tf2ss_z, controller_tfs
+from .controllers import DiscreteTF, Method, state_space
+from .passivity import controller_tfs
 
-__all__ = ["CoupledCheck", "coupled_check", "coupled_closed_loop", "find_destabilizing_environment"]
+__all__ = ["CoupledCheck", "coupled_check", "coupled_closed_loop", "worst_sampled_environment"]
 
 
 @dataclass(frozen=True)
@@ -111,7 +111,7 @@ def coupled_closed_loop(
     rows = [np.array([[1.0, 0.0, 0.0, 0.0]]), np.array([[0.0, 0.0, 1.0, 0.0]])]
     acl = Ad.copy()
     for tf, cy in zip((ka, kl), rows, strict=True):
-        Ak, Bk, Ck, Dk = _tf2ss_z(tf)
+        Ak, Bk, Ck, Dk = state_space(tf)
         acl = acl - Bd @ Dk @ cy
         blocks.append((Ak, Bk, Ck, cy))
     nk = [blk[0].shape[0] for blk in blocks]
@@ -149,7 +149,7 @@ def coupled_check(
     return CoupledCheck(float(env_mass), float(env_stiffness), float(env_damping), rho)
 
 
-def find_destabilizing_environment(
+def worst_sampled_environment(
     sea: SEA,
     *,
     period: float,

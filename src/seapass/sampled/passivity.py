@@ -65,12 +65,12 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from ..exact import poly as ep
-from .controllers import DiscreteController, DiscreteTF, Method
+from ..analysis.passivity import is_passive
 from ..errors import ModelError, NotPassiveError, ParameterError, SymbolicLimitError
+from ..exact import poly as ep
 from ..model.expr import S
 from ..model.sea import SEA
-from ..analysis.passivity import is_passive
+from .controllers import DiscreteController, DiscreteTF, Method, state_space
 
 __all__ = [
     "SampledBoundResult",
@@ -329,23 +329,6 @@ def controller_tfs(
     return ka.delayed(int(delay)), kl.delayed(int(delay))
 
 
-def _tf2ss_z(tf: DiscreteTF) -> tuple[np.ndarray, ...]:
-    """Direct-form-II-transposed state space ``(A, B, C, D)`` of ``tf`` (as it runs)."""
-    n = max(len(tf.num), len(tf.den))
-    b = np.array([float(c) for c in tf.num] + [0.0] * (n - len(tf.num)))
-    a = np.array([float(c) for c in tf.den] + [0.0] * (n - len(tf.den)))
-    k = n - 1
-    A = np.zeros((k, k))
-    if k:
-        A[:, 0] = -a[1:]
-        A[:-1, 1:] = np.eye(k - 1)
-    B = (b[1:] - a[1:] * b[0]).reshape(k, 1)
-    C = np.zeros((1, k))
-    if k:
-        C[0, 0] = 1.0
-    return A, B, C, np.array([[b[0]]])
-
-
 def clamped_spectral_radius(sea: SEA, ka: DiscreteTF, kl: DiscreteTF, period: float) -> float:
     """Spectral radius of the sampled actuator loop with the port held, and of ``K_L``."""
     from scipy.signal import cont2discrete, tf2ss
@@ -357,7 +340,7 @@ def clamped_spectral_radius(sea: SEA, ka: DiscreteTF, kl: DiscreteTF, period: fl
     d = [float(c) for c in sp.Poly(den, S).all_coeffs()]
     A, B, C, _D = tf2ss(n, d)
     Ad, Bd, Cd, _, _ = cont2discrete((A, B, C, np.zeros((1, 1))), period, method="zoh")
-    Ak, Bk, Ck, Dk = _tf2ss_z(ka)
+    Ak, Bk, Ck, Dk = state_space(ka)
     top = np.hstack([Ad - Bd @ Dk @ Cd, -Bd @ Ck])
     bot = np.hstack([Bk @ Cd, Ak])
     rho = float(np.max(np.abs(np.linalg.eigvals(np.vstack([top, bot])))))

@@ -36,9 +36,9 @@ from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
-from .controllers import DiscreteController
 from ..errors import NotPassiveError, ParameterError
 from ..model.sea import SEA
+from .controllers import DiscreteController
 
 __all__ = [
     "ControlLoop",

@@ -24,15 +24,49 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass
+from enum import StrEnum
 from typing import Any
 
 import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import ParameterError, SimulationError
-from .simulate import SimulationResult
+from .simulate import SimulationResult, Stability
 
-__all__ = ["TrackingMetrics", "settling_time", "tracking_metrics"]
+__all__ = ["SETTLING_CODES", "Settling", "TrackingMetrics", "settling_time", "tracking_metrics"]
+
+
+class Settling(StrEnum):
+    """How a response ended: one vocabulary for simulations, batches and the rig twin.
+
+    The values are the words written to reports and data files.  Batch
+    results store :attr:`code` (an index into :data:`SETTLING_CODES`) in
+    ``int8`` arrays.
+    """
+
+    SETTLED = "settled"
+    """Within the band around the target for good, inside the horizon (or cap)."""
+    NOT_SETTLED = "did not settle"
+    """Stable, but still outside the band at the end of the horizon."""
+    UNSTABLE = "unstable"
+    """Diverging (or a sustained oscillation on the rig)."""
+    INVALID = "invalid"
+    """No response: the design could not be simulated (batches only)."""
+    SLOW = "slow"
+    """Rig: converged, but later than the settling cap."""
+    STUCK = "stuck"
+    """Rig: never left the band around its start (dry friction held it)."""
+    OSCILLATING = "oscillating"
+    """Rig: bounded, not converged."""
+
+    @property
+    def code(self) -> int:
+        """Index of this status in :data:`SETTLING_CODES`."""
+        return SETTLING_CODES.index(self)
+
+
+#: Every :class:`Settling` status, by code (batch ``status`` arrays hold these indices).
+SETTLING_CODES: tuple[Settling, ...] = tuple(Settling)
 
 
 @dataclass(frozen=True)
@@ -41,8 +75,8 @@ class TrackingMetrics:
 
     Attributes
     ----------
-    status : str
-        ``"settled"``, ``"did not settle"`` (within the horizon) or ``"unstable"``.
+    status : Settling
+        ``SETTLED``, ``NOT_SETTLED`` (within the horizon) or ``UNSTABLE``.
     settling_time : float or None
         Seconds; None unless ``status == "settled"``.
     final_error : float
@@ -60,7 +94,7 @@ class TrackingMetrics:
         Settling target (m).
     """
 
-    status: str
+    status: Settling
     settling_time: float | None
     final_error: float
     overshoot: float | None
@@ -71,14 +105,16 @@ class TrackingMetrics:
     target: float
 
     def __post_init__(self) -> None:
-        if self.status not in ("settled", "did not settle", "unstable"):
+        allowed = (Settling.SETTLED, Settling.NOT_SETTLED, Settling.UNSTABLE)
+        if self.status not in allowed:
             raise ParameterError(f"unknown status {self.status!r}")
-        if (self.settling_time is None) == (self.status == "settled"):
+        object.__setattr__(self, "status", Settling(self.status))
+        if (self.settling_time is None) == (self.status == Settling.SETTLED):
             raise ParameterError("settling_time must be given exactly when status is 'settled'")
 
     @property
     def settled(self) -> bool:
-        return self.status == "settled"
+        return self.status == Settling.SETTLED
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -105,7 +141,7 @@ def settling_time(result: SimulationResult, *, tolerance: float = 0.02) -> float
     """
     if not (0 < tolerance < 1):
         raise ParameterError(f"tolerance must be in (0, 1), got {tolerance}")
-    if result.status == "unstable" or result.scale <= 0:
+    if result.status == Stability.UNSTABLE or result.scale <= 0:
         return None
     band = tolerance * result.scale
     t = result.time
@@ -171,11 +207,11 @@ def tracking_metrics(
     """
     band = tolerance * result.scale
     peak = float(np.max(np.abs(result.f_A), initial=0.0))
-    if result.status == "unstable":
+    if result.status == Stability.UNSTABLE:
         if throw:
             raise SimulationError("the closed loop is unstable")
         return TrackingMetrics(
-            status="unstable",
+            status=Settling.UNSTABLE,
             settling_time=None,
             final_error=math.inf,
             overshoot=None,
@@ -192,7 +228,7 @@ def tracking_metrics(
         direction = math.copysign(1.0, result.target - float(result.x_L[0]))
         overshoot = max(0.0, float(np.max(e * direction))) / result.scale
     return TrackingMetrics(
-        status="settled" if ts is not None else "did not settle",
+        status=Settling.SETTLED if ts is not None else Settling.NOT_SETTLED,
         settling_time=ts,
         final_error=float(abs(e[-1])),
         overshoot=overshoot,

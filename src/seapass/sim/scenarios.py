@@ -7,7 +7,6 @@ input signal ``u(t) = (θ_A, θ_L, f_ext)``.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal
@@ -15,25 +14,21 @@ from typing import Literal
 import numpy as np
 
 from ..errors import ParameterError
+from ..model.expr import finite_number
 
-__all__ = ["ForceImpulse", "ForceStep", "LoadDisplaced", "Scenario", "Step", "Trajectory"]
-
-
-def _finite(value: float, name: str, *, positive: bool = False, nonzero: bool = False) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name}: expected a number, got {value!r}") from None
-    if not math.isfinite(v):
-        raise ParameterError(f"{name} must be finite, got {v}")
-    if positive and v <= 0:
-        raise ParameterError(f"{name} must be positive, got {v:g}")
-    if nonzero and v == 0:
-        raise ParameterError(f"{name} must be nonzero")
-    return v
+__all__ = [
+    "ForceImpulse",
+    "ForceStep",
+    "LoadDisplaced",
+    "Scenario",
+    "Step",
+    "Trajectory",
+    "reference_values",
+]
 
 
-def _refs(apply_to: str, value: float) -> tuple[float, float]:
+def reference_values(apply_to: str, value: float) -> tuple[float, float]:
+    """``(θ_A, θ_L)`` references of a scenario that moves ``apply_to`` by ``value``."""
     if apply_to not in ("both", "actuator", "load"):
         raise ParameterError(f"apply_to must be 'both', 'actuator' or 'load', got {apply_to!r}")
     return (0.0 if apply_to == "load" else value, 0.0 if apply_to == "actuator" else value)
@@ -55,8 +50,8 @@ class Step:
     apply_to: str = "both"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "size", _finite(self.size, "step size", nonzero=True))
-        _refs(self.apply_to, 1.0)
+        object.__setattr__(self, "size", finite_number(self.size, "step size", nonzero=True))
+        reference_values(self.apply_to, 1.0)
 
 
 @dataclass(frozen=True)
@@ -72,7 +67,7 @@ class LoadDisplaced:
 
     def __post_init__(self) -> None:
         object.__setattr__(
-            self, "displacement", _finite(self.displacement, "displacement", nonzero=True)
+            self, "displacement", finite_number(self.displacement, "displacement", nonzero=True)
         )
 
 
@@ -83,7 +78,7 @@ class ForceStep:
     force: float = 10.0
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "force", _finite(self.force, "force", nonzero=True))
+        object.__setattr__(self, "force", finite_number(self.force, "force", nonzero=True))
 
 
 @dataclass(frozen=True)
@@ -93,7 +88,7 @@ class ForceImpulse:
     impulse: float = 1.0
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "impulse", _finite(self.impulse, "impulse", nonzero=True))
+        object.__setattr__(self, "impulse", finite_number(self.impulse, "impulse", nonzero=True))
 
 
 @dataclass(frozen=True)
@@ -128,7 +123,7 @@ class Trajectory:
             raise ParameterError(
                 f"interpolation must be 'zoh' or 'linear', got {self.interpolation!r}"
             )
-        _refs(self.apply_to, 1.0)
+        reference_values(self.apply_to, 1.0)
         object.__setattr__(self, "times", tuple(t.tolist()))
         object.__setattr__(self, "values", tuple(v.tolist()))
 

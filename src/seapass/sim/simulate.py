@@ -39,14 +39,16 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from enum import StrEnum
 from typing import Any
 
 import numpy as np
 import scipy.linalg
 
 from ..errors import ParameterError
+from ..model.expr import finite_number
+from ..model.realization import ClosedLoop, closed_loop
 from ..model.sea import SEA
-from ..model.realization import ClosedLoop, closed_loop, closed_loop_factory
 from .scenarios import (
     ForceImpulse,
     ForceStep,
@@ -54,21 +56,12 @@ from .scenarios import (
     Scenario,
     Step,
     Trajectory,
-    _finite,
-    _refs,
+    reference_values,
 )
 
 __all__ = [
-    "ClosedLoop",
-    "ForceImpulse",
-    "ForceStep",
-    "LoadDisplaced",
-    "Scenario",
     "SimulationResult",
-    "Step",
-    "Trajectory",
-    "closed_loop",
-    "closed_loop_factory",
+    "Stability",
     "simulate",
     "simulate_closed_loop",
 ]
@@ -78,6 +71,15 @@ _DIVERGENCE = 1e8  # |state| above this multiple of the problem scale counts as 
 
 
 # --------------------------------------------------------------------------- simulation
+
+
+class Stability(StrEnum):
+    """Stability of a simulated closed loop (from its exact poles)."""
+
+    STABLE = "stable"
+    MARGINAL = "marginal"
+    """Poles on the imaginary axis, none to their right: bounded, not converging."""
+    UNSTABLE = "unstable"
 
 
 @dataclass(frozen=True)
@@ -138,11 +140,11 @@ class SimulationResult:
             object.__setattr__(self, name, arr)
 
     @property
-    def status(self) -> str:
-        """``"stable"``, ``"marginal"`` or ``"unstable"``."""
+    def status(self) -> Stability:
+        """Stability of the simulated closed loop."""
         if self.diverged or not (self.stable or self.marginal):
-            return "unstable"
-        return "stable" if self.stable else "marginal"
+            return Stability.UNSTABLE
+        return Stability.STABLE if self.stable else Stability.MARGINAL
 
     def state_at(self, t: float) -> np.ndarray:
         """Exact state at time ``t`` (propagated from the sample before ``t``)."""
@@ -194,7 +196,7 @@ def _scenario_setup(
     x0 = np.zeros(n)
     u = np.zeros((t.size, 3))
     if isinstance(scenario, Step):
-        u[:, :2] = _refs(scenario.apply_to, scenario.size)
+        u[:, :2] = reference_values(scenario.apply_to, scenario.size)
         return x0, u, False, scenario.size, abs(scenario.size), True
     if isinstance(scenario, LoadDisplaced):
         x0[2] = scenario.displacement
@@ -207,7 +209,7 @@ def _scenario_setup(
         return x0, u, False, 0.0, 0.0, False
     if isinstance(scenario, Trajectory):
         ref = scenario.sample(t)
-        ra, rl = _refs(scenario.apply_to, 1.0)
+        ra, rl = reference_values(scenario.apply_to, 1.0)
         u[:, 0], u[:, 1] = ra * ref, rl * ref
         target = scenario.values[-1]
         scale = abs(target - 0.0)
@@ -272,8 +274,8 @@ def simulate_closed_loop(
 ) -> SimulationResult:
     """Simulate an already built :class:`ClosedLoop`; see :func:`simulate`."""
     scenario = Step(0.5) if scenario is None else scenario
-    horizon = _finite(horizon, "horizon", positive=True)
-    dt = _finite(dt, "time step dt", positive=True)
+    horizon = finite_number(horizon, "horizon", positive=True)
+    dt = finite_number(dt, "time step dt", positive=True)
     if horizon < dt:
         raise ParameterError(
             f"horizon ({horizon:g} s) is shorter than the time step dt ({dt:g} s); "

@@ -1,14 +1,7 @@
 """Best-case gains of an SEA design under the exact passivity constraint (paper Sec. V).
 
-The three designs of the paper's simulation study:
-
-=======  ===================  ===================  =============
-design   D1                   C_A                  C_L
-=======  ===================  ===================  =============
-LP       ``k1``               0                    ``kd``
-APD      ``k1``               ``kd + bd*s``        0
-ours     ``k1 + b1*s``        ``kd + bd*s``        0
-=======  ===================  ===================  =============
+The designs are the three of the paper's simulation study, LP, APD and Ours
+(:data:`seapass.model.catalog.SIMULATION_DESIGNS`).
 
 The objective is the 2 % settling time of the load after a reference step
 (``θ_A = θ_L = step``) from rest, with the final error as a tie-break; runs
@@ -57,77 +50,18 @@ from typing import Any
 import numpy as np
 from scipy.optimize import differential_evolution
 
-from ..errors import ParameterError
-from .metrics import TrackingMetrics, tracking_metrics
-from ..model.sea import SEA
 from ..analysis.passivity import is_passive
 from ..analysis.region import passive_intervals
-from .simulate import Step, closed_loop_factory, simulate, simulate_closed_loop
+from ..errors import ParameterError
+from ..model.catalog import SIMULATION_DESIGNS, CatalogDesign
+from ..model.catalog import design as catalog_design
+from ..model.realization import closed_loop_factory
+from ..model.sea import SEA
+from .metrics import Settling, TrackingMetrics, tracking_metrics
+from .scenarios import Step
+from .simulate import simulate, simulate_closed_loop
 
-__all__ = [
-    "DESIGNS",
-    "DesignSpec",
-    "TuningOptions",
-    "TuningResult",
-    "design_sea",
-    "normalize_design",
-    "tune",
-]
-
-
-@dataclass(frozen=True)
-class DesignSpec:
-    """Structure of a design: its elements, tuned gains and their search ranges."""
-
-    name: str
-    D1: str
-    CA: str
-    CL: str
-    tuned: tuple[str, ...]
-    bounds: tuple[tuple[float, float], ...]
-    label: str
-
-    def __post_init__(self) -> None:
-        if len(self.tuned) != len(self.bounds):
-            raise ParameterError("one (lo, hi) bound per tuned gain is required")
-        for (lo, hi), p in zip(self.bounds, self.tuned, strict=True):
-            if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo < hi):
-                raise ParameterError(f"bad bounds for {p}: ({lo}, {hi})")
-
-
-DESIGNS: Mapping[str, DesignSpec] = MappingProxyType(
-    {
-        "LP": DesignSpec(
-            "LP", "k1", "0", "kd", ("kd",), ((0.0, 5000.0),), "LP: spring, load-side P"
-        ),
-        "APD": DesignSpec(
-            "APD",
-            "k1",
-            "kd + bd*s",
-            "0",
-            ("kd", "bd"),
-            ((0.0, 5000.0), (0.0, 300.0)),
-            "APD: spring, actuator-side PD",
-        ),
-        "ours": DesignSpec(
-            "ours",
-            "k1 + b1*s",
-            "kd + bd*s",
-            "0",
-            ("kd", "bd", "b1"),
-            ((0.0, 5000.0), (0.0, 300.0), (0.0, 300.0)),
-            "Ours: spring-damper, actuator-side PD",
-        ),
-    }
-)
-
-
-def normalize_design(name: str) -> str:
-    """Canonical design key (``"LP"``, ``"APD"`` or ``"ours"``), case-insensitive."""
-    for key in DESIGNS:
-        if key.lower() == str(name).strip().lower():
-            return key
-    raise ParameterError(f"unknown design {name!r}; choose one of {', '.join(DESIGNS)}")
+__all__ = ["TuningOptions", "TuningResult", "design_sea", "tune"]
 
 
 def design_sea(
@@ -138,15 +72,11 @@ def design_sea(
     k1: float = 1000.0,
     gains: Mapping[str, float | None] | None = None,
 ) -> SEA:
-    """The :class:`~seapass.model.sea.SEA` of ``design`` with plant values and (optional) gains.
+    """The :class:`~seapass.model.sea.SEA` of a catalog ``design`` with plant values and gains.
 
     Gains not given are free parameters (value None).
     """
-    spec = DESIGNS[normalize_design(design)]
-    values: dict[str, float | None] = {"m": m, "b": b, "k1": k1}
-    values.update({p: None for p in spec.tuned})
-    values.update(dict(gains or {}))
-    return SEA(D1=spec.D1, CA=spec.CA, CL=spec.CL, values=values, name=spec.name)
+    return catalog_design(design).sea({"m": m, "b": b, "k1": k1, **dict(gains or {})})
 
 
 @dataclass(frozen=True)
@@ -240,7 +170,7 @@ class TuningResult:
 
 
 def _cost(met: TrackingMetrics, res: Any, opts: TuningOptions) -> float:
-    if met.status == "unstable":
+    if met.status == Settling.UNSTABLE:
         return 1e3 + min(float(np.max(res.poles.real)), 1e3)
     if met.settling_time is not None:
         return met.settling_time + 1e-3 * met.final_error / max(met.band, 1e-300)
@@ -248,15 +178,17 @@ def _cost(met: TrackingMetrics, res: Any, opts: TuningOptions) -> float:
     return opts.horizon * (1.0 + float(np.max(tail)) / abs(opts.step))
 
 
-def _search_bounds(spec: DesignSpec, base: SEA, opts: TuningOptions) -> list[tuple[float, float]]:
-    bounds = [opts.bounds.get(p, bd) for p, bd in zip(spec.tuned, spec.bounds, strict=True)]
-    if len(spec.tuned) == 1:
+def _search_bounds(
+    spec: CatalogDesign, base: SEA, opts: TuningOptions
+) -> list[tuple[float, float]]:
+    bounds = [opts.bounds.get(p, spec.ranges[p]) for p in spec.gains]
+    if len(spec.gains) == 1:
         # one gain: search only inside the exact passive set (its largest piece)
         lo, hi = bounds[0]
-        pieces = passive_intervals(base, spec.tuned[0], lo, hi).intervals
+        pieces = passive_intervals(base, spec.gains[0], lo, hi).intervals
         pieces = [(a, b) for a, b in pieces if b > a]
         if not pieces:
-            raise ParameterError(f"{spec.name} is not passive anywhere in [{lo}, {hi}]")
+            raise ParameterError(f"{spec.key} is not passive anywhere in [{lo}, {hi}]")
         bounds = [max(pieces, key=lambda ab: ab[1] - ab[0])]
     return bounds
 
@@ -273,7 +205,7 @@ def tune(
     Parameters
     ----------
     design : {"LP", "APD", "ours"}
-        Design name (case-insensitive), see :data:`DESIGNS`.
+        Catalog key (case-insensitive), see :data:`seapass.model.catalog.SIMULATION_DESIGNS`.
     options : TuningOptions, optional
         Plant values, load mass, step, budgets, bounds and seed.
     progress : bool, optional
@@ -292,10 +224,13 @@ def tune(
         Propagated after the progress bar is closed; nothing is written.
     """
     opts = options or TuningOptions()
-    spec = DESIGNS[normalize_design(design)]
-    base = design_sea(spec.name, m=opts.m, b=opts.b, k1=opts.k1)
+    spec = catalog_design(design)
+    if spec not in SIMULATION_DESIGNS:
+        keys = ", ".join(d.key for d in SIMULATION_DESIGNS)
+        raise ParameterError(f"tune accepts the designs {keys}, got {design!r}")
+    base = design_sea(spec.key, m=opts.m, b=opts.b, k1=opts.k1)
     bounds = _search_bounds(spec, base, opts)
-    build = closed_loop_factory(base, spec.tuned, load_mass=opts.load_mass)
+    build = closed_loop_factory(base, spec.gains, load_mass=opts.load_mass)
     scenario = Step(opts.step)
     passive_cache: dict[tuple[float, ...], bool] = {}
     state: dict[str, float] = {"best": math.inf, "evals": 0}
@@ -303,7 +238,7 @@ def tune(
     def passive(x: np.ndarray) -> bool:
         key = tuple(float(v) for v in x)
         if key not in passive_cache:
-            gains = dict(zip(spec.tuned, key, strict=True))
+            gains = dict(zip(spec.gains, key, strict=True))
             passive_cache[key] = is_passive(base.with_values(**gains)).passive
         return passive_cache[key]
 
@@ -326,8 +261,8 @@ def tune(
 
     show = sys.stderr.isatty() if progress is None else progress
     with _single_threaded_blas():
-        de = _run_de(objective, bounds, spec.name, opts, show, callback)
-    gains = {p: float(v) for p, v in zip(spec.tuned, de.x, strict=True)}
+        de = _run_de(objective, bounds, spec.key, opts, show, callback)
+    gains = {p: float(v) for p, v in zip(spec.gains, de.x, strict=True)}
     sea = base.with_values(**gains)
     verdict = is_passive(sea).passive
     res = simulate(
@@ -339,7 +274,7 @@ def tune(
     )
     met = tracking_metrics(res, tolerance=opts.tolerance)
     return TuningResult(
-        design=spec.name,
+        design=spec.key,
         gains=MappingProxyType(gains),
         metrics=met,
         passive=verdict,
@@ -347,7 +282,7 @@ def tune(
         evaluations=int(state["evals"]),
         passivity_checks=len(passive_cache),
         bounds=MappingProxyType(
-            {p: (float(a), float(b)) for p, (a, b) in zip(spec.tuned, bounds, strict=True)}
+            {p: (float(a), float(b)) for p, (a, b) in zip(spec.gains, bounds, strict=True)}
         ),
         sea=sea,
         options=opts,

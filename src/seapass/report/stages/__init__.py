@@ -1,1 +1,7 @@
-"""stages."""
+"""The stages of the two reports, grouped by topic.
+
+Paper stages (``stage_*(quick)``, for :func:`seapass.report.reproduce.reproduce`):
+:mod:`.tables`, :mod:`.regions`, :mod:`.simulation`, :mod:`.hardware`.
+Design stages (``stage_*(design, quick)``, for :func:`seapass.report.analyze.analyze`):
+:mod:`.design_passivity`, :mod:`.design_dynamics`, :mod:`.design_hardware`.
+"""

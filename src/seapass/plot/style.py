@@ -1,0 +1,179 @@
+"""The one figure style, new figures without global state, and byte-stable saving.
+
+Plot functions in :mod:`seapass.plot` take ``ax=None`` (or ``axes=None``) and
+return the Axes they drew on.  Given no Axes they create a figure with pyplot,
+as a notebook user expects; inside :func:`bare_figures` (the report and the
+CLI) they create a bare :class:`matplotlib.figure.Figure` instead, which needs
+no backend and is never registered with pyplot.  Nothing here changes
+``rcParams`` or the backend: the style applies only inside :func:`figure_style`.
+"""
+
+from __future__ import annotations
+
+import functools
+import io
+import os
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
+from pathlib import Path
+from typing import Any, cast
+
+import numpy as np
+
+from ..files.atomic import atomic_save
+
+__all__ = [
+    "FIGURE_FORMATS",
+    "STYLE",
+    "axes_grid",
+    "bare_figures",
+    "figure_bytes",
+    "figure_of",
+    "figure_style",
+    "save_figure",
+]
+
+#: rcParams of every seapass figure (applied with :func:`figure_style`, never globally).
+STYLE: dict[str, Any] = {
+    "font.size": 11,
+    "axes.titlesize": 12,
+    "axes.labelsize": 11,
+    "legend.fontsize": 9,
+    "svg.hashsalt": "seapass",
+    "svg.fonttype": "path",
+    "figure.dpi": 100,
+}
+
+#: File formats :func:`save_figure` writes when the path has no suffix.
+FIGURE_FORMATS: tuple[str, ...] = ("png", "svg", "pdf")
+
+
+_BARE: ContextVar[bool] = ContextVar("seapass_bare_figures", default=False)
+
+
+@contextmanager
+def bare_figures() -> Iterator[None]:
+    """Context in which plot functions given no Axes draw on bare figures, not pyplot's.
+
+    Used by the report and the CLI: the figures they render need no backend,
+    are never shown, and leave pyplot's figure list untouched.
+    """
+    token = _BARE.set(True)
+    try:
+        yield
+    finally:
+        _BARE.reset(token)
+
+
+@contextmanager
+def figure_style() -> Iterator[None]:
+    """Context in which figures are drawn with :data:`STYLE` (restores rcParams after)."""
+    import matplotlib
+
+    with matplotlib.rc_context(cast(Any, STYLE)):
+        yield
+
+
+def axes_grid(
+    axes: Any, nrows: int, ncols: int, *, figsize: tuple[float, float], **kw: Any
+) -> np.ndarray:
+    """The ``nrows × ncols`` Axes to draw on, as a 2-D object array.
+
+    ``axes`` if given; else a new figure's: a bare one inside
+    :func:`bare_figures`, otherwise pyplot's (so a notebook shows it).
+
+    Raises
+    ------
+    ValueError
+        If ``axes`` does not hold ``nrows × ncols`` Axes.
+    """
+    if axes is None:
+        if _BARE.get():
+            from matplotlib.figure import Figure
+
+            fig = Figure(figsize=figsize, layout="constrained")
+            axes = fig.subplots(nrows, ncols, squeeze=False, **kw)
+        else:
+            import matplotlib.pyplot as plt
+
+            _fig, axes = plt.subplots(
+                nrows, ncols, figsize=figsize, layout="constrained", squeeze=False, **kw
+            )
+    grid = np.asarray(axes, dtype=object)
+    if grid.size != nrows * ncols:
+        raise ValueError(f"axes: expected {nrows}×{ncols} Axes, got {grid.size}")
+    return grid.reshape(nrows, ncols)
+
+
+def figure_of(axes: Any) -> Any:
+    """The figure that ``axes`` (one Axes or an array of them) belongs to."""
+    return np.asarray(axes, dtype=object).flat[0].figure
+
+
+def figure_bytes(fig: Any, fmt: str = "png", *, dpi: int = 110) -> bytes:
+    """Render ``fig`` to byte-stable ``fmt`` bytes (no date or software metadata); close it.
+
+    ``fig`` is a figure, or Axes (one or an array) of the figure to render.
+    """
+    if not hasattr(fig, "savefig"):
+        fig = figure_of(fig)
+    try:
+        return _render(fig, fmt, dpi)
+    finally:
+        _close(fig)
+
+
+def save_figure(
+    fig: Any,
+    path: str | os.PathLike[str],
+    *,
+    formats: Sequence[str] | None = None,
+    dpi: int = 150,
+) -> list[Path]:
+    """Write ``fig`` atomically; return the paths written.
+
+    ``path`` with a suffix (``fig.png``, ``fig.svg``, ``fig.pdf``) writes that
+    format; without one, every format in ``formats`` (default
+    :data:`FIGURE_FORMATS`) is written as ``path.<format>``.
+    """
+    if not hasattr(fig, "savefig"):
+        fig = figure_of(fig)
+    p = Path(path)
+    if p.suffix and formats is None:
+        targets = [p]
+    else:
+        targets = [p.with_name(f"{p.name}.{f}") for f in (formats or FIGURE_FORMATS)]
+    try:
+        for t in targets:
+            data = _render(fig, t.suffix.lstrip(".").lower(), dpi)
+            atomic_save(t, functools.partial(_write_bytes, data=data))
+    finally:
+        _close(fig)
+    return targets
+
+
+def _write_bytes(path: str, *, data: bytes) -> None:
+    Path(path).write_bytes(data)
+
+
+def _render(fig: Any, fmt: str, dpi: int) -> bytes:
+    if fmt not in ("png", "svg", "pdf"):
+        raise ValueError(f"unsupported figure format {fmt!r}; use png, svg or pdf")
+    buf = io.BytesIO()
+    meta: dict[str, Any] = {"Software": None}
+    if fmt == "svg":
+        meta = {"Date": None}
+    elif fmt == "pdf":
+        meta = {"CreationDate": None, "Producer": None, "Creator": None}
+    fig.savefig(buf, format=fmt, dpi=dpi, metadata=meta)
+    return buf.getvalue()
+
+
+def _close(fig: Any) -> None:
+    """Release a pyplot-managed figure (a bare figure needs nothing)."""
+    import sys
+
+    plt = sys.modules.get("matplotlib.pyplot")
+    if plt is not None:
+        plt.close(fig)

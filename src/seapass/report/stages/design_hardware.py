@@ -1,0 +1,185 @@
+"""Design stages about the hardware: sampled-data passivity and the digital twin of the rig.
+
+Each ``stage_*`` returns a :class:`~seapass.report.document.Section`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from ...errors import ModelError
+from ...model.design_file import Design
+from ...model.expr import S, symbol
+from ...plot.rig import plot_rig_sweep
+from ...plot.style import figure_bytes
+from ...rig.experiment import ExperimentResult, run_rig_sweep
+from ...rig.rigfile import load_rig, paper_rig
+from ...sampled.passivity import sampled_passive_bound, sampled_passivity
+from ..document import (
+    FigureData,
+    Finding,
+    Section,
+    SectionStatus,
+    Table,
+    Verdict,
+    format_intervals,
+    to_json,
+)
+
+__all__ = [
+    "matching_experiment_design",
+    "stage_rig",
+    "stage_sampled",
+]
+
+
+def stage_sampled(design: Design, quick: bool) -> Section:
+
+    period = design.period
+    if period is None:
+        return Section(
+            "sampled", "Sampled-data passivity", status=SectionStatus.SKIPPED,
+            text="Skipped: the design file has no `[control] rate`; the controller is "
+            "analysed in continuous time only.",
+        )  # fmt: skip
+    sea = design.sea()
+    kw: dict[str, Any] = {
+        "period": period,
+        "delay": design.control_delay,
+        "velocity_filter": design.velocity_filter,
+    }
+    try:
+        res = sampled_passivity(sea, **kw)
+    except ModelError as exc:
+        return Section(
+            "sampled", "Sampled-data passivity", status=SectionStatus.SKIPPED,
+            text=f"Skipped: the sampled-data test does not apply to this plant: {exc}",
+        )  # fmt: skip
+    samples, rtol = (9, 1e-3) if quick else (17, 1e-5)
+    rows, bounds = [], {}
+    for name, (lo, hi) in design.analysis_ranges().items():
+        if name not in design.gains:
+            continue
+        b = sampled_passive_bound(
+            sea.with_values(**{name: None}), name, lo=lo, hi=hi, samples=samples, rtol=rtol, **kw
+        )
+        bounds[name] = b.to_dict()
+        rows.append(
+            (name, design.values[name], f"[{lo:g}, {hi:g}]", format_intervals(b.intervals, hi))
+        )
+    setup = (
+        f"T = {period * 1e3:.4g} ms ({design.control_rate:g} Hz), delay {design.control_delay} "
+        f"sample(s), velocity filter "
+        + ("none" if design.velocity_filter is None else f"{design.velocity_filter:g} Hz")
+    )
+    if res.passive:
+        verdict = f"**Passive under sampled-data control** ({setup})."
+    else:
+        w = f" Witness ω = {res.omega:.6g} rad/s." if res.omega else ""
+        verdict = f"**NOT passive under sampled-data control** ({setup}): {res.detail}.{w}"
+    return Section(
+        key="sampled",
+        title="Sampled-data passivity",
+        text=verdict
+        + "\n\nDecided exactly with the Colgate–Schenkel alias argument generalised to the SEA "
+        "(`seapass.sampled.passivity`). Each gain's passive set is located by a scan of exact verdicts "
+        f"refined by bisection ({samples} scan points; islands narrower than a scan step can be "
+        "missed).",
+        tables=(
+            Table(
+                name="sampled_ranges",
+                title=f"Passive gains under sampling ({setup})",
+                columns=("gain", "value", "search range", "passive set (sampled)"),
+                rows=tuple(rows),
+            ),
+        ),
+        findings=(
+            Finding(
+                f"{design.name} stays passive at {design.control_rate:g} Hz",
+                Verdict.AGREES if res.passive else Verdict.DIFFERS,
+                res.detail,
+            ),
+        ),
+        files={"sampled.json": to_json({"verdict": res.to_dict(), "bounds": bounds})},
+    )
+
+
+def matching_experiment_design(design: Design) -> str | None:
+    """``"LP"`` (``C_L = kd``) or ``"ours"`` (``C_A = kd + bd*s``) for the rig experiment, else None."""
+
+    sea = design.sea()
+    kd, bd, s = symbol("kd"), symbol("bd"), S
+    if sea.CA == 0 and sp.expand(sea.CL - kd) == 0:
+        return "LP"
+    if sea.CL == 0 and sp.expand(sea.CA - (kd + bd * s)) == 0:
+        return "ours"
+    return None
+
+
+def stage_rig(design: Design, quick: bool) -> Section:
+
+    title = "On the digital twin of a rig"
+    if design.rig_file is None:
+        return Section(
+            "rig",
+            title,
+            status=SectionStatus.SKIPPED,
+            text="Skipped: the design file has no `[rig]` section.",
+        )
+    rig = paper_rig() if design.rig_file == "paper" else load_rig(design.rig_file)
+    key = matching_experiment_design(design)
+    if key is None:
+        return Section(
+            "rig", title, status=SectionStatus.SKIPPED,
+            text="Skipped: the twin's experiment runs load-side P (`C_L = kd`) or "
+            "actuator-side PD (`C_A = kd + bd*s`) controllers only.",
+        )  # fmt: skip
+    ex = rig.experiment
+    bd = design.values.get("bd") if key == "ours" else None
+    step = ex.kd_step * (4 if quick else 1)
+    sweeps = tuple(
+        run_rig_sweep(rig, design=key, load_mass=float(ml), kd_step=step, bd=bd)
+        for ml in ex.load_masses
+    )
+    kd = design.values["kd"]
+    rows = []
+    for s in sweeps:
+        i = int(np.argmin(np.abs(s.kd - kd)))
+        rows.append(
+            (s.load_mass, float(s.kd[i]), s.status[i], float(s.settling_time[i]),
+             float(s.steady_state_error[i]) * 1e3, s.unstable_gain_twin)
+        )  # fmt: skip
+    fig = plot_rig_sweep(ExperimentResult(rig.name, sweeps, ()))
+    return Section(
+        key="rig",
+        title=title,
+        text=(
+            f"The controller runs on the twin of `{rig.name}` ({rig.control.rate:g} Hz, "
+            f"{rig.control.delay_samples} sample delay, friction, quantization, saturation) "
+            f"with the **rig's** plant (m = {rig.actuator_mass:.4g} kg, b = "
+            f"{rig.actuator_damping:g} N·s/m, k1 = {rig.damper.k1:g} N/m, b1 = "
+            f"{rig.damper.b1:g} N·s/m), not the file's: the load starts "
+            f"{ex.initial_position * 1e3:g} mm from the reference; kd is swept from 0 to "
+            f"{ex.kd_max:g} N/m."
+        ),
+        tables=(
+            Table(
+                name="rig_at_design_kd",
+                title="At the gain nearest to the design's kd",
+                columns=(
+                    "load mass [kg]",
+                    "kd [N/m]",
+                    "status",
+                    "settling time [s]",
+                    "steady-state error [mm]",
+                    "unstable from kd (twin) [N/m]",
+                ),
+                rows=tuple(rows),
+            ),
+        ),
+        figures=(FigureData("rig_sweep", "kd sweep on the twin.", figure_bytes(fig)),),
+        files={"rig_sweeps.json": to_json([s.to_dict() for s in sweeps])},
+    )

@@ -1,0 +1,231 @@
+"""Design stages about passivity: the verdict, a destabilizing environment, passive ranges.
+
+Each ``stage_*`` returns a :class:`~seapass.report.document.Section`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import sympy as sp
+
+from ...analysis.conditions import exact_passivity_condition
+from ...analysis.passivity import is_passive
+from ...analysis.region import passive_intervals
+from ...analysis.witness import find_destabilizing_environment
+from ...errors import SeapassError
+from ...model.design_file import Design
+from ...model.expr import UNITS
+from ...model.stiffness import derive_stiffness
+from ...plot.region import plot_passive_intervals
+from ...plot.style import axes_grid, figure_bytes
+from ...plot.witness import plot_witness
+from ..document import (
+    FigureData,
+    Finding,
+    Section,
+    SectionStatus,
+    Table,
+    Verdict,
+    format_intervals,
+    to_json,
+)
+
+__all__ = [
+    "stage_passivity",
+    "stage_ranges",
+    "stage_witness",
+    "values_text",
+]
+
+
+def values_text(values: dict[str, float]) -> str:
+    return ", ".join(f"{k} = {v:g}" for k, v in sorted(values.items()))
+
+
+def stage_passivity(design: Design, quick: bool) -> Section:
+
+    sea = design.sea()
+    res = is_passive(sea)
+    k = derive_stiffness(sea).stiffness
+    k_num = sp.factor(sp.cancel(sea.numeric(k)))
+    elements = Table(
+        name="design",
+        title="Design",
+        columns=("element", "expression"),
+        rows=(
+            ("D1 (transmission)", f"`{design.D1}`"),
+            ("D2 (load to ground)", f"`{design.D2}`"),
+            ("C_A (actuator-side controller)", f"`{design.CA}`"),
+            ("C_L (load-side controller)", f"`{design.CL}`"),
+            ("parameter values", values_text(dict(design.values))),
+            ("F_L/X_L (derived, symbolic)", f"`{sp.factor(k)}`"),
+            ("F_L/X_L at the values", f"`{k_num}`"),
+        ),
+    )
+    try:
+        cond = exact_passivity_condition(sea)
+        cond_text = (
+            f"Exact passivity condition for positive parameters (symbolic):\n\n"
+            f"```\n{cond.condition}\n```\n\n"
+            f"Real-part polynomial `Re N(jω) D(−jω)`:\n\n```\n{cond.real_part}\n```"
+        )
+        files = {"condition.json": to_json(cond.to_dict())}
+    except SeapassError as exc:
+        cond_text = f"The symbolic condition is not available: {exc}"
+        files = {}
+    if res.passive:
+        verdict = f"**The design is passive** at the given values ({res.status})."
+    else:
+        w = (
+            f" A witness: `Re Z(jω) < 0` at ω = {res.omega:.6g} rad/s."
+            if res.omega and "w =" not in res.detail
+            else ""
+        )
+        verdict = (
+            f"**The design is NOT passive** at the given values: {res.detail or res.reason}.{w} "
+            "Coupled to some passive environment (a person, a spring, a mass) it can become "
+            "unstable. See the passive ranges below for values that are safe."
+        )
+    finding = Finding(
+        f"{design.name} is passive at {values_text(dict(design.values))}",
+        Verdict.AGREES if res.passive else Verdict.DIFFERS,
+        res.status + (f": {res.detail}" if res.detail else ""),
+    )
+    return Section(
+        key="passivity",
+        title="Passivity verdict",
+        text=verdict + "\n\n" + cond_text,
+        tables=(elements,),
+        findings=(finding,),
+        files={"passivity.json": to_json(res.to_dict()), **files},
+    )
+
+
+def stage_ranges(design: Design, quick: bool) -> Section:
+
+    sea = design.sea()
+    ranges = design.analysis_ranges()
+    results = []
+    for name, (lo, hi) in ranges.items():
+        others = {k: v for k, v in design.values.items() if k != name}
+        results.append((name, passive_intervals(sea, name, lo, hi, values=others)))
+    rows, flags, findings = [], set(), []
+    for i, (name, res) in enumerate(results):
+        value = design.values[name]
+        inside = res.contains(value) if res.lo <= value <= res.hi else None
+        if inside is False:
+            flags.add((i, 3))
+        rows.append(
+            (
+                name,
+                value,
+                f"[{res.lo:g}, {res.hi:g}]",
+                inside,
+                format_intervals(res.intervals, res.hi),
+            )
+        )
+        findings.append(
+            Finding(
+                f"{name} = {value:g} lies in its passive set",
+                Verdict.INFO if inside is None else (Verdict.AGREES if inside else Verdict.DIFFERS),
+                f"exact passive {name} in [{res.lo:g}, {res.hi:g}] (others fixed): "
+                f"{format_intervals(res.intervals, res.hi)}",
+            )
+        )
+    table = Table(
+        name="passive_ranges",
+        title="Exact passive set of each gain (the other parameters at their values)",
+        columns=("parameter", "value", "search range", "value is passive", "exact passive set"),
+        rows=tuple(rows),
+        highlight=frozenset(flags),
+    )
+    figures = []
+    if results:
+        axes = axes_grid(None, len(results), 1, figsize=(7, 1.6 * len(results) + 0.6))
+        fig = axes[0, 0].figure
+        for ax, (name, res) in zip(axes[:, 0], results, strict=True):
+            plot_passive_intervals(res, ax=ax)
+            value = design.values[name]
+            unit = UNITS.get(name, "SI units")
+            for a, b in res.intervals:
+                if a == b:  # an isolated passive value has no width: draw it
+                    ax.axvline(a, color="#2e7d32", lw=3, clip_on=False)
+            # unclipped: a design value at the end of the range stays visible
+            ax.axvline(
+                value, color="tab:blue", lw=2.5, clip_on=False, label=f"design: {value:g} {unit}"
+            )
+            ax.set_xlabel(f"{name} [{unit}]")
+            ax.legend(loc="upper right", ncol=3, fontsize=8)
+        fig.suptitle(f"{design.name}: exact passive sets")
+        figures.append(
+            FigureData("passive_ranges", "Exact passive set of every gain.", figure_bytes(fig))
+        )
+    return Section(
+        key="ranges",
+        title="Exact passive ranges",
+        text=(
+            "For each gain, the exact set of values for which the design is passive, all other "
+            "parameters held at the file's values. Gains without a `[ranges]` entry are searched "
+            "in `[0, max(10·value, 1000)]`."
+        ),
+        tables=(table,),
+        figures=tuple(figures),
+        findings=tuple(findings),
+        files={"passive_ranges.json": to_json({n: r.to_dict() for n, r in results})},
+    )
+
+
+def stage_witness(design: Design, quick: bool) -> Section:
+
+    title = "What can go wrong: a destabilizing passive environment"
+    res = find_destabilizing_environment(design.sea())
+    if res.passive:
+        return Section(
+            "witness", title, status=SectionStatus.SKIPPED,
+            text="Skipped: the design is passive, so no passive environment (person, spring, "
+            "mass, damper) can destabilize it (passivity theorem).",
+        )  # fmt: skip
+    if not res.found or res.environment is None:
+        return Section("witness", title, text=f"No destabilizing environment found: {res.detail}.")
+    env = res.environment
+    rate = res.coupled.max_real_part if res.coupled is not None else math.nan
+    table = Table(
+        name="witness",
+        title="A passive environment that destabilizes the design",
+        columns=(
+            "mass [kg]",
+            "damping [N·s/m]",
+            "stiffness [N/m]",
+            "growth rate [1/s]",
+            "found by",
+        ),
+        rows=((env.mass, env.damping, env.stiffness, rate, res.method),),
+    )
+    figures: tuple[FigureData, ...] = ()
+    if res.simulation is not None:
+        figures = (
+            FigureData(
+                "witness", "Growing response of the design coupled to the environment.",
+                figure_bytes(plot_witness(res)),
+            ),
+        )  # fmt: skip
+    return Section(
+        key="witness",
+        title=title,
+        text=(
+            "Not passive means that *some* passive environment makes the coupled system "
+            "unstable. seapass finds one (Colgate–Hogan construction plus a search, each "
+            f"candidate verified exactly): {res.detail}."
+        ),
+        tables=(table,),
+        figures=figures,
+        findings=(
+            Finding(
+                f"{design.name} is safe to couple to any passive environment",
+                Verdict.DIFFERS,
+                res.detail,
+            ),
+        ),
+        files={"witness.json": to_json(res.to_dict())},
+    )
