@@ -11,7 +11,8 @@ import numpy as np
 from _util import Row, fmt_rate, rate, timed
 from seapass.batch.verdicts import batch_is_passive
 from seapass.model.sea import SEA
-from seapass.analysis.passivity import exact_rational_function, is_passive
+from seapass.analysis.impedance import exact_rational_function
+from seapass.analysis.passivity import is_passive
 
 PROPOSED = SEA(
     D1="k1 + b1*s",

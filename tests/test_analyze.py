@@ -8,10 +8,10 @@ from pathlib import Path
 
 import pytest
 
-from seapass.report.analyze import ANALYSIS_STAGES, analyze
-from seapass.report.stages.design_dynamics import matching_tunable_design
 from seapass.cli import main
 from seapass.model.design_file import load_design
+from seapass.report.analyze import ANALYSIS_STAGES, analyze
+from seapass.report.stages.design_dynamics import matching_tunable_design
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 

@@ -7,11 +7,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from seapass.analysis.passivity import is_passive
+from seapass.analysis.region import passive_intervals
 from seapass.batch.verdicts import _exact_one, batch_is_passive, compile_passivity
 from seapass.errors import ParameterError
 from seapass.model.sea import SEA
-from seapass.analysis.passivity import is_passive
-from seapass.analysis.region import passive_intervals
 
 PHYS = dict(m=1.0, b=10.0, k1=1000.0)
 

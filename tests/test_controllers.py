@@ -10,6 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.signal import cont2discrete, lfilter
 
+from seapass.errors import ParameterError, UnrealizableError
+from seapass.model.sea import SEA
 from seapass.sampled.controllers import (
     APDController,
     DifferenceEquation,
@@ -20,8 +22,6 @@ from seapass.sampled.controllers import (
     discretize,
     filter_pole,
 )
-from seapass.errors import ParameterError, UnrealizableError
-from seapass.model.sea import SEA
 
 
 def test_backward_difference_pd_is_exact() -> None:

@@ -10,8 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from seapass.cli import main
-from seapass.model.design_file import Design, load_design, parse_design
 from seapass.errors import FileFormatError
+from seapass.model.design_file import Design, load_design, parse_design
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 

@@ -25,8 +25,8 @@ from hypothesis import strategies as st
 
 from seapass.cli import build_parser, main
 from seapass.errors import ExpressionError, ParameterError, SeapassError, SymbolicLimitError
-from seapass.model.expr import parse_assignment, parse_expression
 from seapass.files.atomic import atomic_save, atomic_write, atomic_write_text
+from seapass.model.expr import parse_assignment, parse_expression
 from seapass.model.sea import SEA, Impedance
 
 WATCHDOG_S = 20.0

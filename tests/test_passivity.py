@@ -12,10 +12,10 @@ from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from seapass.analysis.conditions import exact_passivity_condition
+from seapass.analysis.passivity import is_passive
 from seapass.errors import NotPassiveError, ParameterError
 from seapass.model.expr import symbol
 from seapass.model.sea import SEA, Impedance
-from seapass.analysis.passivity import is_passive
 
 PAPER = {"m": 1.0, "b": 10.0, "k1": 1000.0}
 

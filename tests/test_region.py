@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from seapass.errors import ParameterError
-from seapass.model.sea import SEA, Impedance
 from seapass.analysis.passivity import is_passive
 from seapass.analysis.region import passive_intervals, passive_map
+from seapass.errors import ParameterError
+from seapass.model.sea import SEA, Impedance
 
 PAPER = {"m": 1.0, "b": 10.0, "k1": 1000.0}
 

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from seapass.sampled.controllers import LPController, OursController
 from seapass.errors import NotPassiveError, ParameterError
 from seapass.model.sea import SEA
+from seapass.sampled.controllers import LPController, OursController
 from seapass.sampled.runtime import (
     ControlLoop,
     FakeClock,

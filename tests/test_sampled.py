@@ -13,12 +13,12 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from seapass.sampled import passivity as sm
-from seapass.sampled import coupling as smc
 from seapass.cli import main
 from seapass.errors import ModelError, NotPassiveError, ParameterError
 from seapass.model.expr import S
 from seapass.model.sea import SEA
+from seapass.sampled import coupling as smc
+from seapass.sampled import passivity as sm
 
 T = 0.002
 RIG = {"m": 1.02, "b": 10.0, "k1": 1005.0, "b1": 30.0}

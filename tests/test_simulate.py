@@ -14,9 +14,9 @@ from hypothesis import strategies as st
 
 from seapass.errors import ParameterError, UnrealizableError
 from seapass.model.expr import S, parse_expression, symbol
-from seapass.model.sea import SEA
 from seapass.model.realization import closed_loop, closed_loop_factory
-from seapass.sim import ForceImpulse, ForceStep, LoadDisplaced, Step, Trajectory, simulate
+from seapass.model.sea import SEA
+from seapass.sim import ForceImpulse, ForceStep, LoadDisplaced, Stability, Step, Trajectory, simulate
 
 PLANT = {"m": 1.0, "b": 10.0, "k1": 1000.0}
 s = S
@@ -94,7 +94,7 @@ def test_free_two_mass_oscillator_by_hand():
     x_a = xcm - mL / (m + mL) * d0 * np.cos(w * res.time)
     np.testing.assert_allclose(res.x_L, x_l, atol=1e-12)
     np.testing.assert_allclose(res.x_A, x_a, atol=1e-12)
-    assert res.status == "marginal"
+    assert res.status == Stability.MARGINAL
     # lossless and no actuator: no work
     assert abs(res.energy) < 1e-12
 

@@ -10,8 +10,8 @@ import pyarrow.csv as pacsv
 import pyarrow.parquet as pq
 import pytest
 
-from seapass.batch.verdicts import batch_is_passive
 from seapass.batch.step_metrics import batch_step_metrics
+from seapass.batch.verdicts import batch_is_passive
 from seapass.cli import main
 from seapass.errors import FileFormatError, ParameterError
 from seapass.model.sea import SEA

@@ -46,8 +46,8 @@ def test_row_reference_values(rows, name):
 
 def test_unsafe_counterexample_is_certified(rows):
     """Table I row 2: kd <= k1 + k2 admits non-passive designs."""
-    from seapass.model.sea import SEA
     from seapass.analysis.passivity import is_passive
+    from seapass.model.sea import SEA
 
     ce = rows["mech/spring-spring"].counterexample
     assert ce["kd"] <= ce["k1"] + ce["k2"]

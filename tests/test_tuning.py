@@ -7,11 +7,11 @@ from dataclasses import replace
 
 import pytest
 
-from seapass.errors import ParameterError
 from seapass.analysis.passivity import is_passive
 from seapass.analysis.region import passive_intervals
-from seapass.paper.simstudy import QUICK_OPTIONS, run_simulation_study
+from seapass.errors import ParameterError
 from seapass.model.catalog import design as catalog_design
+from seapass.paper.simstudy import QUICK_OPTIONS, run_simulation_study
 from seapass.sim.tuning import TuningOptions, design_sea, tune
 
 QUICK = replace(QUICK_OPTIONS, maxiter=8)

@@ -11,8 +11,8 @@ from hypothesis import strategies as st
 from scipy.linalg import expm
 
 from seapass.errors import ParameterError, SimulationError
-from seapass.rig.rigfile import paper_rig
 from seapass.rig.plant import TwinPlant
+from seapass.rig.rigfile import paper_rig
 from seapass.rig.twin import linear_matrices, simulate_loop
 
 RIG = paper_rig()

@@ -18,7 +18,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from seapass.cli import main
+from seapass.analysis import find_destabilizing_environment, simulate_coupled
 from seapass.analysis.coupled import (
     CoupledResult,
     Environment,
@@ -26,10 +26,10 @@ from seapass.analysis.coupled import (
     coupled_polynomial,
     coupled_stability,
 )
+from seapass.analysis.passivity import is_passive
+from seapass.cli import main
 from seapass.errors import DegenerateModelError, NotPassiveError, ParameterError
 from seapass.model.sea import SEA
-from seapass.analysis.passivity import is_passive
-from seapass.analysis.witness import find_destabilizing_environment, simulate_coupled
 
 control = pytest.importorskip("control")
 

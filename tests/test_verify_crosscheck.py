@@ -18,14 +18,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import signal
 
+from seapass.analysis import find_destabilizing_environment, simulate_coupled
 from seapass.analysis.coupled import Environment, coupled_stability
+from seapass.analysis.freqresp import stiffness_coefficients, stiffness_response
+from seapass.analysis.passivity import is_passive
 from seapass.errors import UnrealizableError
 from seapass.model.expr import S
-from seapass.analysis.freqresp import stiffness_coefficients, stiffness_response
 from seapass.model.sea import SEA
-from seapass.analysis.passivity import is_passive
 from seapass.model.stiffness import derive_stiffness
-from seapass.analysis.witness import find_destabilizing_environment, simulate_coupled
 
 control = pytest.importorskip("control")
 

@@ -11,9 +11,11 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from seapass.cli import main
 from seapass.analysis.conditions import exact_passivity_condition
 from seapass.analysis.coupled import Environment, coupled_stability
+from seapass.analysis.passivity import MARGINAL_RTOL, TOLERANCE_POLICY, is_passive
+from seapass.analysis.region import passive_intervals
+from seapass.cli import main
 from seapass.errors import ExpressionError, SymbolicLimitError
 from seapass.model.expr import (
     MAX_S_DEGREE,
@@ -24,8 +26,6 @@ from seapass.model.expr import (
     symbolic_time_limit,
 )
 from seapass.model.sea import SEA, Impedance
-from seapass.analysis.passivity import MARGINAL_RTOL, TOLERANCE_POLICY, is_passive
-from seapass.analysis.region import passive_intervals
 from seapass.model.stiffness import load_impedance
 
 CONFIGS = {

@@ -12,7 +12,8 @@ May import: :mod:`seapass.errors`, :mod:`seapass.exact`, :mod:`seapass.model`.
 """
 
 from .conditions import ExactCondition, exact_passivity_condition
-from .coupled import CoupledResult, Environment, coupled_stability, simulate_coupled
+from .coupled import CoupledResult, Environment, Stability, coupled_stability
+from .coupled_response import CoupledSimulation, simulate_coupled
 from .freqresp import FrequencyResponse, stiffness_response
 from .passivity import PassivityResult, is_passive
 from .region import PassiveIntervals, PassiveMap, passive_intervals, passive_map
@@ -20,12 +21,14 @@ from .witness import WitnessResult, find_destabilizing_environment
 
 __all__ = [
     "CoupledResult",
+    "CoupledSimulation",
     "Environment",
     "ExactCondition",
     "FrequencyResponse",
     "PassiveIntervals",
     "PassiveMap",
     "PassivityResult",
+    "Stability",
     "WitnessResult",
     "coupled_stability",
     "exact_passivity_condition",

@@ -41,11 +41,10 @@ References
 
 from __future__ import annotations
 
-import itertools
 import math
-import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from enum import StrEnum
 from fractions import Fraction
 from typing import Any, TypeAlias
 
@@ -58,28 +57,34 @@ from ..exact import poly as ep
 from ..exact.axis import all_real_roots, at_j_omega, axis_factor, is_hurwitz
 from ..model.expr import to_fraction
 from ..model.sea import SEA, Impedance
-from .passivity import exact_rational_function
+from .impedance import exact_rational_function
 
 __all__ = [
     "CoupledResult",
-    "CoupledSimulation",
     "Environment",
+    "Stability",
+    "SystemLike",
     "characteristic_from_polys",
     "classify_polynomial",
     "coupled_polynomial",
     "coupled_stability",
     "polynomial_roots",
-    "simulate_coupled",
+    "system_polynomials",
     "to_float",
 ]
 
 SystemLike: TypeAlias = SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]]
 
-STATUSES = ("stable", "marginally stable", "unstable")
 
-#: Samples per oscillation period and the cap on samples in a simulation.
-SAMPLES_PER_PERIOD = 24
-MAX_SAMPLES = 20000
+class Stability(StrEnum):
+    """Stability of a closed loop, decided from its characteristic polynomial."""
+
+    STABLE = "stable"
+    """Every root in the open left half-plane."""
+    MARGINAL = "marginally stable"
+    """No root in the open right half-plane; the roots on the imaginary axis are simple."""
+    UNSTABLE = "unstable"
+    """A root in the open right half-plane, or a repeated root on the axis."""
 
 
 @dataclass(frozen=True)
@@ -138,8 +143,8 @@ class CoupledResult:
 
     Attributes
     ----------
-    status : str
-        ``"stable"``, ``"marginally stable"`` or ``"unstable"`` (exact).
+    status : Stability
+        Decided exactly.
     stable : bool
         Asymptotically stable (``status == "stable"``).
     bounded : bool
@@ -158,7 +163,7 @@ class CoupledResult:
         Largest real part of ``poles`` [1/s] (``-inf`` when ``χ`` is constant).
     """
 
-    status: str
+    status: Stability
     rhp: bool
     repeated_axis: bool
     characteristic: tuple[float, ...]
@@ -166,16 +171,19 @@ class CoupledResult:
     poles: np.ndarray
 
     def __post_init__(self) -> None:
-        if self.status not in STATUSES:
-            raise ValueError(f"status must be one of {STATUSES}, got {self.status!r}")
+        try:
+            object.__setattr__(self, "status", Stability(self.status))
+        except ValueError:
+            choices = ", ".join(s.value for s in Stability)
+            raise ValueError(f"status must be one of {choices}, got {self.status!r}") from None
 
     @property
     def stable(self) -> bool:
-        return self.status == "stable"
+        return self.status == Stability.STABLE
 
     @property
     def bounded(self) -> bool:
-        return self.status != "unstable"
+        return self.status != Stability.UNSTABLE
 
     @property
     def max_real_part(self) -> float:
@@ -211,7 +219,7 @@ def _to_complex(z: Any) -> complex:
     return complex(to_float(mpmath.re(z)), to_float(mpmath.im(z)))
 
 
-def classify_polynomial(p: ep.Poly) -> tuple[str, bool, bool]:
+def classify_polynomial(p: ep.Poly) -> tuple[Stability, bool, bool]:
     """Exact ``(status, rhp, repeated_axis)`` of the roots of ``p`` (ascending Fractions).
 
     A constant nonzero ``p`` has no roots and is ``"stable"``.
@@ -220,19 +228,19 @@ def classify_polynomial(p: ep.Poly) -> tuple[str, bool, bool]:
     if not p:
         raise DegenerateModelError("the characteristic polynomial is identically zero")
     if ep.degree(p) == 0 or is_hurwitz(p):
-        return "stable", False, False
+        return Stability.STABLE, False, False
     re, im = at_j_omega(p)
     g = ep.pgcd(re, im)  # real roots w of g <-> roots s = jw of p, with multiplicity
     rest, repeated = p, False
     if ep.degree(g) > 0:
         if not all_real_roots(g):
-            return "unstable", True, False  # a root pair mirrored about the axis
+            return Stability.UNSTABLE, True, False  # a root pair mirrored about the axis
         repeated = ep.degree(ep.squarefree_part(g)) != ep.degree(g)
         rest = ep.pdivmod(p, axis_factor(g))[0]
     rhp = not is_hurwitz(rest)
     if rhp or repeated:
-        return "unstable", rhp, repeated
-    return "marginally stable", False, False
+        return Stability.UNSTABLE, rhp, repeated
+    return Stability.MARGINAL, False, False
 
 
 def _log2(x: Fraction) -> float:
@@ -284,7 +292,7 @@ def polynomial_roots(p: ep.Poly, *, fast: bool = False) -> np.ndarray:
     return out[np.argsort(-out.real, kind="stable")]
 
 
-def _as_polys(
+def system_polynomials(
     system: SystemLike | Environment, values: Mapping[str, float] | None
 ) -> tuple[ep.Poly, ep.Poly]:
     if isinstance(system, Environment):
@@ -305,8 +313,8 @@ def coupled_polynomial(
 
     Ascending Fraction coefficients.  ``values`` apply to ``system`` only.
     """
-    n, d = _as_polys(system, values)
-    ne, de = _as_polys(environment, None)
+    n, d = system_polynomials(system, values)
+    ne, de = system_polynomials(environment, None)
     return characteristic_from_polys(n, d, ne, de)
 
 
@@ -371,175 +379,3 @@ def coupled_stability(
 
 
 # ---------------------------------------------------------------- simulation
-
-
-@dataclass(frozen=True)
-class CoupledSimulation:
-    """Impulse response of the coupled system (computed, not plotted).
-
-    Attributes
-    ----------
-    t : ndarray, shape (n,)
-        Time [s].
-    y : ndarray, shape (n,)
-        The output named by ``output``, per unit force impulse.
-    output : str
-        ``"port displacement"`` [m/(N·s)] or, when that transfer hides the
-        unstable mode (a cancelled mode, or an improper transfer),
-        ``"characteristic coordinate"`` (the solution ``w`` of ``χ(d/dt) w = δ``).
-    growth_rate : float
-        Largest real part of the poles of the simulated transfer [1/s].
-    growth_factor : float
-        ``max|y|`` over the last quarter divided by ``max|y|`` over the first quarter.
-    """
-
-    t: np.ndarray
-    y: np.ndarray
-    output: str
-    growth_rate: float
-    growth_factor: float
-
-    def to_dict(self, *, samples: bool = False) -> dict[str, Any]:
-        out: dict[str, Any] = {
-            "output": self.output,
-            "growth_rate": self.growth_rate,
-            "growth_factor": self.growth_factor,
-            "t_end": float(self.t[-1]) if self.t.size else 0.0,
-            "samples": int(self.t.size),
-        }
-        if samples:
-            out["t"] = self.t.tolist()
-            out["y"] = self.y.tolist()
-        return out
-
-
-def _partial_fractions(num: ep.Poly, den: ep.Poly) -> tuple[np.ndarray, np.ndarray | None]:
-    """Poles of strictly proper ``num/den`` and their residues (50 digits).
-
-    Residues are ``None`` when poles are (nearly) repeated.
-    """
-    roots = polynomial_roots(den)
-    if not roots.size or not np.all(np.isfinite(roots)):
-        return roots, None
-    scale = max(float(np.max(np.abs(roots))), 1e-300)
-    pairs = itertools.combinations(roots, 2)
-    sep = min((abs(a - b) for a, b in pairs), default=math.inf) / scale
-    if sep <= 1e-6:
-        return roots, None
-    with mpmath.workdps(50):
-        nc = [mpmath.mpf(c.numerator) / c.denominator for c in reversed(num)]
-        dd = [mpmath.mpf(c.numerator) / c.denominator for c in reversed(ep.derivative(den))]
-        res = [
-            complex(mpmath.polyval(nc, mpmath.mpc(p.real, p.imag)) / mpmath.polyval(dd, p))
-            for p in (mpmath.mpc(r.real, r.imag) for r in roots)
-        ]
-    return roots, np.array(res, dtype=complex)
-
-
-def _impulse(
-    num: ep.Poly, den: ep.Poly, roots: np.ndarray, res: np.ndarray | None, t: np.ndarray
-) -> np.ndarray:
-    """Impulse response: a sum of modes, or :func:`scipy.signal.impulse` for repeated poles."""
-    if res is not None:
-        y = np.zeros_like(t, dtype=complex)
-        for r, p in zip(res, roots, strict=True):
-            y += r * np.exp(p * t)
-        return np.asarray(y.real, dtype=float)
-    from scipy import signal
-
-    tf = ([to_float(c) for c in reversed(num)], [to_float(c) for c in reversed(den)])
-    with warnings.catch_warnings():
-        # badly scaled coefficients: the response is evidence only, the verdict is exact
-        warnings.simplefilter("ignore")
-        _, y = signal.impulse(tf, T=t)
-    return np.asarray(y, dtype=float)
-
-
-def simulate_coupled(
-    system: SystemLike,
-    environment: Environment,
-    *,
-    values: Mapping[str, float] | None = None,
-    t_end: float | None = None,
-    times: np.ndarray | None = None,
-) -> CoupledSimulation:
-    """Response of the port displacement to a unit force impulse, SEA held by ``environment``.
-
-    ``X/F = D D_e / (s χ · common)`` (see :mod:`seapass.analysis.coupled`).  When that
-    transfer is improper or cancels the fastest-growing mode of ``χ``, the
-    characteristic coordinate ``w`` (``χ(d/dt) w = δ``) is simulated instead.
-    The response is the sum of modes (poles and residues in multiprecision),
-    so no integrator error enters; with repeated poles scipy's impulse
-    response is used.
-
-    Parameters
-    ----------
-    system, environment, values
-        As in :func:`seapass.analysis.coupled.coupled_stability`.
-    t_end : float, optional
-        Horizon [s].  By default long enough for the fastest-growing mode to
-        exceed every other mode's initial amplitude and then grow by ``e^6``
-        (``σ t <= 700``), or 50 periods of the slowest mode when nothing grows.
-    times : ndarray, shape (n,), optional
-        Explicit sample times [s] (non-negative, increasing); overrides ``t_end``.
-
-    Returns
-    -------
-    CoupledSimulation
-    """
-    zn, zd = _as_polys(system, values)
-    ne, de = environment.polynomials()
-    chi, common = characteristic_from_polys(zn, zd, ne, de)  # one (zn, zd): consistent signs
-    num = ep.pdivmod(ep.mul(zd, de), common)[0]
-    den = ep.mul(chi, (Fraction(0), Fraction(1)))
-    g = ep.pgcd(num, den)
-    num, den = ep.pdivmod(num, g)[0], ep.pdivmod(den, g)[0]
-    output = "port displacement"
-    status_full = classify_polynomial(chi)[0]
-    if ep.degree(num) >= ep.degree(den) or (
-        status_full == "unstable" and classify_polynomial(den)[0] != "unstable"
-    ):
-        num, den, output = (Fraction(1),), chi, "characteristic coordinate"
-    roots, res = _partial_fractions(num, den)
-    sigma = float(np.max(roots.real)) if roots.size else -math.inf
-    if times is not None:
-        t = np.asarray(times, dtype=float)
-        if t.ndim != 1 or t.size < 2 or not np.all(np.isfinite(t)):
-            raise ValueError(
-                f"times must be a finite 1-D array of >= 2 samples, got shape {t.shape}"
-            )
-        if t[0] < 0 or np.any(np.diff(t) <= 0):
-            raise ValueError("times must be non-negative and strictly increasing")
-    else:
-        if t_end is None:
-            t_end = _horizon(roots, res)
-        if not (math.isfinite(t_end) and t_end > 0):
-            raise ValueError(f"t_end must be a positive finite time, got {t_end!r}")
-        wmax = float(np.max(np.abs(roots.imag))) if roots.size else 0.0
-        n = int(min(MAX_SAMPLES, max(2000, SAMPLES_PER_PERIOD * t_end * wmax / (2 * math.pi))))
-        t = np.linspace(0.0, t_end, n)
-    n = t.size
-    with np.errstate(over="ignore", invalid="ignore"):
-        y = _impulse(num, den, roots, res, t)
-    q = max(n // 4, 1)
-    first = float(np.max(np.abs(y[:q]))) or math.nan
-    growth = float(np.max(np.abs(y[-q:]))) / first
-    return CoupledSimulation(t=t, y=y, output=output, growth_rate=sigma, growth_factor=growth)
-
-
-def _horizon(roots: np.ndarray, res: np.ndarray | None) -> float:
-    if not roots.size:
-        return 1.0
-    sigma = float(np.max(roots.real))
-    if sigma > 0:
-        lead = 0.0
-        if res is not None:
-            top = roots.real >= sigma * (1 - 1e-9)
-            r_top = float(np.sum(np.abs(res[top])))
-            r_rest = float(np.sum(np.abs(res[~top])))
-            if r_top > 0 and r_rest > 0:
-                lead = max(0.0, math.log(r_rest / r_top))
-        return min(lead + 6.0, 700.0) / sigma
-    nonzero = np.abs(roots[np.abs(roots) > 0])
-    slow = float(np.min(nonzero)) if nonzero.size else 1.0
-    return 50 * 2 * math.pi / slow

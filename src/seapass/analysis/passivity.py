@@ -27,10 +27,10 @@ References
 
 from __future__ import annotations
 
-import functools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from enum import StrEnum
 from fractions import Fraction
 from typing import Any
 
@@ -49,14 +49,13 @@ from ..exact.axis import (
     negative_point,
     safe_float,
 )
-from ..model.expr import S, to_fraction
 from ..model.sea import SEA, Impedance
-from ..model.stiffness import load_impedance
+from .impedance import evaluate_system
 
 __all__ = [
     "TOLERANCE_POLICY",
     "PassivityResult",
-    "exact_rational_function",
+    "Reason",
     "is_passive",
     "positive_real_test",
 ]
@@ -74,15 +73,34 @@ TOLERANCE_POLICY = (
     "is computed in floating point and is informative only)"
 )
 
-_REASONS = {
-    "": "positive real",
-    "relative_degree": "relative degree is not -1, 0 or 1",
-    "rhp_pole": "pole in the open right half-plane",
-    "repeated_axis_pole": "repeated pole on the imaginary axis",
-    "axis_residue": "imaginary-axis pole with a residue that is not real and positive",
-    "infinity_residue": "pole at infinity with a negative coefficient",
-    "negative_real_part": "Re Z(jw) < 0 at some frequency",
-    "hidden_unstable_mode": "cancelled (hidden) mode in the closed right half-plane",
+
+class Reason(StrEnum):
+    """Why an impedance is not positive real (:attr:`NONE` when it is)."""
+
+    NONE = ""
+    RELATIVE_DEGREE = "relative_degree"
+    RHP_POLE = "rhp_pole"
+    REPEATED_AXIS_POLE = "repeated_axis_pole"
+    AXIS_RESIDUE = "axis_residue"
+    INFINITY_RESIDUE = "infinity_residue"
+    NEGATIVE_REAL_PART = "negative_real_part"
+    HIDDEN_UNSTABLE_MODE = "hidden_unstable_mode"
+
+    @property
+    def description(self) -> str:
+        """One plain sentence for people (figure titles, reports)."""
+        return _DESCRIPTIONS[self]
+
+
+_DESCRIPTIONS = {
+    Reason.NONE: "positive real",
+    Reason.RELATIVE_DEGREE: "relative degree is not -1, 0 or 1",
+    Reason.RHP_POLE: "pole in the open right half-plane",
+    Reason.REPEATED_AXIS_POLE: "repeated pole on the imaginary axis",
+    Reason.AXIS_RESIDUE: "imaginary-axis pole with a residue that is not real and positive",
+    Reason.INFINITY_RESIDUE: "pole at infinity with a negative coefficient",
+    Reason.NEGATIVE_REAL_PART: "Re Z(jw) < 0 at some frequency",
+    Reason.HIDDEN_UNSTABLE_MODE: "cancelled (hidden) mode in the closed right half-plane",
 }
 
 
@@ -94,8 +112,9 @@ class PassivityResult:
     ----------
     passive : bool
         Exact verdict for the given numbers.
-    reason : str
-        ``""`` when passive, else a code such as ``"negative_real_part"``.
+    reason : Reason
+        :attr:`Reason.NONE` (``""``) when passive, else why not, e.g.
+        :attr:`Reason.NEGATIVE_REAL_PART`.
     detail : str
         Human-readable explanation.
     omega : float or None
@@ -119,7 +138,7 @@ class PassivityResult:
     """
 
     passive: bool
-    reason: str = ""
+    reason: Reason = Reason.NONE
     detail: str = ""
     omega: float | None = None
     margin: float = math.nan
@@ -156,137 +175,6 @@ class PassivityResult:
 
 
 # ---------------------------------------------------------------- conversion
-
-
-def exact_rational_function(
-    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
-    values: Mapping[str, float] | None = None,
-) -> tuple[ep.Poly, ep.Poly]:
-    """Exact ``(N, D)`` of the impedance of ``system``, ascending Fraction coefficients.
-
-    ``system`` may be an :class:`SEA` (its load impedance ``Z_L``), an
-    :class:`Impedance`, an expression string/sympy expression in ``s``, or a
-    ``(num, den)`` pair of descending coefficient sequences.
-    """
-    num, den, _support = _evaluate(system, values)
-    return num, den
-
-
-def _evaluate(
-    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
-    values: Mapping[str, float] | None,
-) -> tuple[ep.Poly, ep.Poly, tuple[bool, ...] | None]:
-    """:func:`exact_rational_function` plus the structural support of ``P`` (None for raw coefficients)."""
-    if isinstance(system, tuple) and len(system) == 2:
-        num = ep.normalize([to_fraction(c, "num") for c in reversed(list(system[0]))])
-        den = ep.normalize([to_fraction(c, "den") for c in reversed(list(system[1]))])
-        if not den:
-            raise ParameterError("den: the denominator is identically zero")
-        return num, den, None
-    if isinstance(system, str | sp.Expr):
-        system = Impedance(expr=system, values=dict(values or {}))
-        values = None
-    if values:
-        if not isinstance(system, SEA | Impedance):
-            raise TypeError("values= applies to SEA and Impedance systems only")
-        system = _with_values(system, values)
-    if isinstance(system, SEA):
-        z = load_impedance(system)
-    elif isinstance(system, Impedance):
-        z = system.expr
-    else:
-        raise TypeError(f"cannot test passivity of {type(system).__name__}")
-    missing = system.free_parameters
-    if missing:
-        raise ParameterError(
-            f"no value for parameter(s) {', '.join(missing)}: give them, e.g. --set {missing[0]}=1"
-        )
-    names, num_terms, den_terms, support = _compiled(z)
-    vals = {k: to_fraction(v, k) for k, v in system.values.items() if v is not None}
-    env = [vals[n] for n in names]
-    n, d = _eval_coeffs(num_terms, env), _eval_coeffs(den_terms, env)
-    if not d:
-        raise ParameterError("the impedance has a zero denominator for these values")
-    return n, d, support
-
-
-_Terms = tuple[tuple[tuple[tuple[int, ...], Fraction], ...], ...]
-
-
-@functools.lru_cache(maxsize=512)
-def _compiled(z: sp.Expr) -> tuple[tuple[str, ...], _Terms, _Terms, tuple[bool, ...]]:
-    """Coefficients of ``N`` and ``D`` in ``s`` as exact polynomials in the parameters,
-    and the structural support of ``P(x)`` (:func:`structural_support`).
-
-    Cached on the symbolic impedance, so repeated tests of one configuration
-    cost only exact rational arithmetic.
-    """
-    num, den = sp.fraction(sp.cancel(sp.together(z)))
-    params = sorted((x for x in (num.free_symbols | den.free_symbols) if x != S), key=str)
-    names = tuple(str(x) for x in params)
-
-    def terms(expr: sp.Expr) -> _Terms:
-        out = []
-        for c in sp.Poly(sp.expand(expr), S).all_coeffs()[::-1]:
-            pc = sp.Poly(c, *params, domain="QQ") if params else sp.Poly(c, S, domain="QQ")
-            out.append(
-                tuple(
-                    (tuple(mon) if params else (), Fraction(int(q.p), int(q.q)))
-                    for mon, q in zip(pc.monoms(), pc.coeffs(), strict=True)
-                )
-            )
-        return tuple(out)
-
-    return names, terms(num), terms(den), structural_support(num, den)
-
-
-def structural_support(num: sp.Expr, den: sp.Expr) -> tuple[bool, ...]:
-    """Which powers ``x^i`` of ``P(x) = Re N(jω) D(−jω)`` are not identically zero.
-
-    Computed with every parameter symbolic.  Terms that cancel for *all*
-    parameter values (e.g. the ``ω⁴`` terms of a pure spring with load-side P)
-    are structural, not a sign of a nearby boundary, so the margin ignores them.
-    """
-    w = sp.Dummy("w", real=True)
-    coeffs_n = sp.Poly(sp.expand(num), S).all_coeffs()[::-1]
-    coeffs_d = sp.Poly(sp.expand(den), S).all_coeffs()[::-1]
-
-    def re_im(coeffs: list[sp.Expr]) -> tuple[sp.Expr, sp.Expr]:
-        re = sum(
-            (c * (-1) ** (k // 2) * w**k for k, c in enumerate(coeffs) if k % 2 == 0), sp.S.Zero
-        )
-        im = sum(
-            (c * (-1) ** (k // 2) * w**k for k, c in enumerate(coeffs) if k % 2 == 1), sp.S.Zero
-        )
-        return re, im
-
-    nr, ni = re_im(coeffs_n)
-    dr, di = re_im(coeffs_d)
-    pw = sp.Poly(sp.expand(nr * dr + ni * di), w)
-    deg = pw.degree() if not pw.is_zero else -1
-    return tuple(pw.coeff_monomial(w ** (2 * i)) != 0 for i in range(deg // 2 + 1))
-
-
-def _eval_coeffs(terms: _Terms, env: list[Fraction]) -> ep.Poly:
-    out = []
-    for coeff in terms:
-        acc = Fraction(0)
-        for mon, q in coeff:
-            t = q
-            for v, e in zip(env, mon, strict=False):
-                if e:
-                    t *= v**e
-            acc += t
-        out.append(acc)
-    return ep.normalize(out)
-
-
-def _with_values(system: SEA | Impedance, values: Mapping[str, float]) -> SEA | Impedance:
-    merged = dict(system.values)
-    merged.update(values)
-    if isinstance(system, SEA):
-        return system.with_values(**merged)
-    return Impedance(expr=system.expr, values=merged)
 
 
 # ---------------------------------------------------------------- helpers
@@ -347,8 +235,8 @@ def _margin_of(num: ep.Poly, den: ep.Poly, support: Sequence[bool] | None) -> fl
     return _margin(px, pabs)
 
 
-def _fail(reason: str, detail: str, **kw: Any) -> PassivityResult:
-    return PassivityResult(passive=False, reason=reason, detail=detail or _REASONS[reason], **kw)
+def _fail(reason: Reason, detail: str, **kw: Any) -> PassivityResult:
+    return PassivityResult(passive=False, reason=reason, detail=detail or reason.description, **kw)
 
 
 def _to_floats(p: ep.Poly, descending: bool) -> tuple[float, ...]:
@@ -401,7 +289,7 @@ def positive_real_test(
             **base,
         )
     if hidden and _pole_defect(hidden)[0]:
-        return _fail("hidden_unstable_mode", "", **base)
+        return _fail(Reason.HIDDEN_UNSTABLE_MODE, "", **base)
 
     # 4 (computed first, so the margin and witness are always reported)
     nr, ni = at_j_omega(num)
@@ -414,9 +302,11 @@ def positive_real_test(
     # 1. relative degree and the pole at infinity
     rel = ep.degree(den) - ep.degree(num)
     if rel not in (-1, 0, 1):
-        return _fail("relative_degree", f"relative degree is {rel}; it must be -1, 0 or 1", **base)
+        return _fail(
+            Reason.RELATIVE_DEGREE, f"relative degree is {rel}; it must be -1, 0 or 1", **base
+        )
     if rel == -1 and num[-1] / den[-1] <= 0:
-        return _fail("infinity_residue", "Z ~ c*s at high frequency with c <= 0", **base)
+        return _fail(Reason.INFINITY_RESIDUE, "Z ~ c*s at high frequency with c <= 0", **base)
 
     # 2./3. poles: imaginary-axis part and the rest
     defect, g_ax = _pole_defect(den)
@@ -438,7 +328,7 @@ def positive_real_test(
         if ep.sign_at_root(res_im, gsf, a, b) != 0 or ep.sign_at_root(res_re, gsf, a, b) <= 0:
             w0 = float(a) if a == b else ep.root_value(gsf, a, b)
             return _fail(
-                "axis_residue",
+                Reason.AXIS_RESIDUE,
                 f"the pole at s = j*{w0:.6g} has a residue that is not real and positive",
                 **base,
             )
@@ -451,10 +341,12 @@ def positive_real_test(
         )
     odd = ep.positive_roots_odd_multiplicity(px)
     if ep.count_real_roots(odd, Fraction(0), None) == 0 and px[-1] > 0:
-        return PassivityResult(passive=True, detail=_REASONS[""], marginal=marginal, **base)
+        return PassivityResult(
+            passive=True, detail=Reason.NONE.description, marginal=marginal, **base
+        )
     witness = negative_point(px)
     return _fail(
-        "negative_real_part",
+        Reason.NEGATIVE_REAL_PART,
         f"Re Z(jw) < 0 at w = {witness:.6g} rad/s",
         omega=witness,
         marginal=marginal,
@@ -462,8 +354,8 @@ def positive_real_test(
     )
 
 
-def _pole_defect(den: ep.Poly) -> tuple[str, ep.Poly]:
-    """Reason code (``""`` if none) why the roots of ``den`` are not admissible poles.
+def _pole_defect(den: ep.Poly) -> tuple[Reason, ep.Poly]:
+    """Why the roots of ``den`` are not admissible poles (:attr:`Reason.NONE` if they are).
 
     Admissible: open left half-plane, or simple on the imaginary axis.  Also
     returns ``gcd(Re den(jω), Im den(jω))``, whose real roots are the axis poles.
@@ -474,15 +366,15 @@ def _pole_defect(den: ep.Poly) -> tuple[str, ep.Poly]:
     if ep.degree(g_ax) > 0:
         # a non-real root of g_ax is a pair of roots mirrored about the axis
         if not all_real_roots(g_ax):
-            return "rhp_pole", g_ax
+            return Reason.RHP_POLE, g_ax
         if ep.degree(ep.squarefree_part(g_ax)) != ep.degree(g_ax):
-            return "repeated_axis_pole", g_ax
+            return Reason.REPEATED_AXIS_POLE, g_ax
         rest, rem = ep.pdivmod(den, axis_factor(g_ax))
         if rem:
             raise ArithmeticError("axis factor does not divide the denominator")  # pragma: no cover
     if not is_hurwitz(rest):
-        return "rhp_pole", g_ax
-    return "", g_ax
+        return Reason.RHP_POLE, g_ax
+    return Reason.NONE, g_ax
 
 
 # ---------------------------------------------------------------- entry point
@@ -519,7 +411,7 @@ def is_passive(
     >>> is_passive("1/(s + 1) - 1e-9").passive
     False
     """
-    num, den, support = _evaluate(system, values)
+    num, den, support = evaluate_system(system, values)
     result = positive_real_test(num, den, support=support)
     if throw and not result.passive:
         raise NotPassiveError(f"not passive: {result.detail}")

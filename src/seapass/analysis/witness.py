@@ -47,16 +47,16 @@ from ..exact.axis import at_j_omega, even_to_x, negative_point
 from ..model.sea import SEA, Impedance
 from .coupled import (
     CoupledResult,
-    CoupledSimulation,
     Environment,
     characteristic_from_polys,
     classify_polynomial,
     coupled_stability,
     polynomial_roots,
-    simulate_coupled,
     to_float,
 )
-from .passivity import PassivityResult, exact_rational_function, is_passive
+from .coupled_response import CoupledSimulation, simulate_coupled
+from .impedance import exact_rational_function
+from .passivity import PassivityResult, is_passive
 
 __all__ = [
     "WitnessResult",

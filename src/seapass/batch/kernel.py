@@ -8,7 +8,7 @@ from typing import Any
 
 import sympy as sp
 
-from ..analysis.passivity import structural_support
+from ..analysis.impedance import structural_support
 from ..model.expr import S, symbol, to_fraction
 from ..model.sea import SEA
 from ..model.stiffness import load_impedance

@@ -39,12 +39,12 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from enum import StrEnum
 from typing import Any
 
 import numpy as np
 import scipy.linalg
 
+from ..analysis.coupled import Stability
 from ..errors import ParameterError
 from ..model.expr import finite_number
 from ..model.realization import ClosedLoop, closed_loop
@@ -71,15 +71,6 @@ _DIVERGENCE = 1e8  # |state| above this multiple of the problem scale counts as 
 
 
 # --------------------------------------------------------------------------- simulation
-
-
-class Stability(StrEnum):
-    """Stability of a simulated closed loop (from its exact poles)."""
-
-    STABLE = "stable"
-    MARGINAL = "marginal"
-    """Poles on the imaginary axis, none to their right: bounded, not converging."""
-    UNSTABLE = "unstable"
 
 
 @dataclass(frozen=True)
