@@ -17,6 +17,9 @@ from seapass.cli import main
 from seapass.errors import ModelError, NotPassiveError, ParameterError
 from seapass.model.expr import S
 from seapass.model.sea import SEA
+from seapass.sampled import alias as sma
+from seapass.sampled import bound as smb
+from seapass.sampled import controllers as sctl
 from seapass.sampled import coupling as smc
 from seapass.sampled import passivity as sm
 
@@ -42,7 +45,7 @@ def _brute_N(sea: SEA, w: float, *, delay: int = 0, K: int = 20000) -> float:
     al = m * s**2 + b * s
     a, p = d1 / (al + d1), 1 / (al + d1)
     r = ((d1 * al + d2 * (al + d1)) / (s * (al + d1))).real
-    ka, kl = sm.controller_tfs(sea, period=T, delay=delay)
+    ka, kl = sctl.controller_tfs(sea, period=T, delay=delay)
     z = np.exp(1j * w * T)
     KA, KL = ka(z), kl(z)
     d = 1 + KA * np.sum(p * (1 - 1 / z) / s) / T
@@ -53,8 +56,8 @@ def _brute_N(sea: SEA, w: float, *, delay: int = 0, K: int = 20000) -> float:
 
 
 def _closed_N(sea: SEA, w: float, *, delay: int = 0) -> float:
-    ka, kl = sm.controller_tfs(sea, period=T, delay=delay)
-    plant = sm._plant_sums(sm._plant_key(sea), Fraction("0.002"))
+    ka, kl = sctl.controller_tfs(sea, period=T, delay=delay)
+    plant = sma.plant_sums(sma.plant_key(sea), Fraction("0.002"))
     with mpmath.workdps(sm.DPS):
         fn, _ = sm._power_function(plant, ka, kl, Fraction("0.002"), with_weight=False)
         return float(fn(mpmath.mpf(w) * mpmath.mpf("0.002")))
@@ -65,7 +68,7 @@ def _closed_N(sea: SEA, w: float, *, delay: int = 0) -> float:
 
 def test_alias_sum_of_double_integrator_is_exact() -> None:
     with mpmath.workdps(30):
-        alias, poles = sm._alias_sum(1 / S**2, Fraction(1, 100))
+        alias, poles = sma.alias_sum(1 / S**2, Fraction(1, 100))
         assert alias is not None
         z = mpmath.expj(mpmath.mpf("0.7"))
         expected = mpmath.mpf(1) / 10000 * z / (z - 1) ** 2
@@ -85,7 +88,7 @@ def test_alias_sum_matches_truncated_sum(p1: float, p2: float, c: float, w: floa
         (S - sp.Rational(Fraction(p1))) * (S - sp.Rational(Fraction(p2)))
     )
     with mpmath.workdps(30):
-        alias, _ = sm._alias_sum(psi, Fraction(1, 500))
+        alias, _ = sma.alias_sum(psi, Fraction(1, 500))
         assert alias is not None
         closed = complex(alias(mpmath.expj(mpmath.mpf(w) / 500)))
     k = np.arange(-200000, 200001)
@@ -95,7 +98,7 @@ def test_alias_sum_matches_truncated_sum(p1: float, p2: float, c: float, w: floa
 
 
 def test_divergent_alias_sum_is_reported() -> None:
-    alias, _ = sm._alias_sum(S / (S + 1), Fraction(1, 500))
+    alias, _ = sma.alias_sum(S / (S + 1), Fraction(1, 500))
     assert alias is None
 
 
@@ -165,7 +168,7 @@ def test_bound_agrees_with_coupled_stability(make, inside: float, outside: float
 
 
 def test_bound_search_finds_lp_edge() -> None:
-    r = sm.sampled_passive_bound(lp(kd=None), "kd", period=T, lo=0, hi=2000, samples=3, rtol=2e-3)
+    r = smb.sampled_passive_bound(lp(kd=None), "kd", period=T, lo=0, hi=2000, samples=3, rtol=2e-3)
     assert len(r.intervals) == 1 and r.intervals[0][0] == 0.0
     assert r.max_passive is not None and 790 < r.max_passive < 802
     assert r.to_dict()["param"] == "kd"
@@ -190,7 +193,7 @@ def test_throw_and_errors() -> None:
     with pytest.raises(ModelError):
         sm.sampled_passivity(lp(kd=100.0, b=0.0), period=T)
     with pytest.raises(ParameterError):
-        sm.sampled_passive_bound(lp(kd=None), "kd", period=T, lo=5, hi=1)
+        smb.sampled_passive_bound(lp(kd=None), "kd", period=T, lo=5, hi=1)
     with pytest.raises(ParameterError):
         smc.coupled_check(lp(kd=1.0), period=T, env_mass=0.0)
 
@@ -284,6 +287,8 @@ def test_plot_bound_table_and_scan(tmp_path) -> None:  # type: ignore[no-untyped
         {"design": "LP", "b1": 30.0, "bd": 0.0, "max_passive": 798.3},
     ]
     save_figure(plot_bound_table(rows, title="500 Hz"), tmp_path / "t.png")
-    res = sm.SampledBoundResult("kd", T, 0.0, 10.0, [(0.0, 4.0)], 4.0, [(0.0, True), (10.0, False)])
+    res = smb.SampledBoundResult(
+        "kd", T, 0.0, 10.0, [(0.0, 4.0)], 4.0, [(0.0, True), (10.0, False)]
+    )
     save_figure(plot_bound_scan(res), tmp_path / "s.png")
     assert (tmp_path / "t.png").stat().st_size > 0 and (tmp_path / "s.png").stat().st_size > 0

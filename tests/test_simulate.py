@@ -16,7 +16,15 @@ from seapass.errors import ParameterError, UnrealizableError
 from seapass.model.expr import S, parse_expression, symbol
 from seapass.model.realization import closed_loop, closed_loop_factory
 from seapass.model.sea import SEA
-from seapass.sim import ForceImpulse, ForceStep, LoadDisplaced, Stability, Step, Trajectory, simulate
+from seapass.sim import (
+    ForceImpulse,
+    ForceStep,
+    LoadDisplaced,
+    Stability,
+    Step,
+    Trajectory,
+    simulate,
+)
 
 PLANT = {"m": 1.0, "b": 10.0, "k1": 1000.0}
 s = S

@@ -57,7 +57,7 @@ _LAZY: dict[str, str] = {
     "tracking_metrics": "sim.metrics",
     "tune": "sim.tuning",
     "sampled_passivity": "sampled.passivity",
-    "sampled_passive_bound": "sampled.passivity",
+    "sampled_passive_bound": "sampled.bound",
     "load_rig": "rig.rigfile",
     "paper_rig": "rig.rigfile",
     "analyze": "report.analyze",
@@ -126,7 +126,8 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
     from .report.output import write_report
     from .report.reproduce import reproduce
     from .rig.rigfile import load_rig, paper_rig
-    from .sampled.passivity import sampled_passive_bound, sampled_passivity
+    from .sampled.bound import sampled_passive_bound
+    from .sampled.passivity import sampled_passivity
     from .sim.metrics import tracking_metrics
     from .sim.scenarios import Step
     from .sim.simulate import simulate

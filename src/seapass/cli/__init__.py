@@ -1,6 +1,6 @@
 """The ``seapass`` command line.
 
-Each subcommand lives in its own module ``seapass.cli.cmd_<name>`` that defines
+What lives here: :func:`main` and one module per subcommand.  Each subcommand lives in its own module ``seapass.cli.cmd_<name>`` that defines
 ``register(subparsers)``; :data:`COMMANDS` lists them in ``--help`` order (add a
 command by adding its module and one line there).  Every
 :class:`~seapass.errors.SeapassError` (and ``ValueError`` raised while

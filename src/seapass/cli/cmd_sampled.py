@@ -106,7 +106,7 @@ def _loop_kw(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def run_bound(args: argparse.Namespace) -> int:
-    from ..sampled.passivity import sampled_passive_bound
+    from ..sampled.bound import sampled_passive_bound
 
     lo, hi = _range(args.range)
     sea = model_from_args(args, extra_free=(args.param,))

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from ..sampled.passivity import SampledBoundResult
+from ..sampled.bound import SampledBoundResult
 from .style import axes_grid
 
 __all__ = ["plot_bound_scan", "plot_bound_table", "plot_power_curve", "plot_sampled_limits"]

@@ -11,6 +11,7 @@ May import: :mod:`seapass.errors`, :mod:`seapass.exact`, :mod:`seapass.model`,
 :mod:`seapass.analysis`, :mod:`seapass.sim`, :mod:`seapass.batch`.
 """
 
+from .bound import SampledBoundResult, sampled_passive_bound
 from .controllers import (
     APDController,
     DiscreteController,
@@ -19,12 +20,7 @@ from .controllers import (
     OursController,
     discretize,
 )
-from .passivity import (
-    SampledBoundResult,
-    SampledPassivityResult,
-    sampled_passive_bound,
-    sampled_passivity,
-)
+from .passivity import SampledPassivityResult, sampled_passivity
 from .runtime import ControlLoop, HardwareInterface, SimulatedHardware
 
 __all__ = [

@@ -47,6 +47,8 @@ __all__ = [
     "DiscreteTF",
     "LPController",
     "OursController",
+    "clamped_spectral_radius",
+    "controller_tfs",
     "discretize",
     "filter_pole",
     "state_space",
@@ -416,3 +418,39 @@ def state_space(tf: DiscreteTF) -> tuple[np.ndarray, ...]:
     if k:
         C[0, 0] = 1.0
     return A, B, C, np.array([[b[0]]])
+
+
+def controller_tfs(
+    sea: SEA,
+    *,
+    period: float,
+    delay: int = 0,
+    velocity_filter: float | None = None,
+    method: Method = "tustin",
+) -> tuple[DiscreteTF, DiscreteTF]:
+    """``(z^-d K_A(z), z^-d K_L(z))`` exactly as :class:`DiscreteController` runs them."""
+    if int(delay) != delay or delay < 0:
+        raise ParameterError(f"delay must be a non-negative whole number of samples, got {delay!r}")
+    ctrl = DiscreteController.from_sea(sea, period, method=method, velocity_filter=velocity_filter)
+    ka, kl = ctrl.transfer_functions()
+    return ka.delayed(int(delay)), kl.delayed(int(delay))
+
+
+def clamped_spectral_radius(sea: SEA, ka: DiscreteTF, kl: DiscreteTF, period: float) -> float:
+    """Spectral radius of the sampled actuator loop with the port held, and of ``K_L``."""
+    from scipy.signal import cont2discrete, tf2ss
+
+    e = sea.elements()
+    alpha = e["m"] * S**2 + e["b"] * S
+    num, den = sp.fraction(sp.cancel(1 / sea.numeric(alpha + e["D1"])))
+    n = [float(c) for c in sp.Poly(num, S).all_coeffs()]
+    d = [float(c) for c in sp.Poly(den, S).all_coeffs()]
+    A, B, C, _D = tf2ss(n, d)
+    Ad, Bd, Cd, _, _ = cont2discrete((A, B, C, np.zeros((1, 1))), period, method="zoh")
+    Ak, Bk, Ck, Dk = state_space(ka)
+    top = np.hstack([Ad - Bd @ Dk @ Cd, -Bd @ Ck])
+    bot = np.hstack([Bk @ Cd, Ak])
+    rho = float(np.max(np.abs(np.linalg.eigvals(np.vstack([top, bot])))))
+    if not kl.is_zero and kl.poles().size:
+        rho = max(rho, float(np.max(np.abs(kl.poles()))))
+    return rho

@@ -54,36 +54,40 @@ References
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
 import mpmath
 import numpy as np
-import sympy as sp
 
 from ..analysis.passivity import is_passive
 from ..errors import ModelError, NotPassiveError, ParameterError, SymbolicLimitError
 from ..exact import poly as ep
-from ..model.expr import S
 from ..model.sea import SEA
-from .controllers import DiscreteController, DiscreteTF, Method, state_space
+from .alias import (
+    COEFFICIENT_TAIL,
+    DPS,
+    PlantSums,
+    plant_key,
+    plant_sums,
+    to_mp,
+)
+from .controllers import (
+    DiscreteController,
+    DiscreteTF,
+    Method,
+    clamped_spectral_radius,
+    controller_tfs,
+)
 
 __all__ = [
-    "SampledBoundResult",
     "SampledPassivityResult",
-    "clamped_spectral_radius",
-    "controller_tfs",
-    "sampled_passive_bound",
     "sampled_passivity",
     "sampled_power_curve",
 ]
-
-DPS = 50  # working precision (decimal digits) of the alias sums
-_TAIL = mpmath.mpf(10) ** (-(DPS - 15))
 
 
 @dataclass(frozen=True)
@@ -141,212 +145,7 @@ class SampledPassivityResult:
 # ------------------------------------------------------------------ alias sums
 
 
-@dataclass(frozen=True)
-class _AliasSum:
-    """``Σ_k ψ(s_k)`` as ``Σ A·G_j(e^{pT}, z)``; ``terms`` = (q, j, A)."""
-
-    T: Any
-    terms: tuple[tuple[Any, int, Any], ...]
-
-    def __call__(self, z: Any) -> Any:
-        T = self.T
-        out = mpmath.mpc(0)
-        for q, j, a in self.terms:
-            if j == 1:
-                out += a * T / 2 * (z + q) / (z - q)
-            elif j == 2:
-                out += a * T**2 * q * z / (z - q) ** 2
-            else:
-                out += a * T**3 * q * z * (z + q) / (2 * (z - q) ** 3)
-        return out
-
-
-def _mp(c: Any) -> Any:
-    r = sp.Rational(c)
-    return mpmath.mpf(int(r.p)) / int(r.q)
-
-
-def _taylor_shift(coeffs_desc: list[Any], p: Any, order: int) -> list[Any]:
-    """First ``order`` Taylor coefficients of the polynomial at ``p`` (repeated Horner)."""
-    c = list(coeffs_desc)
-    out = []
-    for _ in range(order):
-        if not c:
-            out.append(mpmath.mpc(0))
-            continue
-        acc = mpmath.mpc(0)
-        quot = []
-        for a in c:
-            acc = acc * p + a
-            quot.append(acc)
-        out.append(quot.pop())
-        c = quot
-    return out
-
-
-def _alias_sum(psi: sp.Expr, T: Fraction) -> tuple[_AliasSum | None, dict[Any, int]]:
-    """Closed-form alias sum of ``psi(s)``; ``None`` if it diverges (relative degree < 2)."""
-    num, den = sp.fraction(sp.cancel(sp.together(psi)))
-    pn, pd = sp.Poly(num, S), sp.Poly(den, S)
-    if pn.is_zero:
-        return _AliasSum(_mp(T), ()), {}
-    if pd.degree() - pn.degree() < 2:
-        return None, {}
-    _coeff, factors = sp.sqf_list(pd)
-    roots: list[tuple[Any, int]] = []
-    for f, mult in factors:
-        if mult > 3:
-            raise SymbolicLimitError(
-                "pole of multiplicity > 3 in an alias sum; perturb a parameter"
-            )
-        cs = [_mp(c) for c in sp.Poly(f, S).all_coeffs()]
-        rts = (
-            [mpmath.mpf(0)]
-            if len(cs) == 2 and cs[1] == 0
-            else mpmath.polyroots(cs, maxsteps=400, extraprec=4 * DPS)
-        )
-        roots.extend((mpmath.mpc(r), mult) for r in rts)
-    lc = _mp(pd.LC())
-    ncoef = [mpmath.mpc(_mp(c)) for c in pn.all_coeffs()]
-    Tm = _mp(T)
-    terms = []
-    poles: dict[Any, int] = {}
-    for i, (p, m) in enumerate(roots):
-        taylor_n = _taylor_shift(ncoef, p, m)
-        q_ser = [mpmath.mpc(lc)] + [mpmath.mpc(0)] * (m - 1)
-        for k, (p2, m2) in enumerate(roots):
-            if k == i:
-                continue
-            for _ in range(m2):  # multiply the series by (eps + p - p2)
-                d = p - p2
-                q_ser = [q_ser[t] * d + (q_ser[t - 1] if t else 0) for t in range(m)]
-        h: list[Any] = []  # series division taylor_n / q_ser
-        for t in range(m):
-            acc = taylor_n[t] - sum(h[u] * q_ser[t - u] for u in range(t))
-            h.append(acc / q_ser[0])
-        q = mpmath.exp(p * Tm) if p != 0 else mpmath.mpf(1)
-        for j in range(1, m + 1):
-            terms.append((q, j, h[m - j]))
-        poles[q] = max(poles.get(q, 0), m)
-    return _AliasSum(Tm, tuple(terms)), poles
-
-
-@dataclass
-class _PlantSums:
-    T: Any
-    sums: dict[str, _AliasSum | None]
-    poles: dict[Any, int] = field(default_factory=dict)
-
-
-@functools.lru_cache(maxsize=64)
-def _plant_sums(key: str, T: Fraction) -> _PlantSums:  # key: srepr of (m, b, D1, D2)
-    m, b, D1, D2 = sp.sympify(key)
-    alpha = m * S**2 + b * S
-    den = sp.cancel(alpha + D1)
-    a = sp.cancel(D1 / den)
-    P = sp.cancel(1 / den)
-    Z0 = sp.cancel((D1 * alpha + D2 * den) / (S * den))
-    R = sp.cancel((Z0 + Z0.subs(S, -S)) / 2)
-    _check_dissipative(R)
-    am = a.subs(S, -S)
-    psis = {
-        "S1": a * am / (-(S**2) * R),
-        "S2": a**2 / (S**2 * R),
-        "S3": a / (-(S**2) * R),
-        "S4": 1 / (-(S**2) * R),
-        "S5": a / (S**2 * R),
-        "Sg": P / S,
-    }
-    with mpmath.workdps(DPS):
-        sums: dict[str, _AliasSum | None] = {}
-        poles: dict[Any, int] = {}
-        for name, psi in psis.items():
-            sums[name], pl = _alias_sum(psi, T)
-            for q, mult in pl.items():
-                key_q = _find_key(poles, q)
-                poles[key_q] = max(poles.get(key_q, 0), mult)
-        return _PlantSums(_mp(T), sums, poles)
-
-
-def _find_key(poles: dict[Any, int], q: Any) -> Any:
-    for k in poles:
-        if abs(k - q) <= mpmath.mpf(10) ** (-(DPS - 10)) * max(1, abs(q)):
-            return k
-    return q
-
-
-def _check_dissipative(R: sp.Expr) -> None:
-    """``Re Z0(jω) > 0`` for all ``ω ≥ 0``, decided exactly."""
-    num, den = sp.fraction(sp.cancel(R))
-    pn = sp.Poly(num, S)
-    coeffs = pn.all_coeffs()[::-1]
-    # num is even in s; Re Z0(jw) = num(jw)/|den(jw)|^2 with y = w^2
-    ey = [
-        Fraction(int(sp.Rational(c).p), int(sp.Rational(c).q)) * (-1) ** (i // 2)
-        for i, c in enumerate(coeffs)
-        if i % 2 == 0
-    ]
-    dpoly = sp.Poly(den, S)
-    lead = dpoly.LC()
-    sign = 1 if lead > 0 else -1
-    ey = [sign * c for c in ey]
-    p = ep.normalize(ey)
-    if not p or ep.evaluate(p, Fraction(0)) <= 0 or ep.count_real_roots(p, Fraction(0), None):
-        raise ModelError(
-            "sampled passivity needs a strictly dissipative physical plant (Re Z0(jw) > 0 at "
-            "every frequency); give the actuator damping b > 0"
-        )
-
-
-def _plant_key(sea: SEA) -> str:
-    e = sea.elements()
-    vals = [sp.sympify(sea.numeric(e[k])) for k in ("m", "b", "D1", "D2")]
-    for v in vals:
-        if v.free_symbols - {S}:
-            raise ParameterError(
-                "plant parameters without values: "
-                + ", ".join(sorted(str(x) for x in v.free_symbols - {S}))
-            )
-    return sp.srepr(sp.Tuple(*vals))
-
-
 # ------------------------------------------------------------------ controllers
-
-
-def controller_tfs(
-    sea: SEA,
-    *,
-    period: float,
-    delay: int = 0,
-    velocity_filter: float | None = None,
-    method: Method = "tustin",
-) -> tuple[DiscreteTF, DiscreteTF]:
-    """``(z^-d K_A(z), z^-d K_L(z))`` exactly as :class:`DiscreteController` runs them."""
-    if int(delay) != delay or delay < 0:
-        raise ParameterError(f"delay must be a non-negative whole number of samples, got {delay!r}")
-    ctrl = DiscreteController.from_sea(sea, period, method=method, velocity_filter=velocity_filter)
-    ka, kl = ctrl.transfer_functions()
-    return ka.delayed(int(delay)), kl.delayed(int(delay))
-
-
-def clamped_spectral_radius(sea: SEA, ka: DiscreteTF, kl: DiscreteTF, period: float) -> float:
-    """Spectral radius of the sampled actuator loop with the port held, and of ``K_L``."""
-    from scipy.signal import cont2discrete, tf2ss
-
-    e = sea.elements()
-    alpha = e["m"] * S**2 + e["b"] * S
-    num, den = sp.fraction(sp.cancel(1 / sea.numeric(alpha + e["D1"])))
-    n = [float(c) for c in sp.Poly(num, S).all_coeffs()]
-    d = [float(c) for c in sp.Poly(den, S).all_coeffs()]
-    A, B, C, _D = tf2ss(n, d)
-    Ad, Bd, Cd, _, _ = cont2discrete((A, B, C, np.zeros((1, 1))), period, method="zoh")
-    Ak, Bk, Ck, Dk = state_space(ka)
-    top = np.hstack([Ad - Bd @ Dk @ Cd, -Bd @ Ck])
-    bot = np.hstack([Bk @ Cd, Ak])
-    rho = float(np.max(np.abs(np.linalg.eigvals(np.vstack([top, bot])))))
-    if not kl.is_zero and kl.poles().size:
-        rho = max(rho, float(np.max(np.abs(kl.poles()))))
-    return rho
 
 
 # ------------------------------------------------------------------ the test
@@ -392,7 +191,7 @@ def _trig_poly(fn: Any, weight_deg: int) -> list[Any]:
             s = mpmath.fsum(v * mpmath.cos(k * t) for v, t in zip(vals, thetas, strict=True))
             coef.append(s * (2 if k == 0 else 4) / M)
         scale = max(abs(c) for c in coef) or mpmath.mpf(1)
-        top = max((k for k, c in enumerate(coef) if abs(c) > _TAIL * scale), default=0)
+        top = max((k for k, c in enumerate(coef) if abs(c) > COEFFICIENT_TAIL * scale), default=0)
         if top < half // 2:
             return coef[: top + 1]
         if M >= 4096:
@@ -517,16 +316,16 @@ def _continuous_gate(sea: SEA, result: SampledPassivityResult) -> SampledPassivi
 
 
 def _power_function(
-    plant: _PlantSums, ka: DiscreteTF, kl: DiscreteTF, T: Fraction, with_weight: bool = True
+    plant: PlantSums, ka: DiscreteTF, kl: DiscreteTF, T: Fraction, with_weight: bool = True
 ) -> tuple[Any, int]:
     """``θ ↦ N(θ)·|L(e^{jθ})|²`` (call inside ``mpmath.workdps(DPS)``) and the weight degree."""
     s: dict[str, Any] = plant.sums
-    Tm = _mp(T)
+    Tm = to_mp(T)
     inside = [(q, m) for q, m in plant.poles.items() if abs(q) < 1 - mpmath.mpf(10) ** -30]
     ctrl_poles = []
     for tf in (ka, kl):
         if not tf.is_zero:
-            dz = [_mp(c) for c in tf.den]
+            dz = [to_mp(c) for c in tf.den]
             while len(dz) > 1 and dz[-1] == 0:
                 dz.pop()
             if len(dz) > 1:
@@ -580,7 +379,7 @@ def sampled_power_curve(
     ka, kl = controller_tfs(
         sea, period=period, delay=delay, velocity_filter=velocity_filter, method=method
     )
-    plant = _plant_sums(_plant_key(sea), T)
+    plant = plant_sums(plant_key(sea), T)
     if not kl.is_zero and plant.sums["S4"] is None:
         raise ModelError("N(w) is unbounded for this design (aliased load-side feedback)")
     theta = np.linspace(math.pi / n, math.pi, n)
@@ -593,7 +392,7 @@ def sampled_power_curve(
 def _decide(
     sea: SEA, ka: DiscreteTF, kl: DiscreteTF, T: Fraction, base: dict[str, Any]
 ) -> SampledPassivityResult:
-    plant = _plant_sums(_plant_key(sea), T)
+    plant = plant_sums(plant_key(sea), T)
     rho = clamped_spectral_radius(sea, ka, kl, float(T))
     base = {**base, "spectral_radius": rho}
     if ka.is_zero and kl.is_zero:
@@ -678,140 +477,3 @@ def _sign_on_interval(p: ep.Poly, T: Fraction, base: dict[str, Any]) -> SampledP
 
 
 # ------------------------------------------------------------------ bounds
-
-
-@dataclass(frozen=True)
-class SampledBoundResult:
-    """Passive values of one parameter under sampling (:func:`sampled_passive_bound`).
-
-    Attributes
-    ----------
-    param : str
-    period : float
-    intervals : list of (float, float)
-        Passive sub-intervals of ``[lo, hi]`` (ends refined to ``rtol``).
-    max_passive : float or None
-        Largest passive value found (``hi`` if passive up to the range end).
-    samples : list of (float, bool)
-        The scan that located the intervals (each verdict exact).
-    """
-
-    param: str
-    period: float
-    lo: float
-    hi: float
-    intervals: list[tuple[float, float]]
-    max_passive: float | None
-    samples: list[tuple[float, bool]]
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "param": self.param,
-            "period": self.period,
-            "range": [self.lo, self.hi],
-            "intervals": [list(iv) for iv in self.intervals],
-            "max_passive": self.max_passive,
-        }
-
-
-def _scan(fn: Any, xs: list[float], progress: bool, label: str) -> list[bool]:
-    import sys
-
-    if not (progress and sys.stderr.isatty()):
-        return [bool(fn(float(x))) for x in xs]
-    from rich.progress import Progress
-
-    out = []
-    with Progress(transient=True) as bar:
-        task = bar.add_task(label, total=len(xs))
-        for x in xs:
-            out.append(bool(fn(float(x))))
-            bar.advance(task)
-    return out
-
-
-def sampled_passive_bound(
-    sea: SEA,
-    param: str,
-    *,
-    period: float,
-    lo: float,
-    hi: float,
-    delay: int = 0,
-    velocity_filter: float | None = None,
-    method: Method = "tustin",
-    values: Mapping[str, float] | None = None,
-    samples: int = 17,
-    rtol: float = 1e-6,
-    progress: bool = False,
-) -> SampledBoundResult:
-    """Passive values of ``param`` in ``[lo, hi]`` at sampling period ``period``.
-
-    The range is scanned at ``samples`` points (each verdict exact, by
-    :func:`sampled_passivity`) and every change of verdict is refined by
-    bisection to ``rtol·(hi − lo)``.  Passive islands narrower than the scan
-    step can be missed; raise ``samples`` to look closer.  ``progress=True``
-    shows a rich progress bar when stderr is a terminal.
-
-    Examples
-    --------
-    >>> ours = SEA(D1="k1 + b1*s", CA="kd + bd*s", values=dict(m=1, b=10, k1=1005, b1=30, bd=0))
-    >>> r = sampled_passive_bound(ours, "kd", period=0.002, lo=0, hi=2e4, samples=5, rtol=1e-3)
-    >>> r.max_passive is not None
-    True
-    """
-    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-        raise ParameterError(f"need a finite range lo < hi, got [{lo}, {hi}]")
-    if samples < 2:
-        raise ParameterError(f"samples must be at least 2, got {samples}")
-    base = sea.with_values(**(values or {}))
-
-    def passive(v: float) -> bool:
-        return sampled_passivity(
-            base,
-            period=period,
-            delay=delay,
-            velocity_filter=velocity_filter,
-            method=method,
-            values={param: v},
-        ).passive
-
-    xs = list(np.linspace(lo, hi, samples))
-    verdicts = _scan(passive, xs, progress, f"sampled bound of {param}")
-    width = rtol * (hi - lo)
-    edges: list[float] = []
-    for i in range(samples - 1):
-        if verdicts[i] != verdicts[i + 1]:
-            a, b = float(xs[i]), float(xs[i + 1])
-            va = verdicts[i]
-            while b - a > width:
-                mid = (a + b) / 2
-                if passive(mid) == va:
-                    a = mid
-                else:
-                    b = mid
-            edges.append(a if va else b)
-    intervals: list[tuple[float, float]] = []
-    start = float(xs[0]) if verdicts[0] else None
-    k = 0
-    for i in range(samples - 1):
-        if verdicts[i] != verdicts[i + 1]:
-            e = edges[k]
-            k += 1
-            if verdicts[i]:
-                intervals.append((start if start is not None else e, e))
-                start = None
-            else:
-                start = e
-    if start is not None:
-        intervals.append((start, float(xs[-1])))
-    best = intervals[-1][1] if intervals else None
-    return SampledBoundResult(
-        param,
-        float(period),
-        float(lo),
-        float(hi),
-        intervals,
-        best,
-        [(float(x), v) for x, v in zip(xs, verdicts, strict=True)],
-    )

@@ -17,7 +17,8 @@ from ...plot.rig import plot_rig_sweep
 from ...plot.style import figure_bytes
 from ...rig.experiment import ExperimentResult, run_rig_sweep
 from ...rig.rigfile import load_rig, paper_rig
-from ...sampled.passivity import sampled_passive_bound, sampled_passivity
+from ...sampled.bound import sampled_passive_bound
+from ...sampled.passivity import sampled_passivity
 from ..document import (
     FigureData,
     Finding,

@@ -20,8 +20,8 @@ from ...rig.impacts import run_impacts
 from ...rig.plant import TwinPlant
 from ...rig.predictions import rig_sea
 from ...rig.rigfile import paper_rig
+from ...sampled.bound import sampled_passive_bound
 from ...sampled.controllers import LPController, OursController
-from ...sampled.passivity import sampled_passive_bound
 from ...sampled.runtime import ControlLoop, SimulatedHardware
 from ..document import (
     FigureData,

@@ -1,0 +1,148 @@
+"""The house rules of the package layout, checked on the source (see docs/architecture.md).
+
+* imports point one way: a subpackage imports only from its own package and from
+  the layers below it (:data:`LAYERS`), at module level and inside functions;
+* no module imports a private name (``_x``) from another module;
+* no module is longer than 500 lines, and none is named ``*_core``/``*_extra``/``*_misc``;
+* every subpackage says in its docstring what lives there and what it may import;
+* ``import seapass`` loads none of the heavy scientific libraries.
+"""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+SRC = Path(__file__).resolve().parents[1] / "src" / "seapass"
+
+#: Bottom to top.  A package may import from its own layer group only where listed together.
+LAYERS: tuple[tuple[str, ...], ...] = (
+    ("errors", "version"),
+    ("files",),
+    ("exact",),
+    ("model",),
+    ("analysis",),
+    ("sim",),
+    ("batch",),
+    ("sampled",),
+    ("rig",),
+    ("export",),
+    ("sweep",),
+    ("paper",),
+    ("plot",),
+    ("report",),
+    ("explore",),
+    ("cli",),
+)
+RANK = {name: i for i, group in enumerate(LAYERS) for name in group}
+
+
+def _modules() -> list[Path]:
+    return sorted(p for p in SRC.rglob("*.py") if "__pycache__" not in p.parts)
+
+
+def _dotted(path: Path) -> list[str]:
+    parts = list(path.relative_to(SRC.parent).with_suffix("").parts)
+    return parts[:-1] if parts[-1] == "__init__" else parts
+
+
+def _imports(path: Path) -> list[tuple[int, str, list[str]]]:
+    """``(line, absolute module, imported names)`` of every import in ``path``."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    here = _dotted(path)
+    package = here if path.name == "__init__.py" else here[:-1]
+    out = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out += [(node.lineno, a.name, []) for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[: len(package) - node.level + 1]
+                module = ".".join(base + ([node.module] if node.module else []))
+            else:
+                module = node.module or ""
+            out.append((node.lineno, module, [a.name for a in node.names]))
+    return out
+
+
+def _layer_of(dotted: list[str]) -> str | None:
+    """The layered unit of a seapass module: its subpackage, or a top-level module."""
+    if len(dotted) < 2:
+        return None  # seapass/__init__.py: the lazy front door, checked separately
+    return dotted[1]
+
+
+def test_layers_cover_every_subpackage_and_top_level_module() -> None:
+    units = {p.name for p in SRC.iterdir() if p.is_dir() and (p / "__init__.py").exists()}
+    units |= {p.stem for p in SRC.glob("*.py") if p.stem != "__init__"}
+    assert units <= set(RANK), f"add {sorted(units - set(RANK))} to LAYERS and the docs"
+
+
+@pytest.mark.parametrize("path", _modules(), ids=lambda p: str(p.relative_to(SRC)))
+def test_imports_point_down(path: Path) -> None:
+    unit = _layer_of(_dotted(path))
+    if unit is None:
+        return
+    bad = []
+    for line, module, _names in _imports(path):
+        parts = module.split(".")
+        if parts[0] != "seapass" or len(parts) < 2:
+            continue
+        target = parts[1]
+        if target != unit and RANK[target] >= RANK[unit]:
+            bad.append(f"line {line}: {module} (layer {target} is not below {unit})")
+    assert not bad, "\n".join(bad)
+
+
+@pytest.mark.parametrize("path", _modules(), ids=lambda p: str(p.relative_to(SRC)))
+def test_no_private_imports_across_modules(path: Path) -> None:
+    bad = [
+        f"line {line}: {name} from {module}"
+        for line, module, names in _imports(path)
+        if module.startswith("seapass")
+        for name in names
+        if name.startswith("_") and not name.startswith("__")
+    ]
+    assert not bad, "\n".join(bad)
+
+
+@pytest.mark.parametrize("path", _modules(), ids=lambda p: str(p.relative_to(SRC)))
+def test_module_size_and_name(path: Path) -> None:
+    lines = path.read_text(encoding="utf-8").count("\n")
+    assert lines <= 500, f"{lines} lines: split it by concept"
+    assert not path.stem.endswith(("_core", "_extra", "_misc")), "name modules by what they hold"
+
+
+def test_every_subpackage_states_its_contents_and_imports() -> None:
+    import importlib
+
+    for init in sorted(SRC.glob("*/__init__.py")):
+        mod = importlib.import_module(f"seapass.{init.parent.name}")
+        doc = mod.__doc__ or ""
+        assert "What lives here" in doc, init
+        if init.parent.name != "cli":
+            assert "May import" in doc, init
+
+
+def test_import_seapass_is_light() -> None:
+    code = (
+        "import sys, seapass; "
+        "heavy = [m for m in ('sympy', 'numpy', 'scipy', 'matplotlib', 'control', 'dask', "
+        "'pyarrow') if m in sys.modules]; print(','.join(heavy))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "", f"import seapass loads {out.stdout.strip()}"
+
+
+def test_lazy_names_resolve() -> None:
+    import seapass
+
+    for name in seapass.__all__:
+        assert getattr(seapass, name) is not None, name
+    assert set(dir(seapass)) >= set(seapass.__all__)
+    with pytest.raises(AttributeError, match="nothing"):
+        _ = seapass.nothing  # type: ignore[attr-defined]
