@@ -2,7 +2,7 @@
 
 Every class subclasses the builtin that matches its meaning, so callers may
 catch either the seapass class or the builtin.  The command line turns any
-:class:`SeapassError` into one line on stderr and exit code 2.
+`SeapassError` into one line on stderr and exit code 2.
 """
 
 from __future__ import annotations

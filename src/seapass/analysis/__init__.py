@@ -1,14 +1,14 @@
 """Continuous-time analysis: exact passivity, conditions, passive sets, responses, witnesses.
 
-What lives here: :mod:`~seapass.analysis.passivity` (the exact positive-real
-test), :mod:`~seapass.analysis.conditions` (symbolic necessary-and-sufficient
-conditions), :mod:`~seapass.analysis.region` (exact passive intervals and 2-D
-maps), :mod:`~seapass.analysis.freqresp` (the stiffness frequency response),
-:mod:`~seapass.analysis.coupled` (coupled stability with an environment) and
-:mod:`~seapass.analysis.witness` (a passive environment that destabilizes a
+What lives here: [`passivity`][seapass.analysis.passivity] (the exact positive-real
+test), [`conditions`][seapass.analysis.conditions] (symbolic necessary-and-sufficient
+conditions), [`region`][seapass.analysis.region] (exact passive intervals and 2-D
+maps), [`freqresp`][seapass.analysis.freqresp] (the stiffness frequency response),
+[`coupled`][seapass.analysis.coupled] (coupled stability with an environment) and
+[`witness`][seapass.analysis.witness] (a passive environment that destabilizes a
 design that is not passive).
 
-May import: :mod:`seapass.errors`, :mod:`seapass.exact`, :mod:`seapass.model`.
+May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model].
 """
 
 from .conditions import ExactCondition, exact_passivity_condition

@@ -1,7 +1,7 @@
 """Exact necessary-and-sufficient passivity conditions in symbolic form.
 
 For a model whose parameters are left symbolic (all assumed strictly
-positive), :func:`exact_passivity_condition` returns the conditions of the
+positive), `exact_passivity_condition` returns the conditions of the
 positive-real test as a sympy boolean:
 
 * stability: the Routh first column of ``D(s)/s^k`` (``k`` generic poles at 0);
@@ -15,7 +15,7 @@ positive-real test as a sympy boolean:
 Atoms that are provably true or false for positive parameters are decided
 and removed.  Conditions are *generic*: they hold outside a measure-zero set
 of parameter values (e.g. where a leading coefficient vanishes); the numeric
-test :func:`seapass.analysis.passivity.is_passive` is exact everywhere.
+test [`seapass.analysis.passivity.is_passive`][seapass.analysis.passivity.is_passive] is exact everywhere.
 """
 
 from __future__ import annotations
@@ -206,7 +206,7 @@ def exact_passivity_condition(system: SEA | Impedance) -> ExactCondition:
     ------
     SymbolicLimitError
         If the expressions exceed the size budget (``MAX_OPS`` operations) or the
-        derivation runs longer than :data:`seapass.model.expr.SYMBOLIC_TIME_LIMIT` seconds.
+        derivation runs longer than [`seapass.model.expr.SYMBOLIC_TIME_LIMIT`][seapass.model.expr.SYMBOLIC_TIME_LIMIT] seconds.
     """
     with symbolic_time_limit(what="symbolic passivity condition"):
         return _exact_condition(system)

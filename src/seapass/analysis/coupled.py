@@ -15,7 +15,7 @@ they are simple on the imaginary axis or stable, so removing them never hides
 an instability of a passive environment).
 
 The verdict is exact (rational arithmetic, Routh array and Sturm sequences,
-shared with :mod:`seapass.analysis.passivity`):
+shared with [`seapass.analysis.passivity`][seapass.analysis.passivity]):
 
 * ``"stable"``: every root of ``χ`` in the open left half-plane;
 * ``"marginally stable"``: no root in the open right half-plane and the roots
@@ -25,7 +25,7 @@ shared with :mod:`seapass.analysis.passivity`):
   the axis (polynomial growth).
 
 Passivity theorem [2]_: a passive (positive-real) ``Z`` coupled to any passive
-environment is never ``"unstable"``.  :func:`simulate_coupled` gives the
+environment is never ``"unstable"``.  `simulate_coupled` gives the
 time-domain evidence: the response of the port displacement to a force
 impulse, as an exact sum of modes.  The roots are reported in floating point
 (mpmath at 30 digits) as evidence only.
@@ -139,7 +139,7 @@ class Environment:
 
 @dataclass(frozen=True)
 class CoupledResult:
-    """Outcome of :func:`coupled_stability`.
+    """Outcome of `coupled_stability`.
 
     Attributes
     ----------
@@ -321,7 +321,7 @@ def coupled_polynomial(
 def characteristic_from_polys(
     n: ep.Poly, d: ep.Poly, ne: ep.Poly, de: ep.Poly
 ) -> tuple[ep.Poly, ep.Poly]:
-    """:func:`coupled_polynomial` from exact ascending polynomials ``Z = n/d``, ``Z_e = ne/de``."""
+    """`coupled_polynomial` from exact ascending polynomials ``Z = n/d``, ``Z_e = ne/de``."""
     full = ep.add(ep.mul(n, de), ep.mul(ne, d))
     if not full:
         raise DegenerateModelError(
@@ -346,7 +346,7 @@ def coupled_stability(
     Parameters
     ----------
     system : SEA, Impedance, str, sympy.Expr or (num, den)
-        The port impedance, as accepted by :func:`seapass.analysis.passivity.is_passive`.
+        The port impedance, as accepted by [`seapass.analysis.passivity.is_passive`][seapass.analysis.passivity.is_passive].
     environment : Environment or any of the above
         The environment impedance ``Z_e`` (e.g. ``Environment(mass=2, stiffness=1e4)``).
     values : mapping, optional
@@ -359,10 +359,10 @@ def coupled_stability(
     Examples
     --------
     >>> from seapass.analysis.coupled import Environment, coupled_stability
-    >>> coupled_stability("k*s/(s**2 + k)", Environment(mass=1.0), values={"k": 4.0}).status
-    'marginally stable'
-    >>> coupled_stability("(s - 1)/(s + 1)", Environment(damping=0.5)).status
-    'unstable'
+    >>> print(coupled_stability("k*s/(s**2 + k)", Environment(mass=1.0), values={"k": 4.0}).status)
+    marginally stable
+    >>> print(coupled_stability("(s - 1)/(s + 1)", Environment(damping=0.5)).status)
+    unstable
     """
     chi, common = coupled_polynomial(system, environment, values=values)
     status, rhp, repeated = classify_polynomial(chi)

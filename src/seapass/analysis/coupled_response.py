@@ -2,7 +2,7 @@
 
 The response of the port displacement of an SEA held by an environment is an
 exact sum of modes of the coupled characteristic polynomial
-(:mod:`seapass.analysis.coupled`), sampled on a horizon that shows the slowest
+([`seapass.analysis.coupled`][seapass.analysis.coupled]), sampled on a horizon that shows the slowest
 mode's growth or decay.
 """
 
@@ -34,8 +34,8 @@ from .coupled import (
 __all__ = ["CoupledSimulation", "simulate_coupled"]
 
 
-#: Samples per oscillation period and the cap on samples in a simulation.
 SAMPLES_PER_PERIOD = 24
+"""Samples per oscillation period and the cap on samples in a simulation."""
 
 
 MAX_SAMPLES = 20000
@@ -107,7 +107,7 @@ def _partial_fractions(num: ep.Poly, den: ep.Poly) -> tuple[np.ndarray, np.ndarr
 def _impulse(
     num: ep.Poly, den: ep.Poly, roots: np.ndarray, res: np.ndarray | None, t: np.ndarray
 ) -> np.ndarray:
-    """Impulse response: a sum of modes, or :func:`scipy.signal.impulse` for repeated poles."""
+    """Impulse response: a sum of modes, or `scipy.signal.impulse` for repeated poles."""
     if res is not None:
         y = np.zeros_like(t, dtype=complex)
         for r, p in zip(res, roots, strict=True):
@@ -133,7 +133,7 @@ def simulate_coupled(
 ) -> CoupledSimulation:
     """Response of the port displacement to a unit force impulse, SEA held by ``environment``.
 
-    ``X/F = D D_e / (s χ · common)`` (see :mod:`seapass.analysis.coupled`).  When that
+    ``X/F = D D_e / (s χ · common)`` (see [`seapass.analysis.coupled`][seapass.analysis.coupled]).  When that
     transfer is improper or cancels the fastest-growing mode of ``χ``, the
     characteristic coordinate ``w`` (``χ(d/dt) w = δ``) is simulated instead.
     The response is the sum of modes (poles and residues in multiprecision),
@@ -143,7 +143,7 @@ def simulate_coupled(
     Parameters
     ----------
     system, environment, values
-        As in :func:`seapass.analysis.coupled.coupled_stability`.
+        As in [`seapass.analysis.coupled.coupled_stability`][seapass.analysis.coupled.coupled_stability].
     t_end : float, optional
         Horizon [s].  By default long enough for the fastest-growing mode to
         exceed every other mode's initial amplitude and then grow by ``e^6``

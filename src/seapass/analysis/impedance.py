@@ -29,8 +29,8 @@ def exact_rational_function(
 ) -> tuple[ep.Poly, ep.Poly]:
     """Exact ``(N, D)`` of the impedance of ``system``, ascending Fraction coefficients.
 
-    ``system`` may be an :class:`SEA` (its load impedance ``Z_L``), an
-    :class:`Impedance`, an expression string/sympy expression in ``s``, or a
+    ``system`` may be an `SEA` (its load impedance ``Z_L``), an
+    `Impedance`, an expression string/sympy expression in ``s``, or a
     ``(num, den)`` pair of descending coefficient sequences.
     """
     num, den, _support = evaluate_system(system, values)
@@ -41,7 +41,7 @@ def evaluate_system(
     system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
     values: Mapping[str, float] | None,
 ) -> tuple[ep.Poly, ep.Poly, tuple[bool, ...] | None]:
-    """:func:`exact_rational_function` plus the structural support of ``P`` (None for raw coefficients)."""
+    """`exact_rational_function` plus the structural support of ``P`` (None for raw coefficients)."""
     if isinstance(system, tuple) and len(system) == 2:
         num = ep.normalize([to_fraction(c, "num") for c in reversed(list(system[0]))])
         den = ep.normalize([to_fraction(c, "den") for c in reversed(list(system[1]))])
@@ -81,7 +81,7 @@ _Terms = tuple[tuple[tuple[tuple[int, ...], Fraction], ...], ...]
 @functools.lru_cache(maxsize=512)
 def _compiled(z: sp.Expr) -> tuple[tuple[str, ...], _Terms, _Terms, tuple[bool, ...]]:
     """Coefficients of ``N`` and ``D`` in ``s`` as exact polynomials in the parameters,
-    and the structural support of ``P(x)`` (:func:`structural_support`).
+    and the structural support of ``P(x)`` (`structural_support`).
 
     Cached on the symbolic impedance, so repeated tests of one configuration
     cost only exact rational arithmetic.

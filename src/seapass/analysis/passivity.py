@@ -60,8 +60,8 @@ __all__ = [
     "positive_real_test",
 ]
 
-#: Relative margin below which an exact verdict is flagged ``marginal``.
 MARGINAL_RTOL = 1e-9
+"""Relative margin below which an exact verdict is flagged ``marginal``."""
 
 TOLERANCE_POLICY = (
     "exact: every input float is converted to the rational it represents and all "
@@ -75,7 +75,7 @@ TOLERANCE_POLICY = (
 
 
 class Reason(StrEnum):
-    """Why an impedance is not positive real (:attr:`NONE` when it is)."""
+    """Why an impedance is not positive real (`NONE` when it is)."""
 
     NONE = ""
     RELATIVE_DEGREE = "relative_degree"
@@ -113,8 +113,8 @@ class PassivityResult:
     passive : bool
         Exact verdict for the given numbers.
     reason : Reason
-        :attr:`Reason.NONE` (``""``) when passive, else why not, e.g.
-        :attr:`Reason.NEGATIVE_REAL_PART`.
+        `Reason.NONE` (``""``) when passive, else why not, e.g.
+        `Reason.NEGATIVE_REAL_PART`.
     detail : str
         Human-readable explanation.
     omega : float or None
@@ -126,7 +126,7 @@ class PassivityResult:
         about ``ε`` at relative distance ``ε`` from a boundary).  Informative,
         not used for the verdict.
     marginal : bool
-        The verdict sits within :data:`MARGINAL_RTOL` of the boundary.
+        The verdict sits within `MARGINAL_RTOL` of the boundary.
     lossless : bool
         ``Re Z(jω) ≡ 0``.
     num, den : tuple of float
@@ -134,7 +134,7 @@ class PassivityResult:
     real_part : tuple of float
         Coefficients of ``P`` in ``x = ω²``, ascending powers.
     tolerance : str
-        The tolerance policy used (:data:`TOLERANCE_POLICY`).
+        The tolerance policy used (`TOLERANCE_POLICY`).
     """
 
     passive: bool
@@ -217,7 +217,7 @@ def _abs_poly(p: ep.Poly) -> ep.Poly:
 
 
 def _margin_of(num: ep.Poly, den: ep.Poly, support: Sequence[bool] | None) -> float:
-    """:func:`_margin` of ``num/den`` as given, with ``A`` restricted to ``support``."""
+    """`_margin` of ``num/den`` as given, with ``A`` restricted to ``support``."""
     if not num:
         return 0.0
     nr, ni = at_j_omega(num)
@@ -261,7 +261,7 @@ def positive_real_test(
     half-plane makes the system not passive.  A common factor of ``num`` and
     ``den`` is such a mode too.
 
-    ``support`` (from :func:`structural_support`) marks the powers of ``x`` that
+    ``support`` (from `structural_support`) marks the powers of ``x`` that
     ``P`` has for generic parameter values; the margin is computed from
     ``num/den`` as given and ignores cancellations outside the support.
     """
@@ -355,7 +355,7 @@ def positive_real_test(
 
 
 def _pole_defect(den: ep.Poly) -> tuple[Reason, ep.Poly]:
-    """Why the roots of ``den`` are not admissible poles (:attr:`Reason.NONE` if they are).
+    """Why the roots of ``den`` are not admissible poles (`Reason.NONE` if they are).
 
     Admissible: open left half-plane, or simple on the imaginary axis.  Also
     returns ``gcd(Re den(jω), Im den(jω))``, whose real roots are the axis poles.
@@ -397,7 +397,7 @@ def is_passive(
     values : mapping, optional
         Parameter values overriding those stored in ``system``.
     throw : bool, default False
-        Raise :class:`~seapass.errors.NotPassiveError` instead of returning a
+        Raise [`NotPassiveError`][seapass.errors.NotPassiveError] instead of returning a
         non-passive result.
 
     Returns

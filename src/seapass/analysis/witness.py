@@ -1,6 +1,6 @@
 """Destabilizing passive environments: the physical meaning of "not passive".
 
-For a design that fails the positive-real test, :func:`find_destabilizing_environment`
+For a design that fails the positive-real test, `find_destabilizing_environment`
 looks for a passive mass-spring-damper environment ``Z_e = m_e s + b_e + k_e/s``
 (``m_e, b_e, k_e >= 0``: a plausible person or object) that makes the coupled
 system unstable, and returns it with the coupled poles and a simulation of the
@@ -14,7 +14,7 @@ reactance ``m_e ω0 − k_e/ω0 = −X`` makes ``Z + Z_e`` real and negative at
 (equal extra reactances ``T`` in ``m_e ω0`` and ``k_e/ω0``) makes
 ``Z_e' = m_e + k_e/ω0²`` dominate, so ``Re s* ≈ (−R − b_e)/(m_e + k_e/ω0²) > 0``.
 Tanks of several sizes are tried and every candidate is verified exactly
-(:func:`seapass.analysis.coupled.coupled_stability`); the one with the fastest growth is
+([`seapass.analysis.coupled.coupled_stability`][seapass.analysis.coupled.coupled_stability]); the one with the fastest growth is
 returned.  Failures of the other conditions (a pole in the right half-plane,
 a repeated or wrongly signed pole on the axis, a cancelled unstable mode) are
 handled by the same tank when ``Re Z(jω)`` dips below zero, and otherwise by
@@ -65,18 +65,19 @@ __all__ = [
 
 SystemLike: TypeAlias = SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]]
 
-#: Tank sizes tried, relative to ``|Z'(jω0)| ω0`` (the SEA's own reactance slope).
 TANK_FACTORS = (0.0, *(10.0 ** (k / 2) for k in range(-4, 13)))
-#: Steps of the local refinement that maximizes the growth rate of the best candidate,
-#: and how far (in decades) it may move each parameter: the witness should stay a
-#: plausible object, not the degenerate limit a pure growth maximization runs to.
+"""Tank sizes tried, relative to ``|Z'(jω0)| ω0`` (the SEA's own reactance slope)."""
 REFINE_STEPS = 60
+"""Steps of the local refinement that maximizes the growth rate of the best candidate, and how far
+(in decades) it may move each parameter: the witness should stay a plausible object, not the
+degenerate limit a pure growth maximization runs to.
+"""
 REFINE_DECADES = 2.0
 
 
 @dataclass(frozen=True)
 class WitnessResult:
-    """Outcome of :func:`find_destabilizing_environment`.
+    """Outcome of `find_destabilizing_environment`.
 
     Attributes
     ----------
@@ -266,9 +267,9 @@ def find_destabilizing_environment(
     values : mapping, optional
         Parameter values overriding those stored in ``system``.
     simulate : bool, default True
-        Also simulate the growing response (:func:`simulate_coupled`).
+        Also simulate the growing response (`simulate_coupled`).
     throw : bool, default False
-        Raise :class:`~seapass.errors.NotPassiveError` describing the witness
+        Raise [`NotPassiveError`][seapass.errors.NotPassiveError] describing the witness
         when one is found (for scripts that must stop on unsafe designs).
 
     Returns

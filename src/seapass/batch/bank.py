@@ -14,8 +14,8 @@ __all__ = [
 ]
 
 
-#: Unit roundoff of IEEE double precision (round to nearest).
 UNIT_ROUNDOFF = 2.0**-53
+"""Unit roundoff of IEEE double precision (round to nearest)."""
 
 
 class PolynomialBank:

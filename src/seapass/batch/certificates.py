@@ -1,6 +1,6 @@
 """Float64 certificates of passivity with a-priori rounding-error bounds.
 
-For a fixed configuration (an :class:`~seapass.model.sea.SEA` whose free
+For a fixed configuration (an [`SEA`][seapass.model.sea.SEA] whose free
 parameters are given as arrays), the port impedance ``Z = N/D``, the real-part
 polynomial ``P(x) = Re N(jω) D(−jω)`` in ``x = ω²`` and the Liénard–Chipart
 (Hurwitz) determinants of ``D`` are derived symbolically *once*, as
@@ -23,11 +23,11 @@ rigorous a-priori rounding-error bound for every quantity:
 A design whose every condition is certified gets its verdict from floating
 point; any other design (typically within ~1e-12 relative of the boundary, or
 with a pole structure the fast path does not cover) falls back to the exact
-rational test :func:`seapass.analysis.passivity.positive_real_test` on the exactly
+rational test [`seapass.analysis.passivity.positive_real_test`][seapass.analysis.passivity.positive_real_test] on the exactly
 evaluated, reduced ``N/D``.  The verdicts are therefore identical to
-:func:`seapass.analysis.passivity.is_passive` for every design.
+[`seapass.analysis.passivity.is_passive`][seapass.analysis.passivity.is_passive] for every design.
 
-The passivity *margin* is the one of :class:`~seapass.analysis.passivity.PassivityResult`:
+The passivity *margin* is the one of [`PassivityResult`][seapass.analysis.passivity.PassivityResult]:
 ``min_{x ≥ 0} P(x) / A(x)`` in ``[-1, 1]``, where ``A`` is ``P`` computed with
 every coefficient product in absolute value, restricted to the powers of ``x``
 that ``P`` has for generic parameters (scale-invariant in ``N``, ``D``
@@ -233,7 +233,7 @@ def _split_jw(c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _margin_batch(nv: np.ndarray, dv: np.ndarray, support: Sequence[bool]) -> np.ndarray:
-    """The margin of :func:`seapass.analysis.passivity.positive_real_test`, vectorized.
+    """The margin of [`seapass.analysis.passivity.positive_real_test`][seapass.analysis.passivity.positive_real_test], vectorized.
 
     ``min_{x≥0} P(x)/A(x)`` with ``A`` the real-part polynomial computed with
     every coefficient product in absolute value; the minimum is taken over

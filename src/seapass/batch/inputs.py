@@ -22,7 +22,7 @@ def broadcast_values(
     """Broadcast the arrays ``values[name]`` to one common shape.
 
     Returns the flattened float64 arrays (design axis only) and the broadcast
-    shape.  Raises :class:`ParameterError` naming the argument and its shape
+    shape.  Raises `ParameterError` naming the argument and its shape
     when shapes do not broadcast or values are not finite; ``labels`` renames
     arguments in messages (default ``values['name']``).
     """

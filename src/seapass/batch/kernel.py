@@ -62,7 +62,7 @@ def _x_poly_of_real_part(num: list[sp.Expr], den: list[sp.Expr]) -> list[sp.Expr
 class PassivityKernel:
     """Symbolic data of one configuration, compiled for batch evaluation.
 
-    Build with :func:`compile_passivity`.  ``params`` are the parameters given
+    Build with `compile_passivity`.  ``params`` are the parameters given
     per design (in this order); every other value is taken from the model.
     """
 

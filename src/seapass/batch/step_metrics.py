@@ -1,6 +1,6 @@
 """Vectorized step-response metrics (settling time, final error, overshoot) for many designs.
 
-The closed loop is the one of :mod:`seapass.sim.simulate`: actuator mass ``m`` and
+The closed loop is the one of [`seapass.sim.simulate`][seapass.sim.simulate]: actuator mass ``m`` and
 damping ``b``, transmission ``D1``, optional ``D2`` to ground, load mass
 ``m_L`` on the port, control ``f_A = C_A(θ − x_A) + C_L(θ − x_L)`` with the
 ``s`` term of each controller's polynomial part acting on the measured
@@ -14,7 +14,7 @@ response
 
 ``y∞ = step · G(0)``.  The settling time is the last exit of
 ``|x_L − θ|`` from the band ``tolerance · |step|``, as in
-:func:`seapass.sim.metrics.settling_time`.  It is located without missing
+[`seapass.sim.metrics.settling_time`][seapass.sim.metrics.settling_time].  It is located without missing
 excursions between samples: on a uniform grid an interval ``[t_k, t_k+1]`` is
 certainly inside the band when ``(|e_k| + |e_k+1| + h V_k)/2 ≤ band`` or
 ``max(|e_k|, |e_k+1|) + h² A_k/8 ≤ band``, with the envelopes
@@ -26,8 +26,8 @@ is therefore within 0.1 ms of the exact last exit (normally within 1e-7 s).
 
 Designs whose modal form is ill-conditioned (nearly repeated poles, a pole at
 ``s = 0``, poles on the imaginary axis, or an improper ``G``) are evaluated by
-the scalar simulator (:func:`seapass.simulate.simulate` with
-:func:`seapass.sim.metrics.tracking_metrics`) instead.
+the scalar simulator ([`seapass.sim.simulate.simulate`][seapass.sim.simulate.simulate] with
+[`seapass.sim.metrics.tracking_metrics`][seapass.sim.metrics.tracking_metrics]) instead.
 
 References
 ----------
@@ -66,7 +66,7 @@ __all__ = [
 
 _K1 = 256  # coarse grid points per design
 _K2 = 64  # subdivision of the last uncertain interval
-# int8 codes of the batch status arrays (:class:`~seapass.sim.metrics.Settling`)
+# int8 codes of the batch status arrays ([`Settling`][seapass.sim.metrics.Settling])
 SETTLED, NOT_SETTLED = Settling.SETTLED.code, Settling.NOT_SETTLED.code
 UNSTABLE, INVALID = Settling.UNSTABLE.code, Settling.INVALID.code
 
@@ -87,8 +87,8 @@ class BatchMetrics:
     status : ndarray of int8
         0 settled, 1 did not settle within the horizon, 2 unstable, 3 invalid
         (the scalar simulator rejected the values, e.g. a zero actuator mass;
-        metrics NaN).  :data:`seapass.sim.metrics.SETTLING_CODES` maps codes to the words used by
-        :func:`seapass.sim.metrics.tracking_metrics`.
+        metrics NaN).  [`seapass.sim.metrics.SETTLING_CODES`][seapass.sim.metrics.SETTLING_CODES] maps codes to the words used by
+        [`seapass.sim.metrics.tracking_metrics`][seapass.sim.metrics.tracking_metrics].
     modal : ndarray of bool
         True where the vectorized modal solution was used, False where the
         scalar simulator was (ill-conditioned modal form).
@@ -116,7 +116,7 @@ class BatchMetrics:
         return self.status == UNSTABLE
 
     def status_names(self) -> np.ndarray:
-        """``status`` as :class:`~seapass.sim.metrics.Settling` members (object array)."""
+        """``status`` as [`Settling`][seapass.sim.metrics.Settling] members (object array)."""
         return np.array(SETTLING_CODES, dtype=object)[self.status]
 
 

@@ -1,11 +1,11 @@
 """Vectorized exact passivity verdicts for many parameter sets of one configuration.
 
-:func:`batch_is_passive` compiles the configuration once
-(:func:`~seapass.batch.kernel.compile_passivity`), decides each chunk of designs
-with certified float64 bounds (:mod:`seapass.batch.certificates`) and sends
+`batch_is_passive` compiles the configuration once
+([`compile_passivity`][seapass.batch.kernel.compile_passivity]), decides each chunk of designs
+with certified float64 bounds ([`seapass.batch.certificates`][seapass.batch.certificates]) and sends
 every design the bounds leave undecided to the exact rational test
-:func:`seapass.analysis.passivity.positive_real_test`.  The verdicts are
-therefore identical to :func:`seapass.analysis.passivity.is_passive`.
+[`seapass.analysis.passivity.positive_real_test`][seapass.analysis.passivity.positive_real_test].  The verdicts are
+therefore identical to [`seapass.analysis.passivity.is_passive`][seapass.analysis.passivity.is_passive].
 """
 
 from __future__ import annotations
@@ -52,7 +52,7 @@ class BatchPassivity:
     params : tuple of str
         Parameters given per design.
     passive : ndarray of bool
-        Exact verdicts (identical to :func:`~seapass.analysis.passivity.is_passive`).
+        Exact verdicts (identical to [`is_passive`][seapass.analysis.passivity.is_passive]).
     margin : ndarray of float
         ``min_{x≥0} P(x)/A(x)`` in [-1, 1] (see the module notes); NaN when
         not computed.
@@ -61,7 +61,7 @@ class BatchPassivity:
         rational fallback decided.
     undefined : ndarray of bool
         True where the impedance is undefined for the values (its denominator
-        vanishes identically; :func:`~seapass.analysis.passivity.is_passive` raises
+        vanishes identically; [`is_passive`][seapass.analysis.passivity.is_passive] raises
         there); such designs are reported not passive with a NaN margin.
     """
 
@@ -126,14 +126,14 @@ def batch_is_passive(
     chunk_size : int
         Designs evaluated per vectorized block (bounds the memory).
     throw : bool, default False
-        Raise :class:`ParameterError` for a design whose impedance is undefined
+        Raise `ParameterError` for a design whose impedance is undefined
         (zero denominator) instead of marking it in ``undefined``.
 
     Returns
     -------
     BatchPassivity
         Arrays of the broadcast shape.  Verdicts equal those of
-        :func:`seapass.analysis.passivity.is_passive` for every design.
+        [`seapass.analysis.passivity.is_passive`][seapass.analysis.passivity.is_passive] for every design.
 
     Raises
     ------
@@ -143,13 +143,20 @@ def batch_is_passive(
 
     Examples
     --------
+    Load-side P on a pure spring is passive exactly up to ``kd = k1``:
+
     >>> import numpy as np
     >>> from seapass.model.sea import SEA
-    >>> sea = SEA(D1="k1 + b1*s", CA="kd + bd*s",
-    ...           values=dict(m=1, b=10, k1=1000, b1=20, kd=None, bd=None))
-    >>> r = batch_is_passive(sea, {"kd": np.array([5000.0, 1e6]), "bd": 25.0})
-    >>> r.passive.tolist()
-    [True, False]
+    >>> lp = SEA(D1="k1", CL="kd", values=dict(m=1, b=10, k1=1000, kd=None))
+    >>> batch_is_passive(lp, {"kd": np.array([500.0, 1000.0, 1500.0])}).passive.tolist()
+    [True, True, False]
+
+    The proposed design (damped spring, actuator-side PD) is passive for every gain:
+
+    >>> ours = SEA(D1="k1 + b1*s", CA="kd + bd*s",
+    ...            values=dict(m=1, b=10, k1=1000, b1=20, kd=None, bd=None))
+    >>> batch_is_passive(ours, {"kd": np.array([5000.0, 1e6]), "bd": 25.0}).passive.tolist()
+    [True, True]
     """
     if chunk_size < 1:
         raise ParameterError(f"chunk_size must be positive, got {chunk_size}")

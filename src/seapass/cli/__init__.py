@@ -1,14 +1,14 @@
 """The ``seapass`` command line.
 
-What lives here: :func:`main` and one module per subcommand.  Each subcommand lives in its own module ``seapass.cli.cmd_<name>`` that defines
-``register(subparsers)``; :data:`COMMANDS` lists them in ``--help`` order (add a
+What lives here: `main` and one module per subcommand.  Each subcommand lives in its own module ``seapass.cli.cmd_<name>`` that defines
+``register(subparsers)``; `COMMANDS` lists them in ``--help`` order (add a
 command by adding its module and one line there).  Every
-:class:`~seapass.errors.SeapassError` (and ``ValueError`` raised while
+[`SeapassError`][seapass.errors.SeapassError] (and ``ValueError`` raised while
 validating input) becomes one line on stderr and exit code 2.
 
 May import: everything in seapass (the CLI is the top layer).  The backend
 is never chosen here: figures are drawn on bare figures
-(:func:`seapass.plot.style.bare_figures`).
+([`seapass.plot.style.bare_figures`][seapass.plot.style.bare_figures]).
 """
 
 from __future__ import annotations
@@ -22,7 +22,6 @@ from ..errors import SeapassError
 
 __all__ = ["COMMANDS", "main", "run"]
 
-#: The subcommand modules (``seapass.cli.cmd_<name>``), in ``--help`` order.
 COMMANDS: tuple[str, ...] = (
     "check",
     "bound",
@@ -39,6 +38,7 @@ COMMANDS: tuple[str, ...] = (
     "reproduce",
     "figure",
 )
+"""The subcommand modules (``seapass.cli.cmd_<name>``), in ``--help`` order."""
 
 
 class _Parser(argparse.ArgumentParser):

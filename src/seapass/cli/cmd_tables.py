@@ -51,7 +51,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def write_row_plots(rows: list[TableRow], out: Path) -> list[Path]:
-    """One PNG per row with the reference values of :data:`REFERENCE_VALUES`."""
+    """One PNG per row with the reference values of `REFERENCE_VALUES`."""
     from ..plot.response import plot_stiffness_response
 
     paths = []

@@ -94,7 +94,7 @@ def save_plot(
 ) -> list[Path]:
     """Draw a figure in the seapass style on a bare figure and save it atomically.
 
-    ``draw()`` calls a :mod:`seapass.plot` function without Axes and returns
+    ``draw()`` calls a [`seapass.plot`][seapass.plot] function without Axes and returns
     its Axes.  ``path`` with a suffix writes that format; without one, every
     format in ``formats`` (default PNG, SVG and PDF).
     """

@@ -1,12 +1,12 @@
 """The exact polynomial kernel: rational polynomials, Sturm sequences, the imaginary axis.
 
-What lives here: :mod:`~seapass.exact.poly` (exact univariate polynomial
+What lives here: [`poly`][seapass.exact.poly] (exact univariate polynomial
 arithmetic over the rationals, real-root counting and isolation) and
-:mod:`~seapass.exact.axis` (polynomials on the imaginary axis: ``p(jω)``,
+[`axis`][seapass.exact.axis] (polynomials on the imaginary axis: ``p(jω)``,
 Routh–Hurwitz, axis factors, a point where an even polynomial is negative).
 Nothing here decides in floating point.
 
-May import: :mod:`seapass.errors` only (it knows nothing of SEAs).
+May import: [`seapass.errors`][seapass.errors] only (it knows nothing of SEAs).
 """
 
 from . import axis, poly

@@ -1,6 +1,6 @@
 """Exact univariate polynomial arithmetic over the rationals.
 
-Polynomials are tuples of :class:`fractions.Fraction` in *ascending* powers:
+Polynomials are tuples of `fractions.Fraction` in *ascending* powers:
 ``(a0, a1, a2)`` is ``a0 + a1 x + a2 x**2``.  The zero polynomial is ``()``.
 Everything here is exact; nothing is decided in floating point.  The routines
 are small on purpose (the degrees in SEA analysis are below ~20), and fast

@@ -1,11 +1,11 @@
 """Files in and out: atomic writes and the strict TOML loader.
 
-What lives here: :mod:`~seapass.files.atomic` (write a file or a directory so
+What lives here: [`atomic`][seapass.files.atomic] (write a file or a directory so
 that an interrupted run never leaves a half-written one) and
-:mod:`~seapass.files.toml` (read design and rig files; every error names the
+[`toml`][seapass.files.toml] (read design and rig files; every error names the
 file).
 
-May import: :mod:`seapass.errors` only.
+May import: [`seapass.errors`][seapass.errors] only.
 """
 
 from .atomic import atomic_save, atomic_write, atomic_write_text

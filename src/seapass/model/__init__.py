@@ -1,14 +1,14 @@
 """The model: safe expressions, the immutable SEA, its stiffness, its realization, the catalog.
 
-What lives here: :mod:`~seapass.model.expr` (the safe parser and value
-checks), :mod:`~seapass.model.sea` (:class:`SEA`, :class:`Impedance`),
-:mod:`~seapass.model.stiffness` (the rendered stiffness ``F_L/X_L`` derived
-from first principles), :mod:`~seapass.model.realization` (the closed loop as
-a state-space system), :mod:`~seapass.model.catalog` (the one catalog of named
+What lives here: [`expr`][seapass.model.expr] (the safe parser and value
+checks), [`sea`][seapass.model.sea] (`SEA`, `Impedance`),
+[`stiffness`][seapass.model.stiffness] (the rendered stiffness ``F_L/X_L`` derived
+from first principles), [`realization`][seapass.model.realization] (the closed loop as
+a state-space system), [`catalog`][seapass.model.catalog] (the one catalog of named
 designs: LP, APD, Ours and every Table I/II row) and
-:mod:`~seapass.model.design_file` (a user's design as a strict TOML file).
+[`design_file`][seapass.model.design_file] (a user's design as a strict TOML file).
 
-May import: :mod:`seapass.errors`, :mod:`seapass.files`, :mod:`seapass.exact`.
+May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact].
 """
 
 from .catalog import CATALOG, PAPER_VALUES, REFERENCE_VALUES, CatalogDesign, design

@@ -4,7 +4,7 @@ Every module, command and test that needs "LP", "APD", "Ours" or a row of the
 paper's tables takes it from here.  An entry holds the *structure* of a design
 (its four elements, its controller gains and their default search box); the
 paper's printed transfer functions and bounds for the table rows live with the
-comparison that uses them, in :mod:`seapass.paper.tables`.
+comparison that uses them, in [`seapass.paper.tables`][seapass.paper.tables].
 
 =========  =====================  ===================  =============  =============
 key        structure              D1                   C_A            C_L
@@ -50,15 +50,16 @@ __all__ = [
     "design",
 ]
 
-#: The plant of the paper's simulation study (Sec. V): actuator mass and damping, spring.
 PAPER_VALUES: Mapping[str, float] = MappingProxyType({"m": 1.0, "b": 10.0, "k1": 1000.0})
+"""The plant of the paper's simulation study (Sec. V): actuator mass and damping, spring."""
 
-#: Representative values of every standard parameter (the paper's plant; the others chosen
-#: to illustrate) for plots, reports and checks.
 REFERENCE_VALUES: Mapping[str, float] = MappingProxyType(
     {"m": 1.0, "b": 10.0, "k1": 1000.0, "k2": 1000.0, "b1": 20.0, "b2": 20.0,
      "kd": 500.0, "bd": 25.0, "ki": 100.0}
 )  # fmt: skip
+"""Representative values of every standard parameter (the paper's plant; the others chosen to
+illustrate) for plots, reports and checks.
+"""
 
 
 @dataclass(frozen=True)
@@ -103,7 +104,7 @@ class CatalogDesign:
             object.__setattr__(self, "label", self.title)
 
     def sea(self, values: Mapping[str, float | None] | None = None, **more: float | None) -> SEA:
-        """The :class:`~seapass.model.sea.SEA` with ``values``; gains not given stay free."""
+        """The [`SEA`][seapass.model.sea.SEA] with ``values``; gains not given stay free."""
         vals: dict[str, float | None] = {g: None for g in self.gains}
         vals.update(dict(values or {}))
         vals.update(more)
@@ -116,7 +117,6 @@ class CatalogDesign:
 
 _BOX = {"kd": (0.0, 5000.0), "bd": (0.0, 300.0), "b1": (0.0, 300.0)}
 
-#: The three designs of the paper's simulation study (Sec. V), in the paper's order.
 SIMULATION_DESIGNS: tuple[CatalogDesign, ...] = (
     CatalogDesign("LP", "Spring, load-side P", D1="k1", CL="kd", gains=("kd",),
                   ranges={"kd": _BOX["kd"]}, label="LP: spring, load-side P"),
@@ -127,8 +127,8 @@ SIMULATION_DESIGNS: tuple[CatalogDesign, ...] = (
                   gains=("kd", "bd", "b1"), ranges=_BOX,
                   label="Ours: spring-damper, actuator-side PD"),
 )  # fmt: skip
+"""The three designs of the paper's simulation study (Sec. V), in the paper's order."""
 
-#: Every row of the paper's Tables I and II, then the proposed design, in the paper's order.
 TABLE_ROWS: tuple[CatalogDesign, ...] = (
     CatalogDesign("mech/pure-spring", "Pure spring", D1="k1", CL="kd", gains=("kd",), table="I"),
     CatalogDesign("mech/spring-spring", "Disjointed spring-spring", D1="k1", D2="k2", CL="kd",
@@ -150,11 +150,12 @@ TABLE_ROWS: tuple[CatalogDesign, ...] = (
     CatalogDesign("proposed", "Proposed: damped transmission + actuator-side PD",
                   D1="k1 + b1*s", CA="kd + bd*s", gains=("kd", "bd"), table="proposed"),
 )  # fmt: skip
+"""Every row of the paper's Tables I and II, then the proposed design, in the paper's order."""
 
-#: Every named design by key.
 CATALOG: Mapping[str, CatalogDesign] = MappingProxyType(
     {d.key: d for d in (*SIMULATION_DESIGNS, *TABLE_ROWS)}
 )
+"""Every named design by key."""
 
 
 def design(key: str) -> CatalogDesign:

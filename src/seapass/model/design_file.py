@@ -1,4 +1,4 @@
-"""A user's SEA design as a strict TOML file, loaded into a frozen :class:`Design`.
+"""A user's SEA design as a strict TOML file, loaded into a frozen `Design`.
 
 Format (every section but ``[model]`` and ``[parameters]`` is optional)::
 
@@ -37,9 +37,9 @@ Format (every section but ``[model]`` and ``[parameters]`` is optional)::
     file = "my_rig.toml"                # relative to the design file, or preset = "paper"
 
 Validation is strict: an unknown key, a wrong type, a missing field or a
-value out of range raises :class:`~seapass.errors.FileFormatError` naming the
+value out of range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the
 key (e.g. ``parameters.kd``), so a typo never falls back to a default.
-Expressions go through the safe parser of :mod:`seapass.model.expr`.
+Expressions go through the safe parser of [`seapass.model.expr`][seapass.model.expr].
 """
 
 from __future__ import annotations
@@ -81,7 +81,7 @@ class Design:
         A value for every parameter the model uses, ``m`` and ``b`` included.
     ranges : mapping of str to (float, float)
         Search ranges of the passive sets; parameters of ``CA``/``CL`` without
-        an explicit range get a default (see :meth:`analysis_ranges`).
+        an explicit range get a default (see `analysis_ranges`).
     load_masses : tuple of float
         Load masses (kg) for the step responses.
     step, horizon : float
@@ -153,7 +153,7 @@ class Design:
             raise FileFormatError("simulation.load_masses must not be empty")
 
     def sea(self) -> SEA:
-        """The :class:`~seapass.model.sea.SEA` with every value of the file."""
+        """The [`SEA`][seapass.model.sea.SEA] with every value of the file."""
         return SEA(
             D1=self.D1,
             D2=self.D2,
@@ -246,12 +246,12 @@ def _string(value: Any, key: str) -> str:
 
 
 def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = ".") -> Design:
-    """Validate a parsed TOML document and build a :class:`Design`.
+    """Validate a parsed TOML document and build a `Design`.
 
     Parameters
     ----------
     data : mapping
-        The document, as returned by :func:`tomllib.loads`.
+        The document, as returned by `tomllib.loads`.
     base_dir : path-like
         Directory that a relative ``rig.file`` is resolved against.
 

@@ -1,7 +1,7 @@
 """Safe parsing of rational expressions and parameter values.
 
-User text is never given to :func:`eval` or to a plain :func:`sympy.sympify`.
-It is parsed by :mod:`ast` in ``eval`` mode and every node is checked against a
+User text is never given to `eval` or to a plain `sympy.sympify`.
+It is parsed by `ast` in ``eval`` mode and every node is checked against a
 whitelist: numeric literals, whitelisted names, ``+ - * /``, unary signs and
 integer powers (``**`` or ``^``).  The sympy expression is then built node by
 node, so no user string ever reaches a code path that can execute code.
@@ -38,29 +38,30 @@ __all__ = [
     "to_fraction",
 ]
 
-#: Laplace variable and angular frequency.
 S = sp.Symbol("s")
+"""Laplace variable and angular frequency."""
 W = sp.Symbol("w", real=True)
 
-#: Parameter names every model may use without declaring them.
 STANDARD_SYMBOLS: tuple[str, ...] = ("m", "b", "k1", "k2", "b1", "b2", "kd", "bd", "ki")
+"""Parameter names every model may use without declaring them."""
 
-#: SI units of the standard parameters (and of the load mass ``m_L``), for labels.
 UNITS: Mapping[str, str] = MappingProxyType(
     {"m": "kg", "b": "N·s/m", "k1": "N/m", "k2": "N/m", "b1": "N·s/m", "b2": "N·s/m",
      "kd": "N/m", "bd": "N·s/m", "ki": "N/(m·s)", "m_L": "kg"}
 )  # fmt: skip
+"""SI units of the standard parameters (and of the load mass ``m_L``), for labels."""
 
 MAX_EXPRESSION_LENGTH = 2000
 MAX_NODES = 400
 MAX_EXPONENT = 12
-#: Size budget of one expression once brought to a single fraction N/D (an upper
-#: bound computed from the tree without expanding, see :func:`symbolic_size`):
-#: keeps every later sympy step (together, cancel, solve) well under a second.
 MAX_S_DEGREE = 24
+"""Size budget of one expression once brought to a single fraction N/D (an upper bound computed
+from the tree without expanding, see `symbolic_size`): keeps every later sympy step (together,
+cancel, solve) well under a second.
+"""
 MAX_TERMS = 4000
-#: Wall-clock budget [s] of one symbolic derivation (:func:`symbolic_time_limit`).
 SYMBOLIC_TIME_LIMIT = 20.0
+"""Wall-clock budget [s] of one symbolic derivation (`symbolic_time_limit`)."""
 _RESERVED = {"s", "w", "I", "E", "pi", "oo", "nan", "zoo"}
 
 
@@ -90,7 +91,7 @@ def parse_expression(text: str, allowed: Iterable[str] = STANDARD_SYMBOLS) -> sp
     Returns
     -------
     sympy.Expr
-        Parameters become positive real symbols, ``s`` is :data:`S`.
+        Parameters become positive real symbols, ``s`` is `S`.
 
     Raises
     ------
@@ -242,9 +243,9 @@ def symbolic_size(expr: sp.Expr) -> tuple[int, int]:
 
 
 def check_symbolic_size(expr: sp.Expr, what: str = "expression") -> None:
-    """Raise :class:`SymbolicLimitError` when ``expr`` exceeds the symbolic size budget.
+    """Raise `SymbolicLimitError` when ``expr`` exceeds the symbolic size budget.
 
-    The budget (:data:`MAX_S_DEGREE`, :data:`MAX_TERMS`) bounds the size of the
+    The budget (`MAX_S_DEGREE`, `MAX_TERMS`) bounds the size of the
     single fraction sympy will form, so that derivations stay fast instead of
     hanging on adversarial input such as ``1/(s + k1 + k2 + kd + bd + m + b)**12``.
     """
@@ -261,11 +262,11 @@ def check_symbolic_size(expr: sp.Expr, what: str = "expression") -> None:
 def symbolic_time_limit(
     seconds: float = SYMBOLIC_TIME_LIMIT, what: str = "symbolic derivation"
 ) -> Iterator[None]:
-    """Raise :class:`SymbolicLimitError` if the block runs longer than ``seconds``.
+    """Raise `SymbolicLimitError` if the block runs longer than ``seconds``.
 
     Uses ``SIGALRM`` and is therefore active only in the main thread of a
     process whose real-time interval timer is unused; elsewhere (worker
-    threads, dask workers) the size budget of :func:`check_symbolic_size`
+    threads, dask workers) the size budget of `check_symbolic_size`
     is the only guard.
     """
     usable = (
@@ -379,7 +380,7 @@ def validate_values(values: Mapping[str, object]) -> dict[str, float]:
 def finite_number(
     value: float, name: str, *, positive: bool = False, nonzero: bool = False
 ) -> float:
-    """``value`` as a finite float, or a :class:`ParameterError` naming ``name``."""
+    """``value`` as a finite float, or a `ParameterError` naming ``name``."""
     try:
         v = float(value)
     except (TypeError, ValueError):

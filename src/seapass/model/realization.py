@@ -3,7 +3,7 @@
 Every element is split into ``p0 + p1 s + N(s)/D(s)``; the strictly proper part
 is realized in controllable canonical form and the polynomial part acts on
 measured positions and velocities (derivative on measurement).  See
-:mod:`seapass.sim.simulate` for the plant equations.
+[`seapass.sim.simulate`][seapass.sim.simulate] for the plant equations.
 """
 
 from __future__ import annotations
@@ -80,15 +80,15 @@ class ClosedLoop:
     ----------
     A : ndarray, shape (n, n)
     B : ndarray, shape (n, 3)
-        Input columns ``(θ_A, θ_L, f_ext)``, see :data:`INPUTS`.
+        Input columns ``(θ_A, θ_L, f_ext)``, see `INPUTS`.
     C, D : ndarray, shapes (7, n) and (7, 3)
-        Output rows ``(x_A, v_A, x_L, v_L, f_A, f_D1, a_L)``, see :data:`OUTPUTS`.
+        Output rows ``(x_A, v_A, x_L, v_L, f_A, f_D1, a_L)``, see `OUTPUTS`.
     states : tuple of str
         State names; plant states ``x_A v_A x_L v_L`` first, then element states.
     load_mass : float
     relaxed : ndarray, shape (n, n)
         Maps a plant configuration to the initial state with mechanical
-        element states in equilibrium (used by :class:`LoadDisplaced`).
+        element states in equilibrium (used by `LoadDisplaced`).
     """
 
     A: np.ndarray
@@ -246,7 +246,7 @@ def closed_loop_factory(
 
     The element coefficients are compiled once as numeric functions of
     ``params``; other parameters take their values from ``sea``.  Unlike
-    :func:`closed_loop` no exact cancellation is done per call, so a common
+    `closed_loop` no exact cancellation is done per call, so a common
     factor appearing at special values leaves a (harmless, cancelled) mode.
     """
     load_mass = finite_number(load_mass, "load mass m_L", positive=True)

@@ -42,7 +42,7 @@ __all__ = [
 
 @dataclass(frozen=True)
 class StiffnessDerivation:
-    """Result of :func:`derive_stiffness`.
+    """Result of `derive_stiffness`.
 
     Attributes
     ----------
@@ -75,10 +75,11 @@ def derive_stiffness(sea: SEA) -> StiffnessDerivation:
     return _derive(tuple(e[k] for k in ("D1", "D2", "CA", "CL", "m", "b")))
 
 
-#: Budget of the derivation, checked on a structural bound of the closed form
-#: (see :func:`seapass.model.expr.symbolic_size`) before sympy starts: symbolic
-#: models at the limit derive in a few seconds, beyond it sympy can take minutes.
 MAX_MODEL_DEGREE = 16
+"""Budget of the derivation, checked on a structural bound of the closed form (see
+[`seapass.model.expr.symbolic_size`][seapass.model.expr.symbolic_size]) before sympy starts:
+symbolic models at the limit derive in a few seconds, beyond it sympy can take minutes.
+"""
 MAX_MODEL_TERMS = 4000
 
 
@@ -163,5 +164,5 @@ def real_part_polynomial(expr: sp.Expr) -> sp.Expr:
 
 
 def passivity_polynomial(sea: SEA) -> sp.Expr:
-    """:func:`real_part_polynomial` of the load impedance of ``sea``."""
+    """`real_part_polynomial` of the load impedance of ``sea``."""
     return real_part_polynomial(load_impedance(sea))

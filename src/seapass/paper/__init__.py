@@ -1,12 +1,12 @@
 """What is specific to the paper: Tables I and II compared, and the simulation study.
 
-What lives here: :mod:`~seapass.paper.tables` (the printed rows next to what
-seapass derives, each bound classified), :mod:`~seapass.paper.tablefmt` (text,
-Markdown and LaTeX renderings of them) and :mod:`~seapass.paper.simstudy`
+What lives here: [`tables`][seapass.paper.tables] (the printed rows next to what
+seapass derives, each bound classified), [`tablefmt`][seapass.paper.tablefmt] (text,
+Markdown and LaTeX renderings of them) and [`simstudy`][seapass.paper.simstudy]
 (Sec. V: LP, APD and Ours tuned at one load mass, tested at three).
 
-May import: everything in :mod:`seapass.sweep` and below (in practice
-:mod:`seapass.model`, :mod:`seapass.analysis`, :mod:`seapass.sim`).
+May import: everything in [`seapass.sweep`][seapass.sweep] and below (in practice
+[`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim]).
 """
 
 from .simstudy import SimulationStudy, run_simulation_study

@@ -1,11 +1,11 @@
 """The paper's simulation study (Sec. V): tune LP, APD and Ours at one load mass, test at three.
 
 Setup: ``m = 1 kg``, ``b = 10 N·s/m``, ``k1 = 1000 N/m``, ``D2 = 0``; gains
-tuned by :func:`seapass.sim.tuning.tune` at ``m_L = 10 kg`` for a 0.5 m step
+tuned by [`seapass.sim.tuning.tune`][seapass.sim.tuning.tune] at ``m_L = 10 kg`` for a 0.5 m step
 (exact passivity constraint, force limit), then each design is simulated
 at ``m_L ∈ {1, 10, 25} kg`` and its 2 % settling time and final error are
-tabulated.  :func:`run_simulation_study` returns the data; figures live in
-:mod:`seapass.plot.sim`.
+tabulated.  `run_simulation_study` returns the data; figures live in
+[`seapass.plot.sim`][seapass.plot.sim].
 
 References
 ----------
@@ -33,8 +33,8 @@ from ..sim.tuning import TuningOptions, TuningResult, tune
 
 __all__ = ["QUICK_OPTIONS", "SimulationStudy", "StudyRow", "run_simulation_study"]
 
-#: A small optimiser budget for tests and previews (about 10x cheaper).
 QUICK_OPTIONS = TuningOptions(maxiter=12, popsize=6, dt_search=1e-2)
+"""A small optimiser budget for tests and previews (about 10x cheaper)."""
 
 
 @dataclass(frozen=True)
@@ -51,7 +51,7 @@ class StudyRow:
 
 @dataclass(frozen=True)
 class SimulationStudy:
-    """Result of :func:`run_simulation_study`.
+    """Result of `run_simulation_study`.
 
     Attributes
     ----------
@@ -197,13 +197,13 @@ def run_simulation_study(
     options : TuningOptions, optional
         Tuning setup (default: the paper's; tuning mass 10 kg, 0.5 m step).
     quick : bool
-        Use the small budget of :data:`QUICK_OPTIONS` (for tests and previews).
+        Use the small budget of `QUICK_OPTIONS` (for tests and previews).
     horizon, dt : float
         Evaluation horizon and time step (s).
     progress : bool, optional
         Progress bars on stderr (default: when stderr is a TTY).
     on_design : callable, optional
-        Called with each :class:`TuningResult` as it completes.
+        Called with each `TuningResult` as it completes.
 
     Returns
     -------

@@ -45,7 +45,7 @@ class PaperRow:
     """What the paper prints for one catalog row (parseable with ``m b k1 k2 b1 b2 kd bd ki s w``).
 
     The row's structure (elements, title, table) is the catalog entry ``key``
-    (:mod:`seapass.model.catalog`); this holds only the paper's printed text.
+    ([`seapass.model.catalog`][seapass.model.catalog]); this holds only the paper's printed text.
     """
 
     key: str

@@ -1,7 +1,7 @@
 """Figures of exact passive sets: one parameter's intervals, 2-D maps, per-row bars.
 
-Plotting only consumes :class:`seapass.analysis.region.PassiveIntervals` and
-:class:`~seapass.analysis.region.PassiveMap` (or plain interval lists).
+Plotting only consumes [`seapass.analysis.region.PassiveIntervals`][seapass.analysis.region.PassiveIntervals] and
+[`PassiveMap`][seapass.analysis.region.PassiveMap] (or plain interval lists).
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Frequency-response figures: the rendered stiffness ``|F_L/X_L(jω)|``.
 
-Plotting only consumes :class:`seapass.analysis.freqresp.FrequencyResponse`.
+Plotting only consumes [`seapass.analysis.freqresp.FrequencyResponse`][seapass.analysis.freqresp.FrequencyResponse].
 """
 
 from __future__ import annotations

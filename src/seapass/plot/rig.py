@@ -1,10 +1,10 @@
-"""Figures of the rig experiment; they only consume result objects of :mod:`seapass.rig`.
+"""Figures of the rig experiment; they only consume result objects of [`seapass.rig`][seapass.rig].
 
-:func:`plot_rig_sweep` follows the bottom row of the paper's Fig. 3 (settling
+`plot_rig_sweep` follows the bottom row of the paper's Fig. 3 (settling
 time and steady-state error against ``kd``, LP/Ours × load masses, dotted line
-at LP's instability gain); :func:`plot_impacts` shows the perceived stiffness
+at LP's instability gain); `plot_impacts` shows the perceived stiffness
 (Eq. (10) frequency response, ``k_out`` against the impact time scale and
-against ``b1``); :func:`plot_deploy` shows runs of the deployed controller.
+against ``b1``); `plot_deploy` shows runs of the deployed controller.
 """
 
 from __future__ import annotations
@@ -144,7 +144,7 @@ def plot_impacts(result: ImpactResult, *, axes: Any = None) -> Any:
 def plot_deploy(runs: Sequence[tuple[str, Any]], *, axes: Any = None) -> Any:
     """Load position and saturated force command of deployed-controller runs.
 
-    ``runs`` holds ``(label, record)`` with a :class:`seapass.sampled.runtime.LoopRecord`
+    ``runs`` holds ``(label, record)`` with a [`seapass.sampled.runtime.LoopRecord`][seapass.sampled.runtime.LoopRecord]
     each.  Returns the two Axes.
     """
     a1, a2 = axes_grid(axes, 1, 2, figsize=(10, 3.6))[0]

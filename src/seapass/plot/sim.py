@@ -1,7 +1,7 @@
 """Figures for time-domain simulations and the paper's simulation study (Fig. 4).
 
-Plotting only consumes result objects from :mod:`seapass.sim.simulate`,
-:mod:`seapass.sim.metrics` and :mod:`seapass.paper.simstudy`.
+Plotting only consumes result objects from [`seapass.sim.simulate`][seapass.sim.simulate],
+[`seapass.sim.metrics`][seapass.sim.metrics] and [`seapass.paper.simstudy`][seapass.paper.simstudy].
 """
 
 from __future__ import annotations

@@ -1,11 +1,11 @@
 """The one figure style, new figures without global state, and byte-stable saving.
 
-Plot functions in :mod:`seapass.plot` take ``ax=None`` (or ``axes=None``) and
+Plot functions in [`seapass.plot`][seapass.plot] take ``ax=None`` (or ``axes=None``) and
 return the Axes they drew on.  Given no Axes they create a figure with pyplot,
-as a notebook user expects; inside :func:`bare_figures` (the report and the
-CLI) they create a bare :class:`matplotlib.figure.Figure` instead, which needs
+as a notebook user expects; inside `bare_figures` (the report and the
+CLI) they create a bare `matplotlib.figure.Figure` instead, which needs
 no backend and is never registered with pyplot.  Nothing here changes
-``rcParams`` or the backend: the style applies only inside :func:`figure_style`.
+``rcParams`` or the backend: the style applies only inside `figure_style`.
 """
 
 from __future__ import annotations
@@ -34,7 +34,6 @@ __all__ = [
     "save_figure",
 ]
 
-#: rcParams of every seapass figure (applied with :func:`figure_style`, never globally).
 STYLE: dict[str, Any] = {
     "font.size": 11,
     "axes.titlesize": 12,
@@ -44,9 +43,10 @@ STYLE: dict[str, Any] = {
     "svg.fonttype": "path",
     "figure.dpi": 100,
 }
+"""rcParams of every seapass figure (applied with `figure_style`, never globally)."""
 
-#: File formats :func:`save_figure` writes when the path has no suffix.
 FIGURE_FORMATS: tuple[str, ...] = ("png", "svg", "pdf")
+"""File formats `save_figure` writes when the path has no suffix."""
 
 
 _BARE: ContextVar[bool] = ContextVar("seapass_bare_figures", default=False)
@@ -68,7 +68,7 @@ def bare_figures() -> Iterator[None]:
 
 @contextmanager
 def figure_style() -> Iterator[None]:
-    """Context in which figures are drawn with :data:`STYLE` (restores rcParams after)."""
+    """Context in which figures are drawn with `STYLE` (restores rcParams after)."""
     import matplotlib
 
     with matplotlib.rc_context(cast(Any, STYLE)):
@@ -81,7 +81,7 @@ def axes_grid(
     """The ``nrows × ncols`` Axes to draw on, as a 2-D object array.
 
     ``axes`` if given; else a new figure's: a bare one inside
-    :func:`bare_figures`, otherwise pyplot's (so a notebook shows it).
+    `bare_figures`, otherwise pyplot's (so a notebook shows it).
 
     Raises
     ------
@@ -135,7 +135,7 @@ def save_figure(
 
     ``path`` with a suffix (``fig.png``, ``fig.svg``, ``fig.pdf``) writes that
     format; without one, every format in ``formats`` (default
-    :data:`FIGURE_FORMATS`) is written as ``path.<format>``.
+    `FIGURE_FORMATS`) is written as ``path.<format>``.
     """
     if not hasattr(fig, "savefig"):
         fig = figure_of(fig)

@@ -1,6 +1,6 @@
 """Heat maps of a sweep: passive fraction and settling time over two parameters.
 
-Figures only consume :class:`seapass.sweep.runner.HeatmapData`; nothing is computed here.
+Figures only consume [`seapass.sweep.heatmap.HeatmapData`][seapass.sweep.heatmap.HeatmapData]; nothing is computed here.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Figure of a destabilizing environment: the growing oscillation and the coupled poles.
 
-Plotting only consumes :class:`seapass.analysis.witness.WitnessResult`.
+Plotting only consumes [`seapass.analysis.witness.WitnessResult`][seapass.analysis.witness.WitnessResult].
 """
 
 from __future__ import annotations

@@ -1,13 +1,13 @@
 """Reports: the document model, its renderings, the stage pipeline, ``reproduce`` and ``analyze``.
 
-What lives here: :mod:`~seapass.report.document` (sections, tables, figures,
-findings), :mod:`~seapass.report.render` (``report.html`` and ``report.md``),
-:mod:`~seapass.report.output` (writing the report directory),
-:mod:`~seapass.report.pipeline` (the stage runner shared by both reports),
-:mod:`~seapass.report.reproduce` (the paper), :mod:`~seapass.report.analyze`
-(a user's design) and :mod:`seapass.report.stages` (the stages, by topic).
+What lives here: [`document`][seapass.report.document] (sections, tables, figures,
+findings), [`render`][seapass.report.render] (``report.html`` and ``report.md``),
+[`output`][seapass.report.output] (writing the report directory),
+[`pipeline`][seapass.report.pipeline] (the stage runner shared by both reports),
+[`reproduce`][seapass.report.reproduce] (the paper), [`analyze`][seapass.report.analyze]
+(a user's design) and [`seapass.report.stages`][seapass.report.stages] (the stages, by topic).
 
-May import: everything in :mod:`seapass.plot` and below.
+May import: everything in [`seapass.plot`][seapass.plot] and below.
 """
 
 from .analyze import analyze

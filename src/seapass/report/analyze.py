@@ -1,7 +1,7 @@
 """The report for a user's own design (``seapass analyze design.toml``).
 
-:func:`analyze` runs these stages on a :class:`~seapass.model.design_file.Design` and
-returns a :class:`~seapass.report.document.Report`:
+`analyze` runs these stages on a [`Design`][seapass.model.design_file.Design] and
+returns a [`Report`][seapass.report.document.Report]:
 
 ``passivity``
     The exact verdict at the given values (with the reason and a witness
@@ -10,24 +10,24 @@ returns a :class:`~seapass.report.document.Report`:
 ``witness``
     For a design that is not passive: a passive mass-spring-damper environment
     that destabilizes it, verified exactly, with the growing response
-    (:func:`seapass.analysis.witness.find_destabilizing_environment`).
+    ([`seapass.analysis.witness.find_destabilizing_environment`][seapass.analysis.witness.find_destabilizing_environment]).
 ``stiffness``
     Rendered-stiffness frequency response.
 ``ranges``
     The exact passive set of every controller gain (and of every parameter with
     a ``[ranges]`` entry), the others held at their values
-    (:func:`seapass.analysis.region.passive_intervals`).
+    ([`seapass.analysis.region.passive_intervals`][seapass.analysis.region.passive_intervals]).
 ``response``
     Step response at every load mass, with 2 % settling time and final error.
 ``tuning``
-    The fastest passive gains (:func:`seapass.sim.tuning.tune`) when the design has
+    The fastest passive gains ([`seapass.sim.tuning.tune`][seapass.sim.tuning.tune]) when the design has
     the structure of one of the tunable designs (LP, APD, ours); skipped otherwise.
 ``sampled``
     Passivity under the digital controller and the largest passive value of
-    every gain, when ``[control] rate`` is given (:mod:`seapass.sampled.passivity`).
+    every gain, when ``[control] rate`` is given ([`seapass.sampled.passivity`][seapass.sampled.passivity]).
 ``rig``
     A ``kd`` sweep on the digital twin of the ``[rig]`` (load-side P or
-    actuator-side PD designs; :func:`seapass.rig.experiment.run_sweep`).
+    actuator-side PD designs; [`seapass.rig.experiment.run_rig_sweep`][seapass.rig.experiment.run_rig_sweep]).
 """
 
 from __future__ import annotations
@@ -57,8 +57,8 @@ _STAGE_FUNCS: tuple[tuple[str, str, Callable[[Design, bool], Section]], ...] = (
     ("rig", "Digital twin of the rig", design_hardware.stage_rig),
 )
 
-#: Stage keys of :func:`analyze`, in order.
 ANALYSIS_STAGES: tuple[str, ...] = tuple(k for k, _t, _f in _STAGE_FUNCS)
+"""Stage keys of `analyze`, in order."""
 
 
 def analyze(
@@ -74,11 +74,11 @@ def analyze(
     Parameters
     ----------
     design : Design
-        From :func:`seapass.model.design_file.load_design`.
+        From [`seapass.model.design_file.load_design`][seapass.model.design_file.load_design].
     quick : bool
         Reduced tuning budget, coarser grids and scans.
     stages : sequence of str, optional
-        Subset of :data:`ANALYSIS_STAGES` (``"core"``: passivity, stiffness,
+        Subset of `ANALYSIS_STAGES` (``"core"``: passivity, stiffness,
         ranges); default all.
     progress : bool, optional
         Progress bar over the stages (default: when stderr is a TTY).
@@ -88,7 +88,7 @@ def analyze(
     Returns
     -------
     Report
-        Write it with :func:`seapass.report.document.write_report`.
+        Write it with [`seapass.report.output.write_report`][seapass.report.output.write_report].
     """
     core = {"passivity", "stiffness", "ranges"}
     all_stages = [Stage(k, t, partial(f, design), core=k in core) for k, t, f in _STAGE_FUNCS]

@@ -1,12 +1,12 @@
 """The report's document model: sections of text, tables, figures and findings.
 
-A :class:`Report` is a sequence of :class:`Section` objects, each holding
+A `Report` is a sequence of `Section` objects, each holding
 short text (a small Markdown subset: paragraphs, ``- `` lists, fenced code,
-```code``` and ``**bold**``), :class:`Table` objects, :class:`FigureData`
-(PNG bytes) and :class:`Finding` objects (a claim of the paper checked
-against seapass).  The stages of :mod:`seapass.report.reproduce` and
-:mod:`seapass.report.analyze` build them; :mod:`seapass.report.render` renders
-them and :mod:`seapass.report.output` writes them.
+```code``` and ``**bold**``), `Table` objects, `FigureData`
+(PNG bytes) and `Finding` objects (a claim of the paper checked
+against seapass).  The stages of [`seapass.report.reproduce`][seapass.report.reproduce] and
+[`seapass.report.analyze`][seapass.report.analyze] build them; [`seapass.report.render`][seapass.report.render] renders
+them and [`seapass.report.output`][seapass.report.output] writes them.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Writing a report directory: ``report.html``, ``report.md``, ``data/`` and ``figures/``.
 
-:func:`write_report` writes the whole directory into a temporary sibling
+`write_report` writes the whole directory into a temporary sibling
 directory and swaps it in only when complete: an interrupted run leaves the
 previous directory untouched.
 """
@@ -18,8 +18,8 @@ from .render import render_html, render_markdown
 __all__ = ["MARKER", "check_output_dir", "write_report"]
 
 
-#: File that marks a directory as written by seapass (safe to replace).
 MARKER = ".seapass-report"
+"""File that marks a directory as written by seapass (safe to replace)."""
 
 
 def check_output_dir(out: str | os.PathLike[str]) -> None:

@@ -1,8 +1,8 @@
-"""The stage pipeline shared by :func:`~seapass.report.reproduce.reproduce` and
-:func:`~seapass.report.analyze.analyze`.
+"""The stage pipeline shared by [`reproduce`][seapass.report.reproduce.reproduce] and
+[`analyze`][seapass.report.analyze.analyze].
 
-A report is a sequence of independent :class:`Stage` objects, each returning a
-:class:`~seapass.report.document.Section`.  :func:`run_stages` runs them under
+A report is a sequence of independent `Stage` objects, each returning a
+[`Section`][seapass.report.document.Section].  `run_stages` runs them under
 a progress bar, in this process or in forked workers, with every figure drawn
 in the one seapass style on bare (non-pyplot) figures.  A stage that needs an
 optional extra that is not installed (MuJoCo) becomes a *skipped* section; a
@@ -24,13 +24,13 @@ from .document import Section, SectionStatus
 
 __all__ = ["OPTIONAL_EXTRAS", "Stage", "run_stages", "select_stages"]
 
-#: Top-level modules of optional extras: a stage that needs a missing one is skipped.
 OPTIONAL_EXTRAS: frozenset[str] = frozenset({"mujoco"})
+"""Top-level modules of optional extras: a stage that needs a missing one is skipped."""
 
 
 @dataclass(frozen=True)
 class Stage:
-    """One step of a report: ``run(quick)`` returns a :class:`~seapass.report.document.Section`."""
+    """One step of a report: ``run(quick)`` returns a [`Section`][seapass.report.document.Section]."""
 
     key: str
     title: str
@@ -102,7 +102,7 @@ def run_stages(
 ) -> tuple[Section, ...]:
     """Run ``stages`` under a progress bar; failures become sections.
 
-    A stage that needs an optional extra (:data:`OPTIONAL_EXTRAS`) that is
+    A stage that needs an optional extra (`OPTIONAL_EXTRAS`) that is
     not installed becomes a ``skipped`` section; any other exception becomes
     a ``failed`` section naming the error.  ``KeyboardInterrupt`` propagates (workers are terminated).  ``log``
     receives one line per stage with its wall time (never written to the

@@ -1,4 +1,4 @@
-"""Renderings of a :class:`~seapass.report.document.Report`: ``report.html`` and ``report.md``.
+"""Renderings of a [`Report`][seapass.report.document.Report]: ``report.html`` and ``report.md``.
 
 ``report.html`` embeds every figure as a base64 ``data:`` URI, has inline CSS
 only, and a Content-Security-Policy that forbids any network access.  A tiny

@@ -1,12 +1,12 @@
 """The main job: regenerate every table and figure of the paper and what seapass adds.
 
-:func:`reproduce` runs a sequence of *stages* and returns a
-:class:`~seapass.report.document.Report`; :func:`seapass.report.document.write_report` writes it.
+`reproduce` runs a sequence of *stages* and returns a
+[`Report`][seapass.report.document.Report]; [`seapass.report.output.write_report`][seapass.report.output.write_report] writes it.
 Stages (in order, keys for ``stages=``):
 
 ``tables``
     Tables I and II and the proposed design, paper and derived side by side
-    (:func:`seapass.paper.tables.build_tables`), discrepancies flagged.
+    ([`seapass.paper.tables.build_tables`][seapass.paper.tables.build_tables]), discrepancies flagged.
 ``stiffness``
     Rendered-stiffness frequency response of every row at the reference values.
 ``regions``
@@ -15,25 +15,25 @@ Stages (in order, keys for ``stages=``):
     the exact ``kd × b1`` map of load-side P with a damped spring with the
     paper's sufficient bound overlaid; the proposed design over a wide range;
     for a bound that admits non-passive gains, a passive environment that
-    destabilizes one (:mod:`seapass.analysis.witness`).
+    destabilizes one ([`seapass.analysis.witness`][seapass.analysis.witness]).
 ``simulation``
-    The paper's simulation study (Sec. V, Fig. 4) from :mod:`seapass.paper.simstudy`.
+    The paper's simulation study (Sec. V, Fig. 4) from [`seapass.paper.simstudy`][seapass.paper.simstudy].
 ``rig``
     The hardware experiment (Sec. VI, Fig. 3) on the digital twin
-    (:mod:`seapass.rig.experiment`): ``kd`` sweeps and impact stiffness.
+    ([`seapass.rig.experiment`][seapass.rig.experiment]): ``kd`` sweeps and impact stiffness.
 ``sampled``
-    Largest passive ``kd`` at the rig's 500 Hz (:mod:`seapass.sampled.passivity`),
+    Largest passive ``kd`` at the rig's 500 Hz ([`seapass.sampled.passivity`][seapass.sampled.passivity]),
     ideal and with the rig's delay and velocity filter, against continuous time.
 ``deploy``
-    The discrete controllers run by :class:`seapass.sampled.runtime.ControlLoop` on the
+    The discrete controllers run by [`seapass.sampled.runtime.ControlLoop`][seapass.sampled.runtime.ControlLoop] on the
     twin behind the continuous and sampled passivity gate.
 ``tradeoff``
     Exact passivity and settling time over whole ``(kd, bd)`` and ``(kd, b1)``
-    grids (:mod:`seapass.batch.verdicts`, :mod:`seapass.batch.step_metrics`).
+    grids ([`seapass.batch.verdicts`][seapass.batch.verdicts], [`seapass.batch.step_metrics`][seapass.batch.step_metrics]).
 
 Every stage is deterministic (fixed seeds; no timestamps).  A stage that
 raises is reported as *failed* with its error and the others still run
-(:mod:`seapass.report.pipeline`).  Figures only consume the stages' result
+([`seapass.report.pipeline`][seapass.report.pipeline]).  Figures only consume the stages' result
 objects.
 """
 
@@ -62,7 +62,7 @@ STAGES: tuple[Stage, ...] = (
 
 
 def stage_keys() -> tuple[str, ...]:
-    """Keys of every stage of :func:`reproduce`, in order."""
+    """Keys of every stage of `reproduce`, in order."""
     return tuple(s.key for s in STAGES)
 
 
@@ -74,14 +74,14 @@ def reproduce(
     log: Callable[[str], None] | None = None,
     jobs: int = 1,
 ) -> Report:
-    """Regenerate the paper's results and seapass's additions as a :class:`Report`.
+    """Regenerate the paper's results and seapass's additions as a `Report`.
 
     Parameters
     ----------
     quick : bool
         Reduced optimiser budgets and coarser grids (about a minute in total).
     stages : sequence of str, optional
-        Stage keys to run (see :data:`STAGES`; ``"core"`` selects the stages
+        Stage keys to run (see `STAGES`; ``"core"`` selects the stages
         that need only the core modules).  Default: all.
     progress : bool, optional
         Rich progress bar over the stages on stderr (default: when stderr is a TTY).
@@ -94,7 +94,7 @@ def reproduce(
     Returns
     -------
     Report
-        Write it with :func:`seapass.report.document.write_report`.
+        Write it with [`seapass.report.output.write_report`][seapass.report.output.write_report].
 
     References
     ----------

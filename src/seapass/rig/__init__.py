@@ -1,14 +1,14 @@
 """The hardware rig: its file, the digital twin, and the paper's experiment on it.
 
-What lives here: :mod:`~seapass.rig.rigfile` (:class:`Rig` and its strict TOML
-loader), :mod:`~seapass.rig.plant` (the nonlinear plant: friction, saturation,
-encoders), :mod:`~seapass.rig.twin` (batches of sampled closed loops on it),
-:mod:`~seapass.rig.experiment`, :mod:`~seapass.rig.impacts`,
-:mod:`~seapass.rig.predictions` and :mod:`~seapass.rig.findings` (the paper's
-Section VI on the twin) and :mod:`~seapass.rig.mujoco_model` (an optional
+What lives here: [`rigfile`][seapass.rig.rigfile] (`Rig` and its strict TOML
+loader), [`plant`][seapass.rig.plant] (the nonlinear plant: friction, saturation,
+encoders), [`twin`][seapass.rig.twin] (batches of sampled closed loops on it),
+[`experiment`][seapass.rig.experiment], [`impacts`][seapass.rig.impacts],
+[`predictions`][seapass.rig.predictions] and [`findings`][seapass.rig.findings] (the paper's
+Section VI on the twin) and [`mujoco_model`][seapass.rig.mujoco_model] (an optional
 MuJoCo cross-check; needs the ``mujoco`` extra).
 
-May import: everything in :mod:`seapass.sampled` and below.
+May import: everything in [`seapass.sampled`][seapass.sampled] and below.
 """
 
 from .experiment import ExperimentResult, RigSweepResult, run_experiment, run_rig_sweep

@@ -2,7 +2,7 @@
 
 Two protocols:
 
-* :func:`run_rig_sweep` / :func:`run_experiment` — settling experiment: the load
+* `run_rig_sweep` / `run_experiment` — settling experiment: the load
   starts at rest at ``experiment.initial_position`` (20 mm) and is driven to 0
   by LP (load-side P, ``C_L = kd``) or Ours (actuator-side PD,
   ``C_A = kd + bd s``, ``bd = 25``) for ``kd`` in ``[0, kd_max]`` and each
@@ -10,13 +10,13 @@ Two protocols:
   are measured on the encoder signals, and the gain beyond which LP becomes
   unstable is located in the twin and predicted from the continuous-time and
   the sampled (ZOH, delay, filtered finite differences) linear loops.
-* :func:`run_impacts` — perceived stiffness ``k_out = F_L/X_L`` under steps in
+* `run_impacts` — perceived stiffness ``k_out = F_L/X_L`` under steps in
   load force (the paper's approximation of an impact), its dependence on the
   damper ``b1`` and on the impact time scale, and the stiffness frequency
-  response of Eq. (10) from :func:`seapass.model.stiffness.derive_stiffness`.
+  response of Eq. (10) from [`seapass.model.stiffness.derive_stiffness`][seapass.model.stiffness.derive_stiffness].
 
 Findings are compared with the paper's qualitative claims in
-:class:`ExperimentFinding` objects (match or mismatch, with the reason from the model).
+`ExperimentFinding` objects (match or mismatch, with the reason from the model).
 
 References
 ----------
@@ -268,7 +268,7 @@ def run_rig_sweep(
 
 @dataclass(frozen=True)
 class ExperimentResult:
-    """The full settling experiment: one :class:`RigSweepResult` per (design, mass)."""
+    """The full settling experiment: one `RigSweepResult` per (design, mass)."""
 
     rig_name: str
     sweeps: tuple[RigSweepResult, ...]

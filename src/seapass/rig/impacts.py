@@ -42,7 +42,7 @@ def rig_stiffness_response(
 ) -> tuple[FloatArray, FloatArray]:
     """``|F_L/X_L(jω)|`` of Eq. (10) and of the twin's port (Eq. (10) + load mass).
 
-    Eq. (10) is obtained from :func:`seapass.model.stiffness.derive_stiffness` with
+    Eq. (10) is obtained from [`seapass.model.stiffness.derive_stiffness`][seapass.model.stiffness.derive_stiffness] with
     ``D1 = k1 + b1 s``, ``C_A = kd + bd s`` and the rig's ``m, b``; the second
     array adds the load-side carriage + load (``m_L s² + b_L s``), which the
     paper's massless port omits.  Axis: frequency.

@@ -6,11 +6,11 @@ and damper of the transmission as a *fixed tendon* ``L = x_L − x_A`` with
 ``stiffness = k1`` and ``damping = b1``, and a ``motor`` actuator on ``x_A``
 whose control range is the rig's force limit.  Dry friction and encoder
 quantization are left out: the model is the linear, friction-free plant to
-which :class:`seapass.rig.twin.TwinPlant` reduces with ``friction=False,
-quantize=False``, and :func:`compare_with_twin` checks the two agree.
+which [`seapass.rig.plant.TwinPlant`][seapass.rig.plant.TwinPlant] reduces with ``friction=False,
+quantize=False``, and `compare_with_twin` checks the two agree.
 
 MuJoCo is imported lazily; without it these functions raise
-:class:`~seapass.errors.SimulationError` suggesting ``pip install seapass[mujoco]``.
+[`SimulationError`][seapass.errors.SimulationError] suggesting ``pip install seapass[mujoco]``.
 
 References
 ----------
@@ -104,7 +104,7 @@ def simulate_mujoco(
     deflection0: float = 0.0,
     timestep: float = 1e-4,
 ) -> MujocoRun:
-    """Run the MJCF rig under the same sampled controller as :func:`seapass.rig.twin.simulate_loop`.
+    """Run the MJCF rig under the same sampled controller as [`seapass.rig.twin.simulate_loop`][seapass.rig.twin.simulate_loop].
 
     ``u_k = − kp_A x_A − kv_A v̂_A − kp_L x_L`` is computed from exact
     positions at the control rate (finite-difference velocity with the rig's

@@ -69,7 +69,7 @@ class PlantKernel:
 
     Every parameter may be a scalar or an array of shape ``(n,)``.  With
     ``scalar=True`` (``n`` = 1) state and coefficients are Python floats: the
-    same arithmetic, ~10x faster for the single-run :class:`TwinPlant`.
+    same arithmetic, ~10x faster for the single-run `TwinPlant`.
     """
 
     # float in scalar mode, (n,) arrays otherwise

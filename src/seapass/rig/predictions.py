@@ -2,7 +2,7 @@
 
 The continuous-time loop (eigenvalues of ``A − B K``) and the sampled loop at
 the rig's rate with its ZOH, delay and filtered finite-difference velocities
-(:func:`sampled_loop_matrix`) predict the gain at which the twin goes unstable.
+(`sampled_loop_matrix`) predict the gain at which the twin goes unstable.
 """
 
 from __future__ import annotations
@@ -125,7 +125,7 @@ def critical_gain(
 
     ``sampled=False`` uses the continuous-time loop (eigenvalues of ``A − B K``);
     ``sampled=True`` the ZOH loop at the rig's rate with its delay and velocity
-    filter (:func:`sampled_loop_matrix`).  The first crossing on a grid over
+    filter (`sampled_loop_matrix`).  The first crossing on a grid over
     ``[0, kd_search]`` is refined by bisection; None when stable throughout.
     """
     d = rig_design(design)
@@ -147,8 +147,8 @@ def critical_gain(
     return None
 
 
-#: Catalog designs the rig experiment runs (load-side P and Ours' actuator-side PD).
 RIG_DESIGNS: tuple[str, ...] = ("LP", "ours")
+"""Catalog designs the rig experiment runs (load-side P and Ours' actuator-side PD)."""
 
 
 def rig_design(design: str) -> str:
@@ -173,7 +173,7 @@ def rig_sea(rig: Rig, design: str, **gains: float | None) -> SEA:
 
 
 def controller_gains(design: str, kd: ArrayLike, bd: float) -> dict[str, Any]:
-    """The twin's gain arguments (:func:`~seapass.rig.twin.simulate_loop`) of a rig design."""
+    """The twin's gain arguments ([`simulate_loop`][seapass.rig.twin.simulate_loop]) of a rig design."""
     if rig_design(design) == "LP":
         return {"kp_load": kd}
     return {"kp_actuator": kd, "kv_actuator": bd}

@@ -1,14 +1,14 @@
-"""Hardware rig description: a frozen :class:`Rig` and a strict TOML loader.
+"""Hardware rig description: a frozen `Rig` and a strict TOML loader.
 
 A rig file describes one physical SEA test bench (motor, transmission, spring,
 friction damper, load carriage, encoders, control loop) plus the protocol of
 the paper's experiment run on it.  The package ships the reconstruction of the
 bench of Mehta & Losey [1]_ as ``seapass/data/paper_rig.toml``; load it with
-:func:`paper_rig`.  Users write their own files in the same format.
+`paper_rig`.  Users write their own files in the same format.
 
 Validation is strict: an unknown section or key, a wrong type, a missing
 required key or a value out of its physical range raises
-:class:`~seapass.errors.FileFormatError` naming the key (``spring.k1``), so a
+[`FileFormatError`][seapass.errors.FileFormatError] naming the key (``spring.k1``), so a
 typo never silently falls back to a default.
 
 References
@@ -253,8 +253,8 @@ _TOP = {
 class Rig:
     """A complete, validated description of one SEA test bench.
 
-    Build one with :func:`load_rig` / :func:`parse_rig` / :func:`paper_rig`, or
-    directly from the section dataclasses; use :meth:`replace` for variants
+    Build one with `load_rig` / `parse_rig` / `paper_rig`, or
+    directly from the section dataclasses; use `replace` for variants
     (``rig.replace(damper={"b1": 0.0})``).
 
     Attributes
@@ -441,7 +441,7 @@ def _build(section: str, table: Any) -> Any:
 
 
 def parse_rig(data: dict[str, Any]) -> Rig:
-    """Validate a parsed TOML document (nested dict) and build a :class:`Rig`.
+    """Validate a parsed TOML document (nested dict) and build a `Rig`.
 
     Raises
     ------

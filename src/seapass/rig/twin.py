@@ -1,9 +1,9 @@
 """Batch closed-loop runs of the digital twin: the sampled controller on the plant.
 
-:func:`simulate_loop` runs many closed loops at once (axis ``run``) of the
-plant of :mod:`seapass.rig.plant` under a discrete PD controller with encoder
+`simulate_loop` runs many closed loops at once (axis ``run``) of the
+plant of [`seapass.rig.plant`][seapass.rig.plant] under a discrete PD controller with encoder
 positions, filtered finite-difference velocities, ZOH and an optional
-one-sample delay; :func:`linear_matrices` is the friction-free linear model the
+one-sample delay; `linear_matrices` is the friction-free linear model the
 twin reduces to.
 """
 
@@ -27,7 +27,7 @@ __all__ = ["LoopResult", "linear_matrices", "simulate_loop"]
 
 @dataclass(frozen=True)
 class LoopResult:
-    """Batch closed-loop run of :func:`simulate_loop`.
+    """Batch closed-loop run of `simulate_loop`.
 
     Arrays have axis order ``(run, sample)``; ``sample`` indexes the control
     instants ``t[k] = k * period``.
@@ -110,7 +110,7 @@ def simulate_loop(
     delay_samples, velocity_filter_hz : optional
         Override the rig's ``[control]`` values.
     seed : int or None
-        Encoder phase offsets (see :class:`TwinPlant`).
+        Encoder phase offsets (see `TwinPlant`).
     """
     arr = _broadcast_runs(
         load_mass=load_mass, kp_actuator=kp_actuator, kv_actuator=kv_actuator,

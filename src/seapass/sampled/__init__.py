@@ -1,14 +1,14 @@
 """Sampled-data control: discrete controllers, sampled passivity, the fixed-rate runtime.
 
-What lives here: :mod:`~seapass.sampled.controllers` (exact discretization and
-the deployable difference equations), :mod:`~seapass.sampled.passivity`
+What lives here: [`controllers`][seapass.sampled.controllers] (exact discretization and
+the deployable difference equations), [`passivity`][seapass.sampled.passivity]
 (passivity of the continuous port under the digital controller, and passive
-bounds), :mod:`~seapass.sampled.coupling` (the digital loop coupled to passive
-environments, a simulation check) and :mod:`~seapass.sampled.runtime` (a
+bounds), [`coupling`][seapass.sampled.coupling] (the digital loop coupled to passive
+environments, a simulation check) and [`runtime`][seapass.sampled.runtime] (a
 fixed-rate control loop with safety, for hardware or the twin).
 
-May import: :mod:`seapass.errors`, :mod:`seapass.exact`, :mod:`seapass.model`,
-:mod:`seapass.analysis`, :mod:`seapass.sim`, :mod:`seapass.batch`.
+May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model],
+[`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim], [`seapass.batch`][seapass.batch].
 """
 
 from .bound import SampledBoundResult, sampled_passive_bound

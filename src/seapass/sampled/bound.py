@@ -19,7 +19,7 @@ __all__ = ["SampledBoundResult", "sampled_passive_bound"]
 
 @dataclass(frozen=True)
 class SampledBoundResult:
-    """Passive values of one parameter under sampling (:func:`sampled_passive_bound`).
+    """Passive values of one parameter under sampling (`sampled_passive_bound`).
 
     Attributes
     ----------
@@ -85,7 +85,7 @@ def sampled_passive_bound(
     """Passive values of ``param`` in ``[lo, hi]`` at sampling period ``period``.
 
     The range is scanned at ``samples`` points (each verdict exact, by
-    :func:`sampled_passivity`) and every change of verdict is refined by
+    `sampled_passivity`) and every change of verdict is refined by
     bisection to ``rtol·(hi − lo)``.  Passive islands narrower than the scan
     step can be missed; raise ``samples`` to look closer.  ``progress=True``
     shows a rich progress bar when stderr is a terminal.

@@ -1,6 +1,6 @@
 """Deployable discrete-time controllers: discretization and difference equations.
 
-A controller element ``C(s)`` of an :class:`~seapass.model.sea.SEA` is split into
+A controller element ``C(s)`` of an [`SEA`][seapass.model.sea.SEA] is split into
 
 * its polynomial part ``c0 + c1 s + c2 s^2 + ...``: the constant acts on the
   error ``θ − x``; the derivative terms act on the *measurement* only
@@ -11,10 +11,10 @@ A controller element ``C(s)`` of an :class:`~seapass.model.sea.SEA` is split int
   and applied to the error.
 
 Both paths are realized as exact rational transfer functions in ``z^-1``
-(:class:`DiscreteTF`, coefficients :class:`fractions.Fraction`) and run as
+(`DiscreteTF`, coefficients `fractions.Fraction`) and run as
 direct-form-II-transposed difference equations.  With constant references the
 closed loop equals ``u = K(z)(θ − x)`` with ``K`` the sum of the two paths, which
-is what :mod:`seapass.sampled.passivity` analyses.
+is what [`seapass.sampled.passivity`][seapass.sampled.passivity] analyses.
 
 References
 ----------
@@ -282,7 +282,7 @@ def discretize(
 
 
 class DifferenceEquation:
-    """Run a :class:`DiscreteTF` sample by sample (direct form II transposed, float64)."""
+    """Run a `DiscreteTF` sample by sample (direct form II transposed, float64)."""
 
     def __init__(self, tf: DiscreteTF) -> None:
         n = max(len(tf.num), len(tf.den))
@@ -306,8 +306,8 @@ class DiscreteController:
     """``u = K_A(θ_A − x_A) + K_L(θ_L − x_L)`` at a fixed period, ready to deploy.
 
     Derivative terms act on the measurement only (see module docstring).  Build
-    from an SEA with :meth:`from_sea` or use :class:`LPController`,
-    :class:`APDController`, :class:`OursController`.
+    from an SEA with `from_sea` or use `LPController`,
+    `APDController`, `OursController`.
 
     Parameters
     ----------
@@ -428,7 +428,7 @@ def controller_tfs(
     velocity_filter: float | None = None,
     method: Method = "tustin",
 ) -> tuple[DiscreteTF, DiscreteTF]:
-    """``(z^-d K_A(z), z^-d K_L(z))`` exactly as :class:`DiscreteController` runs them."""
+    """``(z^-d K_A(z), z^-d K_L(z))`` exactly as `DiscreteController` runs them."""
     if int(delay) != delay or delay < 0:
         raise ParameterError(f"delay must be a non-negative whole number of samples, got {delay!r}")
     ctrl = DiscreteController.from_sea(sea, period, method=method, velocity_filter=velocity_filter)

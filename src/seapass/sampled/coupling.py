@@ -3,7 +3,7 @@
 The sampled SEA loop (ZOH force, sampled encoders, the deployed discrete
 controller) is coupled to a mass-spring(-damper) environment at the port and
 discretized exactly; a spectral radius above one is a destabilizing passive
-environment.  This is the empirical counterpart of :func:`seapass.sampled.passivity.sampled_passivity`.
+environment.  This is the empirical counterpart of [`seapass.sampled.passivity.sampled_passivity`][seapass.sampled.passivity.sampled_passivity].
 """
 
 from __future__ import annotations
@@ -83,7 +83,7 @@ def coupled_closed_loop(
 ) -> np.ndarray:
     """Closed-loop transition matrix over one period (plant states first: x_A, v_A, x_L, v_L).
 
-    ``tfs`` (from :func:`controller_tfs`) skips re-discretizing the controller.
+    ``tfs`` (from `controller_tfs`) skips re-discretizing the controller.
     """
     from scipy.linalg import expm
 

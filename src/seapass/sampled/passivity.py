@@ -2,7 +2,7 @@
 
 The person (or environment) moves the continuous load port; the controller
 samples ``x_A(kT)`` and ``x_L(kT)``, computes ``u_k = −K_A(z) x_A − K_L(z) x_L``
-(``K = z^-d C(z)`` discretized, see :mod:`seapass.sampled.controllers`) and holds it
+(``K = z^-d C(z)`` discretized, see [`seapass.sampled.controllers`][seapass.sampled.controllers]) and holds it
 (ZOH) on the actuator.  Passivity of this linear *periodically time-varying*
 port is decided with the Colgate–Schenkel alias argument [1]_, generalised here
 to the SEA transmission.
@@ -33,7 +33,7 @@ a rational function of ``z`` in closed form: partial fractions of the summand
 trigonometric polynomial, recovered exactly from ``M`` samples by a discrete
 cosine transform in 50-digit arithmetic, written as a polynomial in
 ``x = cos ωT`` with rational coefficients (the 50-digit values, exactly), and
-its sign on ``[−1, 1]`` decided by Sturm sequences (:mod:`seapass.exact.poly`).
+its sign on ``[−1, 1]`` decided by Sturm sequences ([`seapass.exact.poly`][seapass.exact.poly]).
 No frequency grid decides anything: the samples only determine coefficients,
 and a coefficient tail that does not vanish is an error, not a verdict.
 
@@ -92,7 +92,7 @@ __all__ = [
 
 @dataclass(frozen=True)
 class SampledPassivityResult:
-    """Verdict of :func:`sampled_passivity`.
+    """Verdict of `sampled_passivity`.
 
     Attributes
     ----------
@@ -100,7 +100,7 @@ class SampledPassivityResult:
     reason : str
         ``""``, ``"unstable"`` (internal sampled loop), ``"alias_injection"``,
         ``"negative_power"`` or ``"continuous_not_passive"`` (the continuous design
-        already fails; see :func:`_continuous_gate`).
+        already fails; see `_continuous_gate`).
     detail : str
     omega : float or None
         Witness frequency (rad/s, in ``(0, π/T]``) where ``N(ω) < 0``.
@@ -234,7 +234,7 @@ def sampled_passivity(
         Analyse this deployed controller (its exact transfer functions, delayed
         by ``delay``) instead of discretizing ``sea.CA``/``sea.CL``.
     throw : bool, default False
-        Raise :class:`~seapass.errors.NotPassiveError` instead of returning.
+        Raise [`NotPassiveError`][seapass.errors.NotPassiveError] instead of returning.
 
     Returns
     -------
@@ -271,8 +271,8 @@ def sampled_passivity(
     return result
 
 
-#: Magnitudes the 50-digit alias sums handle reliably; outside them seapass refuses.
 VALUE_RANGE = (1e-100, 1e100)
+"""Magnitudes the 50-digit alias sums handle reliably; outside them seapass refuses."""
 PERIOD_RANGE = (1e-7, 10.0)
 
 
@@ -297,7 +297,7 @@ def _continuous_gate(sea: SEA, result: SampledPassivityResult) -> SampledPassivi
 
     Conservative policy: the alias-sum decision has been seen to miss
     violations confined to very low ``ωT`` (a continuous violation that the
-    coupled simulation in :mod:`seapass.sampled.coupling` confirms).  Requiring
+    coupled simulation in [`seapass.sampled.coupling`][seapass.sampled.coupling] confirms).  Requiring
     the exact continuous verdict as well can only turn "passive" into "not
     passive", never the reverse.
     """

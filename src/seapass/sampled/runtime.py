@@ -1,18 +1,18 @@
 """Fixed-rate control loop with safety, for real hardware or the digital twin.
 
-The same :class:`ControlLoop` code drives a physical bench (anything that
-implements :class:`HardwareInterface`, timed by :class:`RealTimeClock`) and the
-digital twin (:class:`SimulatedHardware` wrapping a
-:class:`~seapass.rig.twin.TwinPlant`, timed by :class:`SimulatedClock`).  Tests
-inject a :class:`FakeClock` to create overruns deterministically.
+The same `ControlLoop` code drives a physical bench (anything that
+implements `HardwareInterface`, timed by `RealTimeClock`) and the
+digital twin (`SimulatedHardware` wrapping a
+[`TwinPlant`][seapass.rig.plant.TwinPlant], timed by `SimulatedClock`).  Tests
+inject a `FakeClock` to create overruns deterministically.
 
 Safety layers, in order:
 
 1. before the loop starts, the design is checked for continuous passivity
-   (:func:`seapass.analysis.passivity.is_passive`) and for sampled-data passivity at the
-   loop's own period and delay (:func:`seapass.sampled.passivity.sampled_passivity`, with
+   ([`seapass.analysis.passivity.is_passive`][seapass.analysis.passivity.is_passive]) and for sampled-data passivity at the
+   loop's own period and delay ([`seapass.sampled.passivity.sampled_passivity`][seapass.sampled.passivity.sampled_passivity], with
    the deployed controller's exact transfer functions); a non-passive design
-   raises :class:`~seapass.errors.NotPassiveError` unless
+   raises [`NotPassiveError`][seapass.errors.NotPassiveError] unless
    ``allow_nonpassive=True``;
 2. every command is saturated to ``±force_limit``;
 3. a non-finite or out-of-range measurement, a failed encoder read (stale
@@ -73,7 +73,7 @@ class HardwareInterface(Protocol):
 
 
 class SimulatedHardware:
-    """:class:`HardwareInterface` backed by a :class:`~seapass.rig.twin.TwinPlant`.
+    """`HardwareInterface` backed by a [`TwinPlant`][seapass.rig.plant.TwinPlant].
 
     Parameters
     ----------
@@ -150,7 +150,7 @@ class RealTimeClock:
 
 
 class FakeClock:
-    """Manual clock for tests: time moves only by :meth:`advance` or :meth:`sleep_until`."""
+    """Manual clock for tests: time moves only by `advance` or `sleep_until`."""
 
     def __init__(self, start: float = 0.0) -> None:
         self.t = float(start)
@@ -166,7 +166,7 @@ class FakeClock:
 
 
 class SimulatedClock(FakeClock):
-    """Simulated time that advances a :class:`SimulatedHardware` with it."""
+    """Simulated time that advances a `SimulatedHardware` with it."""
 
     def __init__(self, hardware: SimulatedHardware, start: float = 0.0) -> None:
         super().__init__(start)
@@ -183,7 +183,7 @@ class SimulatedClock(FakeClock):
 
 @dataclass(frozen=True)
 class LoopRecord:
-    """What one run of :meth:`ControlLoop.run` did; arrays have one entry per serviced tick.
+    """What one run of `ControlLoop.run` did; arrays have one entry per serviced tick.
 
     Attributes
     ----------
@@ -247,7 +247,7 @@ class ControlLoop:
     period : float
         Loop period (s).
     clock : RealTimeClock, SimulatedClock or FakeClock, optional
-        Default: :class:`SimulatedClock` for :class:`SimulatedHardware`, else real time.
+        Default: `SimulatedClock` for `SimulatedHardware`, else real time.
     force_limit : float
         Saturation of the command (N).
     position_limits : (float, float)

@@ -1,13 +1,13 @@
 """Time-domain simulation, tracking metrics and passivity-constrained tuning.
 
-What lives here: :mod:`~seapass.sim.scenarios` (what drives the loop: steps,
-displaced loads, forces, trajectories), :mod:`~seapass.sim.simulate` (exact
-matrix-exponential simulation with a load mass), :mod:`~seapass.sim.metrics`
-(the one settling definition and the :class:`Settling` status enum) and
-:mod:`~seapass.sim.tuning` (the fastest passive gains).
+What lives here: [`scenarios`][seapass.sim.scenarios] (what drives the loop: steps,
+displaced loads, forces, trajectories), [`simulate`][seapass.sim.simulate] (exact
+matrix-exponential simulation with a load mass), [`metrics`][seapass.sim.metrics]
+(the one settling definition and the `Settling` status enum) and
+[`tuning`][seapass.sim.tuning] (the fastest passive gains).
 
-May import: :mod:`seapass.errors`, :mod:`seapass.exact`, :mod:`seapass.model`,
-:mod:`seapass.analysis`.
+May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model],
+[`seapass.analysis`][seapass.analysis].
 """
 
 from .metrics import Settling, TrackingMetrics, settling_time, tracking_metrics

@@ -40,7 +40,7 @@ class Settling(StrEnum):
     """How a response ended: one vocabulary for simulations, batches and the rig twin.
 
     The values are the words written to reports and data files.  Batch
-    results store :attr:`code` (an index into :data:`SETTLING_CODES`) in
+    results store `code` (an index into `SETTLING_CODES`) in
     ``int8`` arrays.
     """
 
@@ -61,12 +61,12 @@ class Settling(StrEnum):
 
     @property
     def code(self) -> int:
-        """Index of this status in :data:`SETTLING_CODES`."""
+        """Index of this status in `SETTLING_CODES`."""
         return SETTLING_CODES.index(self)
 
 
-#: Every :class:`Settling` status, by code (batch ``status`` arrays hold these indices).
 SETTLING_CODES: tuple[Settling, ...] = tuple(Settling)
+"""Every `Settling` status, by code (batch ``status`` arrays hold these indices)."""
 
 
 @dataclass(frozen=True)
@@ -198,7 +198,7 @@ def tracking_metrics(
     tolerance : float
         Settling band as a fraction of the motion size (2 % by default).
     throw : bool
-        Raise :class:`~seapass.errors.SimulationError` for an unstable run
+        Raise [`SimulationError`][seapass.errors.SimulationError] for an unstable run
         instead of returning ``status="unstable"``.
 
     Returns

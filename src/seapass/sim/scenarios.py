@@ -1,7 +1,7 @@
 """Simulation scenarios: what drives the closed loop (reference steps, displaced load, forces, trajectories).
 
 Each scenario is an immutable value object validated on construction; the
-simulator in :mod:`seapass.sim.simulate` turns it into initial conditions and an
+simulator in [`seapass.sim.simulate`][seapass.sim.simulate] turns it into initial conditions and an
 input signal ``u(t) = (θ_A, θ_L, f_ext)``.
 """
 

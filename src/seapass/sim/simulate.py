@@ -1,6 +1,6 @@
 """Time-domain simulation of an SEA driving a load mass, with exact discretization.
 
-Plant (the free-body model of :mod:`seapass.model.stiffness` with a load mass ``m_L``
+Plant (the free-body model of [`seapass.model.stiffness`][seapass.model.stiffness] with a load mass ``m_L``
 at the port):
 
 * actuator: ``m ẍ_A + b ẋ_A = f_A + F_1``, with ``F_1 = D1 (x_L − x_A)``
@@ -15,13 +15,13 @@ states.  A controller's ``p1 s`` term acts on the *measurement only*
 ("derivative on measurement": ``p1 (θ̇ − ẋ)`` is replaced by ``−p1 ẋ``), so a
 step reference never produces an impulse.  An element whose polynomial part
 has degree 2 or more would need accelerations and raises
-:class:`~seapass.errors.UnrealizableError`.
+[`UnrealizableError`][seapass.errors.UnrealizableError].
 
 The closed loop is linear time-invariant, ``ẋ = A x + B u`` with inputs
 ``u = (θ_A, θ_L, f_ext)``.  Inputs are held (ZOH) or linearly interpolated
 (first-order hold) between grid points and the state is propagated with the
 matrix exponential of an augmented matrix, so samples are exact up to
-rounding for any time step; :meth:`SimulationResult.state_at` evaluates the
+rounding for any time step; `SimulationResult.state_at` evaluates the
 exact solution between samples.
 
 References
@@ -153,7 +153,7 @@ class SimulationResult:
         return (scipy.linalg.expm(aug * tau) @ w)[: len(self.system.states)]
 
     def output_at(self, name: str, t: float) -> float:
-        """Exact value of output ``name`` (see :data:`OUTPUTS`) at time ``t``."""
+        """Exact value of output ``name`` (see `OUTPUTS`) at time ``t``."""
         c, d = self.system.output(name)
         k = min(max(int(np.searchsorted(self.time, t, side="right")) - 1, 0), self.time.size - 1)
         u = self.inputs[k] + self.slopes[min(k, len(self.slopes) - 1)] * (t - self.time[k])
@@ -263,7 +263,7 @@ def simulate_closed_loop(
     horizon: float = 10.0,
     dt: float = 1e-3,
 ) -> SimulationResult:
-    """Simulate an already built :class:`ClosedLoop`; see :func:`simulate`."""
+    """Simulate an already built `ClosedLoop`; see `simulate`."""
     scenario = Step(0.5) if scenario is None else scenario
     horizon = finite_number(horizon, "horizon", positive=True)
     dt = finite_number(dt, "time step dt", positive=True)
@@ -408,8 +408,8 @@ def simulate(
     >>> sea = SEA(D1="k1 + b1*s", CA="kd + bd*s",
     ...           values=dict(m=1, b=10, k1=1000, b1=100, kd=2000, bd=60))
     >>> r = simulate(sea, load_mass=10, horizon=5)
-    >>> r.status
-    'stable'
+    >>> print(r.status)
+    stable
     """
     sys = closed_loop(sea, load_mass=load_mass, values=values)
     return simulate_closed_loop(sys, scenario=scenario, horizon=horizon, dt=dt)

@@ -1,17 +1,17 @@
 """Best-case gains of an SEA design under the exact passivity constraint (paper Sec. V).
 
 The designs are the three of the paper's simulation study, LP, APD and Ours
-(:data:`seapass.model.catalog.SIMULATION_DESIGNS`).
+([`seapass.model.catalog.SIMULATION_DESIGNS`][seapass.model.catalog.SIMULATION_DESIGNS]).
 
 The objective is the 2 % settling time of the load after a reference step
 (``θ_A = θ_L = step``) from rest, with the final error as a tie-break; runs
 that do not settle in the horizon cost ``horizon·(1 + tail error/step)`` and
 unstable runs cost more than any stable one.  Constraints:
 
-* **passivity**, decided exactly by :func:`seapass.analysis.passivity.is_passive` for
+* **passivity**, decided exactly by [`seapass.analysis.passivity.is_passive`][seapass.analysis.passivity.is_passive] for
   every candidate that could become the best one (cached), and, for a design
   with a single tuned gain, by restricting the search box to the exact
-  passive set from :func:`seapass.analysis.region.passive_intervals` (LP: ``kd ≤ k1``);
+  passive set from [`seapass.analysis.region.passive_intervals`][seapass.analysis.region.passive_intervals] (LP: ``kd ≤ k1``);
 * **actuator force**: the peak ``|f_A|`` during the step must not exceed
   ``force_limit`` (default 1000 N, i.e. an average stiffness of 2000 N/m over
   the 0.5 m step -- a realistic bound for a 1 kg actuator; without a force
@@ -23,7 +23,7 @@ Default search box (physically sensible for ``m = 1 kg``, ``k1 = 1000 N/m``,
 ``b1 ∈ [0, 300] N·s/m`` (300 N·s/m is 1.5 times critical damping of the
 10 kg load on the 1000 N/m spring).
 
-The optimiser is :func:`scipy.optimize.differential_evolution` with a fixed
+The optimiser is `scipy.optimize.differential_evolution` with a fixed
 seed (reproducible), on a coarse grid (``dt_search``; exact discretization
 makes the samples exact at any step, and the settling time is refined on the
 exact solution), followed by verification of the optimum at ``dt_verify``.
@@ -72,7 +72,7 @@ def design_sea(
     k1: float = 1000.0,
     gains: Mapping[str, float | None] | None = None,
 ) -> SEA:
-    """The :class:`~seapass.model.sea.SEA` of a catalog ``design`` with plant values and gains.
+    """The [`SEA`][seapass.model.sea.SEA] of a catalog ``design`` with plant values and gains.
 
     Gains not given are free parameters (value None).
     """
@@ -81,7 +81,7 @@ def design_sea(
 
 @dataclass(frozen=True)
 class TuningOptions:
-    """Settings of :func:`tune`; defaults are the paper's Sec. V setup.
+    """Settings of `tune`; defaults are the paper's Sec. V setup.
 
     ``maxiter`` and ``popsize`` are passed to differential evolution (the
     population has ``popsize × number of gains`` members); lower them for a
@@ -119,7 +119,7 @@ class TuningOptions:
 
 @dataclass(frozen=True)
 class TuningResult:
-    """Outcome of :func:`tune`.
+    """Outcome of `tune`.
 
     Attributes
     ----------
@@ -129,7 +129,7 @@ class TuningResult:
     metrics : TrackingMetrics
         Verified at ``options.dt_verify`` at the tuning load mass.
     passive : bool
-        Exact verdict of :func:`~seapass.analysis.passivity.is_passive` at the gains.
+        Exact verdict of [`is_passive`][seapass.analysis.passivity.is_passive] at the gains.
     objective : float
     evaluations : int
         Objective evaluations (simulations).
@@ -205,7 +205,7 @@ def tune(
     Parameters
     ----------
     design : {"LP", "APD", "ours"}
-        Catalog key (case-insensitive), see :data:`seapass.model.catalog.SIMULATION_DESIGNS`.
+        Catalog key (case-insensitive), see [`seapass.model.catalog.SIMULATION_DESIGNS`][seapass.model.catalog.SIMULATION_DESIGNS].
     options : TuningOptions, optional
         Plant values, load mass, step, budgets, bounds and seed.
     progress : bool, optional

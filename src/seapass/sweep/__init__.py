@@ -1,13 +1,13 @@
 """Design-space sweeps: grids or random samples of one configuration, streamed to disk.
 
-What lives here: the sweep specification (:mod:`~seapass.sweep.spec`), the
-resumable on-disk store of parts (:mod:`~seapass.sweep.store`), the runner that
-computes chunks locally or on Dask (:mod:`~seapass.sweep.runner`) and heat-map
-aggregates of a finished sweep (:mod:`~seapass.sweep.heatmap`).
+What lives here: the sweep specification ([`spec`][seapass.sweep.spec]), the
+resumable on-disk store of parts ([`store`][seapass.sweep.store]), the runner that
+computes chunks locally or on Dask ([`runner`][seapass.sweep.runner]) and heat-map
+aggregates of a finished sweep ([`heatmap`][seapass.sweep.heatmap]).
 
-May import: :mod:`seapass.errors`, :mod:`seapass.files`, :mod:`seapass.model`,
-:mod:`seapass.batch` (and what they import).  Figures of sweeps live in
-:mod:`seapass.plot.sweep`.
+May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
+[`seapass.batch`][seapass.batch] (and what they import).  Figures of sweeps live in
+[`seapass.plot.sweep`][seapass.plot.sweep].
 """
 
 from .heatmap import HeatmapData, heatmap_data

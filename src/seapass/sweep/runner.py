@@ -4,8 +4,8 @@ Chunks run in this process or on a Dask cluster (``scheduler="local"`` starts
 a 2-worker ``LocalCluster``; ``"tcp://host:port"`` connects to a running
 scheduler).  Workers only compute; the client writes every part, so workers
 need no shared file system.  The results are identical either way.  What a
-sweep is lives in :mod:`seapass.sweep.spec`, where it is stored in
-:mod:`seapass.sweep.store`.
+sweep is lives in [`seapass.sweep.spec`][seapass.sweep.spec], where it is stored in
+[`seapass.sweep.store`][seapass.sweep.store].
 """
 
 from __future__ import annotations

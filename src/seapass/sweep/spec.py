@@ -1,4 +1,4 @@
-"""What a design-space sweep is: the swept axes and the :class:`SweepSpec`.
+"""What a design-space sweep is: the swept axes and the `SweepSpec`.
 
 Designs are numbered ``0 … n−1``; chunk ``c`` holds designs
 ``[c·chunk_size, (c+1)·chunk_size)`` and its parameters are computed from the
@@ -104,13 +104,13 @@ def _split_spec(text: str, flag: str, parts: int) -> tuple[str, list[float]]:
 
 
 def parse_grid(text: str) -> GridAxis:
-    """``"kd=0:5000:200"`` → :class:`GridAxis` (``lo:hi:step``, inclusive)."""
+    """``"kd=0:5000:200"`` → `GridAxis` (``lo:hi:step``, inclusive)."""
     name, (lo, hi, step) = _split_spec(text, "--grid", 3)
     return GridAxis(name, lo, hi, step)
 
 
 def parse_range(text: str) -> RangeAxis:
-    """``"kd=0:5000"`` → :class:`RangeAxis`."""
+    """``"kd=0:5000"`` → `RangeAxis`."""
     name, (lo, hi) = _split_spec(text, "--range", 2)
     return RangeAxis(name, lo, hi)
 

@@ -1,10 +1,10 @@
 """The stages of the two reports, grouped by topic.
 
 What lives here: one module per topic; every ``stage_*`` returns a
-:class:`~seapass.report.document.Section`.
+[`Section`][seapass.report.document.Section].
 
-Paper stages (``stage_*(quick)``, for :func:`seapass.report.reproduce.reproduce`):
-:mod:`.tables`, :mod:`.regions`, :mod:`.simulation`, :mod:`.hardware`.
-Design stages (``stage_*(design, quick)``, for :func:`seapass.report.analyze.analyze`):
-:mod:`.design_passivity`, :mod:`.design_dynamics`, :mod:`.design_hardware`.
+Paper stages (``stage_*(quick)``, for [`seapass.report.reproduce.reproduce`][seapass.report.reproduce.reproduce]):
+`.tables`, `.regions`, `.simulation`, `.hardware`.
+Design stages (``stage_*(design, quick)``, for [`seapass.report.analyze.analyze`][seapass.report.analyze.analyze]):
+`.design_passivity`, `.design_dynamics`, `.design_hardware`.
 """

@@ -1,6 +1,6 @@
 """Design stages about the hardware: sampled-data passivity and the digital twin of the rig.
 
-Each ``stage_*`` returns a :class:`~seapass.report.document.Section`.
+Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Design stages about passivity: the verdict, a destabilizing environment, passive ranges.
 
-Each ``stage_*`` returns a :class:`~seapass.report.document.Section`.
+Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Paper stages on the digital twin: the rig experiment, sampled-data limits, deployment.
 
-Each ``stage_*`` returns a :class:`~seapass.report.document.Section`.
+Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
 """
 
 from __future__ import annotations

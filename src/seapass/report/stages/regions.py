@@ -1,6 +1,6 @@
 """Paper stage: the exact passive set of every row against the paper's bounds, with witnesses.
 
-Each ``stage_*`` returns a :class:`~seapass.report.document.Section`.
+Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
 """
 
 from __future__ import annotations
@@ -36,8 +36,9 @@ __all__ = [
     "stage_regions",
 ]
 
-#: The paper's parameters for the passive regions (Sec. V: m, b, k1; b1, bd as in Fig. 4's setup).
 REGION_VALUES: dict[str, float] = {**PAPER_VALUES, "b1": 20.0, "bd": 25.0}
+"""The paper's parameters for the passive regions (Sec. V: m, b, k1; b1, bd as in Fig. 4's setup).
+"""
 
 
 def _intervals_of(s: Any) -> list[tuple[float, float]]:

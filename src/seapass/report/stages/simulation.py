@@ -1,6 +1,6 @@
 """Paper stages: the simulation study (Sec. V) and the design-space trade-off.
 
-Each ``stage_*`` returns a :class:`~seapass.report.document.Section`.
+Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Paper stages: Tables I and II derived and compared, and every row's rendered stiffness.
 
-Each ``stage_*`` returns a :class:`~seapass.report.document.Section`.
+Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
 """
 
 from __future__ import annotations
