@@ -9,10 +9,10 @@ from typing import Any
 import numpy as np
 
 from _util import Row, fmt_rate, rate, timed
-from seapass.batch.verdicts import batch_is_passive
-from seapass.model.sea import SEA
 from seapass.analysis.impedance import exact_rational_function
 from seapass.analysis.passivity import is_passive
+from seapass.batch.verdicts import batch_is_passive
+from seapass.model.sea import SEA
 
 PROPOSED = SEA(
     D1="k1 + b1*s",

@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 
 from _util import Row, rate, timed
-from seapass.sim.metrics import tracking_metrics
-from seapass.model.sea import SEA
 from seapass.analysis.passivity import is_passive
+from seapass.model.sea import SEA
+from seapass.sim.metrics import tracking_metrics
 from seapass.sim.simulate import Step, simulate
 from seapass.sweep import GridAxis, SweepSpec, run_design_sweep
 

@@ -173,4 +173,9 @@ def test_docs_build_strict_and_offline(tmp_path: Path) -> None:
     for page in ("index.html", "tutorial/index.html", "api/index.html"):
         text = (site / page).read_text(encoding="utf-8")
         assert not re.search(r"""<(script|link|img)[^>]+(src|href)=["']https?:""", text), page
-    assert 'id="seapass.is_passive"' in (site / "api/index.html").read_text(encoding="utf-8")
+    api = (site / "api/index.html").read_text(encoding="utf-8")
+    assert (
+        'id="seapass.analysis.passivity.is_passive"' in api and 'id="seapass.model.sea.SEA"' in api
+    )
+    # no Sphinx role is left to be rendered literally
+    assert not re.search(r":(func|class|mod|data|meth|attr):`", api)

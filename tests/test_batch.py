@@ -11,17 +11,16 @@ from seapass.analysis.passivity import is_passive
 from seapass.analysis.region import passive_intervals
 from seapass.batch.verdicts import _exact_one, batch_is_passive, compile_passivity
 from seapass.errors import ParameterError
+from seapass.model.catalog import PAPER_VALUES, design
 from seapass.model.sea import SEA
 
-PHYS = dict(m=1.0, b=10.0, k1=1000.0)
+PHYS = PAPER_VALUES
 
 CONFIGS = {
     # the paper's baselines and proposed design (Sec. V)
-    "load_side_P": SEA(D1="k1", CL="kd", values={**PHYS, "kd": None}),
-    "actuator_PD": SEA(D1="k1", CA="kd + bd*s", values={**PHYS, "kd": None, "bd": None}),
-    "proposed": SEA(
-        D1="k1 + b1*s", CA="kd + bd*s", values={**PHYS, "b1": None, "kd": None, "bd": None}
-    ),
+    "load_side_P": design("LP").sea(PHYS),
+    "actuator_PD": design("APD").sea(PHYS),
+    "proposed": design("ours").sea(PHYS),
     # configurations with nontrivial passivity boundaries
     "load_side_P_damped": SEA(D1="k1 + b1*s", CL="kd", values={**PHYS, "b1": 20.0, "kd": None}),
     "load_side_PD": SEA(D1="k1", CL="kd + bd*s", values={**PHYS, "kd": None, "bd": None}),

@@ -10,12 +10,13 @@ import pytest
 import seapass.batch.step_metrics as bsim
 from seapass.batch.step_metrics import NOT_SETTLED, SETTLED, UNSTABLE, batch_step_metrics
 from seapass.errors import ParameterError
+from seapass.model.catalog import PAPER_VALUES, design
 from seapass.model.sea import SEA
 
-PHYS = dict(m=1.0, b=10.0, k1=1000.0)
-PROPOSED = SEA(D1="k1 + b1*s", CA="kd + bd*s", values={**PHYS, "b1": None, "kd": None, "bd": None})
-APD = SEA(D1="k1", CA="kd + bd*s", values={**PHYS, "kd": None, "bd": None})
-LP = SEA(D1="k1", CL="kd", values={**PHYS, "kd": None})
+PHYS = PAPER_VALUES
+PROPOSED = design("ours").sea(PHYS)
+APD = design("APD").sea(PHYS)
+LP = design("LP").sea(PHYS)
 
 
 def _scalar(sea: SEA, point: dict[str, float], load_mass: float, step: float, horizon: float):

@@ -736,7 +736,10 @@ def test_design_documents_fail_with_file_format_errors(data):
         d = design.parse_design(doc)
     except SeapassError:
         return
-    assert d.sea() is not None
+    # a document that parses is a usable design: its model builds and its values are exact
+    sea = d.sea()
+    assert set(sea.free_parameters) == set()
+    assert d.to_dict()["name"] == d.name
 
 
 @settings(max_examples=200, deadline=3000)

@@ -11,11 +11,12 @@ from hypothesis import strategies as st
 from scipy.optimize import brentq
 
 from seapass.errors import ParameterError, SimulationError
+from seapass.model.catalog import PAPER_VALUES
 from seapass.model.sea import SEA
 from seapass.sim.metrics import TrackingMetrics, settling_time, tracking_metrics
 from seapass.sim.simulate import ForceStep, LoadDisplaced, Step, simulate
 
-PLANT = {"m": 1.0, "b": 10.0, "k1": 1000.0}
+PLANT = PAPER_VALUES
 
 
 def apd(kd: float = 385.0, bd: float = 111.0) -> SEA:

@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 
-from seapass.errors import ParameterError, SimulationError
+from seapass.errors import MissingExtraError, ParameterError
 from seapass.rig.rigfile import paper_rig
 
 RIG = paper_rig()
@@ -17,7 +17,7 @@ def test_missing_mujoco_gives_install_hint(monkeypatch):
     from seapass.rig import mujoco_model as mujoco_rig
 
     monkeypatch.setitem(sys.modules, "mujoco", None)
-    with pytest.raises(SimulationError, match=r"pip install seapass\[mujoco\]"):
+    with pytest.raises(MissingExtraError, match=r"pip install .seapass\[mujoco\]."):
         mujoco_rig.simulate_mujoco(RIG, load_mass=0.1, duration=0.1)
 
 

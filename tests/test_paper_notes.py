@@ -4,10 +4,11 @@ import sympy as sp
 
 from seapass import SEA, exact_passivity_condition, is_passive, passive_intervals
 from seapass.model import load_impedance
+from seapass.model.catalog import PAPER_VALUES
 from seapass.model.expr import symbol
 from seapass.model.stiffness import passivity_polynomial
 
-PAPER = {"m": 1.0, "b": 10.0, "k1": 1000.0}
+PAPER = PAPER_VALUES
 
 
 def test_eq1_with_b_xdd_has_no_dissipation():

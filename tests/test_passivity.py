@@ -14,10 +14,11 @@ from hypothesis import strategies as st
 from seapass.analysis.conditions import exact_passivity_condition
 from seapass.analysis.passivity import is_passive
 from seapass.errors import NotPassiveError, ParameterError
+from seapass.model.catalog import PAPER_VALUES
 from seapass.model.expr import symbol
 from seapass.model.sea import SEA, Impedance
 
-PAPER = {"m": 1.0, "b": 10.0, "k1": 1000.0}
+PAPER = PAPER_VALUES
 
 
 @pytest.mark.parametrize(

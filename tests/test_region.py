@@ -7,9 +7,10 @@ import sympy as sp
 from seapass.analysis.passivity import is_passive
 from seapass.analysis.region import passive_intervals, passive_map
 from seapass.errors import ParameterError
+from seapass.model.catalog import PAPER_VALUES
 from seapass.model.sea import SEA, Impedance
 
-PAPER = {"m": 1.0, "b": 10.0, "k1": 1000.0}
+PAPER = PAPER_VALUES
 
 
 def closed_form_damped_lp_bound(m, b, k1, b1):

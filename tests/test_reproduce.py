@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from seapass.cli import main
+from seapass.errors import MissingExtraError
 from seapass.plot.style import figure_bytes
 from seapass.report.document import FigureData, Finding, Report, Section, Table
 from seapass.report.output import write_report
@@ -147,7 +148,7 @@ def test_failed_and_skipped_stages_are_reported() -> None:
         raise ImportError("No module named 'seapass.nothing'", name="seapass.nothing")
 
     def no_mujoco(quick: bool) -> Section:
-        raise ImportError("No module named 'mujoco'", name="mujoco")
+        raise MissingExtraError("MuJoCo is not installed; pip install 'seapass[mujoco]'")
 
     secs = run_stages(
         [Stage("a", "A", bad), Stage("b", "B", broken_import), Stage("m", "M", no_mujoco),

@@ -13,6 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from seapass.errors import ParameterError, UnrealizableError
+from seapass.model.catalog import PAPER_VALUES
 from seapass.model.expr import S, parse_expression, symbol
 from seapass.model.realization import closed_loop, closed_loop_factory
 from seapass.model.sea import SEA
@@ -26,7 +27,7 @@ from seapass.sim import (
     simulate,
 )
 
-PLANT = {"m": 1.0, "b": 10.0, "k1": 1000.0}
+PLANT = PAPER_VALUES
 s = S
 
 

@@ -14,6 +14,7 @@ from seapass.batch.step_metrics import batch_step_metrics
 from seapass.batch.verdicts import batch_is_passive
 from seapass.cli import main
 from seapass.errors import FileFormatError, ParameterError
+from seapass.model.catalog import PAPER_VALUES, design
 from seapass.model.sea import SEA
 from seapass.sweep import (
     GridAxis,
@@ -25,7 +26,7 @@ from seapass.sweep import (
     run_design_sweep,
 )
 
-LPD = SEA(D1="k1 + b1*s", CL="kd", values=dict(m=1.0, b=10.0, k1=1000.0, b1=None, kd=None))
+LPD = design("mech/parallel-spring-damper").sea(PAPER_VALUES, b1=None)
 OURS = SEA(
     D1="k1 + b1*s", CA="kd + bd*s", values=dict(m=1.0, b=10.0, k1=1000.0, b1=20.0, kd=None, bd=None)
 )
@@ -213,3 +214,19 @@ def test_cli_help_shows_an_example(capsys: pytest.CaptureFixture[str]) -> None:
     with pytest.raises(SystemExit):
         main(["sweep", "--help"])
     assert "seapass sweep --D1" in capsys.readouterr().out
+
+
+def test_scheduler_without_the_dask_extra_is_one_clear_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    import sys
+
+    # as if seapass[dask] were not installed
+    monkeypatch.setitem(sys.modules, "dask", None)
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)
+    args = ["sweep", "--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "b=10",
+            "--set", "k1=1000", "--grid", "kd=0:1000:500", "--no-metrics",
+            "--scheduler", "local", "--out", str(tmp_path / "s.parquet")]  # fmt: skip
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "seapass[dask]" in err and "Traceback" not in err

@@ -11,6 +11,7 @@ __all__ = [
     "DegenerateModelError",
     "ExpressionError",
     "FileFormatError",
+    "MissingExtraError",
     "ModelError",
     "NotPassiveError",
     "ParameterError",
@@ -59,3 +60,7 @@ class SimulationError(SeapassError, RuntimeError):
 
 class NotPassiveError(SeapassError, ValueError):
     """Raised by ``throw=True`` entry points when a design is not passive."""
+
+
+class MissingExtraError(SeapassError, ImportError):
+    """An optional extra (``seapass[dask]``, ``seapass[mujoco]``, ...) is needed but not installed."""

@@ -5,9 +5,10 @@ A report is a sequence of independent `Stage` objects, each returning a
 [`Section`][seapass.report.document.Section].  `run_stages` runs them under
 a progress bar, in this process or in forked workers, with every figure drawn
 in the one seapass style on bare (non-pyplot) figures.  A stage that needs an
-optional extra that is not installed (MuJoCo) becomes a *skipped* section; a
-stage that raises anything else, a missing module included, becomes a
-*failed* section naming the error, and the command exits non-zero.
+optional extra that is not installed (`seapass.errors.MissingExtraError`, e.g.
+MuJoCo) becomes a *skipped* section; a stage that raises anything else, a
+missing module included, becomes a *failed* section naming the error, and the
+command exits non-zero.
 """
 
 from __future__ import annotations
@@ -18,14 +19,11 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from ..errors import ParameterError, SeapassError
+from ..errors import MissingExtraError, ParameterError, SeapassError
 from ..plot.style import bare_figures, figure_style
 from .document import Section, SectionStatus
 
-__all__ = ["OPTIONAL_EXTRAS", "Stage", "run_stages", "select_stages"]
-
-OPTIONAL_EXTRAS: frozenset[str] = frozenset({"mujoco"})
-"""Top-level modules of optional extras: a stage that needs a missing one is skipped."""
+__all__ = ["Stage", "run_stages", "select_stages"]
 
 
 @dataclass(frozen=True)
@@ -62,16 +60,10 @@ def _run_one(stage: Stage, quick: bool) -> tuple[Section, float]:
     try:
         with figure_style(), bare_figures():
             sec = stage.run(quick)
-    except ImportError as exc:
-        top = (exc.name or "").partition(".")[0]
-        if top not in OPTIONAL_EXTRAS:
-            sec = _failed(stage, exc)
-        else:
-            sec = Section(
-                stage.key, stage.title, status=SectionStatus.SKIPPED,
-                text=f"Skipped: the optional extra `{top}` is not installed "
-                f"(`pip install 'seapass[{top}]'`).",
-            )  # fmt: skip
+    except MissingExtraError as exc:
+        sec = Section(stage.key, stage.title, status=SectionStatus.SKIPPED, text=f"Skipped: {exc}")
+    except ImportError as exc:  # a broken install or a bug: never skipped
+        sec = _failed(stage, exc)
     except (SeapassError, ArithmeticError, ValueError, RuntimeError, TypeError) as exc:
         sec = _failed(stage, exc)
     return sec, time.perf_counter() - t0
@@ -102,9 +94,9 @@ def run_stages(
 ) -> tuple[Section, ...]:
     """Run ``stages`` under a progress bar; failures become sections.
 
-    A stage that needs an optional extra (`OPTIONAL_EXTRAS`) that is
-    not installed becomes a ``skipped`` section; any other exception becomes
-    a ``failed`` section naming the error.  ``KeyboardInterrupt`` propagates (workers are terminated).  ``log``
+    A stage that needs an optional extra that is not installed
+    (`MissingExtraError`) becomes a ``skipped`` section; any other exception,
+    a broken import included, becomes a ``failed`` section naming the error.  ``KeyboardInterrupt`` propagates (workers are terminated).  ``log``
     receives one line per stage with its wall time (never written to the
     report, which stays deterministic).  With ``jobs > 1`` the stages run in
     that many forked worker processes (stages are independent); the sections

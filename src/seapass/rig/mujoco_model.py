@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ParameterError, SimulationError
+from ..errors import MissingExtraError, ParameterError
 from .plant import TwinPlant
 from .rigfile import Rig
 from .twin import simulate_loop
@@ -41,8 +41,8 @@ def _mujoco() -> Any:
     try:
         import mujoco
     except ImportError:  # pragma: no cover - depends on the environment
-        raise SimulationError(
-            "the MuJoCo cross-check needs the 'mujoco' package: pip install seapass[mujoco]"
+        raise MissingExtraError(
+            "the MuJoCo cross-check needs the mujoco extra: pip install 'seapass[mujoco]'"
         ) from None
     return mujoco
 

@@ -24,7 +24,7 @@ import pyarrow.parquet as pq
 
 from ..batch.step_metrics import batch_step_metrics
 from ..batch.verdicts import batch_is_passive
-from ..errors import ParameterError
+from ..errors import MissingExtraError, ParameterError
 from ..model.sea import SEA
 from ..sim.metrics import SETTLING_CODES, Settling
 from .spec import LOAD_MASS, SweepSpec, spec_from_state, spec_state
@@ -144,7 +144,13 @@ def _local_results(spec: SweepSpec, todo: Sequence[int]) -> Iterator[tuple[int, 
 def _dask_results(
     spec: SweepSpec, todo: Sequence[int], scheduler: str
 ) -> Iterator[tuple[int, pa.Table]]:
-    from dask.distributed import Client, LocalCluster, as_completed
+    try:
+        from dask.distributed import Client, LocalCluster, as_completed
+    except ImportError:
+        raise MissingExtraError(
+            "scheduler: running on Dask needs the dask extra; install it with "
+            "pip install 'seapass[dask]' (or run without --scheduler)"
+        ) from None
 
     cluster = None
     if scheduler == "local":
