@@ -1,4 +1,4 @@
-"""Run the seapass benchmarks against python-control and write ``docs/benchmarks.md``.
+"""Run the seapass benchmarks (peers, and the exact kernel before and after) into ``docs/benchmarks.md``.
 
 Usage::
 
@@ -26,6 +26,7 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+import bench_exact  # noqa: E402
 import bench_metrics  # noqa: E402
 import bench_passivity  # noqa: E402
 import bench_sweep  # noqa: E402
@@ -67,7 +68,7 @@ def _table(rows: list[Row]) -> list[str]:
     for r in rows:
         out.append(
             f"| {r.task} | {r.ours} | {fmt_rate(r.ours_rate)} | {r.peer} | "
-            f"{fmt_rate(r.peer_rate)} | {r.ratio:,.0f}x | {r.note} |"
+            f"{fmt_rate(r.peer_rate)} | {r.ratio:,.{1 if r.ratio < 10 else 0}f}x | {r.note} |"
         )
     return out
 
@@ -95,6 +96,12 @@ def main(argv: list[str] | None = None) -> int:
                 f"ratio {row.ratio:,.0f}x",
                 file=sys.stderr,
             )
+    print("running bench_exact ...", file=sys.stderr, flush=True)
+    r, n, exact_section = bench_exact.run(args.quick)
+    rows += r
+    notes += n
+    for row in r:
+        print(f"  {row.task}: ratio {row.ratio:,.1f}x", file=sys.stderr)
     verdicts = bench_passivity.verdict_table()
     elapsed = time.perf_counter() - t0
     import numpy as np
@@ -117,6 +124,7 @@ def main(argv: list[str] | None = None) -> int:
         "",
         *[f"* {n}" for n in notes],
         "",
+        *exact_section,
         "## Where python-control's passivity verdict differs from ours",
         "",
         "`control.ispassive` solves the KYP linear matrix inequality numerically "

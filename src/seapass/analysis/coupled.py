@@ -14,8 +14,8 @@ which only encodes the arbitrary rest position (with a passive environment
 they are simple on the imaginary axis or stable, so removing them never hides
 an instability of a passive environment).
 
-The verdict is exact (rational arithmetic, Routh array and Sturm sequences,
-shared with [`seapass.analysis.passivity`][seapass.analysis.passivity]):
+The verdict is exact (rational arithmetic, Routh array and certified real-root
+isolation, shared with [`seapass.analysis.passivity`][seapass.analysis.passivity]):
 
 * ``"stable"``: every root of ``χ`` in the open left half-plane;
 * ``"marginally stable"``: no root in the open right half-plane and the roots
@@ -51,6 +51,7 @@ from typing import Any, TypeAlias
 import mpmath
 import numpy as np
 import sympy as sp
+from flint import fmpq_poly
 
 from ..errors import DegenerateModelError, ParameterError
 from ..exact import poly as ep
@@ -117,14 +118,14 @@ class Environment:
     def is_free(self) -> bool:
         return self.mass == 0 and self.damping == 0 and self.stiffness == 0
 
-    def polynomials(self) -> tuple[ep.Poly, ep.Poly]:
-        """Exact reduced ``(N_e, D_e)``, ascending Fraction coefficients."""
+    def polynomials(self) -> tuple[fmpq_poly, fmpq_poly]:
+        """Exact reduced ``(N_e, D_e)`` as `flint.fmpq_poly`."""
         m, b, k = (to_fraction(v, n) for v, n in self._named())
         if self.is_free:
-            return (), (Fraction(1),)
+            return fmpq_poly([]), fmpq_poly([1])
         if k == 0:
-            return ep.normalize([b, m]), (Fraction(1),)
-        return ep.normalize([k, b, m]), (Fraction(0), Fraction(1))
+            return ep.as_poly([b, m]), fmpq_poly([1])
+        return ep.as_poly([k, b, m]), fmpq_poly([0, 1])
 
     def impedance(self, s: complex | np.ndarray) -> Any:
         """``Z_e(s)`` evaluated numerically (``s`` must not be 0 when ``stiffness > 0``)."""
@@ -219,24 +220,26 @@ def _to_complex(z: Any) -> complex:
     return complex(to_float(mpmath.re(z)), to_float(mpmath.im(z)))
 
 
-def classify_polynomial(p: ep.Poly) -> tuple[Stability, bool, bool]:
-    """Exact ``(status, rhp, repeated_axis)`` of the roots of ``p`` (ascending Fractions).
+def classify_polynomial(p: ep.PolyLike) -> tuple[Stability, bool, bool]:
+    """Exact ``(status, rhp, repeated_axis)`` of the roots of ``p``.
+
+    ``p`` is a `flint.fmpq_poly` or ascending exact rationals.
 
     A constant nonzero ``p`` has no roots and is ``"stable"``.
     """
-    p = ep.normalize(p)
-    if not p:
+    p = ep.as_poly(p)
+    if p.is_zero():
         raise DegenerateModelError("the characteristic polynomial is identically zero")
-    if ep.degree(p) == 0 or is_hurwitz(p):
+    if p.degree() == 0 or is_hurwitz(p):
         return Stability.STABLE, False, False
     re, im = at_j_omega(p)
-    g = ep.pgcd(re, im)  # real roots w of g <-> roots s = jw of p, with multiplicity
+    g = re.gcd(im)  # real roots w of g <-> roots s = jw of p, with multiplicity
     rest, repeated = p, False
-    if ep.degree(g) > 0:
+    if g.degree() > 0:
         if not all_real_roots(g):
             return Stability.UNSTABLE, True, False  # a root pair mirrored about the axis
-        repeated = ep.degree(ep.squarefree_part(g)) != ep.degree(g)
-        rest = ep.pdivmod(p, axis_factor(g))[0]
+        repeated = ep.squarefree_part(g).degree() != g.degree()
+        rest = p // axis_factor(g)
     rhp = not is_hurwitz(rest)
     if rhp or repeated:
         return Stability.UNSTABLE, rhp, repeated
@@ -250,8 +253,8 @@ def _log2(x: Fraction) -> float:
     return shift + math.log2(to_float(Fraction(n, d) / Fraction(2) ** shift))
 
 
-def polynomial_roots(p: ep.Poly, *, fast: bool = False) -> np.ndarray:
-    """Roots of ``p`` (ascending Fractions), sorted by decreasing real part.
+def polynomial_roots(p: ep.PolyLike, *, fast: bool = False) -> np.ndarray:
+    """Roots of ``p`` (`flint.fmpq_poly` or ascending rationals), by decreasing real part.
 
     The variable is first rescaled exactly by a power of two so that the
     coefficients are balanced (roots of order 1), which keeps the root finder
@@ -260,8 +263,8 @@ def polynomial_roots(p: ep.Poly, *, fast: bool = False) -> np.ndarray:
     fallback.  Roots beyond the double range come out as ``inf``.  With
     ``fast=True`` numpy is used directly (for ranking candidates, not evidence).
     """
-    p = ep.normalize(p)
-    n = ep.degree(p)
+    p = ep.to_fractions(ep.as_poly(p))  # evidence only: mpmath from the exact coefficients
+    n = len(p) - 1
     if n <= 0:
         return np.zeros(0, dtype=complex)
     low = next(i for i, c in enumerate(p) if c != 0)
@@ -294,12 +297,12 @@ def polynomial_roots(p: ep.Poly, *, fast: bool = False) -> np.ndarray:
 
 def system_polynomials(
     system: SystemLike | Environment, values: Mapping[str, float] | None
-) -> tuple[ep.Poly, ep.Poly]:
+) -> tuple[fmpq_poly, fmpq_poly]:
     if isinstance(system, Environment):
         return system.polynomials()
     num, den = exact_rational_function(system, values)
     if den[-1] < 0:
-        num, den = ep.scale(num, Fraction(-1)), ep.scale(den, Fraction(-1))
+        num, den = -num, -den
     return num, den
 
 
@@ -308,10 +311,10 @@ def coupled_polynomial(
     environment: SystemLike | Environment,
     *,
     values: Mapping[str, float] | None = None,
-) -> tuple[ep.Poly, ep.Poly]:
+) -> tuple[fmpq_poly, fmpq_poly]:
     """Exact ``(χ, common)``: ``χ = (N D_e + N_e D) / common``, ``common = gcd(D, D_e)``.
 
-    Ascending Fraction coefficients.  ``values`` apply to ``system`` only.
+    Both are `flint.fmpq_poly`.  ``values`` apply to ``system`` only.
     """
     n, d = system_polynomials(system, values)
     ne, de = system_polynomials(environment, None)
@@ -319,18 +322,19 @@ def coupled_polynomial(
 
 
 def characteristic_from_polys(
-    n: ep.Poly, d: ep.Poly, ne: ep.Poly, de: ep.Poly
-) -> tuple[ep.Poly, ep.Poly]:
+    n: ep.PolyLike, d: ep.PolyLike, ne: ep.PolyLike, de: ep.PolyLike
+) -> tuple[fmpq_poly, fmpq_poly]:
     """`coupled_polynomial` from exact ascending polynomials ``Z = n/d``, ``Z_e = ne/de``."""
-    full = ep.add(ep.mul(n, de), ep.mul(ne, d))
-    if not full:
+    n, d, ne, de = (ep.as_poly(x) for x in (n, d, ne, de))
+    full = n * de + ne * d
+    if full.is_zero():
         raise DegenerateModelError(
             "the environment cancels the port impedance exactly (Z + Z_e = 0): "
             "the coupled system is undetermined"
         )
-    common = ep.pgcd(d, de)
-    chi, rem = ep.pdivmod(full, common)
-    if rem:  # pragma: no cover - common divides both terms
+    common = d.gcd(de)
+    chi, rem = divmod(full, common)
+    if not rem.is_zero():  # pragma: no cover - common divides both terms
         raise ArithmeticError("common factor does not divide the characteristic polynomial")
     return chi, common
 
@@ -366,14 +370,14 @@ def coupled_stability(
     """
     chi, common = coupled_polynomial(system, environment, values=values)
     status, rhp, repeated = classify_polynomial(chi)
-    if chi[-1] < 0:
-        chi = ep.scale(chi, Fraction(-1))
+    if chi.leading_coefficient() < 0:
+        chi = -chi
     return CoupledResult(
         status=status,
         rhp=rhp,
         repeated_axis=repeated,
-        characteristic=tuple(to_float(c) for c in reversed(chi)),
-        common=tuple(to_float(c) for c in reversed(common)),
+        characteristic=tuple(to_float(c) for c in reversed(chi.coeffs())),
+        common=tuple(to_float(c) for c in reversed(common.coeffs())),
         poles=polynomial_roots(chi),
     )
 

@@ -13,13 +13,12 @@ import math
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
-from fractions import Fraction
 from typing import Any
 
 import mpmath
 import numpy as np
+from flint import fmpq_poly
 
-from ..exact import poly as ep
 from .coupled import (
     Environment,
     Stability,
@@ -81,7 +80,7 @@ class CoupledSimulation:
         return out
 
 
-def _partial_fractions(num: ep.Poly, den: ep.Poly) -> tuple[np.ndarray, np.ndarray | None]:
+def _partial_fractions(num: fmpq_poly, den: fmpq_poly) -> tuple[np.ndarray, np.ndarray | None]:
     """Poles of strictly proper ``num/den`` and their residues (50 digits).
 
     Residues are ``None`` when poles are (nearly) repeated.
@@ -95,8 +94,8 @@ def _partial_fractions(num: ep.Poly, den: ep.Poly) -> tuple[np.ndarray, np.ndarr
     if sep <= 1e-6:
         return roots, None
     with mpmath.workdps(50):
-        nc = [mpmath.mpf(c.numerator) / c.denominator for c in reversed(num)]
-        dd = [mpmath.mpf(c.numerator) / c.denominator for c in reversed(ep.derivative(den))]
+        nc = [mpmath.mpf(int(c.p)) / int(c.q) for c in reversed(num.coeffs())]
+        dd = [mpmath.mpf(int(c.p)) / int(c.q) for c in reversed(den.derivative().coeffs())]
         res = [
             complex(mpmath.polyval(nc, mpmath.mpc(p.real, p.imag)) / mpmath.polyval(dd, p))
             for p in (mpmath.mpc(r.real, r.imag) for r in roots)
@@ -105,7 +104,7 @@ def _partial_fractions(num: ep.Poly, den: ep.Poly) -> tuple[np.ndarray, np.ndarr
 
 
 def _impulse(
-    num: ep.Poly, den: ep.Poly, roots: np.ndarray, res: np.ndarray | None, t: np.ndarray
+    num: fmpq_poly, den: fmpq_poly, roots: np.ndarray, res: np.ndarray | None, t: np.ndarray
 ) -> np.ndarray:
     """Impulse response: a sum of modes, or `scipy.signal.impulse` for repeated poles."""
     if res is not None:
@@ -115,7 +114,10 @@ def _impulse(
         return np.asarray(y.real, dtype=float)
     from scipy import signal
 
-    tf = ([to_float(c) for c in reversed(num)], [to_float(c) for c in reversed(den)])
+    tf = (
+        [to_float(c) for c in reversed(num.coeffs())],
+        [to_float(c) for c in reversed(den.coeffs())],
+    )
     with warnings.catch_warnings():
         # badly scaled coefficients: the response is evidence only, the verdict is exact
         warnings.simplefilter("ignore")
@@ -158,16 +160,16 @@ def simulate_coupled(
     zn, zd = system_polynomials(system, values)
     ne, de = environment.polynomials()
     chi, common = characteristic_from_polys(zn, zd, ne, de)  # one (zn, zd): consistent signs
-    num = ep.pdivmod(ep.mul(zd, de), common)[0]
-    den = ep.mul(chi, (Fraction(0), Fraction(1)))
-    g = ep.pgcd(num, den)
-    num, den = ep.pdivmod(num, g)[0], ep.pdivmod(den, g)[0]
+    num = (zd * de) // common
+    den = chi * fmpq_poly([0, 1])
+    g = num.gcd(den)
+    num, den = num // g, den // g
     output = "port displacement"
     status_full = classify_polynomial(chi)[0]
-    if ep.degree(num) >= ep.degree(den) or (
+    if num.degree() >= den.degree() or (
         status_full == Stability.UNSTABLE and classify_polynomial(den)[0] != Stability.UNSTABLE
     ):
-        num, den, output = (Fraction(1),), chi, "characteristic coordinate"
+        num, den, output = fmpq_poly([1]), chi, "characteristic coordinate"
     roots, res = _partial_fractions(num, den)
     sigma = float(np.max(roots.real)) if roots.size else -math.inf
     if times is not None:

@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Mapping, Sequence
-from fractions import Fraction
 from typing import Any
 
 import sympy as sp
+from flint import fmpq, fmpq_poly
 
 from ..errors import ParameterError
 from ..exact import poly as ep
@@ -26,8 +26,8 @@ __all__ = ["evaluate_system", "exact_rational_function", "structural_support"]
 def exact_rational_function(
     system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
     values: Mapping[str, float] | None = None,
-) -> tuple[ep.Poly, ep.Poly]:
-    """Exact ``(N, D)`` of the impedance of ``system``, ascending Fraction coefficients.
+) -> tuple[fmpq_poly, fmpq_poly]:
+    """Exact ``(N, D)`` of the impedance of ``system``, as `flint.fmpq_poly`.
 
     ``system`` may be an `SEA` (its load impedance ``Z_L``), an
     `Impedance`, an expression string/sympy expression in ``s``, or a
@@ -40,12 +40,12 @@ def exact_rational_function(
 def evaluate_system(
     system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
     values: Mapping[str, float] | None,
-) -> tuple[ep.Poly, ep.Poly, tuple[bool, ...] | None]:
+) -> tuple[fmpq_poly, fmpq_poly, tuple[bool, ...] | None]:
     """`exact_rational_function` plus the structural support of ``P`` (None for raw coefficients)."""
     if isinstance(system, tuple) and len(system) == 2:
-        num = ep.normalize([to_fraction(c, "num") for c in reversed(list(system[0]))])
-        den = ep.normalize([to_fraction(c, "den") for c in reversed(list(system[1]))])
-        if not den:
+        num = ep.as_poly([to_fraction(c, "num") for c in reversed(list(system[0]))])
+        den = ep.as_poly([to_fraction(c, "den") for c in reversed(list(system[1]))])
+        if den.is_zero():
             raise ParameterError("den: the denominator is identically zero")
         return num, den, None
     if isinstance(system, str | sp.Expr):
@@ -67,15 +67,15 @@ def evaluate_system(
             f"no value for parameter(s) {', '.join(missing)}: give them, e.g. --set {missing[0]}=1"
         )
     names, num_terms, den_terms, support = _compiled(z)
-    vals = {k: to_fraction(v, k) for k, v in system.values.items() if v is not None}
+    vals = {k: ep.rational(to_fraction(v, k)) for k, v in system.values.items() if v is not None}
     env = [vals[n] for n in names]
     n, d = _eval_coeffs(num_terms, env), _eval_coeffs(den_terms, env)
-    if not d:
+    if d.is_zero():
         raise ParameterError("the impedance has a zero denominator for these values")
     return n, d, support
 
 
-_Terms = tuple[tuple[tuple[tuple[int, ...], Fraction], ...], ...]
+_Terms = tuple[tuple[tuple[tuple[int, ...], fmpq], ...], ...]
 
 
 @functools.lru_cache(maxsize=512)
@@ -96,7 +96,7 @@ def _compiled(z: sp.Expr) -> tuple[tuple[str, ...], _Terms, _Terms, tuple[bool, 
             pc = sp.Poly(c, *params, domain="QQ") if params else sp.Poly(c, S, domain="QQ")
             out.append(
                 tuple(
-                    (tuple(mon) if params else (), Fraction(int(q.p), int(q.q)))
+                    (tuple(mon) if params else (), fmpq(int(q.p), int(q.q)))
                     for mon, q in zip(pc.monoms(), pc.coeffs(), strict=True)
                 )
             )
@@ -132,10 +132,10 @@ def structural_support(num: sp.Expr, den: sp.Expr) -> tuple[bool, ...]:
     return tuple(pw.coeff_monomial(w ** (2 * i)) != 0 for i in range(deg // 2 + 1))
 
 
-def _eval_coeffs(terms: _Terms, env: list[Fraction]) -> ep.Poly:
+def _eval_coeffs(terms: _Terms, env: list[fmpq]) -> fmpq_poly:
     out = []
     for coeff in terms:
-        acc = Fraction(0)
+        acc = fmpq(0)
         for mon, q in coeff:
             t = q
             for v, e in zip(env, mon, strict=False):
@@ -143,7 +143,7 @@ def _eval_coeffs(terms: _Terms, env: list[Fraction]) -> ep.Poly:
                     t *= v**e
             acc += t
         out.append(acc)
-    return ep.normalize(out)
+    return fmpq_poly(out)
 
 
 def _with_values(system: SEA | Impedance, values: Mapping[str, float]) -> SEA | Impedance:

@@ -12,8 +12,10 @@ hence passive and coupled-stable with every passive environment, if and only if
 Every condition is decided in exact rational arithmetic: each float input is
 converted to the rational number it represents, so the verdict is exact for
 the numbers given.  Condition 4 is the sign of the even polynomial
-``P(ω) = Re(N(jω) D(−jω))``, decided by Sturm sequences on ``P`` as a
-polynomial in ``x = ω²`` over ``x ≥ 0``.  No frequency grid is used.
+``P(ω) = Re(N(jω) D(−jω))``, decided on ``P`` as a polynomial in ``x = ω²``
+over ``x ≥ 0`` by the exact kernel [`seapass.exact.poly`][seapass.exact.poly]
+(python-flint: exact gcd and squarefree parts, certified real-root isolation,
+exact sign checks).  No frequency grid is used.
 
 References
 ----------
@@ -31,11 +33,11 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from enum import StrEnum
-from fractions import Fraction
 from typing import Any
 
 import numpy as np
 import sympy as sp
+from flint import fmpq, fmpq_poly
 
 from ..errors import NotPassiveError, ParameterError
 from ..exact import poly as ep
@@ -65,7 +67,8 @@ MARGINAL_RTOL = 1e-9
 
 TOLERANCE_POLICY = (
     "exact: every input float is converted to the rational it represents and all "
-    "conditions are decided in exact rational arithmetic (Sturm sequences), so the "
+    "conditions are decided in exact rational arithmetic (certified real-root isolation "
+    "with exact sign checks), so the "
     "verdict has no tolerance; a design whose scale-invariant margin "
     "min_{x>=0} P(x)/A(x) (A: P with every product in absolute value, on the powers "
     "of x that P has for generic parameter values) lies within "
@@ -180,7 +183,7 @@ class PassivityResult:
 # ---------------------------------------------------------------- helpers
 
 
-def _margin(px: ep.Poly, pabs: ep.Poly) -> float:
+def _margin(px: fmpq_poly, pabs: fmpq_poly) -> float:
     """Scale-invariant margin ``min_{x>=0} P(x)/A(x)`` in [-1, 1] (floating point).
 
     ``A`` is ``P`` computed with every product taken in absolute value, so the
@@ -189,15 +192,15 @@ def _margin(px: ep.Poly, pabs: ep.Poly) -> float:
     invariant to scaling ``x`` and the coefficients, so both are balanced
     exactly (powers of two) before converting to floats.
     """
-    if not px:
+    if px.is_zero():
         return 0.0
-    n = max(len(px), len(pabs))
-    c = [px[i] if i < len(px) else Fraction(0) for i in range(n)]
-    a = [pabs[i] if i < len(pabs) else Fraction(0) for i in range(n)]
+    n = max(px.degree(), pabs.degree()) + 1
+    c = [px[i] for i in range(n)]
+    a = [pabs[i] for i in range(n)]
     nz = [i for i, v in enumerate(a) if v]
     lo, hi = nz[0], nz[-1]
     k = round((log2(a[lo]) - log2(a[hi])) / (hi - lo)) if hi > lo else 0
-    xs = Fraction(2) ** k
+    xs = fmpq(2) ** k
     c = [v * xs**i for i, v in enumerate(c)]
     a = [v * xs**i for i, v in enumerate(a)]
     top = max(a)
@@ -212,25 +215,23 @@ def _margin(px: ep.Poly, pabs: ep.Poly) -> float:
     return float(np.clip(min(cands), -1.0, 1.0))
 
 
-def _abs_poly(p: ep.Poly) -> ep.Poly:
-    return tuple(abs(c) for c in p)
+def _abs_poly(p: fmpq_poly) -> fmpq_poly:
+    return fmpq_poly([abs(c) for c in p.coeffs()])
 
 
-def _margin_of(num: ep.Poly, den: ep.Poly, support: Sequence[bool] | None) -> float:
+def _margin_of(num: fmpq_poly, den: fmpq_poly, support: Sequence[bool] | None) -> float:
     """`_margin` of ``num/den`` as given, with ``A`` restricted to ``support``."""
-    if not num:
+    if num.is_zero():
         return 0.0
     nr, ni = at_j_omega(num)
     dr, di = at_j_omega(den)
-    px = even_to_x(ep.add(ep.mul(nr, dr), ep.mul(ni, di)))
-    pabs = even_to_x(
-        ep.add(ep.mul(_abs_poly(nr), _abs_poly(dr)), ep.mul(_abs_poly(ni), _abs_poly(di)))
-    )
+    px = even_to_x(nr * dr + ni * di)
+    pabs = even_to_x(_abs_poly(nr) * _abs_poly(dr) + _abs_poly(ni) * _abs_poly(di))
     if support is not None:
-        pabs = ep.normalize(
-            [c if i < len(support) and support[i] else Fraction(0) for i, c in enumerate(pabs)]
+        pabs = fmpq_poly(
+            [c if i < len(support) and support[i] else 0 for i, c in enumerate(pabs.coeffs())]
         )
-        if not pabs:
+        if pabs.is_zero():
             return 0.0
     return _margin(px, pabs)
 
@@ -239,8 +240,8 @@ def _fail(reason: Reason, detail: str, **kw: Any) -> PassivityResult:
     return PassivityResult(passive=False, reason=reason, detail=detail or reason.description, **kw)
 
 
-def _to_floats(p: ep.Poly, descending: bool) -> tuple[float, ...]:
-    vals = tuple(safe_float(c) for c in p)
+def _to_floats(p: fmpq_poly, descending: bool) -> tuple[float, ...]:
+    vals = tuple(safe_float(c) for c in p.coeffs())
     return tuple(reversed(vals)) if descending else vals
 
 
@@ -248,13 +249,16 @@ def _to_floats(p: ep.Poly, descending: bool) -> tuple[float, ...]:
 
 
 def positive_real_test(
-    num: ep.Poly,
-    den: ep.Poly,
+    num: ep.PolyLike,
+    den: ep.PolyLike,
     *,
-    hidden: ep.Poly = (),
+    hidden: ep.PolyLike | None = None,
     support: Sequence[bool] | None = None,
 ) -> PassivityResult:
-    """Exact positive-real test of ``Z = num/den`` (ascending Fraction coefficients).
+    """Exact positive-real test of ``Z = num/den``.
+
+    ``num`` and ``den`` are `flint.fmpq_poly` or ascending sequences of exact
+    rationals (converted by [`as_poly`][seapass.exact.poly.as_poly]).
 
     ``hidden`` is an optional polynomial of modes known to cancel (e.g. from
     a model's internal structure); a root of it in the closed right
@@ -264,23 +268,31 @@ def positive_real_test(
     ``support`` (from `structural_support`) marks the powers of ``x`` that
     ``P`` has for generic parameter values; the margin is computed from
     ``num/den`` as given and ignores cancellations outside the support.
+
+    Examples
+    --------
+    >>>     >>> positive_real_test([1, 1], [2, 1]).passive  # (s + 1)/(s + 2)
+    True
+    >>> positive_real_test([Fraction(-1, 2), 1], [1, 1]).reason  # (s − 1/2)/(s + 1)
+    <Reason.NEGATIVE_REAL_PART: 'negative_real_part'>
     """
-    num, den = ep.normalize(num), ep.normalize(den)
-    if not den:
+    num, den = ep.as_poly(num), ep.as_poly(den)
+    hid = fmpq_poly([]) if hidden is None else ep.as_poly(hidden)
+    if den.is_zero():
         raise ParameterError("the denominator is identically zero")
     margin = _margin_of(num, den, support)
-    g = ep.pgcd(num, den) if num else ep.monic(den)
-    if ep.degree(g) > 0:
-        hidden = ep.mul(hidden, g) if hidden else g
-        num, den = ep.pdivmod(num, g)[0], ep.pdivmod(den, g)[0]
-    if den[-1] < 0:
-        num, den = ep.scale(num, Fraction(-1)), ep.scale(den, Fraction(-1))
+    g = num.gcd(den) if not num.is_zero() else ep.monic(den)
+    if g.degree() > 0:
+        hid = g if hid.is_zero() else hid * g
+        num, den = num // g, den // g
+    if den.leading_coefficient() < 0:
+        num, den = -num, -den
     base: dict[str, Any] = {
         "num": _to_floats(num, True),
         "den": _to_floats(den, True),
         "margin": margin,
     }
-    if not num:
+    if num.is_zero():
         return PassivityResult(
             passive=True,
             detail="Z is identically zero",
@@ -288,45 +300,42 @@ def positive_real_test(
             lossless=True,
             **base,
         )
-    if hidden and _pole_defect(hidden)[0]:
+    if not hid.is_zero() and _pole_defect(hid)[0]:
         return _fail(Reason.HIDDEN_UNSTABLE_MODE, "", **base)
 
     # 4 (computed first, so the margin and witness are always reported)
     nr, ni = at_j_omega(num)
     dr, di = at_j_omega(den)
-    p_w = ep.add(ep.mul(nr, dr), ep.mul(ni, di))
-    px = even_to_x(p_w)
+    px = even_to_x(nr * dr + ni * di)
     base["real_part"] = _to_floats(px, False)
-    base["lossless"] = not px
+    base["lossless"] = px.is_zero()
 
     # 1. relative degree and the pole at infinity
-    rel = ep.degree(den) - ep.degree(num)
+    rel = den.degree() - num.degree()
     if rel not in (-1, 0, 1):
         return _fail(
             Reason.RELATIVE_DEGREE, f"relative degree is {rel}; it must be -1, 0 or 1", **base
         )
-    if rel == -1 and num[-1] / den[-1] <= 0:
+    if rel == -1 and num.leading_coefficient() / den.leading_coefficient() <= 0:
         return _fail(Reason.INFINITY_RESIDUE, "Z ~ c*s at high frequency with c <= 0", **base)
 
     # 2./3. poles: imaginary-axis part and the rest
     defect, g_ax = _pole_defect(den)
     if defect:
         return _fail(defect, "", **base)
-    axis: list[tuple[Fraction, Fraction]] = []
-    if ep.degree(g_ax) > 0:
-        axis = ep.isolate_real_roots(g_ax, Fraction(0), None)
-        if ep.evaluate(g_ax, Fraction(0)) == 0:
-            axis = [(Fraction(0), Fraction(0)), *axis]
-    base["axis_poles"] = tuple(ep.root_value(g_ax, a, b) if a != b else float(a) for a, b in axis)
-    dd = ep.derivative(den)
-    ddr, ddi = at_j_omega(dd)
+    axis: list[ep.Interval] = []
+    if g_ax.degree() > 0:
+        axis = ep.isolate_real_roots(g_ax, 0)
+        if g_ax[0] == 0:
+            axis = [(fmpq(0), fmpq(0)), *axis]
+    base["axis_poles"] = tuple(ep.root_value(g_ax, iv) for iv in axis)
+    ddr, ddi = at_j_omega(den.derivative())
     # residue at jω0 ∝ N(jω0)·conj(D'(jω0)): imaginary part must vanish, real part > 0
-    res_re = ep.add(ep.mul(nr, ddr), ep.mul(ni, ddi))
-    res_im = ep.sub(ep.mul(ni, ddr), ep.mul(nr, ddi))
-    gsf = ep.squarefree_part(g_ax) if axis else ()
-    for a, b in axis:
-        if ep.sign_at_root(res_im, gsf, a, b) != 0 or ep.sign_at_root(res_re, gsf, a, b) <= 0:
-            w0 = float(a) if a == b else ep.root_value(gsf, a, b)
+    res_re = nr * ddr + ni * ddi
+    res_im = ni * ddr - nr * ddi
+    for iv in axis:
+        if ep.sign_at_root(res_im, g_ax, iv) != 0 or ep.sign_at_root(res_re, g_ax, iv) <= 0:
+            w0 = ep.root_value(g_ax, iv)
             return _fail(
                 Reason.AXIS_RESIDUE,
                 f"the pole at s = j*{w0:.6g} has a residue that is not real and positive",
@@ -335,12 +344,12 @@ def positive_real_test(
 
     # 4. Re Z(jω) >= 0 for all ω
     marginal = abs(margin) <= MARGINAL_RTOL
-    if not px:
+    if px.is_zero():
         return PassivityResult(
             passive=True, detail="lossless: Re Z(jw) = 0 for all w", marginal=True, **base
         )
     odd = ep.positive_roots_odd_multiplicity(px)
-    if ep.count_real_roots(odd, Fraction(0), None) == 0 and px[-1] > 0:
+    if ep.count_real_roots(odd, 0) == 0 and px.leading_coefficient() > 0:
         return PassivityResult(
             passive=True, detail=Reason.NONE.description, marginal=marginal, **base
         )
@@ -354,23 +363,23 @@ def positive_real_test(
     )
 
 
-def _pole_defect(den: ep.Poly) -> tuple[Reason, ep.Poly]:
+def _pole_defect(den: fmpq_poly) -> tuple[Reason, fmpq_poly]:
     """Why the roots of ``den`` are not admissible poles (`Reason.NONE` if they are).
 
     Admissible: open left half-plane, or simple on the imaginary axis.  Also
     returns ``gcd(Re den(jω), Im den(jω))``, whose real roots are the axis poles.
     """
     dr, di = at_j_omega(den)
-    g_ax = ep.pgcd(dr, di)
+    g_ax = dr.gcd(di)
     rest = den
-    if ep.degree(g_ax) > 0:
+    if g_ax.degree() > 0:
         # a non-real root of g_ax is a pair of roots mirrored about the axis
         if not all_real_roots(g_ax):
             return Reason.RHP_POLE, g_ax
-        if ep.degree(ep.squarefree_part(g_ax)) != ep.degree(g_ax):
+        if ep.squarefree_part(g_ax).degree() != g_ax.degree():
             return Reason.REPEATED_AXIS_POLE, g_ax
-        rest, rem = ep.pdivmod(den, axis_factor(g_ax))
-        if rem:
+        rest, rem = divmod(den, axis_factor(g_ax))
+        if not rem.is_zero():
             raise ArithmeticError("axis factor does not divide the denominator")  # pragma: no cover
     if not is_hurwitz(rest):
         return Reason.RHP_POLE, g_ax

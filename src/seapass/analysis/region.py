@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 import sympy as sp
+from flint import fmpq, fmpq_poly
 
 from ..errors import ParameterError
 from ..exact import poly as ep
@@ -81,13 +82,13 @@ class PassiveIntervals:
         }
 
 
-def _univariate(expr: sp.Expr, p: sp.Symbol) -> ep.Poly:
-    """Exact ascending coefficients of a polynomial in ``p`` (zero if identically zero)."""
+def _univariate(expr: sp.Expr, p: sp.Symbol) -> fmpq_poly:
+    """Exact polynomial in ``p`` (zero if identically zero)."""
     expr = sp.expand(expr)
     if expr == 0:
-        return ()
+        return fmpq_poly([])
     poly = sp.Poly(expr, p, domain="QQ")
-    return ep.normalize([Fraction(int(c.p), int(c.q)) for c in poly.all_coeffs()[::-1]])
+    return fmpq_poly([fmpq(int(c.p), int(c.q)) for c in poly.all_coeffs()[::-1]])
 
 
 def _re_im_at_jw(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
@@ -159,15 +160,16 @@ def _critical_values(
     out: list[tuple[Fraction, Fraction]] = []
     for f in factors:
         q = _univariate(f, p)
-        if ep.degree(q) == 1:
-            r = -q[0] / q[1]
+        if q.degree() == 1:
+            r = ep.to_fraction(-q[0] / q[1])
             if lo <= r <= hi:
                 out.append((r, r))
             continue
         for a, b in ep.isolate_real_roots(q, lo, hi):
-            a, b = ep.refine(q, a, b, max(abs(b), Fraction(1)) * Fraction(1, 2**40))
-            scale_ = min(abs(a), abs(b)) or Fraction(1, 2**40)
-            out.append(ep.refine(q, a, b, scale_ * Fraction(1, 2**60)))
+            a, b = ep.refine(q, (a, b), max(abs(b), fmpq(1)) / fmpq(2) ** 40)
+            scale_ = min(abs(a), abs(b)) or fmpq(1, 2**40)
+            a, b = ep.refine(q, (a, b), scale_ / fmpq(2) ** 60)
+            out.append((ep.to_fraction(a), ep.to_fraction(b)))
     return sorted(set(out))
 
 

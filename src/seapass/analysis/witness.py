@@ -35,15 +35,15 @@ import itertools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from fractions import Fraction
 from typing import Any, TypeAlias
 
 import numpy as np
 import sympy as sp
+from flint import fmpq, fmpq_poly
 
 from ..errors import NotPassiveError
 from ..exact import poly as ep
-from ..exact.axis import at_j_omega, even_to_x, negative_point
+from ..exact.axis import at_j_omega, negative_point, real_part_polynomial
 from ..model.sea import SEA, Impedance
 from .coupled import (
     CoupledResult,
@@ -133,27 +133,27 @@ class WitnessResult:
 # ---------------------------------------------------------------- candidates
 
 
-def _z_at(num: ep.Poly, den: ep.Poly, w: Fraction) -> tuple[Fraction, Fraction]:
+def _z_at(num: fmpq_poly, den: fmpq_poly, w: fmpq) -> tuple[fmpq, fmpq]:
     """Exact ``(Re, Im)`` of ``Z(jw)``."""
-    nr, ni = (ep.evaluate(p, w) for p in at_j_omega(num))
-    dr, di = (ep.evaluate(p, w) for p in at_j_omega(den))
+    nr, ni = (p(w) for p in at_j_omega(num))
+    dr, di = (p(w) for p in at_j_omega(den))
     mag = dr * dr + di * di
     if mag == 0:
         raise ZeroDivisionError("w is a pole of Z")
     return (nr * dr + ni * di) / mag, (ni * dr - nr * di) / mag
 
 
-def _eval_jw(p: ep.Poly, w: Fraction) -> tuple[Fraction, Fraction]:
+def _eval_jw(p: fmpq_poly, w: fmpq) -> tuple[fmpq, fmpq]:
     re, im = at_j_omega(p)
-    return ep.evaluate(re, w), ep.evaluate(im, w)
+    return re(w), im(w)
 
 
-def _dz_abs(num: ep.Poly, den: ep.Poly, w: Fraction) -> float:
+def _dz_abs(num: fmpq_poly, den: fmpq_poly, w: fmpq) -> float:
     """``|Z'(jw)|``, exact until the final conversion (no overflow for extreme values)."""
     nr, ni = _eval_jw(num, w)
     dr, di = _eval_jw(den, w)
-    dnr, dni = _eval_jw(ep.derivative(num), w)
-    ddr, ddi = _eval_jw(ep.derivative(den), w)
+    dnr, dni = _eval_jw(num.derivative(), w)
+    ddr, ddi = _eval_jw(den.derivative(), w)
     # (N' D - N D') / D^2, numerator and |D|^2 as exact complex pairs
     ar, ai = (
         dnr * dr - dni * di - (nr * ddr - ni * ddi),
@@ -166,46 +166,41 @@ def _dz_abs(num: ep.Poly, den: ep.Poly, w: Fraction) -> float:
     return num_abs / to_float(mag2) if to_float(mag2) > 0 else math.inf
 
 
-def _negative_frequencies(num: ep.Poly, den: ep.Poly) -> list[float]:
+def _negative_frequencies(num: fmpq_poly, den: fmpq_poly) -> list[float]:
     """Frequencies with ``Re Z(jω) < 0`` (exact check), the most negative first."""
-    nr, ni = at_j_omega(num)
-    dr, di = at_j_omega(den)
-    px = even_to_x(ep.add(ep.mul(nr, dr), ep.mul(ni, di)))
+    px = real_part_polynomial(num, den)
     if not px:
         return []
     odd = ep.positive_roots_odd_multiplicity(px)
-    if px[-1] > 0 and ep.count_real_roots(odd, Fraction(0), None) == 0:
+    if px.leading_coefficient() > 0 and ep.count_real_roots(odd, 0) == 0:
         return []
     try:
         out = [negative_point(px)]
         # a few more, log-spaced across the band where P < 0, for robustness
-        roots = [
-            ep.root_value(ep.squarefree_part(px), a, b)
-            for a, b in ep.isolate_real_roots(px, Fraction(0))
-        ]
+        roots = [ep.root_value(px, iv) for iv in ep.isolate_real_roots(px, 0)]
     except OverflowError:  # frequencies beyond the double range: leave it to the grid
         return []
     edges = [0.0, *roots, (roots[-1] * 100 + 1) if roots else 1e6]
     for lo, hi in itertools.pairwise(edges):
         for x in np.geomspace(max(lo, hi * 1e-6, 1e-300), hi, 7)[1:-1]:
-            if ep.evaluate(px, Fraction(float(x))) < 0:
+            if px(ep.rational(float(x))) < 0:
                 out.append(math.sqrt(float(x)))
     return out
 
 
-def _tuned(num: ep.Poly, den: ep.Poly, w0: float) -> list[Environment]:
+def _tuned(num: fmpq_poly, den: fmpq_poly, w0: float) -> list[Environment]:
     """The construction at ``w0``: ``b_e`` below ``−R``, reactance ``−X``, tanks of several sizes."""
     try:
-        r, x = _z_at(num, den, Fraction(w0))
+        r, x = _z_at(num, den, ep.rational(w0))
     except ZeroDivisionError:
         return []
     if r >= 0:
         return []
-    slope = _dz_abs(num, den, Fraction(w0)) * w0
+    slope = _dz_abs(num, den, ep.rational(w0)) * w0
     if not (math.isfinite(slope) and slope > 0):
         slope = abs(to_float(r))
     out = []
-    for be in (Fraction(0), -r / 2):
+    for be in (fmpq(0), -r / 2):
         for f in TANK_FACTORS:
             tank = f * slope
             me = (max(-to_float(x), 0.0) + tank) / w0
@@ -224,7 +219,7 @@ def _env(m: float, b: float, k: float) -> Environment | None:
     return None
 
 
-def _grid(num: ep.Poly, den: ep.Poly) -> list[Environment]:
+def _grid(num: fmpq_poly, den: fmpq_poly) -> list[Environment]:
     """Springs, dampers, masses and combinations, scaled to the impedance."""
     roots = polynomial_roots(den)
     mags = [abs(p) for p in roots if 0 < abs(p) < math.inf]
@@ -233,7 +228,7 @@ def _grid(num: ep.Poly, den: ep.Poly) -> list[Environment]:
     if not (math.isfinite(wc) and wc > 0):
         wc = 1.0
     try:
-        zc = math.hypot(*(to_float(v) for v in _z_at(num, den, Fraction(wc))))
+        zc = math.hypot(*(to_float(v) for v in _z_at(num, den, ep.rational(wc))))
     except ZeroDivisionError:
         zc = 1.0
     if not (math.isfinite(zc) and zc > 0 and math.isfinite(wc) and wc > 0):
@@ -296,16 +291,16 @@ def find_destabilizing_environment(
             passivity=pr,
         )
     num, den = exact_rational_function(system, values)
-    if den[-1] < 0:
-        num, den = ep.scale(num, Fraction(-1)), ep.scale(den, Fraction(-1))
-    g = ep.pgcd(num, den) if num else ep.monic(den)
-    rn, rd = (ep.pdivmod(num, g)[0], ep.pdivmod(den, g)[0]) if num else (num, den)
+    if den.leading_coefficient() < 0:
+        num, den = -num, -den
+    g = num.gcd(den) if not num.is_zero() else ep.monic(den)
+    rn, rd = (num // g, den // g) if not num.is_zero() else (num, den)
 
     stages: list[tuple[str, list[tuple[Environment, float | None]]]] = [
         ("free port", [(Environment(), None)]),
     ]
     tuned: list[tuple[Environment, float | None]] = []
-    for wneg in _negative_frequencies(rn, rd) if rn else []:
+    for wneg in _negative_frequencies(rn, rd) if not rn.is_zero() else []:
         tuned += [(env, wneg) for env in _tuned(rn, rd, wneg)]
     # the construction and the search compete: the fastest verified growth wins
     stages.append(("tuned at w0", tuned + [(env, None) for env in _grid(rn, rd)]))
@@ -343,7 +338,7 @@ def find_destabilizing_environment(
     )
 
 
-def _score(num: ep.Poly, den: ep.Poly, env: Environment) -> tuple[str, float]:
+def _score(num: fmpq_poly, den: fmpq_poly, env: Environment) -> tuple[str, float]:
     """Exact class (``"rhp"``, ``"unstable"``, ``"bounded"``) and a float growth rate."""
     ne, de = env.polynomials()
     try:
@@ -359,7 +354,9 @@ def _score(num: ep.Poly, den: ep.Poly, env: Environment) -> tuple[str, float]:
     return "rhp", rate if math.isfinite(rate) else 0.0
 
 
-def _refine(num: ep.Poly, den: ep.Poly, env: Environment, rate: float) -> tuple[Environment, int]:
+def _refine(
+    num: fmpq_poly, den: fmpq_poly, env: Environment, rate: float
+) -> tuple[Environment, int]:
     """Pattern search on ``log m_e, log b_e, log k_e`` for a faster growth, each step exact."""
     x0 = x = np.array([env.mass, env.damping, env.stiffness])
     step, count = 0.5, 0

@@ -91,9 +91,9 @@ class BatchPassivity:
 def _exact_one(kernel: PassivityKernel, point: Sequence[float]) -> tuple[bool, float]:
     vals = [Fraction(float(v)) for v in point]
     bank = kernel.bank
-    num = ep.normalize([bank.exact(nm, vals) for nm in kernel.n_exact])
-    den = ep.normalize([bank.exact(nm, vals) for nm in kernel.d_exact])
-    if not den:
+    num = ep.as_poly([bank.exact(nm, vals) for nm in kernel.n_exact])
+    den = ep.as_poly([bank.exact(nm, vals) for nm in kernel.d_exact])
+    if den.is_zero():
         raise ParameterError(
             "the impedance has a zero denominator for "
             + ", ".join(f"{p}={float(v):g}" for p, v in zip(kernel.params, point, strict=True))

@@ -21,7 +21,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="decide exactly whether a design (or an impedance Z(s)) is passive",
         description="Exact positive-real test of the load impedance Z_L = F_L/(s X_L), "
         "or of a raw impedance given with --Z. Decided by exact rational arithmetic and "
-        "Sturm sequences, never by a frequency grid.",
+        "certified root isolation, never by a frequency grid.",
         epilog=EXAMPLE,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

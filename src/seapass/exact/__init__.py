@@ -1,12 +1,14 @@
-"""The exact polynomial kernel: rational polynomials, Sturm sequences, the imaginary axis.
+"""The exact polynomial kernel: rational polynomials on python-flint, the imaginary axis.
 
-What lives here: [`poly`][seapass.exact.poly] (exact univariate polynomial
-arithmetic over the rationals, real-root counting and isolation) and
-[`axis`][seapass.exact.axis] (polynomials on the imaginary axis: ``p(jω)``,
-Routh–Hurwitz, axis factors, a point where an even polynomial is negative).
-Nothing here decides in floating point.
+What lives here: [`poly`][seapass.exact.poly] (polynomials over the rationals as
+`flint.fmpq_poly`; gcd, squarefree parts, certified real-root counting and
+isolation, signs at roots) and [`axis`][seapass.exact.axis] (polynomials on the
+imaginary axis: ``p(jω)``, Routh–Hurwitz, axis factors, a point where an even
+polynomial is negative).  Nothing here decides in floating point: every
+decision is exact, or certified by ball arithmetic and re-checked exactly.
 
-May import: [`seapass.errors`][seapass.errors] only (it knows nothing of SEAs).
+May import: [`seapass.errors`][seapass.errors] and python-flint only (it knows
+nothing of SEAs).
 """
 
 from . import axis, poly

@@ -1,10 +1,11 @@
 """Exact tools for polynomials on the imaginary axis.
 
 The parts of ``p(jω)`` as real polynomials, the even-to-``x = ω²`` change of
-variable, the factor ``∏(s − jω_i)`` of imaginary-axis roots, the Routh–Hurwitz
-test, and a point where an even polynomial is negative.  Everything is exact
-(rational coefficients, Sturm sequences); the floats returned are only for
-display.
+variable, the real-part polynomial of a rational function, the factor
+``∏(s − jω_i)`` of imaginary-axis roots, the Routh–Hurwitz test, and a point
+where an even polynomial is negative.  Polynomials are `flint.fmpq_poly`
+(see [`seapass.exact.poly`][seapass.exact.poly]); everything is exact, and the
+floats returned are only for display.
 
 References
 ----------
@@ -15,9 +16,8 @@ References
 from __future__ import annotations
 
 import math
-from fractions import Fraction
 
-import numpy as np
+from flint import fmpq, fmpq_poly
 
 from . import poly as ep
 
@@ -29,45 +29,75 @@ __all__ = [
     "is_hurwitz",
     "log2",
     "negative_point",
+    "real_part_polynomial",
     "safe_float",
     "sqrt_float",
 ]
 
 
-def at_j_omega(p: ep.Poly) -> tuple[ep.Poly, ep.Poly]:
-    """Real and imaginary parts of ``p(jω)`` as real polynomials in ``ω``."""
-    re = [Fraction(0)] * len(p)
-    im = [Fraction(0)] * len(p)
-    for k, c in enumerate(p):
-        sign = -1 if (k // 2) % 2 else 1
+def at_j_omega(p: fmpq_poly) -> tuple[fmpq_poly, fmpq_poly]:
+    """Real and imaginary parts of ``p(jω)`` as real polynomials in ``ω``.
+
+    >>> at_j_omega(fmpq_poly([1, 2, 3, 4]))  # 1 + 2jω − 3ω² − 4jω³
+    ((-3)*x^2 + 1, (-4)*x^3 + 2*x)
+    """
+    c = p.coeffs()
+    re = [fmpq(0)] * len(c)
+    im = [fmpq(0)] * len(c)
+    for k, v in enumerate(c):
+        signed = -v if k % 4 >= 2 else v  # j^k = 1, j, −1, −j, ...
         if k % 2 == 0:
-            re[k] = sign * c
+            re[k] = signed
         else:
-            im[k] = sign * c
-    return ep.normalize(re), ep.normalize(im)
+            im[k] = signed
+    return fmpq_poly(re), fmpq_poly(im)
 
 
-def axis_factor(g: ep.Poly) -> ep.Poly:
+def even_to_x(p: fmpq_poly) -> fmpq_poly:
+    """``q`` with ``p(ω) = q(ω²)``; `ArithmeticError` if ``p`` has an odd power."""
+    c = p.coeffs()
+    if any(c[k] != 0 for k in range(1, len(c), 2)):
+        raise ArithmeticError("Re(N(jw)D(-jw)) is not even in w")
+    return fmpq_poly(c[0::2])
+
+
+def real_part_polynomial(num: fmpq_poly, den: fmpq_poly) -> fmpq_poly:
+    """``P(x)`` with ``P(ω²) = Re N(jω) D(−jω)``: the sign of ``Re Z(jω)`` off the poles.
+
+    >>> real_part_polynomial(fmpq_poly([1, 1]), fmpq_poly([2, 1]))  # (s + 1)/(s + 2)
+    x + 2
+    """
+    nr, ni = at_j_omega(num)
+    dr, di = at_j_omega(den)
+    return even_to_x(nr * dr + ni * di)
+
+
+def axis_factor(g: fmpq_poly) -> fmpq_poly:
     """``∏(s − jω_i)`` over the roots ``ω_i`` of ``g`` (all real, conjugate-symmetric)."""
-    n = ep.degree(g)
-    lead = g[-1]
+    c = g.coeffs()
+    n = len(c) - 1
+    lead = c[-1]
     out = []
-    for k, c in enumerate(g):
+    for k, v in enumerate(c):
         if (n + k) % 2:
-            if c != 0:
+            if v != 0:
                 raise ArithmeticError("imaginary-axis factor is not conjugate-symmetric")
-            out.append(Fraction(0))
+            out.append(fmpq(0))
             continue
         sign = (-1) ** k * (-1) ** ((n + k) // 2)
-        out.append(sign * c / lead)
-    return ep.normalize(out)
+        out.append(sign * v / lead)
+    return fmpq_poly(out)
 
 
-def is_hurwitz(p: ep.Poly) -> bool:
-    """Exact Routh test: all roots of ``p`` in the open left half-plane."""
-    if ep.degree(p) <= 0:
-        return bool(p)
-    desc = list(reversed(p))
+def is_hurwitz(p: fmpq_poly) -> bool:
+    """Exact Routh test: all roots of ``p`` in the open left half-plane.
+
+    >>> is_hurwitz(fmpq_poly([2, 3, 1])), is_hurwitz(fmpq_poly([1, 0, 1]))
+    (True, False)
+    """
+    if p.degree() <= 0:
+        return not p.is_zero()
+    desc = p.coeffs()[::-1]
     if desc[0] < 0:
         desc = [-c for c in desc]
     rows = [desc[0::2], desc[1::2]]
@@ -78,23 +108,18 @@ def is_hurwitz(p: ep.Poly) -> bool:
             return False
         new = []
         for i in range(len(a) - 1):
-            bi1 = b[i + 1] if i + 1 < len(b) else Fraction(0)
+            bi1 = b[i + 1] if i + 1 < len(b) else fmpq(0)
             new.append((b[0] * a[i + 1] - a[0] * bi1) / b[0])
         rows.append(new)
     return all(r and r[0] > 0 for r in rows[: n + 1])
 
 
-def even_to_x(p: ep.Poly) -> ep.Poly:
-    if any(p[k] != 0 for k in range(1, len(p), 2)):
-        raise ArithmeticError("Re(N(jw)D(-jw)) is not even in w")
-    return ep.normalize(list(p[0::2]))
+def log2(q: fmpq) -> float:
+    """``log2 q`` of a positive rational, without converting it to a float (no overflow)."""
+    return math.log2(int(q.p)) - math.log2(int(q.q))
 
 
-def log2(q: Fraction) -> float:
-    return math.log2(q.numerator) - math.log2(q.denominator)
-
-
-def safe_float(q: Fraction) -> float:
+def safe_float(q: fmpq) -> float:
     """``float(q)``, saturating to ``±inf`` beyond the double range."""
     try:
         return float(q)
@@ -102,40 +127,49 @@ def safe_float(q: Fraction) -> float:
         return math.inf if q > 0 else -math.inf
 
 
-def all_real_roots(g: ep.Poly) -> bool:
+def all_real_roots(g: fmpq_poly) -> bool:
+    """Every root of ``g`` (degree >= 1) is real (certified isolation, exact count)."""
     sf = ep.squarefree_part(g)
-    lo = -ep.cauchy_bound(sf)
-    return ep.count_real_roots(sf, lo, None) == ep.degree(sf)
+    return ep.count_real_roots(sf) == sf.degree()
 
 
-def negative_point(px: ep.Poly) -> float:
-    """A frequency where ``P(ω²) < 0`` (exactly checked), preferring the most negative one."""
-    sf = ep.squarefree_part(px)
+def negative_point(px: fmpq_poly) -> float:
+    """A frequency ``ω`` where ``P(ω²) < 0`` (exactly checked), preferring the most negative.
+
+    ``px`` is a real-part polynomial in ``x = ω²`` that is negative somewhere on
+    ``x > 0``.  The candidates are the midpoints between consecutive isolating
+    intervals of its positive roots (and one point beyond the last); the one
+    with the largest relative depth ``|P(x)|/Σ|c_i|x^i`` wins.
+
+    >>> negative_point(fmpq_poly([-1, 0, 1]))  # P(x) = x² − 1 < 0 on (0, 1)
+    0.7071067811865476
+    """
     # refine until every isolating interval starts strictly after the previous
     # root's interval (and after 0), however close the roots are
-    tight: list[tuple[Fraction, Fraction]] = []
-    prev = Fraction(0)
-    for a, b in ep.isolate_real_roots(px, Fraction(0), None):
+    tight: list[ep.Interval] = []
+    prev = fmpq(0)
+    for a, b in ep.isolate_real_roots(px, 0):
         while a <= prev:
-            a, b = ep.refine(sf, a, b, (b - a) / 2)
+            a, b = ep.refine(px, (a, b), (b - a) / 2)
         tight.append((a, b))
         prev = b
-    points: list[Fraction] = []
-    lo = Fraction(0)
+    points: list[fmpq] = []
+    lo = fmpq(0)
     for a, b in tight:
         points.append((lo + a) / 2)
         lo = b
     points.append(lo * 2 + 1)
-    neg = [x for x in points if x > 0 and ep.evaluate(px, x) < 0]
+    neg = [x for x in points if x > 0 and px(x) < 0]
     if not neg:
         raise ArithmeticError("no witness found although P changes sign")  # pragma: no cover
     # relative depth |P|/Σ|c_i|x^i lies in [0, 1], so it converts to float safely
-    depth = [abs(ep.evaluate(px, x)) / sum(abs(c) * x**i for i, c in enumerate(px)) for x in neg]
-    best = neg[int(np.argmax([float(d) for d in depth]))]
+    absp = fmpq_poly([abs(c) for c in px.coeffs()])
+    depth = [float(abs(px(x)) / absp(x)) for x in neg]
+    best = neg[max(range(len(neg)), key=depth.__getitem__)]  # the first maximum
     return sqrt_float(best)
 
 
-def sqrt_float(q: Fraction) -> float:
+def sqrt_float(q: fmpq) -> float:
     """``sqrt(q)`` as a float without overflow for rationals beyond the float range."""
-    half_log = 0.5 * (math.log(q.numerator) - math.log(q.denominator))
+    half_log = 0.5 * (math.log(int(q.p)) - math.log(int(q.q)))
     return math.exp(half_log) if half_log < 709.0 else math.inf

@@ -17,7 +17,7 @@ import mpmath
 import sympy as sp
 
 from ..errors import ModelError, ParameterError, SymbolicLimitError
-from ..exact import poly as ep
+from ..exact import fraction_poly as ep
 from ..model.expr import S
 from ..model.sea import SEA
 

@@ -65,7 +65,7 @@ import numpy as np
 
 from ..analysis.passivity import is_passive
 from ..errors import ModelError, NotPassiveError, ParameterError, SymbolicLimitError
-from ..exact import poly as ep
+from ..exact import fraction_poly as ep
 from ..model.sea import SEA
 from .alias import (
     COEFFICIENT_TAIL,
