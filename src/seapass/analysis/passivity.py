@@ -271,7 +271,8 @@ def positive_real_test(
 
     Examples
     --------
-    >>>     >>> positive_real_test([1, 1], [2, 1]).passive  # (s + 1)/(s + 2)
+    >>> from fractions import Fraction
+    >>> positive_real_test([1, 1], [2, 1]).passive  # (s + 1)/(s + 2)
     True
     >>> positive_real_test([Fraction(-1, 2), 1], [1, 1]).reason  # (s − 1/2)/(s + 1)
     <Reason.NEGATIVE_REAL_PART: 'negative_real_part'>
