@@ -481,8 +481,8 @@ def test_cli_verify(tmp_path: Path, capsys) -> None:
     ("args", "match"),
     [
         (["--force-limit", "0"], "positive finite force"),
-        ([], r"no \[rig\]"),
-        (["--force-limit", "5", "--tunable", "kd"], "need set_gains"),
+        ([], r"no \[rig\].*--force-limit N"),
+        (["--force-limit", "5", "--tunable", "kd"], "need --set-gains"),
         (["--force-limit", "5", "--set-gains", "--tunable", ","], "--tunable needs gain names"),
         (["--force-limit", "5", "--samples", "1"], "--samples must be in"),
     ],

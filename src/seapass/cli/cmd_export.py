@@ -6,7 +6,7 @@ import argparse
 import sys
 from typing import Any
 
-from ..errors import CompilerError, ParameterError
+from ..errors import CompilerError, ParameterError, SeapassError
 from .common import print_json
 
 EXAMPLE = """examples:
@@ -21,6 +21,16 @@ working C compiler for --verify (nothing is written then).
 
 #: Largest relative difference ``--verify`` accepts between the C and the Python commands.
 VERIFY_RTOL = 1e-12
+
+# the Python API's errors name its arguments; say the options here instead
+_OPTIONS = {
+    "force_limit=...": "--force-limit N",
+    "allow_nonpassive=True": "--allow-nonpassive",
+    "set_gains=True": "--set-gains",
+    "tunable=[...]": "--tunable G1,G2",
+    "hardware_delay": "--hardware-delay",
+    "see sampled_passive_bound": "see 'seapass sampled bound'",
+}
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
@@ -114,18 +124,24 @@ def run_c(args: argparse.Namespace) -> int:
         raise ParameterError(f"--rtol must be in (0, 1), got {args.rtol:g}")
     if args.verify and find_c_compiler() is None:  # before anything is written
         raise CompilerError("--verify needs a C compiler: none found (set CC or install gcc)")
-    res = export_c(
-        args.design,
-        args.out,
-        force_limit=args.force_limit,
-        hardware_delay=args.hardware_delay,
-        set_gains=args.set_gains,
-        tunable=tunable,
-        allow_nonpassive=args.allow_nonpassive,
-        samples=args.samples,
-        rtol=args.rtol,
-        progress=True,
-    )
+    try:
+        res = export_c(
+            args.design,
+            args.out,
+            force_limit=args.force_limit,
+            hardware_delay=args.hardware_delay,
+            set_gains=args.set_gains,
+            tunable=tunable,
+            allow_nonpassive=args.allow_nonpassive,
+            samples=args.samples,
+            rtol=args.rtol,
+            progress=True,
+        )
+    except SeapassError as exc:
+        text = str(exc)
+        for python, option in _OPTIONS.items():
+            text = text.replace(python, option)
+        raise type(exc)(text) from None
     for path in (res.header, res.source):
         print(f"wrote {path}", file=sys.stderr)
     ver = verify_c(res) if args.verify else None

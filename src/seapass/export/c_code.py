@@ -176,7 +176,7 @@ def _banner(dep: Deployment) -> list[str]:
     lines.append("  parameters: " + ", ".join(f"{k} = {v!r}" for k, v in sorted(d.values.items())))
     lines += [
         "",
-        "Controller (seapass.controllers.DiscreteController, run exactly):",
+        "Controller (seapass.sampled.controllers.DiscreteController, run exactly):",
         "  u = C_A(s)[theta_A - x_A] + C_L(s)[theta_L - x_L], with the constant and",
         "  strictly proper parts on the error (strictly proper parts by Tustin) and",
         "  the derivative terms on the measurement only (backward difference",
@@ -269,6 +269,7 @@ def render_c(dep: Deployment) -> dict[str, str]:
         "signals": signals,
         "unused": unused,
         "n_states": n_states,
+        "n_tunable": sum(1 for g in dep.gains if dep.set_gains and g.tunable),
         "n_states_alloc": max(n_states, 1),
     }
     env = _environment()
