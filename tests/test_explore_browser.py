@@ -9,7 +9,6 @@ with Ctrl-C (SIGINT).  Skipped only when chromium or Playwright is missing
 from __future__ import annotations
 
 import json
-import os
 import shutil
 import signal
 import subprocess
@@ -20,13 +19,27 @@ from pathlib import Path
 import pytest
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-        "--disable-component-update", "--disable-sync", "--no-first-run"]  # fmt: skip
-pytestmark = [
-    pytest.mark.skipif(CHROMIUM is None, reason="chromium is not installed (apt-get install chromium; make test does it)"),
+ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
 ]
-sync_api = pytest.importorskip("playwright.sync_api", reason="Playwright is not installed (pip install 'seapass[test]')")
-pytest.importorskip("uvicorn", reason="the explore extra is not installed (pip install 'seapass[explore]')")
+pytestmark = [
+    pytest.mark.skipif(
+        CHROMIUM is None,
+        reason="chromium is not installed (apt-get install chromium; make test does it)",
+    ),
+]
+sync_api = pytest.importorskip(
+    "playwright.sync_api", reason="Playwright is not installed (pip install 'seapass[test]')"
+)
+pytest.importorskip(
+    "uvicorn", reason="the explore extra is not installed (pip install 'seapass[explore]')"
+)
 
 LAUNCH = "import sys; from seapass.cli import main; sys.exit(main(sys.argv[1:]))"
 IDLE = "body[data-busy='0']:not([data-version='0'])"
@@ -37,15 +50,28 @@ class Explorer:
 
     def __init__(self, tmp: Path) -> None:
         self.proc = subprocess.Popen(
-            [sys.executable, "-c", LAUNCH, "explore", "--port", "0", "--no-browser", "--workers", "2",
-             "--reports", str(tmp / "reports")],  # fmt: skip
+            [
+                sys.executable,
+                "-c",
+                LAUNCH,
+                "explore",
+                "--port",
+                "0",
+                "--no-browser",
+                "--workers",
+                "2",
+                "--reports",
+                str(tmp / "reports"),
+            ],
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
             text=True,
         )
         assert self.proc.stdout is not None
         line = self.proc.stdout.readline()
-        assert "serving http://127.0.0.1:" in line, line + self.proc.stderr.read() if self.proc.stderr else line
+        assert "serving http://127.0.0.1:" in line, (
+            line + self.proc.stderr.read() if self.proc.stderr else line
+        )
         self.url = line.split()[3]
 
     def stop(self) -> tuple[int, str]:
@@ -81,7 +107,9 @@ def page(browser, explorer: Explorer) -> Iterator[object]:
     ctx = browser.new_context(viewport={"width": 1500, "height": 1300}, accept_downloads=True)
     pg = ctx.new_page()
     pg.problems = []  # console errors and page exceptions
-    pg.on("console", lambda m: pg.problems.append(m.text) if m.type in ("error", "warning") else None)
+    pg.on(
+        "console", lambda m: pg.problems.append(m.text) if m.type in ("error", "warning") else None
+    )
     pg.on("pageerror", lambda e: pg.problems.append(str(e)))
     pg.goto(explorer.url)
     pg.wait_for_selector(IDLE, state="attached", timeout=60_000)
@@ -91,7 +119,9 @@ def page(browser, explorer: Explorer) -> Iterator[object]:
 
 def _settle(pg, before: str) -> None:
     """Wait until every panel shows a view newer than ``before``."""
-    pg.wait_for_selector(f"body[data-busy='0']:not([data-version='{before}'])", state="attached", timeout=30_000)
+    pg.wait_for_selector(
+        f"body[data-busy='0']:not([data-version='{before}'])", state="attached", timeout=30_000
+    )
 
 
 def _version(pg) -> str:
@@ -116,7 +146,9 @@ def _set_slider(pg, name: str, value: float) -> None:
     frac = pos / 1000
     box = pg.locator(f"#slider-{name}").bounding_box()
     thumb = 16  # Chromium's default range thumb
-    pg.mouse.click(box["x"] + thumb / 2 + frac * (box["width"] - thumb), box["y"] + box["height"] / 2)
+    pg.mouse.click(
+        box["x"] + thumb / 2 + frac * (box["width"] - thumb), box["y"] + box["height"] / 2
+    )
     _settle(pg, before)
 
 
@@ -136,7 +168,10 @@ def test_pick_lp_and_move_kd_across_k1(page) -> None:
     assert state["model"]["CL"] == "kd" and state["values"]["k1"] == 1000
     _set_slider(page, "kd", 500.0)
     assert _verdict(page) == "passive"
-    rez, step = page.get_attribute("#plot-rez path[data-series]", "d"), page.inner_text("#step-text")
+    rez, step = (
+        page.get_attribute("#plot-rez path[data-series]", "d"),
+        page.inner_text("#step-text"),
+    )
     marker = page.get_attribute("#interval-marker", "d")
 
     _set_slider(page, "kd", 2000.0)
@@ -189,8 +224,18 @@ def test_exported_design_gives_the_same_verdict_in_analyze(page, tmp_path: Path)
     design = tmp_path / info.value.suggested_filename
     info.value.save_as(design)
     out = tmp_path / "report"
-    assert main(["analyze", str(design), "--out", str(out), "--stages", "passivity,sampled",
-                 "--quick", "--no-progress"]) in (0, 1)  # fmt: skip
+    assert main(
+        [
+            "analyze",
+            str(design),
+            "--out",
+            str(out),
+            "--stages",
+            "passivity,sampled",
+            "--quick",
+            "--no-progress",
+        ]
+    ) in (0, 1)
     cont = json.loads((out / "data" / "passivity.json").read_text())
     assert cont["passive"] is False
     samp = json.loads((out / "data" / "sampled.json").read_text())
@@ -212,7 +257,9 @@ def test_export_report_runs_analyze(page) -> None:
     page.check("#report-quick")
     page.click("#export-report")
     page.wait_for_selector("#report-status[data-status]", timeout=180_000)
-    assert page.get_attribute("#report-status", "data-status") == "done", page.inner_text("#report-status")
+    assert page.get_attribute("#report-status", "data-status") == "done", page.inner_text(
+        "#report-status"
+    )
     href = page.get_attribute("#report-link", "href")
     r = page.request.get(page.url.split("#")[0].rstrip("/") + href)
     assert r.status == 200 and "<html" in r.text().lower()

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from seapass.analysis.passivity import is_passive
-from seapass.model.sea import SEA
 from seapass.explore.panels import compute, slider_grid
 from seapass.explore.state import check_state
+from seapass.model.sea import SEA
 
 
 def _state(model: dict[str, str], values: dict[str, float], **extra: object):
@@ -23,7 +23,9 @@ LP = {"D1": "k1", "CL": "kd"}
 PLANT = {"m": 1.0, "b": 10.0, "k1": 1000.0}
 
 
-@pytest.mark.parametrize(("kd", "passive"), [(500.0, True), (1000.0, True), (1000.0000001, False), (2000.0, False)])
+@pytest.mark.parametrize(
+    ("kd", "passive"), [(500.0, True), (1000.0, True), (1000.0000001, False), (2000.0, False)]
+)
 def test_lp_verdict_flips_at_k1(kd: float, passive: bool) -> None:
     d = compute("verdict", _state(LP, {**PLANT, "kd": kd}))
     assert d["passive"] is passive
@@ -42,7 +44,11 @@ def test_lp_interval_is_exactly_up_to_k1() -> None:
         (LP, {**PLANT, "kd": 500.0}, []),
         (LP, {**PLANT, "kd": 2000.0}, [(0.0, math.inf)]),
         # load-side PD: Re Z < 0 for w^2 > (b k1 + bd k1 - b kd)/(bd m) = 1200 (paper Table II)
-        ({"D1": "k1", "CL": "kd + bd*s"}, {**PLANT, "kd": 500.0, "bd": 25.0}, [(math.sqrt(1200), math.inf)]),
+        (
+            {"D1": "k1", "CL": "kd + bd*s"},
+            {**PLANT, "kd": 500.0, "bd": 25.0},
+            [(math.sqrt(1200), math.inf)],
+        ),
     ],
 )
 def test_failing_bands_exact(model: dict[str, str], values: dict[str, float], bands: list) -> None:
@@ -56,9 +62,14 @@ def test_failing_bands_exact(model: dict[str, str], values: dict[str, float], ba
 def test_failing_band_agrees_with_the_sampled_real_part() -> None:
     # an independent look: the sign of Re Z on the plotted grid, away from the band edges
     # disjointed spring-damper: P/x = b2 m^2 x^2 + b2 (b^2 - 2 k1 m) x + k1^2 (b + b2) - b k1 kd
-    d = compute("frequency", _state({"D1": "k1", "D2": "b2*s", "CL": "kd"}, {**PLANT, "b2": 20.0, "kd": 2000.0}))
+    d = compute(
+        "frequency",
+        _state({"D1": "k1", "D2": "b2*s", "CL": "kd"}, {**PLANT, "b2": 20.0, "kd": 2000.0}),
+    )
     x1, x2 = sorted(np.roots([20.0, 20.0 * (100 - 2000), 1e6 * 30 - 10 * 1000 * 2000]).real)
-    assert [(a, b) for a, b in d["bands"]] == [pytest.approx((math.sqrt(x1), math.sqrt(x2)), rel=1e-12)]
+    assert [(a, b) for a, b in d["bands"]] == [
+        pytest.approx((math.sqrt(x1), math.sqrt(x2)), rel=1e-12)
+    ]
     w = np.array(d["omega"])
     re = np.array([np.nan if v is None else v for v in d["re_z"]])
     inside = np.zeros(w.size, dtype=bool)
@@ -71,14 +82,18 @@ def test_failing_band_agrees_with_the_sampled_real_part() -> None:
 
 
 def test_region_matches_exact_verdicts() -> None:
-    s = _state({"D1": "k1", "CL": "kd + bd*s"}, {**PLANT, "kd": 500.0, "bd": 25.0}, region=["kd", "bd"])
+    s = _state(
+        {"D1": "k1", "CL": "kd + bd*s"}, {**PLANT, "kd": 500.0, "bd": 25.0}, region=["kd", "bd"]
+    )
     d = compute("region", s)
     xs, ys = np.array(d["xs"]), np.array(d["ys"])
     assert d["x"] == "kd" and d["y"] == "bd" and len(d["passive"]) == ys.size
     rng = np.random.default_rng(3)
     for _ in range(25):
         i, j = int(rng.integers(xs.size)), int(rng.integers(ys.size))
-        exact = is_passive(SEA(D1="k1", CL="kd + bd*s", values={**PLANT, "kd": xs[i], "bd": ys[j]})).passive
+        exact = is_passive(
+            SEA(D1="k1", CL="kd + bd*s", values={**PLANT, "kd": xs[i], "bd": ys[j]})
+        ).passive
         assert (d["passive"][j][i] == "1") == exact
     # bd = 0 is load-side P: passive exactly for kd <= k1
     assert d["passive"][0] == "".join("1" if x <= 1000 else "0" for x in xs)
@@ -91,7 +106,9 @@ def test_slider_grid_log_with_zero_stop() -> None:
 
 
 def test_step_and_witness_panels() -> None:
-    stable = _state({"D1": "k1 + b1*s", "CA": "kd + bd*s"}, {**PLANT, "b1": 300.0, "kd": 1708.0, "bd": 300.0})
+    stable = _state(
+        {"D1": "k1 + b1*s", "CA": "kd + bd*s"}, {**PLANT, "b1": 300.0, "kd": 1708.0, "bd": 300.0}
+    )
     step = compute("step", stable)
     assert step["status"] == "settled" and 0 < step["settling_time"] < 1.0
     assert step["peak_force"] == pytest.approx(854.0, rel=1e-6)  # kd * step at t = 0

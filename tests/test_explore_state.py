@@ -11,7 +11,11 @@ from hypothesis import strategies as st
 from seapass.explore.state import LIMITS, check_state, default_range, slider_scale
 from seapass.model.design_file import load_design
 
-LP = {"name": "LP", "model": {"D1": "k1", "CL": "kd"}, "values": {"m": 1, "b": 10, "k1": 1000, "kd": 500}}
+LP = {
+    "name": "LP",
+    "model": {"D1": "k1", "CL": "kd"},
+    "values": {"m": 1, "b": 10, "k1": 1000, "kd": 500},
+}
 
 
 def _with(**changes: object) -> dict[str, object]:
@@ -23,7 +27,11 @@ def _with(**changes: object) -> dict[str, object]:
     ("view", "field", "says"),
     [
         (_with(model={"D1": "k1 +", "CL": "kd"}), "model.D1", "cannot parse"),
-        (_with(model={"D1": "__import__('os').system('x')"}), "model.D1", "function call is not allowed"),
+        (
+            _with(model={"D1": "__import__('os').system('x')"}),
+            "model.D1",
+            "function call is not allowed",
+        ),
         (_with(model={"D1": "k1", "CL": "kd.real"}), "model.CL", "attribute access"),
         (_with(model={"D1": "0", "CL": "kd"}), "model.D1", "D1 = D2 = 0"),
         (_with(model={"D1": "k1", "CA": "kd/(s - s)"}), "model.CA", "division by zero"),
@@ -66,8 +74,13 @@ def test_defaults_and_normalization() -> None:
 
 
 def test_new_names_become_parameters_and_values_widen_ranges() -> None:
-    check = check_state(_with(model={"D1": "k1", "CA": "kd*(1 + tz*s)/(1 + tp*s)"},
-                              values={"kd": 9000.0}, ranges={"kd": [0, 5000]}))  # fmt: skip
+    check = check_state(
+        _with(
+            model={"D1": "k1", "CA": "kd*(1 + tz*s)/(1 + tp*s)"},
+            values={"kd": 9000.0},
+            ranges={"kd": [0, 5000]},
+        )
+    )
     s = check.state
     assert s is not None
     assert s.new_parameters == ("tz", "tp")
@@ -93,10 +106,18 @@ def test_default_ranges() -> None:
     [
         LP,
         _with(period=0.002, delay=1, velocity_filter=50.0, load_mass=2.5, step=-0.25, horizon=3.0),
-        {"name": "mech/pure spring?", "model": {"D1": "k1", "D2": "b2*s", "CL": "kd"}, "values": {}},
-        {"name": "lead", "title": 'a "quoted" title\twith tab', "model": {"D1": "k1", "CA": "kd*(1 + tz*s)/(1 + tp*s)"},
-         "values": {"tz": 0.01, "tp": 0.001}},
-    ],  # fmt: skip
+        {
+            "name": "mech/pure spring?",
+            "model": {"D1": "k1", "D2": "b2*s", "CL": "kd"},
+            "values": {},
+        },
+        {
+            "name": "lead",
+            "title": 'a "quoted" title\twith tab',
+            "model": {"D1": "k1", "CA": "kd*(1 + tz*s)/(1 + tp*s)"},
+            "values": {"tz": 0.01, "tp": 0.001},
+        },
+    ],
 )
 def test_design_file_round_trip(view: dict[str, object], tmp_path) -> None:
     s = check_state(view).state
@@ -115,19 +136,35 @@ def test_design_file_round_trip(view: dict[str, object], tmp_path) -> None:
 
 _json = st.recursive(
     st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=30),
-    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8), inner, max_size=4),
+    lambda inner: (
+        st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8), inner, max_size=4)
+    ),
     max_leaves=20,
 )
 _views = st.fixed_dictionaries(
     {},
     optional={
-        "model": st.dictionaries(st.sampled_from(["D1", "D2", "CA", "CL", "X"]),
-                                 st.one_of(st.text(max_size=40), st.sampled_from(["k1", "kd + bd*s", "s**20", "1/s"]), _json)),
-        "values": st.dictionaries(st.sampled_from(["m", "b", "k1", "kd", "bd", "zz", "s"]), _json | st.floats()),
-        "ranges": _json, "period": _json, "delay": _json, "velocity_filter": _json,
-        "load_mass": _json, "step": _json, "horizon": _json, "gain": _json, "region": _json, "name": _json,
+        "model": st.dictionaries(
+            st.sampled_from(["D1", "D2", "CA", "CL", "X"]),
+            st.one_of(
+                st.text(max_size=40), st.sampled_from(["k1", "kd + bd*s", "s**20", "1/s"]), _json
+            ),
+        ),
+        "values": st.dictionaries(
+            st.sampled_from(["m", "b", "k1", "kd", "bd", "zz", "s"]), _json | st.floats()
+        ),
+        "ranges": _json,
+        "period": _json,
+        "delay": _json,
+        "velocity_filter": _json,
+        "load_mass": _json,
+        "step": _json,
+        "horizon": _json,
+        "gain": _json,
+        "region": _json,
+        "name": _json,
     },
-)  # fmt: skip
+)
 
 
 @given(_views | _json)

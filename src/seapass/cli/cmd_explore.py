@@ -36,7 +36,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="design file, or a preset name (LP, APD, Ours or a Table I/II row); default LP",
     )
     p.add_argument(
-        "--port", type=int, default=8765, help="port on 127.0.0.1 (default 8765; 0 picks a free one)"
+        "--port",
+        type=int,
+        default=8765,
+        help="port on 127.0.0.1 (default 8765; 0 picks a free one)",
     )
     p.add_argument("--no-browser", action="store_true", help="do not open a browser")
     p.add_argument(

@@ -36,7 +36,15 @@ from ..sim.scenarios import Step
 from ..sim.simulate import simulate
 from .state import ExploreState, slider_scale
 
-__all__ = ["KINDS", "REGION_CHUNK", "REGION_RESOLUTIONS", "check_rows", "compute", "failing_bands", "slider_grid"]
+__all__ = [
+    "KINDS",
+    "REGION_CHUNK",
+    "REGION_RESOLUTIONS",
+    "check_rows",
+    "compute",
+    "failing_bands",
+    "slider_grid",
+]
 
 #: Step-response samples (the simulation is exact at every sample, whatever the step).
 STEP_SAMPLES = 1000
@@ -82,7 +90,8 @@ def _sampled(state: ExploreState) -> dict[str, Any]:
     return {
         "analysed": True,
         "passive": r.passive,
-        "status": ("passive" if r.passive else "not passive") + (" (marginal)" if r.marginal else ""),
+        "status": ("passive" if r.passive else "not passive")
+        + (" (marginal)" if r.marginal else ""),
         "reason": r.reason,
         "detail": r.detail,
         "omega": r.omega,
@@ -140,8 +149,10 @@ def failing_bands(num: ep.Poly, den: ep.Poly) -> list[tuple[float, float]]:
     px = _real_part_x(num, den)
     if not px:
         return []
-    roots = [ep.refine(ep.squarefree_part(px), a, b, Fraction(1, 2**50) * max(1, abs(b)))
-             for a, b in ep.isolate_real_roots(px, Fraction(0))]  # fmt: skip
+    roots = [
+        ep.refine(ep.squarefree_part(px), a, b, Fraction(1, 2**50) * max(Fraction(1), abs(b)))
+        for a, b in ep.isolate_real_roots(px, Fraction(0))
+    ]
     edges = [Fraction(0)] + [(a + b) / 2 for a, b in roots]
     bands: list[tuple[float, float]] = []
     for i, x0 in enumerate(edges):
@@ -318,10 +329,14 @@ def compute(
 def check_rows(resolution: Any, rows: Any) -> tuple[int, int] | None:
     """Validated region grid and row range (raises ValueError naming the bad one)."""
     if isinstance(resolution, bool) or resolution not in REGION_RESOLUTIONS:
-        raise ValueError(f"resolution must be one of {list(REGION_RESOLUTIONS)}, got {resolution!r}")
+        raise ValueError(
+            f"resolution must be one of {list(REGION_RESOLUTIONS)}, got {resolution!r}"
+        )
     if rows is None:
         if resolution > REGION_CHUNK * 2:
-            raise ValueError(f"give rows [start, stop] (at most {REGION_CHUNK}) for resolution {resolution}")
+            raise ValueError(
+                f"give rows [start, stop] (at most {REGION_CHUNK}) for resolution {resolution}"
+            )
         return None
     ok = (
         isinstance(rows, list | tuple)
@@ -329,8 +344,10 @@ def check_rows(resolution: Any, rows: Any) -> tuple[int, int] | None:
         and all(isinstance(r, int) and not isinstance(r, bool) for r in rows)
     )
     if not ok or not 0 <= rows[0] < rows[1] <= resolution or rows[1] - rows[0] > REGION_CHUNK:
-        raise ValueError(f"rows must be [start, stop] with 0 <= start < stop <= {resolution}, "
-                         f"at most {REGION_CHUNK} rows, got {rows!r}")  # fmt: skip
+        raise ValueError(
+            f"rows must be [start, stop] with 0 <= start < stop <= {resolution}, "
+            f"at most {REGION_CHUNK} rows, got {rows!r}"
+        )
     return int(rows[0]), int(rows[1])
 
 

@@ -10,7 +10,6 @@ Each panel kind always goes to the same worker, so its caches stay warm.
 
 from __future__ import annotations
 
-import asyncio
 import contextlib
 import multiprocessing
 import multiprocessing.connection
@@ -96,9 +95,7 @@ class _Worker:
 
     def _start(self) -> None:
         parent, child = self._ctx.Pipe()
-        proc = self._ctx.Process(
-            target=_worker_main, args=(child, self._memory_limit), daemon=True
-        )
+        proc = self._ctx.Process(target=_worker_main, args=(child, self._memory_limit), daemon=True)
         proc.start()
         child.close()
         self._proc, self._conn = proc, parent
@@ -158,10 +155,15 @@ class PanelPool:
         self._closed = False
 
     def _slot(self, kind: str, options: Mapping[str, Any]) -> int:
-        fine = kind == "region" and options.get("resolution", REGION_RESOLUTIONS[0]) > REGION_RESOLUTIONS[0]
+        fine = (
+            kind == "region"
+            and options.get("resolution", REGION_RESOLUTIONS[0]) > REGION_RESOLUTIONS[0]
+        )
         return AFFINITY.get("region-fine" if fine else kind, 0) % max(1, len(self._workers))
 
-    def call(self, kind: str, state: Any, options: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    def call(
+        self, kind: str, state: Any, options: Mapping[str, Any] | None = None
+    ) -> dict[str, Any]:
         """Compute one panel (blocking); see `run_panel`."""
         opts = dict(options or {})
         if self._closed:

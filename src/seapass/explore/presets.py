@@ -63,6 +63,12 @@ def presets() -> list[dict[str, Any]]:
         else:
             group = "paper designs"
         key = "Ours" if entry.key == "ours" else entry.key
-        out.append({"id": key, "label": entry.label if not entry.table else f"{group}: {entry.title}",
-                    "group": group, "state": preset_state(entry)})  # fmt: skip
+        out.append(
+            {
+                "id": key,
+                "label": entry.label if not entry.table else f"{group}: {entry.title}",
+                "group": group,
+                "state": preset_state(entry),
+            }
+        )
     return out

@@ -1,4 +1,4 @@
-""""Export report": ``seapass analyze`` on the current design, in a child process.
+""" "Export report": ``seapass analyze`` on the current design, in a child process.
 
 Each report gets its own directory under the reports directory, holding the
 design file (``design.toml``), the analyze output (``report/``) and its log.
@@ -80,8 +80,16 @@ class ReportJobs:
             design = directory / "design.toml"
             design.write_text(toml_text, encoding="utf-8")
             job = ReportJob(job_id, name, directory, quick)
-            cmd = [sys.executable, "-c", _LAUNCH, "analyze", str(design),
-                   "--out", str(job.report_dir), "--no-progress"]  # fmt: skip
+            cmd = [
+                sys.executable,
+                "-c",
+                _LAUNCH,
+                "analyze",
+                str(design),
+                "--out",
+                str(job.report_dir),
+                "--no-progress",
+            ]
             if quick:
                 cmd.append("--quick")
             with open(directory / "analyze.log", "wb") as log:
@@ -102,7 +110,9 @@ class ReportJobs:
         job.returncode = rc
         job.seconds = time.monotonic() - job.started
         # analyze exits 1 when a stage failed but the report was written
-        job.status = "done" if rc in (0, 1) and (job.report_dir / "report.html").is_file() else "failed"
+        job.status = (
+            "done" if rc in (0, 1) and (job.report_dir / "report.html").is_file() else "failed"
+        )
 
     def get(self, job_id: int) -> ReportJob | None:
         return self._jobs.get(job_id)

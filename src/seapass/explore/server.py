@@ -25,7 +25,6 @@ import contextlib
 import json
 import logging
 import socket
-import sys
 import tempfile
 import threading
 import time
@@ -115,7 +114,9 @@ def create_app(
         Where "Export report" writes; default a new temporary directory.
     """
     panels = pool if pool is not None else PanelPool()
-    reports = ReportJobs(Path(report_dir) if report_dir else Path(tempfile.mkdtemp(prefix="seapass-explore-")))
+    reports = ReportJobs(
+        Path(report_dir) if report_dir else Path(tempfile.mkdtemp(prefix="seapass-explore-"))
+    )
     threads = ThreadPoolExecutor(max_workers=32, thread_name_prefix="explore-panel")
     preset_list = presets()
 
@@ -125,8 +126,14 @@ def create_app(
     async def initial_view(request: Request) -> Response:
         check = check_state(initial)
         return JSONResponse(
-            {"state": check.to_json()["state"], "errors": dict(check.errors), "presets": preset_list,
-             "kinds": list(KINDS), "resolutions": list(REGION_RESOLUTIONS), "chunk": REGION_CHUNK}  # fmt: skip
+            {
+                "state": check.to_json()["state"],
+                "errors": dict(check.errors),
+                "presets": preset_list,
+                "kinds": list(KINDS),
+                "resolutions": list(REGION_RESOLUTIONS),
+                "chunk": REGION_CHUNK,
+            }
         )
 
     async def state(request: Request) -> Response:
@@ -141,7 +148,10 @@ def create_app(
             raise _BadRequest("expected a JSON object with the view")
         options: dict[str, Any] = {}
         if kind == "region":
-            options = {"resolution": body.get("resolution", REGION_RESOLUTIONS[0]), "rows": body.get("rows")}
+            options = {
+                "resolution": body.get("resolution", REGION_RESOLUTIONS[0]),
+                "rows": body.get("rows"),
+            }
             try:
                 check_rows(options["resolution"], options["rows"])
             except ValueError as exc:
@@ -160,8 +170,6 @@ def create_app(
         kinds = list(dict.fromkeys(kinds))
         view = body.get("state")
         loop = asyncio.get_running_loop()
-        t_in = time.perf_counter()
-        t_epoch = time.time()
 
         async def job(kind: str) -> tuple[str, dict[str, Any]]:
             reply = await loop.run_in_executor(threads, panels.call, kind, view)
@@ -172,18 +180,20 @@ def create_app(
         async def lines() -> AsyncIterator[bytes]:
             for done in asyncio.as_completed(tasks):
                 kind, reply = await done
-                reply["at"] = (time.perf_counter() - t_in) * 1e3
-                reply["epoch_in"] = t_epoch * 1e3
-                reply["epoch_out"] = time.time() * 1e3
                 yield (json.dumps({"kind": kind, **reply}) + "\n").encode()
 
-        return StreamingResponse(lines(), media_type="application/x-ndjson",
-                                 headers={"Cache-Control": "no-store", "X-Content-Type-Options": "nosniff"})  # fmt: skip
+        return StreamingResponse(
+            lines(),
+            media_type="application/x-ndjson",
+            headers={"Cache-Control": "no-store", "X-Content-Type-Options": "nosniff"},
+        )
 
     async def export_design(request: Request) -> Response:
         check = check_state(await _json_body(request))
         if check.state is None:
-            return JSONResponse({"ok": False, "errors": dict(check.errors), "error": "fix the marked fields"})
+            return JSONResponse(
+                {"ok": False, "errors": dict(check.errors), "error": "fix the marked fields"}
+            )
         return JSONResponse(
             {"ok": True, "filename": f"{check.state.name}.toml", "text": check.state.design_toml()}
         )
@@ -194,9 +204,13 @@ def create_app(
             raise _BadRequest("expected a JSON object")
         check = check_state(body.get("state"))
         if check.state is None:
-            return JSONResponse({"ok": False, "errors": dict(check.errors), "error": "fix the marked fields"})
+            return JSONResponse(
+                {"ok": False, "errors": dict(check.errors), "error": "fix the marked fields"}
+            )
         try:
-            job = reports.start(check.state.name, check.state.design_toml(), quick=bool(body.get("quick")))
+            job = reports.start(
+                check.state.name, check.state.design_toml(), quick=bool(body.get("quick"))
+            )
         except RuntimeError as exc:
             return _error(str(exc), 409)
         return JSONResponse({"ok": True, "report": job.to_json()})
@@ -249,8 +263,10 @@ def bind(port: int) -> socket.socket:
         sock.bind(("127.0.0.1", port))
     except OSError as exc:
         sock.close()
-        raise OSError(f"cannot listen on 127.0.0.1:{port} ({exc.strerror}); "
-                      "choose another port with --port, or --port 0 for a free one") from None  # fmt: skip
+        raise OSError(
+            f"cannot listen on 127.0.0.1:{port} ({exc.strerror}); "
+            "choose another port with --port, or --port 0 for a free one"
+        ) from None
     sock.listen(64)
     return sock
 

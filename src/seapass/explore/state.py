@@ -284,9 +284,8 @@ def _number(raw: Any, key: str, errors: dict[str, str]) -> float | None:
     return val
 
 
-def _bounded(
-    raw: Any, key: str, lo: float, hi: float, errors: dict[str, str], unit: str
-) -> float | None:
+def _bounded(raw: Any, key: str, errors: dict[str, str], unit: str) -> float | None:
+    lo, hi = LIMITS[key]
     val = _number(raw, key, errors)
     if val is not None and not lo <= val <= hi:
         errors[key] = f"must be between {lo:g} and {hi:g} {unit}"
@@ -298,7 +297,7 @@ def _optional(raw: Any) -> bool:
     return raw is None or (isinstance(raw, str) and raw.strip().lower() in ("", "off", "none"))
 
 
-def check_state(data: Any) -> StateCheck:  # noqa: C901 (one flat list of field checks)
+def check_state(data: Any) -> StateCheck:
     """Validate a view sent by the browser.
 
     Missing fields get defaults (a parameter new to the model gets the paper's
@@ -407,11 +406,11 @@ def check_state(data: Any) -> StateCheck:  # noqa: C901 (one flat list of field 
                 errors[key] = f"must be nonzero and at most {LIMITS['step']:g} m in size"
                 val = None
         else:
-            val = _bounded(raw, key, *LIMITS[key], errors, "kg" if key == "load_mass" else "s")
+            val = _bounded(raw, key, errors, "kg" if key == "load_mass" else "s")
         conditions[key] = val
     period_raw = data.get("period")
     conditions["period"] = (
-        None if _optional(period_raw) else _bounded(period_raw, "period", *LIMITS["period"], errors, "s")
+        None if _optional(period_raw) else _bounded(period_raw, "period", errors, "s")
     )
     delay_raw = data.get("delay", 0)
     delay = _number(delay_raw, "delay", errors)
@@ -420,9 +419,7 @@ def check_state(data: Any) -> StateCheck:  # noqa: C901 (one flat list of field 
     conditions["delay"] = int(delay) if delay is not None and "delay" not in errors else 0
     vf_raw = data.get("velocity_filter")
     conditions["velocity_filter"] = (
-        None
-        if _optional(vf_raw)
-        else _bounded(vf_raw, "velocity_filter", *LIMITS["velocity_filter"], errors, "Hz")
+        None if _optional(vf_raw) else _bounded(vf_raw, "velocity_filter", errors, "Hz")
     )
 
     if errors:
@@ -435,9 +432,16 @@ def check_state(data: Any) -> StateCheck:  # noqa: C901 (one flat list of field 
         gain = "kd" if "kd" in gains else (gains[0] if gains else params[-1])
     region_in = data.get("region")
     region = tuple(region_in) if isinstance(region_in, list | tuple) and len(region_in) == 2 else ()
-    if len(region) != 2 or region[0] not in params or region[1] not in params or region[0] == region[1]:
+    if (
+        len(region) != 2
+        or region[0] not in params
+        or region[1] not in params
+        or region[0] == region[1]
+    ):
         x = gain
-        rest = [g for g in gains if g != x] + [p for p in ("k1", *params) if p != x and p not in gains]
+        rest = [g for g in gains if g != x] + [
+            p for p in ("k1", *params) if p != x and p not in gains
+        ]
         region = (x, rest[0])
     try:
         state = ExploreState(

@@ -210,21 +210,13 @@
     const v = version, st = S;
     kinds.forEach((k) => { inflight[k] = true; });
     const answered = new Set();
-    const tSend = performance.now();
     const onLine = (r) => {
       const kind = r.kind;
-      const tArr = performance.now();
       answered.add(kind); inflight[kind] = false;
       render(kind, r, st);
       shown[kind] = v;
       if (!kindTimes[v]) kindTimes[v] = {};
       kindTimes[v][kind] = performance.now() - started[v];
-      kindTimes[v]["send"] = tSend - started[v];
-      kindTimes[v][kind + ".arrive"] = tArr - started[v];
-      kindTimes[v][kind + ".server"] = r.ms;
-      kindTimes[v][kind + ".at"] = r.at;
-      kindTimes[v][kind + ".req_to_server"] = r.epoch_in - (performance.timeOrigin + tSend);
-      kindTimes[v][kind + ".server_to_page"] = (performance.timeOrigin + tArr) - r.epoch_out;
       if (v !== version) dispatch(); else finish();
     };
     stream("/api/panels", { state: st, kinds }, onLine).catch(() => setStatus("server unreachable", "error")).finally(() => {
@@ -423,6 +415,8 @@
     $("#export-design").addEventListener("click", exportDesign);
     $("#export-report").addEventListener("click", exportReport);
     $("#copy-link").addEventListener("click", (e) => { e.preventDefault(); navigator.clipboard && navigator.clipboard.writeText(location.href).then(() => setStatus("link copied", "idle"), () => {}); });
+    const same = PRESETS.find((p) => p.state.name === init.state.name);
+    if (same) sel.value = same.id;
     const fromUrl = decode(location.hash);
     S = init.state;
     validate(fromUrl || init.state);
