@@ -19,7 +19,7 @@ pytest.importorskip(
     "starlette", reason="the explore extra is not installed (pip install 'seapass[explore]')"
 )
 with warnings.catch_warnings():  # starlette >= 1.10 prefers httpx2 for its test client
-    warnings.simplefilter("ignore", DeprecationWarning)
+    warnings.simplefilter("ignore")
     from starlette.testclient import TestClient
 
 from seapass.explore.panels import KINDS

@@ -94,8 +94,12 @@ def run(args: argparse.Namespace) -> int:
     if reports is not None and reports.exists() and not reports.is_dir():
         raise ValueError(f"--reports {reports}: not a directory")
 
+    from ..explore.server import graphical_session
+
     def ready(url: str) -> None:
         print(f"seapass explore: serving {url} (Ctrl-C stops)", flush=True)
+        if not args.no_browser and not graphical_session():
+            print("  no graphical session here: open that address in your browser", flush=True)
 
     try:
         serve(

@@ -15,6 +15,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ..files.atomic import atomic_write_text
+
 __all__ = ["ReportJob", "ReportJobs"]
 
 #: How long one ``analyze`` run may take.
@@ -78,7 +80,7 @@ class ReportJobs:
             directory = self.base / f"{job_id:03d}-{name}"
             directory.mkdir(parents=True, exist_ok=False)
             design = directory / "design.toml"
-            design.write_text(toml_text, encoding="utf-8")
+            atomic_write_text(design, toml_text)
             job = ReportJob(job_id, name, directory, quick)
             cmd = [
                 sys.executable,

@@ -24,10 +24,11 @@ import asyncio
 import contextlib
 import json
 import logging
+import os
 import socket
+import sys
 import tempfile
 import threading
-import time
 import webbrowser
 from collections.abc import AsyncIterator, Callable
 from concurrent.futures import ThreadPoolExecutor
@@ -48,7 +49,7 @@ from .presets import presets
 from .reports import ReportJobs
 from .state import check_state
 
-__all__ = ["STATIC", "create_app", "serve"]
+__all__ = ["MAX_BODY", "STATIC", "bind", "create_app", "graphical_session", "serve"]
 
 STATIC = Path(__file__).parent / "static"
 #: Largest request body accepted (a view is a few kB).
@@ -271,6 +272,13 @@ def bind(port: int) -> socket.socket:
     return sock
 
 
+def graphical_session() -> bool:
+    """Whether a browser window can open here (never a text-mode browser in the terminal)."""
+    if sys.platform in ("darwin", "win32"):
+        return True
+    return any(os.environ.get(v) for v in ("DISPLAY", "WAYLAND_DISPLAY", "BROWSER"))
+
+
 def serve(
     initial: dict[str, Any],
     *,
@@ -302,7 +310,7 @@ def serve(
             threading.Event().wait(0.02)
         if ready is not None:
             ready(url)
-        if open_browser:
+        if open_browser and graphical_session():
             webbrowser.open(url)
 
     threading.Thread(target=announce, daemon=True).start()

@@ -61,7 +61,13 @@ _DEFAULTS = {"load_mass": 10.0, "step": 0.5, "horizon": 10.0}
 
 
 def slider_scale(lo: float, hi: float) -> str:
-    """``"log"`` for a non-negative range spanning two decades or more (0 is its own stop)."""
+    """``"log"`` for a non-negative range spanning two decades or more (0 is its own stop).
+
+    Examples
+    --------
+    >>> slider_scale(0.0, 5000.0), slider_scale(10.0, 1e5), slider_scale(1.0, 50.0)
+    ('log', 'log', 'lin')
+    """
     if lo >= 0 and hi > 0 and (lo == 0 or hi / lo >= 100):
         return "log"
     return "lin"
@@ -316,6 +322,14 @@ def check_state(data: Any) -> StateCheck:
     StateCheck
         ``errors`` maps field keys such as ``"model.CL"``, ``"values.kd"`` or
         ``"period"`` to one-line messages.
+
+    Examples
+    --------
+    >>> check = check_state({"model": {"D1": "k1", "CL": "kd"}, "values": {"kd": "2e3"}})
+    >>> check.state.values["kd"], check.state.gain, check.state.ranges["kd"]
+    (2000.0, 'kd', (0.0, 20000.0))
+    >>> check_state({"model": {"D1": "k1 +"}}).errors
+    {'model.D1': "cannot parse expression 'k1 +': invalid syntax"}
     """
     errors: dict[str, str] = {}
     if not isinstance(data, Mapping):
