@@ -63,6 +63,28 @@ def _click_kd(page: Any, frac: float) -> dict[str, Any]:
     return dict(timing)
 
 
+def _drag_kd(page: Any, frac: float) -> dict[str, Any]:
+    """Press on the thumb, drag to ``frac`` in ten moves, release; time from the release."""
+    box = page.locator("#slider-kd").bounding_box()
+    y = box["y"] + box["height"] / 2
+    x0 = box["x"] + 8 + int(page.input_value("#slider-kd")) / 1000 * (box["width"] - 16)
+    page.mouse.move(x0, y)
+    page.mouse.down()
+    page.mouse.move(box["x"] + 8 + frac * (box["width"] - 16), y, steps=10)
+    page.mouse.up()
+    v = page.evaluate("window.seapass.version()")
+    page.wait_for_selector(
+        f"body[data-busy='0'][data-version='{v}']", state="attached", timeout=60_000
+    )
+    release = page.evaluate("window.seapass.releases[window.seapass.releases.length - 1]")
+    done = page.evaluate(f"window.seapass.timings.find((t) => t.version === {v})")
+    return {
+        "ms": max(0.0, done["at"] - release["t"]),
+        "kinds": done["kinds"],
+        "passive": page.inner_text("#verdict-continuous .v") == "passive",
+    }
+
+
 def _cli_peer(design: str, root: Path) -> float:
     """Seconds of one ``seapass check`` process on the same design (start-up included)."""
     values = {"LP": ["--D1", "k1", "--CL", "kd"], "APD": ["--D1", "k1", "--CA", "kd + bd*s"],
@@ -153,8 +175,16 @@ def run(clicks: int = 20, *, screenshot: Path | None = None, seed: int = 1) -> d
                     t = _click_kd(page, frac)
                     if i >= 3:
                         samples.append(t)
+                drags = []
+                for _ in range(max(3, clicks // 2)):
+                    cur = int(page.input_value("#slider-kd")) / 1000
+                    frac = cur
+                    while abs(frac - cur) < 0.2:
+                        frac = rng.uniform(0.03, 0.97)
+                    drags.append(_drag_kd(page, frac))
                 out["designs"][design] = {
                     **_summary(samples),
+                    "drag": _summary(drags),
                     "cli_check_s": _cli_peer(design, root),
                 }
                 page.close()
@@ -202,6 +232,20 @@ def markdown(result: dict[str, Any]) -> str:
             f"{d['clicks']} | {bad_txt} | "
             f"{slow} {d['panel_median_ms'][slow]:.0f} ms | "
             f"{d['cli_check_s']:.2f} s | {1000 * d['cli_check_s'] / d['median_ms']:.0f}x |"
+        )
+    lines += [
+        "",
+        "Drag and release (press on the thumb, ten moves, release; timed from the release, "
+        "the panels updating live during the drag):",
+        "",
+        "| design | median | p90 | max | drags |",
+        "|---|---:|---:|---:|---:|",
+    ]
+    for name, d in result["designs"].items():
+        g = d["drag"]
+        lines.append(
+            f"| {name} | {g['median_ms']:.0f} ms | {g['p90_ms']:.0f} ms | {g['max_ms']:.0f} ms "
+            f"| {g['clicks']} |"
         )
     lb, la = result["load_before"], result["load_after"]
     lines.append("")

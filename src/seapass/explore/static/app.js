@@ -12,8 +12,9 @@
   const started = {};      // version -> time of the event that made it
   const shown = {}, inflight = {}, data = {};
   let recorded = 0, fineFor = 0;
-  const timings = [];
-  const kindTimes = {};      // {version, ms, source}; read by the benchmark
+  const timings = [];      // {version, ms, at, kinds}: the page's own clock, for the benchmark
+  const releases = [];     // {version, t}: slider releases (the view current at the release)
+  const kindTimes = {};    // version -> {panel kind: ms after the change}
 
   /* ------------------------------------------------------------------ conditions (non-model controls) */
   const CONDITIONS = [
@@ -88,7 +89,7 @@
       box.value = fmt(v, 6); box.classList.remove("invalid");
       opts.onSlide(v, e.timeStamp);
     });
-    slider.addEventListener("change", (e) => { started.release = e.timeStamp; });
+    slider.addEventListener("change", (e) => { releases.push({ version, t: e.timeStamp }); });
     box.addEventListener("change", (e) => opts.onText(box.value, e.timeStamp));
     box.addEventListener("keydown", (e) => { if (e.key === "Enter") box.dispatchEvent(new Event("change")); });
     return row;
@@ -244,8 +245,8 @@
     if (recorded === v || !KINDS.every((k) => shown[k] === v)) return;
     recorded = v;
     requestAnimationFrame(() => {
-      const ms = performance.now() - started[v];
-      timings.push({ version: v, ms, kinds: kindTimes[v] });
+      const at = performance.now(), ms = at - started[v];
+      timings.push({ version: v, ms, at, kinds: kindTimes[v] });
       if (v === version) {
         document.body.dataset.busy = "0"; document.body.dataset.version = String(v);
         setStatus(`up to date · ${ms.toFixed(0)} ms`, "idle");
@@ -422,6 +423,6 @@
     validate(fromUrl || init.state);
   }
 
-  window.seapass = { timings, state: () => S, version: () => version, encode, decode, debug: () => ({ version, shown, inflight, recorded }) };
+  window.seapass = { timings, releases, state: () => S, version: () => version, encode, decode };
   document.addEventListener("DOMContentLoaded", start);
 })();
