@@ -426,7 +426,8 @@ def check_state(data: Any) -> StateCheck:
     conditions["period"] = (
         None if _optional(period_raw) else _bounded(period_raw, "period", errors, "s")
     )
-    delay_raw = data.get("delay", 0)
+    delay_raw = data.get("delay")
+    delay_raw = 0 if _optional(delay_raw) else delay_raw
     delay = _number(delay_raw, "delay", errors)
     if delay is not None and (delay != int(delay) or not 0 <= delay <= LIMITS["delay"]):
         errors["delay"] = f"must be a whole number of samples from 0 to {LIMITS['delay']}"

@@ -352,7 +352,11 @@
 
   function render(kind, r, st) {
     panelError(kind, r);
-    if (!r.ok) return;
+    if (!r.ok) {
+      if (kind === "sampled") setVerdict($("#verdict-sampled"), "off", "not analysed", r.error);
+      if (kind === "verdict") setVerdict($("#verdict-continuous"), "off", "no verdict", r.error);
+      return;
+    }
     RENDER[kind](r.data, st);
   }
 
