@@ -7,9 +7,11 @@ import math
 import numpy as np
 import pytest
 
+from seapass.analysis.freqresp import stiffness_response
 from seapass.analysis.passivity import is_passive
 from seapass.explore.panels import compute, slider_grid
 from seapass.explore.state import check_state
+from seapass.model.catalog import SIMULATION_DESIGNS, TABLE_ROWS, design
 from seapass.model.sea import SEA
 
 
@@ -57,6 +59,19 @@ def test_failing_bands_exact(model: dict[str, str], values: dict[str, float], ba
     assert len(got) == len(bands)
     for (a, b), (ea, eb) in zip(got, bands, strict=True):
         assert a == pytest.approx(ea, rel=1e-12, abs=1e-12) and b == eb
+
+
+@pytest.mark.parametrize("key", [d.key for d in (*SIMULATION_DESIGNS, *TABLE_ROWS)])
+def test_stiffness_agrees_with_the_symbolic_frequency_response(key: str) -> None:
+    # the panel evaluates s*N/D of the exact impedance; freqresp derives F_L/X_L with sympy
+    entry = design(key)
+    s = _state(entry.elements(), {})
+    d = compute("frequency", s)
+    ref = stiffness_response(s.sea(), np.array(d["omega"]))
+    assert np.allclose(d["magnitude"], ref.magnitude, rtol=1e-9, atol=0)
+    assert np.allclose(d["phase"], ref.phase, rtol=0, atol=1e-6)
+    for got, want in ((d["static"], ref.static), (d["high_frequency"], ref.high_frequency)):
+        assert (got is None and math.isinf(want)) or got == pytest.approx(want, rel=1e-12, abs=0)
 
 
 def test_failing_band_agrees_with_the_sampled_real_part() -> None:

@@ -21,7 +21,6 @@ from typing import Any
 
 import numpy as np
 
-from ..analysis.freqresp import stiffness_response
 from ..analysis.impedance import exact_rational_function
 from ..analysis.passivity import is_passive
 from ..analysis.region import passive_intervals
@@ -44,6 +43,7 @@ __all__ = [
     "compute",
     "failing_bands",
     "slider_grid",
+    "stiffness_limits",
 ]
 
 #: Step-response samples (the simulation is exact at every sample, whatever the step).
@@ -187,26 +187,42 @@ def _frequency_grid(num: np.ndarray, den: np.ndarray, marks: list[float]) -> np.
 
 
 def _frequency(state: ExploreState) -> dict[str, Any]:
-    sea = state.sea()
-    num, den = exact_rational_function(sea)
+    num, den = exact_rational_function(state.sea())
     bands = failing_bands(num, den)
     n = np.array([float(c) for c in reversed(num)]) if num else np.zeros(1)
     d = np.array([float(c) for c in reversed(den)])
-    marks = [w for band in bands for w in band]
-    w = _frequency_grid(n, d, marks)
-    fr = stiffness_response(sea, w)
+    w = _frequency_grid(n, d, [w for band in bands for w in band])
     with np.errstate(all="ignore"):
         z = np.polyval(n, 1j * w) / np.polyval(d, 1j * w)
-    re = np.where(np.isfinite(z.real), z.real, np.nan)
+        h = 1j * w * z  # F_L/X_L = s Z(s): the same rational function as the stiffness
+    static, high = stiffness_limits(num, den)
     return {
         "omega": w.tolist(),
-        "magnitude": _finite_list(fr.magnitude),
-        "phase": _finite_list(fr.phase),
-        "re_z": _finite_list(re),
+        "magnitude": _finite_list(np.abs(h)),
+        "phase": _finite_list(np.degrees(np.unwrap(np.angle(h)))),
+        "re_z": _finite_list(z.real),
         "bands": [[a, None if math.isinf(b) else b] for a, b in bands],
-        "static": None if not math.isfinite(fr.static) else fr.static,
-        "high_frequency": None if not math.isfinite(fr.high_frequency) else fr.high_frequency,
+        "static": static if math.isfinite(static) else None,
+        "high_frequency": high if math.isfinite(high) else None,
     }
+
+
+def stiffness_limits(num: ep.Poly, den: ep.Poly) -> tuple[float, float]:
+    """``F_L/X_L`` at ``ω = 0`` and ``|F_L/X_L|`` as ``ω → ∞`` from ``Z = N/D`` (``inf`` if unbounded).
+
+    The stiffness is ``s Z(s)``; its behaviour at 0 and at infinity is read from the
+    lowest and the highest coefficients of ``N`` and ``D``, as
+    `seapass.analysis.freqresp.stiffness_response` does from the stiffness itself.
+    """
+    if not num:
+        return 0.0, 0.0
+    low_n = next(i for i, c in enumerate(num) if c != 0)
+    low_d = next(i for i, c in enumerate(den) if c != 0)
+    order = 1 + low_n - low_d
+    static = float(num[low_n] / den[low_d]) if order == 0 else (0.0 if order > 0 else math.inf)
+    gap = 1 + ep.degree(num) - ep.degree(den)
+    high = abs(float(num[-1] / den[-1])) if gap == 0 else (math.inf if gap > 0 else 0.0)
+    return static, high
 
 
 def _finite_list(a: np.ndarray, digits: int | None = None) -> list[float | None]:
