@@ -149,6 +149,15 @@ def test_classify_polynomial(poly, status):
     assert classify_polynomial(tuple(Fraction(c) for c in poly))[0] == status
 
 
+def test_system_polynomials_make_the_denominator_monic_positive():
+    from flint import fmpq_poly
+
+    from seapass.analysis.coupled import system_polynomials
+
+    num, den = system_polynomials(([1.0, 1.0], [-1.0, -2.0]), None)  # (s + 1)/(-s - 2)
+    assert den == fmpq_poly([2, 1]) and num == fmpq_poly([-1, -1])
+
+
 def test_common_pole_at_zero_is_removed():
     # spring port + spring environment: the shared s = 0 pole only encodes the rest position
     chi, common = coupled_polynomial("k/s", Environment(stiffness=3.0), values={"k": 2.0})

@@ -301,7 +301,7 @@ def system_polynomials(
     if isinstance(system, Environment):
         return system.polynomials()
     num, den = exact_rational_function(system, values)
-    if den[-1] < 0:
+    if den.leading_coefficient() < 0:
         num, den = -num, -den
     return num, den
 
