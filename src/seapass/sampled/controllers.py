@@ -47,11 +47,11 @@ __all__ = [
     "DiscreteTF",
     "LPController",
     "OursController",
-    "clamped_spectral_radius",
     "controller_tfs",
     "discretize",
     "filter_pole",
     "state_space",
+    "zoh_discretize",
 ]
 
 Method = Literal["tustin", "zoh", "backward"]
@@ -189,7 +189,8 @@ def _split(expr: sp.Expr) -> tuple[list[sp.Rational], sp.Expr]:
     return coeffs, sp.cancel(rem.as_expr() / pd.as_expr())
 
 
-def _zoh(proper: sp.Expr, period: Fraction) -> sp.Expr:
+def zoh_discretize(proper: sp.Expr, period: Fraction) -> sp.Expr:
+    """ZOH equivalent of a strictly proper ``C(s)`` in ``q = z⁻¹`` (scipy, floats made exact)."""
     from scipy.signal import cont2discrete
 
     num, den = sp.fraction(sp.cancel(sp.together(proper)))
@@ -273,7 +274,7 @@ def discretize(
     elif method == "backward":
         err_expr = const + proper.subs(S, (1 - q) / Tq)
     else:
-        err_expr = const + _zoh(proper, T)
+        err_expr = const + zoh_discretize(proper, T)
     err = DiscreteTF(*_coeffs_in_q(sp.sympify(err_expr)), T)
     meas = DiscreteTF(*_coeffs_in_q(sp.sympify(deriv)), T)
     if split:
@@ -434,23 +435,3 @@ def controller_tfs(
     ctrl = DiscreteController.from_sea(sea, period, method=method, velocity_filter=velocity_filter)
     ka, kl = ctrl.transfer_functions()
     return ka.delayed(int(delay)), kl.delayed(int(delay))
-
-
-def clamped_spectral_radius(sea: SEA, ka: DiscreteTF, kl: DiscreteTF, period: float) -> float:
-    """Spectral radius of the sampled actuator loop with the port held, and of ``K_L``."""
-    from scipy.signal import cont2discrete, tf2ss
-
-    e = sea.elements()
-    alpha = e["m"] * S**2 + e["b"] * S
-    num, den = sp.fraction(sp.cancel(1 / sea.numeric(alpha + e["D1"])))
-    n = [float(c) for c in sp.Poly(num, S).all_coeffs()]
-    d = [float(c) for c in sp.Poly(den, S).all_coeffs()]
-    A, B, C, _D = tf2ss(n, d)
-    Ad, Bd, Cd, _, _ = cont2discrete((A, B, C, np.zeros((1, 1))), period, method="zoh")
-    Ak, Bk, Ck, Dk = state_space(ka)
-    top = np.hstack([Ad - Bd @ Dk @ Cd, -Bd @ Ck])
-    bot = np.hstack([Bk @ Cd, Ak])
-    rho = float(np.max(np.abs(np.linalg.eigvals(np.vstack([top, bot])))))
-    if not kl.is_zero and kl.poles().size:
-        rho = max(rho, float(np.max(np.abs(kl.poles()))))
-    return rho
