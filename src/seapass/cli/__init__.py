@@ -34,6 +34,7 @@ COMMANDS: tuple[str, ...] = (
     "sampled",
     "sweep",
     "rig",
+    "export",
     "analyze",
     "reproduce",
     "figure",
