@@ -310,6 +310,38 @@ def test_bound_errors() -> None:
         sampled_passive_bound(lp(kd=None), "zz", period=T, lo=0, hi=1)
 
 
+@pytest.mark.parametrize(
+    ("ca", "cl", "free", "given", "loop"),
+    [
+        ("0", "kd", "kd", {}, {}),
+        ("kd + bd*s", "0", "kd", {"bd": 25.0}, {"delay": 1, "velocity_filter": 50.0}),
+        ("kd + bd*s", "0", "bd", {"kd": 2000.0}, {"velocity_filter": 50.0}),
+        ("kd*(1 + tz*s)/(1 + tp*s)", "0", "tz", {"kd": 2000.0, "tp": 0.001}, {}),
+        ("kd*(1 + tz*s)/(1 + tp*s)", "0", "tp", {"kd": 2000.0, "tz": 0.01}, {"method": "backward"}),
+        ("kd + ki/s", "5", "ki", {"kd": 2000.0}, {"delay": 2}),
+    ],
+)
+def test_parametric_controllers_equal_the_deployed_ones(
+    ca: str, cl: str, free: str, given: dict[str, float], loop: dict[str, object]
+) -> None:
+    """The bound's controllers in λ are the deployed ones at every value (normalized)."""
+    from seapass.sampled.family import controller_family
+
+    sea = SEA(D1="k1 + b1*s", CA=ca, CL=cl, values={**RIG, **given, free: None})
+    fam = controller_family(sea, free, period=T, **loop)  # type: ignore[arg-type]
+    for v in (1e-4, 0.37, 3.0, 7.0e3):
+        ka, kl = controller_tfs(sea.with_values(**{free: v}), period=T, **loop)  # type: ignore[arg-type]
+        for tf, polys in ((ka, fam.actuator), (kl, fam.load)):
+            num, den = polys.at(Fraction(v))
+            lead = den[0]
+            got = [Fraction(str(c / lead)) for c in num.coeffs()]
+            want = list(tf.num)
+            while want and want[-1] == 0:
+                want.pop()
+            assert got == want and [Fraction(str(c / lead)) for c in den.coeffs()] == list(tf.den)
+    assert all(isinstance(x, Fraction) for x in fam.special)
+
+
 # ------------------------------------------------------------------ Z-width
 
 

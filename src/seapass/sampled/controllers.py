@@ -48,6 +48,7 @@ __all__ = [
     "LPController",
     "OursController",
     "controller_tfs",
+    "discrete_paths",
     "discretize",
     "filter_pole",
     "state_space",
@@ -207,6 +208,36 @@ def zoh_discretize(proper: sp.Expr, period: Fraction) -> sp.Expr:
     return qn / qd
 
 
+def discrete_paths(
+    coeffs: Sequence[sp.Expr],
+    proper: sp.Expr,
+    period: Fraction,
+    *,
+    method: Method,
+    velocity_filter: float | None,
+) -> tuple[sp.Expr, sp.Expr]:
+    """``(error path, measurement path)`` in ``q = z⁻¹`` of ``C(s)`` split into its polynomial
+    part ``coeffs`` (ascending) and strictly proper part ``proper`` (see the module docstring).
+
+    Works with symbolic coefficients too (a free parameter of a bound); only the ZOH of a
+    proper part needs numbers.
+    """
+    q = _ZINV
+    Tq = sp.Rational(period.numerator, period.denominator)
+    a = filter_pole(velocity_filter, float(period))
+    aq = sp.Rational(a.numerator, a.denominator)
+    delta = (1 - q) / Tq * (1 - aq) / (1 - aq * q)
+    deriv = sum((c * delta**i for i, c in enumerate(coeffs) if i >= 1), sp.Integer(0))
+    const = coeffs[0] if coeffs else sp.Integer(0)
+    if proper == 0:
+        return const, deriv
+    if method == "tustin":
+        return const + proper.subs(S, 2 / Tq * (1 - q) / (1 + q)), deriv
+    if method == "backward":
+        return const + proper.subs(S, (1 - q) / Tq), deriv
+    return const + zoh_discretize(proper, period), deriv
+
+
 def discretize(
     expr: sp.Expr | str | float,
     period: float,
@@ -260,21 +291,9 @@ def discretize(
         names = ", ".join(sorted(map(str, leftover)))
         raise ParameterError(f"controller has parameters without values: {names}; give them")
     coeffs, proper = _split(e)
-    q = _ZINV
-    Tq = sp.Rational(T.numerator, T.denominator)
-    a = filter_pole(velocity_filter, float(T))
-    aq = sp.Rational(a.numerator, a.denominator)
-    delta = (1 - q) / Tq * (1 - aq) / (1 - aq * q)
-    deriv = sum((c * delta**i for i, c in enumerate(coeffs) if i >= 1), sp.Integer(0))
-    const = coeffs[0] if coeffs else sp.Integer(0)
-    if proper == 0:
-        err_expr: sp.Expr = const
-    elif method == "tustin":
-        err_expr = const + proper.subs(S, 2 / Tq * (1 - q) / (1 + q))
-    elif method == "backward":
-        err_expr = const + proper.subs(S, (1 - q) / Tq)
-    else:
-        err_expr = const + zoh_discretize(proper, T)
+    err_expr, deriv = discrete_paths(
+        coeffs, proper, T, method=method, velocity_filter=velocity_filter
+    )
     err = DiscreteTF(*_coeffs_in_q(sp.sympify(err_expr)), T)
     meas = DiscreteTF(*_coeffs_in_q(sp.sympify(deriv)), T)
     if split:

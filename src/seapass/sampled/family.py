@@ -20,7 +20,7 @@ from flint import fmpq, fmpq_poly
 from ..errors import ParameterError
 from ..model.expr import S, symbol, to_fraction
 from ..model.sea import SEA
-from .controllers import filter_pole, zoh_discretize
+from .controllers import Method, discrete_paths
 
 __all__ = ["ControllerFamily", "ControllerPolys", "controller_family", "poly_product"]
 
@@ -111,29 +111,17 @@ def _add(p: list[fmpq_poly], r: list[fmpq_poly]) -> list[fmpq_poly]:
 
 
 def _discretize(
-    expr: sp.Expr, lam: sp.Symbol, period: Fraction, method: str, velocity_filter: float | None
+    expr: sp.Expr, lam: sp.Symbol, period: Fraction, method: Method, velocity_filter: float | None
 ) -> tuple[ControllerPolys, list[sp.Expr]]:
     coeffs, proper, special = _split(expr, lam)
-    q = _Q
-    Tq = sp.Rational(period.numerator, period.denominator)
-    a = filter_pole(velocity_filter, float(period))
-    aq = sp.Rational(a.numerator, a.denominator)
-    delta = (1 - q) / Tq * (1 - aq) / (1 - aq * q)
-    deriv = sum((c * delta**i for i, c in enumerate(coeffs) if i >= 1), sp.Integer(0))
-    const = coeffs[0] if coeffs else sp.Integer(0)
-    if proper == 0:
-        err = const
-    elif method == "tustin":
-        err = const + proper.subs(S, 2 / Tq * (1 - q) / (1 + q))
-    elif method == "backward":
-        err = const + proper.subs(S, (1 - q) / Tq)
-    else:
-        if lam in proper.free_symbols:
-            raise ParameterError(
-                f"{lam} sits in a strictly proper controller part discretized by ZOH; "
-                "bounds need --method tustin or backward there"
-            )
-        err = const + zoh_discretize(proper, period)
+    if method == "zoh" and lam in proper.free_symbols:
+        raise ParameterError(
+            f"{lam} sits in a strictly proper controller part discretized by ZOH; "
+            "bounds need --method tustin or backward there"
+        )
+    err, deriv = discrete_paths(
+        coeffs, proper, period, method=method, velocity_filter=velocity_filter
+    )
     ne, de, s1 = _in_q(sp.sympify(err), lam)
     nm, dm, s2 = _in_q(sp.sympify(deriv), lam)
     # DiscreteTF.__add__: (ne dm + nm de)/(de dm), no cancellation
@@ -174,7 +162,7 @@ def controller_family(
     period: float,
     delay: int = 0,
     velocity_filter: float | None = None,
-    method: str = "tustin",
+    method: Method = "tustin",
 ) -> ControllerFamily:
     """``K_A``, ``K_L`` of ``sea`` with ``param`` free (every other value substituted)."""
     lam = symbol(param)
