@@ -236,6 +236,8 @@ def test_structure_outside_the_supported_class_is_refused() -> None:
         sampled_passivity(lp(kd=None), period=T)
     with pytest.raises(ParameterError, match="period"):
         sampled_passivity(lp(kd=1.0), period=1e-9)
+    with pytest.raises(ParameterError, match="delay"):  # bounded work, before any is done
+        sampled_passivity(lp(kd=1.0), period=T, delay=10**6)
 
 
 # ------------------------------------------------------------------ bounds

@@ -23,7 +23,7 @@ from .boxes import BoxVerdict, bound_boxes
 from .controllers import Method, controller_tfs
 from .family import controller_family
 from .lowfreq import low_frequency_limit
-from .passivity import check_ranges, sampled_passivity
+from .passivity import check_delay, check_ranges, sampled_passivity
 from .plant import plant_key, plant_of
 from .verdict import PRECISIONS, decide
 
@@ -204,6 +204,7 @@ def sampled_passive_bound(
         others = [p for p in base.free_parameters if p != param]
         raise ParameterError("sampled bound needs values for: " + ", ".join(others))
     T = check_ranges(base.with_values(**{param: hi}), period)
+    delay = check_delay(delay)
     probe = base.with_values(**{param: hi})
     plant_of(probe)
     key = plant_key(probe)

@@ -70,9 +70,11 @@ from .verdict import (
 )
 
 __all__ = [
+    "MAX_DELAY",
     "METHOD",
     "SampledPassivityResult",
     "SampledStatus",
+    "check_delay",
     "check_ranges",
     "sampled_passivity",
     "sampled_power_curve",
@@ -168,6 +170,19 @@ class SampledPassivityResult:
         }
 
 
+#: Most whole samples of computational delay accepted (each adds 2 to the polynomial degree).
+MAX_DELAY = 100
+
+
+def check_delay(delay: object) -> int:
+    """``delay`` as a whole number of samples in ``[0, MAX_DELAY]``."""
+    if isinstance(delay, bool) or not isinstance(delay, int | float) or int(delay) != delay:
+        raise ParameterError(f"delay must be a whole number of samples, got {delay!r}")
+    if not 0 <= delay <= MAX_DELAY:
+        raise ParameterError(f"delay must be in [0, {MAX_DELAY}] samples, got {delay!r}")
+    return int(delay)
+
+
 def check_ranges(sea: SEA, period: float) -> Fraction:
     """The period as the exact decimal it was written as; refuses unsupported magnitudes."""
     if not (isinstance(period, int | float) and math.isfinite(period) and period > 0):
@@ -256,11 +271,8 @@ def sampled_passivity(
             "sampled passivity needs values for: " + ", ".join(sea.free_parameters)
         )
     T = check_ranges(sea, period)
+    delay = check_delay(delay)
     if controller is not None:
-        if int(delay) != delay or delay < 0:
-            raise ParameterError(
-                f"delay must be a non-negative whole number of samples, got {delay!r}"
-            )
         ka, kl = (tf.delayed(int(delay)) for tf in controller.transfer_functions())
     else:
         ka, kl = controller_tfs(
@@ -352,6 +364,7 @@ def sampled_power_curve(
     if not 2 <= int(n) <= 100_000:
         raise ParameterError(f"n must be in [2, 100000], got {n!r}")
     T = check_ranges(sea, period)
+    delay = check_delay(delay)
     ka, kl = controller_tfs(
         sea, period=period, delay=delay, velocity_filter=velocity_filter, method=method
     )

@@ -18,6 +18,7 @@ from fractions import Fraction
 import numpy as np
 from flint import acb, acb_poly, arb, arb_poly, fmpq, fmpq_poly
 
+from ..errors import ParameterError
 from .alias import AliasSums, alias_sums
 from .certified import Sign, precision, schur_stable, schur_stable_exact, sign_on
 from .plant import plant_from_key
@@ -181,7 +182,11 @@ def decide(
         sums = cached_sums(key, period, names, prec)
         degree = polynomial_degree(sums, family)
         if degree > MAX_POWER_DEGREE:
-            raise OverflowError(f"power polynomial of degree {degree} exceeds {MAX_POWER_DEGREE}")
+            raise ParameterError(
+                f"the controllers and delay make the power polynomial of degree {degree}, "
+                f"above the supported {MAX_POWER_DEGREE}; use fewer samples of delay or a "
+                "lower-order controller"
+            )
         with precision(prec):
             chi = characteristic(sums, _poly(ka.num), _poly(ka.den))  # type: ignore[attr-defined]
             stable = schur_stable(chi)
