@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from ..errors import ParameterError
+from ..errors import ParameterError, SeapassError, UnrealizableError
 from ..model.sea import SEA
 from .boxes import BoxVerdict, bound_boxes
 from .controllers import Method, controller_tfs
@@ -113,7 +113,10 @@ def _edge_kind(sea: SEA, param: str, left: float, right: float, loop: dict[str, 
     """Which condition flips across an edge (from certified verdicts just outside it)."""
     kinds = []
     for v in (left, right):
-        r = sampled_passivity(sea, values={param: v}, continuous_gate=False, **loop)
+        try:
+            r = sampled_passivity(sea, values={param: v}, continuous_gate=False, **loop)
+        except SeapassError:  # no deployable controller just outside the edge
+            return "interior"
         kinds.append(r.reason)
     reasons = set(kinds) - {""}
     if "unstable" in reasons:
@@ -241,7 +244,11 @@ def sampled_passive_bound(
     points = {}
     for v in fam.special:
         if flo <= v <= fhi and float(v) == v:
-            r = sampled_passivity(base, values={param: float(v)}, continuous_gate=False, **loop)
+            try:
+                r = sampled_passivity(base, values={param: float(v)}, continuous_gate=False, **loop)
+            except UnrealizableError:  # the discretization is undefined there: not deployable
+                points[v] = False
+                continue
             points[v] = r.passive
     return _assemble(base, param, boxes, points, float(lo), float(hi), loop, rtol, design_value)
 
