@@ -200,6 +200,7 @@ def test_lp_approaches_continuous_bound_for_fast_sampling() -> None:
 def test_undamped_transmission_with_load_feedback_is_never_passive() -> None:
     r = sampled_passivity(lp(b1=0.0, kd=10.0), period=T)
     assert not r.passive and r.reason == "alias_injection"
+    assert 0 < r.spectral_radius < 1  # always a finite number (strict JSON)
     with pytest.raises(ModelError):
         sampled_power_curve(lp(b1=0.0, kd=10.0), period=T)
 

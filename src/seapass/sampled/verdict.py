@@ -156,6 +156,19 @@ def theta_of(x: Fraction) -> float:
     return 2.0 * math.asin(math.sqrt(max(0.0, min(1.0, float((1 - x) / 2)))))
 
 
+def loop_radius(key: str, ka: object, kl: object, period: Fraction) -> float:
+    """Spectral radius (floating point, for information) of the loop with the port held:
+    the roots of ``χ`` and the load-side controller's own poles."""
+    sums = cached_sums(key, period, ("Sg",), PRECISIONS[0])
+    with precision(sums.prec):
+        chi = characteristic(sums, _poly(ka.num), _poly(ka.den))  # type: ignore[attr-defined]
+    rho = _radius(chi)
+    poles = kl.poles()  # type: ignore[attr-defined]
+    if not kl.is_zero and poles.size:  # type: ignore[attr-defined]
+        rho = max(rho, float(np.max(np.abs(poles))))
+    return rho
+
+
 def decide(
     key: str,
     ka: object,
@@ -167,11 +180,15 @@ def decide(
     """Certified sampled-data passivity of the plant ``key`` under ``(K_A, K_L)``."""
     ka_zero, kl_zero = ka.is_zero, kl.is_zero  # type: ignore[attr-defined]
     if ka_zero and kl_zero:
-        return Decision(Outcome.PASSIVE, "no_control")
+        return Decision(
+            Outcome.PASSIVE, "no_control", spectral_radius=loop_radius(key, ka, kl, period)
+        )
     if not kl_zero and not schur_stable_exact(list(reversed(kl.den))):  # type: ignore[attr-defined]
-        return Decision(Outcome.NOT_PASSIVE, "unstable", spectral_radius=math.inf)
+        rho = loop_radius(key, ka, kl, period)
+        return Decision(Outcome.NOT_PASSIVE, "unstable", spectral_radius=max(rho, 1.0))
     if not kl_zero and alias_injection(key):
-        return Decision(Outcome.NOT_PASSIVE, "alias_injection")
+        rho = loop_radius(key, ka, kl, period)
+        return Decision(Outcome.NOT_PASSIVE, "alias_injection", spectral_radius=rho)
     names = needed_sums(ka_zero, kl_zero)
     if "Sg" not in names:
         names = (*names, "Sg")  # the modes with the port held, for the stability test
