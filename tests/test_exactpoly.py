@@ -19,7 +19,6 @@ from flint import acb, arb, fmpq, fmpq_poly, fmpz_poly
 from hypothesis import given
 from hypothesis import strategies as st
 
-from seapass.exact import fraction_poly
 from seapass.exact import poly as ep
 
 X = fmpq_poly([0, 1])
@@ -342,29 +341,3 @@ def test_kernel_leaves_flint_precision_alone():
     before = ctx.prec
     ep.isolate_real_roots((X**2 - 2) * (X**2 - 2 - fmpq(1, 2**300)))
     assert ctx.prec == before
-
-
-# ---------------------------------------------------------------- the transitional tuple API
-
-
-@given(polys_with_structure(), rationals)
-def test_fraction_poly_gives_the_kernel_answers_as_fractions(p, lo):
-    t = ep.to_fractions(p)
-    assert fraction_poly.normalize([*t, 0, 0]) == t
-    assert fraction_poly.degree(t) == p.degree()
-    assert fraction_poly.evaluate(t, lo) == ep.to_fraction(p(ep.rational(lo)))
-    assert fraction_poly.count_real_roots(t, lo, None) == ep.count_real_roots(p, lo)
-    ivs = fraction_poly.isolate_real_roots(t, lo)
-    assert ivs == [(ep.to_fraction(a), ep.to_fraction(b)) for a, b in ep.isolate_real_roots(p, lo)]
-    sf = fraction_poly.squarefree_part(t)
-    assert sf == ep.to_fractions(ep.squarefree_part(p))
-    assert fraction_poly.positive_roots_odd_multiplicity(t) == ep.to_fractions(
-        ep.positive_roots_odd_multiplicity(p)
-    )
-    for a, b in ivs:
-        ra, rb = fraction_poly.refine(sf, a, b, Fraction(1, 2**30))
-        assert a <= ra <= rb <= b and (ra == rb or rb - ra <= Fraction(1, 2**30))
-    q, r = fraction_poly.pdivmod(t, (Fraction(-1), Fraction(1)))
-    assert (ep.as_poly(q), ep.as_poly(r)) == divmod(p, X - 1)
-    with pytest.raises(ZeroDivisionError):
-        fraction_poly.pdivmod(t, ())
