@@ -1,7 +1,8 @@
-"""Dask scale-out gives exactly the single-process results."""
+"""Dask scale-out: workers write the parts, and the results are exactly the single-process ones."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -9,8 +10,10 @@ import pyarrow.csv as pacsv
 import pyarrow.parquet as pq
 import pytest
 
+import seapass.sweep.cluster
+from seapass.cli import main
 from seapass.model.sea import SEA
-from seapass.sweep import GridAxis, SweepSpec, run_design_sweep
+from seapass.sweep import GridAxis, PartSummary, SweepSpec, run_design_sweep
 
 distributed = pytest.importorskip("dask.distributed")
 
@@ -31,11 +34,37 @@ def _assert_same(a, b) -> None:
         )
 
 
-def test_local_cluster_matches_single_process(tmp_path: Path) -> None:
+def test_local_cluster_matches_single_process(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     ref = pq.read_table(run_design_sweep(SPEC, tmp_path / "ref.parquet", progress=False).path)
-    res = run_design_sweep(SPEC, tmp_path / "dask.parquet", scheduler="local", progress=False)
-    assert res.chunks_computed == SPEC.n_chunks
+    # the default is one worker per core; pretend this machine has 2 whatever it has
+    monkeypatch.setattr(seapass.sweep.cluster, "available_cores", lambda: 2)
+    seen: list[object] = []
+    res = run_design_sweep(
+        SPEC, tmp_path / "dask.parquet", scheduler="local", progress=False, on_part=seen.append
+    )
+    assert res.chunks_computed == SPEC.n_chunks and res.workers == 2
+    # the client receives a few numbers per part, never the table
+    assert all(type(s) is PartSummary for s in seen)
+    assert sorted(s.chunk for s in seen) == list(range(SPEC.n_chunks))  # type: ignore[attr-defined]
     _assert_same(pq.read_table(res.path), ref)
+    assert res.compute_seconds > 0
+
+
+def test_cli_local_cluster_with_workers(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "results"
+    args = ["sweep", "--D1", "k1 + b1*s", "--CL", "kd", "--set", "m=1", "--set", "b=10",
+            "--set", "k1=1000", "--grid", "b1=0:40:20", "--grid", "kd=500:1500:250",
+            "--horizon", "1", "--chunk-size", "4", "--no-progress",
+            "--scheduler", "local", "--workers", "1", "--out", str(out)]  # fmt: skip
+    assert main(args) == 0
+    captured = capsys.readouterr()
+    summary = json.loads(captured.out)
+    assert summary["workers"] == 1 and summary["n_designs"] == SPEC.n_designs
+    assert f"wrote {out}" in captured.err
+    ref = run_design_sweep(SPEC, tmp_path / "ref", progress=False)
+    assert (summary["n_passive"], summary["n_settled"]) == (ref.n_passive, ref.n_settled)
 
 
 def test_existing_scheduler_address(tmp_path: Path) -> None:

@@ -204,6 +204,9 @@ def test_cli_errors_are_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[s
         ["--grid", "kd=0:1:1"],
         ["--grid", "kd=0:1:1", "--grid", "b1=0:1:1", "--heatmap", "kd,zz", "--out-fig", "x.png"],
         ["--grid", "kd=0:1:1", "--grid", "b1=0:1:1", "--scheduler", "nonsense"],
+        ["--grid", "kd=0:1:1", "--grid", "b1=0:1:1", "--workers", "2"],
+        ["--grid", "kd=0:1:1", "--grid", "b1=0:1:1", "--scheduler", "local", "--workers", "0"],
+        ["--grid", "kd=0:1:1", "--grid", "b1=0:1:1", "--scheduler", "tcp://h:1", "--workers", "2"],
     ]
     for extra in cases:
         code = main(["sweep", *MODEL_ARGS, *extra, "--out", str(tmp_path / "e.parquet")])

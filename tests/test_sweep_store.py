@@ -37,8 +37,8 @@ SPEC = SweepSpec(
     chunk_size=4,
     horizon=1.0,
 )
-#: The fingerprint seapass 0.1 wrote for SPEC: migration of old directories relies on it.
-SPEC_FINGERPRINT_V01 = "57584e2fff83f3ef"
+#: The fingerprint earlier seapass versions wrote for SPEC: migration of old directories relies on it.
+SPEC_FINGERPRINT_BEFORE = "57584e2fff83f3ef"
 
 
 def _assert_same(a: pa.Table, b: pa.Table) -> None:
@@ -208,8 +208,21 @@ def test_resume_after_kill_9_is_lossless(tmp_path: Path, reference: pa.Table) ->
     assert not parts.exists()
 
 
-def _make_v01_directory(out: Path) -> None:
-    """A directory as seapass 0.1 left it: parts beside ``manifest.json``."""
+def test_resume_after_kill_9_of_a_dask_client_is_lossless(
+    tmp_path: Path, reference: pa.Table
+) -> None:
+    pytest.importorskip("dask.distributed")
+    out = tmp_path / "dk"
+    kill_midway(out, "local", at_chunk=1)  # with 2 workers writing parts
+    assert (out / MANIFEST).is_file()
+    res = run_design_sweep(SPEC, out, resume=True, progress=False)
+    assert res.chunks_resumed >= 1 and res.chunks_resumed + res.chunks_computed == SPEC.n_chunks
+    _assert_same(ds.dataset(str(out)).to_table().sort_by("index"), reference)
+    assert res.n_passive == int(np.count_nonzero(reference.column("passive").to_numpy(False)))
+
+
+def _make_old_directory(out: Path) -> None:
+    """A directory as earlier seapass versions left it: parts beside ``manifest.json``."""
     run_design_sweep(SPEC, out, progress=False)
     (out / MANIFEST).unlink()
     (out / "part-000002.parquet").unlink()  # interrupted before chunk 2 was written
@@ -218,22 +231,25 @@ def _make_v01_directory(out: Path) -> None:
 
 
 def test_spec_fingerprint_is_stable_across_versions() -> None:
-    assert SPEC.fingerprint() == SPEC_FINGERPRINT_V01
+    assert SPEC.fingerprint() == SPEC_FINGERPRINT_BEFORE
 
 
 def test_old_manifest_directory_is_refused_with_the_fix(tmp_path: Path) -> None:
     out = tmp_path / "old"
-    _make_v01_directory(out)
+    _make_old_directory(out)
     with pytest.raises(pa.ArrowInvalid, match=r"manifest\.json"):  # the bug issue 14 reported
         ds.dataset(str(out), format="parquet").to_table()
-    with pytest.raises(FileFormatError, match=r"--resume to migrate.*_manifest\.json"):
+    with pytest.raises(
+        FileFormatError,
+        match=r"old-style manifest\.json.*--resume to migrate it to _manifest\.json",
+    ):
         run_design_sweep(SPEC, out, progress=False)
     assert (out / "manifest.json").is_file()  # nothing touched
 
 
 def test_old_manifest_directory_is_migrated_on_resume(tmp_path: Path, reference: pa.Table) -> None:
     out = tmp_path / "old"
-    _make_v01_directory(out)
+    _make_old_directory(out)
     res = run_design_sweep(SPEC, out, resume=True, progress=False)
     assert res.migrated and res.chunks_computed == 1
     assert not (out / "manifest.json").exists() and (out / MANIFEST).is_file()

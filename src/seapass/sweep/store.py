@@ -57,7 +57,7 @@ __all__ = [
 
 
 MANIFEST = "_manifest.json"
-#: The manifest's name before format 2; dataset readers took it for a part.
+#: The manifest's name in earlier seapass versions (format 1); dataset readers took it for a part.
 LEGACY_MANIFEST = "manifest.json"
 MANIFEST_FORMAT = 2
 PART_NAME = re.compile(r"^part-(\d{6,})\.parquet$")
@@ -157,6 +157,7 @@ class SweepStore:
         self._dirty = False
         self._checked_visible = False
         self._legacy_pending = False
+        self._header: dict[str, Any] | None = None
 
     @classmethod
     def open(cls, spec: SweepSpec, out: Location, *, resume: bool) -> SweepStore:
@@ -185,8 +186,8 @@ class SweepStore:
                 else f"{len(on_disk)} finished chunk(s)"
             )
             hint = (
-                f"; seapass >= 0.2 names the manifest {MANIFEST}: rerun with --resume to migrate "
-                f"the directory, or rename it yourself (mv {self.parts.url}/{LEGACY_MANIFEST} "
+                f"; it has an old-style {LEGACY_MANIFEST}, which dataset readers take for a "
+                f"part: rerun with --resume to migrate it to {MANIFEST}, or rename it yourself (mv {self.parts.url}/{LEGACY_MANIFEST} "
                 f"{self.parts.url}/{MANIFEST})"
                 if legacy
                 else ""
@@ -247,12 +248,16 @@ class SweepStore:
 
     def flush(self, *, complete: bool = False) -> None:
         """Rewrite the journal (atomically)."""
+        if self._header is None:  # the fixed part, computed once
+            self._header = {
+                "format": MANIFEST_FORMAT,
+                "seapass": __version__,
+                "fingerprint": self.spec.fingerprint(),
+                "spec": json.loads(json.dumps(self.spec.describe(), default=str)),
+                "n_chunks": self.spec.n_chunks,
+            }
         doc = {
-            "format": MANIFEST_FORMAT,
-            "seapass": __version__,
-            "fingerprint": self.spec.fingerprint(),
-            "spec": self.spec.describe(),
-            "n_chunks": self.spec.n_chunks,
+            **self._header,
             "columns": list(self.columns),
             "done": _ranges(self.done),
             "n_done": len(self.done),
@@ -260,7 +265,7 @@ class SweepStore:
             "n_settled": self.n_settled if self.spec.metrics else None,
             "complete": complete,
         }
-        text = json.dumps(doc, indent=1, default=str) + "\n"
+        text = json.dumps(doc, indent=1) + "\n"
         self.parts.child(MANIFEST).put_bytes(text.encode())
         if self._legacy_pending:
             self.parts.child(LEGACY_MANIFEST).remove()
