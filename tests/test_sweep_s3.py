@@ -1,0 +1,95 @@
+"""Sweep output on S3, against moto's S3 server on loopback (offline).
+
+Opt-in: s3fs and ``moto[server]`` add some fifty packages, so they are not in
+the ``test`` extra and CI skips this module.  To run it::
+
+    .venv/bin/pip install s3fs "moto[server]"
+    .venv/bin/python -m pytest tests/test_sweep_s3.py
+"""
+
+from __future__ import annotations
+
+import socket
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.dataset as ds
+import pyarrow.parquet as pq
+import pytest
+
+from seapass.model.sea import SEA
+from seapass.sweep import MANIFEST, GridAxis, SweepSpec, heatmap_data, run_design_sweep
+
+s3fs = pytest.importorskip("s3fs")
+moto_server = pytest.importorskip("moto.server")
+boto3 = pytest.importorskip("boto3")
+
+SPEC = SweepSpec(
+    sea=SEA(D1="k1 + b1*s", CL="kd", values=dict(m=1.0, b=10.0, k1=1000.0, b1=None, kd=None)),
+    grid=(GridAxis("b1", 0.0, 40.0, 10.0), GridAxis("kd", 500.0, 1500.0, 100.0)),
+    chunk_size=8,
+    horizon=1.0,
+)
+
+
+def _assert_same(a: pa.Table, b: pa.Table) -> None:
+    assert a.column_names == b.column_names and a.num_rows == b.num_rows
+    for name in a.column_names:
+        np.testing.assert_array_equal(
+            a.column(name).to_numpy(zero_copy_only=False),
+            b.column(name).to_numpy(zero_copy_only=False),
+        )
+
+
+@pytest.fixture(scope="module")
+def s3() -> Iterator[tuple[Any, dict[str, Any]]]:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    server = moto_server.ThreadedMotoServer(ip_address="127.0.0.1", port=port)
+    server.start()
+    endpoint = f"http://127.0.0.1:{port}"
+    boto3.client(
+        "s3", endpoint_url=endpoint, region_name="us-east-1",
+        aws_access_key_id="test", aws_secret_access_key="test",
+    ).create_bucket(Bucket="sweeps")  # fmt: skip
+    opts = {"key": "test", "secret": "test", "client_kwargs": {"endpoint_url": endpoint}}
+    try:
+        yield s3fs.S3FileSystem(**opts), opts
+    finally:
+        server.stop()
+
+
+def test_s3_directory_file_resume_and_dask_workers(s3: Any, tmp_path: Path) -> None:
+    fs, opts = s3
+    ref = pq.read_table(run_design_sweep(SPEC, tmp_path / "ref.parquet", progress=False).path)
+
+    one = run_design_sweep(SPEC, "s3://sweeps/one.parquet", storage_options=opts, progress=False)
+    with fs.open("sweeps/one.parquet", "rb") as fh:
+        _assert_same(pq.read_table(fh), ref)
+    assert fs.ls("sweeps", refresh=True) == ["sweeps/one.parquet"]  # parts merged and removed
+
+    res = run_design_sweep(SPEC, "s3://sweeps/dir/", storage_options=opts, progress=False)
+    assert fs.isfile(f"sweeps/dir/{MANIFEST}") and res.n_passive == one.n_passive
+    _assert_same(ds.dataset("sweeps/dir", filesystem=fs).to_table().sort_by("index"), ref)
+    assert heatmap_data("s3://sweeps/dir", "kd", "b1", storage_options=opts).count.sum() == 55
+
+    fs.rm(["sweeps/dir/part-000001.parquet", "sweeps/dir/part-000004.parquet"])
+    again = run_design_sweep(
+        SPEC, "s3://sweeps/dir/", storage_options=opts, resume=True, progress=False
+    )
+    assert again.chunks_computed == 2 and again.n_passive == one.n_passive
+
+    distributed = pytest.importorskip("dask.distributed")
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
+        dask_res = run_design_sweep(
+            SPEC, "s3://sweeps/dask/", storage_options=opts,
+            scheduler=cluster.scheduler_address, progress=False,
+        )  # fmt: skip
+    assert dask_res.workers == 2 and dask_res.chunks_computed == SPEC.n_chunks
+    _assert_same(ds.dataset("sweeps/dask", filesystem=fs).to_table().sort_by("index"), ref)
