@@ -79,10 +79,9 @@ def make_spec(designs: float, chunk_size: int) -> SweepSpec:
 
 CLUSTER = """
 import sys
-from dask.distributed import LocalCluster
+from seapass.sweep.cluster import local_cluster
 if __name__ == "__main__":
-    with LocalCluster(n_workers=int(sys.argv[1]), threads_per_worker=1, processes=True,
-                      dashboard_address=None) as cluster:
+    with local_cluster(int(sys.argv[1])) as cluster:  # as seapass sweep --scheduler local
         print(cluster.scheduler_address, flush=True)
         sys.stdin.read()  # until the benchmark closes our stdin
 """

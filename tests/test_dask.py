@@ -67,11 +67,26 @@ def test_cli_local_cluster_with_workers(tmp_path: Path, capsys: pytest.CaptureFi
     assert (summary["n_passive"], summary["n_settled"]) == (ref.n_passive, ref.n_settled)
 
 
+def _worker_env() -> tuple[str | None, str | None]:
+    import os
+
+    return os.environ.get("MALLOC_TRIM_THRESHOLD_"), os.environ.get("OMP_NUM_THREADS")
+
+
+def test_local_cluster_workers_keep_the_adaptive_allocator(monkeypatch: pytest.MonkeyPatch) -> None:
+    # Dask's default MALLOC_TRIM_THRESHOLD_ doubles a chunk's CPU time (page faults)
+    monkeypatch.delenv("MALLOC_TRIM_THRESHOLD_", raising=False)
+    with (
+        seapass.sweep.cluster.local_cluster(1) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        (env,) = client.run(_worker_env).values()
+    assert env == (None, "1")
+
+
 def test_existing_scheduler_address(tmp_path: Path) -> None:
     ref = pacsv.read_csv(run_design_sweep(SPEC, tmp_path / "ref.csv", progress=False).path)
-    with distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-    ) as cluster:
+    with seapass.sweep.cluster.local_cluster(2) as cluster:
         res = run_design_sweep(
             SPEC, tmp_path / "d.csv", scheduler=cluster.scheduler_address, progress=False
         )

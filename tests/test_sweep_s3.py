@@ -83,10 +83,10 @@ def test_s3_directory_file_resume_and_dask_workers(s3: Any, tmp_path: Path) -> N
     )
     assert again.chunks_computed == 2 and again.n_passive == one.n_passive
 
-    distributed = pytest.importorskip("dask.distributed")
-    with distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-    ) as cluster:
+    pytest.importorskip("dask.distributed")
+    from seapass.sweep.cluster import local_cluster
+
+    with local_cluster(2) as cluster:
         dask_res = run_design_sweep(
             SPEC, "s3://sweeps/dask/", storage_options=opts,
             scheduler=cluster.scheduler_address, progress=False,

@@ -154,7 +154,6 @@ class SweepStore:
         self.migrated = False
         self._clock = clock
         self._last_flush = clock()
-        self._dirty = False
         self._checked_visible = False
         self._legacy_pending = False
         self._header: dict[str, Any] | None = None
@@ -185,15 +184,16 @@ class SweepStore:
                 if manifest.get("complete")
                 else f"{len(on_disk)} finished chunk(s)"
             )
+            old, new = (f"{self.parts.url}/{name}" for name in (LEGACY_MANIFEST, MANIFEST))
             hint = (
                 f"; it has an old-style {LEGACY_MANIFEST}, which dataset readers take for a "
-                f"part: rerun with --resume to migrate it to {MANIFEST}, or rename it yourself (mv {self.parts.url}/{LEGACY_MANIFEST} "
-                f"{self.parts.url}/{MANIFEST})"
+                f"part: rerun with resume (--resume) to migrate it to {MANIFEST}, or rename it "
+                f"yourself (mv {old} {new})"
                 if legacy
                 else ""
             )
             raise FileFormatError(
-                f"{self.parts.url} holds {what} of this sweep; pass --resume to continue it, "
+                f"{self.parts.url} holds {what} of this sweep; pass resume (--resume) to continue it, "
                 f"or delete the directory to start over{hint}"
             )
         for n in names:  # temporary files of writes that a hard kill interrupted
@@ -230,7 +230,6 @@ class SweepStore:
         self.n_passive += s.n_passive
         self.n_settled += s.n_settled or 0
         self.columns = self.columns or s.columns
-        self._dirty = True
         if self._clock() - self._last_flush >= JOURNAL_INTERVAL:
             self.flush()
 
@@ -241,7 +240,7 @@ class SweepStore:
             raise FileFormatError(
                 f"a worker wrote {where.name} ({s.nbytes} bytes) but this client sees "
                 f"{'no such file' if where.size() is None else f'{where.size()} bytes'} at "
-                f"{self.parts.url}: --out must be on a file system shared by the client and "
+                f"{self.parts.url}: out (--out) must be on a file system shared by the client and "
                 "every worker, or an object store URL such as s3://bucket/sweep/"
             )
         self._checked_visible = True
@@ -271,7 +270,6 @@ class SweepStore:
             self.parts.child(LEGACY_MANIFEST).remove()
             self._legacy_pending = False
         self._last_flush = self._clock()
-        self._dirty = False
 
     def finish(self) -> Location:
         """Check every part is there, close the journal, consolidate; the final location."""
@@ -281,7 +279,7 @@ class SweepStore:
             self.flush()
             raise FileFormatError(
                 f"{len(missing)} of {self.spec.n_chunks} parts are missing from "
-                f"{self.parts.url} (first: chunk {missing[0]}); rerun with --resume"
+                f"{self.parts.url} (first: chunk {missing[0]}); rerun with resume (--resume)"
             )
         if not self.columns and self.spec.n_chunks:
             self.columns = tuple(schema_columns(self.parts))
@@ -297,7 +295,7 @@ def _read_existing_manifest(parts: Location, names: list[str], spec: SweepSpec) 
     if name is None:
         raise FileFormatError(
             f"{parts.url} exists and is not a seapass sweep directory (no {MANIFEST}); "
-            "choose another --out"
+            "choose another out (--out)"
         )
     where = parts.child(name)
     try:
@@ -310,7 +308,7 @@ def _read_existing_manifest(parts: Location, names: list[str], spec: SweepSpec) 
     if doc["fingerprint"] != fp:
         raise FileFormatError(
             f"{parts.url} holds a different sweep (fingerprint {doc['fingerprint']}, this "
-            f"one {fp}); use another --out or delete it"
+            f"one {fp}); use another out (--out) or delete it"
         )
     if int(doc.get("format", 1)) > MANIFEST_FORMAT:
         raise FileFormatError(
