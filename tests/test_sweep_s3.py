@@ -14,34 +14,15 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-import pyarrow as pa
 import pyarrow.dataset as ds
 import pyarrow.parquet as pq
 import pytest
 
-from seapass.model.sea import SEA
-from seapass.sweep import MANIFEST, GridAxis, SweepSpec, heatmap_data, run_design_sweep
+from seapass.sweep import MANIFEST, SweepSpec, heatmap_data, run_design_sweep
 
 s3fs = pytest.importorskip("s3fs")
 moto_server = pytest.importorskip("moto.server")
 boto3 = pytest.importorskip("boto3")
-
-SPEC = SweepSpec(
-    sea=SEA(D1="k1 + b1*s", CL="kd", values=dict(m=1.0, b=10.0, k1=1000.0, b1=None, kd=None)),
-    grid=(GridAxis("b1", 0.0, 40.0, 10.0), GridAxis("kd", 500.0, 1500.0, 100.0)),
-    chunk_size=8,
-    horizon=1.0,
-)
-
-
-def _assert_same(a: pa.Table, b: pa.Table) -> None:
-    assert a.column_names == b.column_names and a.num_rows == b.num_rows
-    for name in a.column_names:
-        np.testing.assert_array_equal(
-            a.column(name).to_numpy(zero_copy_only=False),
-            b.column(name).to_numpy(zero_copy_only=False),
-        )
 
 
 @pytest.fixture(scope="module")
@@ -63,8 +44,11 @@ def s3() -> Iterator[tuple[Any, dict[str, Any]]]:
         server.stop()
 
 
-def test_s3_directory_file_resume_and_dask_workers(s3: Any, tmp_path: Path) -> None:
+def test_s3_directory_file_resume_and_dask_workers(
+    s3: Any, tmp_path: Path, small_sweep: SweepSpec, assert_same_rows: Any
+) -> None:
     fs, opts = s3
+    SPEC, _assert_same = small_sweep, assert_same_rows
     ref = pq.read_table(run_design_sweep(SPEC, tmp_path / "ref.parquet", progress=False).path)
 
     one = run_design_sweep(SPEC, "s3://sweeps/one.parquet", storage_options=opts, progress=False)
@@ -75,9 +59,12 @@ def test_s3_directory_file_resume_and_dask_workers(s3: Any, tmp_path: Path) -> N
     res = run_design_sweep(SPEC, "s3://sweeps/dir/", storage_options=opts, progress=False)
     assert fs.isfile(f"sweeps/dir/{MANIFEST}") and res.n_passive == one.n_passive
     _assert_same(ds.dataset("sweeps/dir", filesystem=fs).to_table().sort_by("index"), ref)
-    assert heatmap_data("s3://sweeps/dir", "kd", "b1", storage_options=opts).count.sum() == 55
+    assert (
+        heatmap_data("s3://sweeps/dir", "kd", "b1", storage_options=opts).count.sum()
+        == SPEC.n_designs
+    )
 
-    fs.rm(["sweeps/dir/part-000001.parquet", "sweeps/dir/part-000004.parquet"])
+    fs.rm(["sweeps/dir/part-000001.parquet", "sweeps/dir/part-000003.parquet"])
     again = run_design_sweep(
         SPEC, "s3://sweeps/dir/", storage_options=opts, resume=True, progress=False
     )
