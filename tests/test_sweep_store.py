@@ -269,3 +269,8 @@ def test_a_newer_manifest_format_is_refused(tmp_path: Path, small_sweep: SweepSp
     (out / MANIFEST).write_text(json.dumps(doc))
     with pytest.raises(FileFormatError, match="upgrade seapass"):
         run_design_sweep(small_sweep, out, resume=True, progress=False)
+
+
+def test_unknown_url_protocol_is_one_clear_error(tmp_path: Path) -> None:
+    with pytest.raises(ParameterError, match="not a path or a known fsspec URL"):
+        open_location("foo://bucket/x/")

@@ -66,7 +66,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="FILE.parquet, FILE.csv, a directory of parts, or an fsspec URL (s3://bucket/dir/)",
     )
     o.add_argument("--resume", action="store_true", help="continue an interrupted sweep")
-    o.add_argument("--chunk-size", type=int, default=65536, help="designs per chunk")
+    o.add_argument(
+        "--chunk-size", type=int, default=65536, help="designs per chunk (default 65536)"
+    )
     o.add_argument(
         "--scheduler",
         help="'local' (a Dask LocalCluster on this machine) or tcp://host:port of a running "
