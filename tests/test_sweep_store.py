@@ -182,9 +182,9 @@ def kill_midway(
     """Run the ``small_sweep`` fixture's sweep in a child process that SIGKILLs itself once chunk ``at_chunk`` is recorded."""
     script = out.parent / "killer.py"
     script.write_text(textwrap.dedent(KILLER))
+    args = [str(out), scheduler or "-", str(at_chunk), str(journal_interval)]
     proc = subprocess.run(
-        [sys.executable, str(script), str(out), scheduler or "-"]
-        + [str(at_chunk), str(journal_interval)],
+        [sys.executable, str(script), *args],
         capture_output=True,
         timeout=120,
     )
