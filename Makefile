@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 OUT ?= results
 
-.PHONY: run test lint typecheck bench docs install browser clean
+.PHONY: run test lint typecheck bench bench-scale docs install browser clean
 
 $(STAMP): pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else "seapass needs Python >= 3.11")'
@@ -42,6 +42,10 @@ browser:
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/run.py
+
+## Dask scale-out table (LocalCluster of 1, 2, 4, ... workers up to the cores) into docs/benchmarks.md
+bench-scale: $(STAMP)
+	$(BIN)/python benchmarks/bench_scaling.py --write-docs
 
 docs: $(STAMP)
 	$(BIN)/mkdocs build --strict --site-dir site

@@ -52,6 +52,6 @@ def run(quick: bool) -> tuple[list[Row], list[str]]:
         ours_rate=rate(n, t_ours.seconds),
         peer=f"naive loop (is_passive + simulate + tracking_metrics), {n_naive} designs",
         peer_rate=rate(n_naive, t_naive.seconds),
-        note="single process; --scheduler local adds 2 worker processes",
+        note="single process; --scheduler local runs one worker process per core",
     )
     return [row], []

@@ -76,6 +76,19 @@ def _table(rows: list[Row]) -> list[str]:
     return out
 
 
+SCALING_BEGIN, SCALING_END = "<!-- scaling:begin -->", "<!-- scaling:end -->"
+
+
+def _scaling_section(path: Path) -> list[str]:
+    """The Dask scale-out section, kept as ``bench_scaling.py --write-docs`` last wrote it."""
+    text = path.read_text() if path.exists() else ""
+    start, stop = text.find(SCALING_BEGIN), text.find(SCALING_END)
+    if start < 0 or stop < start:
+        return []
+    head = text.rfind("\n## ", 0, start)
+    return [text[head + 1 if head >= 0 else start : stop + len(SCALING_END)], ""]
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
@@ -155,6 +168,7 @@ def main(argv: list[str] | None = None) -> int:
         "|---|---|---|---|---|",
         *verdicts,
         "",
+        *_scaling_section(Path(args.out)),
         PROFILE_NOTES,
     ]
     atomic_write_text(args.out, "\n".join(lines) + "\n")

@@ -18,6 +18,7 @@ from seapass.model.catalog import PAPER_VALUES, design
 from seapass.model.sea import SEA
 from seapass.sweep import (
     GridAxis,
+    PartSummary,
     RangeAxis,
     SweepSpec,
     heatmap_data,
@@ -103,12 +104,12 @@ def test_interrupted_sweep_resumes_without_duplicates(tmp_path: Path) -> None:
     spec = _spec(metrics=False, chunk_size=3)
     out = tmp_path / "r.parquet"
 
-    def boom(c: int, _table) -> None:
-        if c == 3:
+    def boom(s: PartSummary) -> None:
+        if s.chunk == 3:
             raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
-        run_design_sweep(spec, out, progress=False, on_chunk=boom)
+        run_design_sweep(spec, out, progress=False, on_part=boom)
     parts = tmp_path / "r.parquet.parts"
     assert sorted(p.name for p in parts.glob("part-*.parquet")) == [
         f"part-{c:06d}.parquet" for c in range(4)
@@ -127,7 +128,7 @@ def test_interrupted_sweep_resumes_without_duplicates(tmp_path: Path) -> None:
 def test_resume_refuses_a_different_sweep(tmp_path: Path) -> None:
     out = tmp_path / "dir"
     run_design_sweep(_spec(metrics=False), out, progress=False)  # a directory dataset is kept
-    assert (out / "manifest.json").is_file()
+    assert (out / "_manifest.json").is_file()
     with pytest.raises(FileFormatError, match="different sweep"):
         run_design_sweep(_spec(metrics=False, seed=3), out, resume=True, progress=False)
     data = heatmap_data(out, "kd", "b1")
@@ -203,6 +204,9 @@ def test_cli_errors_are_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[s
         ["--grid", "kd=0:1:1"],
         ["--grid", "kd=0:1:1", "--grid", "b1=0:1:1", "--heatmap", "kd,zz", "--out-fig", "x.png"],
         ["--grid", "kd=0:1:1", "--grid", "b1=0:1:1", "--scheduler", "nonsense"],
+        ["--grid", "kd=0:1:1", "--grid", "b1=0:1:1", "--workers", "2"],
+        ["--grid", "kd=0:1:1", "--grid", "b1=0:1:1", "--scheduler", "local", "--workers", "0"],
+        ["--grid", "kd=0:1:1", "--grid", "b1=0:1:1", "--scheduler", "tcp://h:1", "--workers", "2"],
     ]
     for extra in cases:
         code = main(["sweep", *MODEL_ARGS, *extra, "--out", str(tmp_path / "e.parquet")])

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
 from ..errors import ParameterError
 from ..sweep import SweepSpec, heatmap_data, parse_grid, parse_range, run_design_sweep
+from ..sweep.cluster import available_cores
 from .common import add_model_options, model_from_args, print_json, save_plot
 
 EXAMPLE = """examples:
@@ -17,7 +17,15 @@ EXAMPLE = """examples:
   seapass sweep --D1 k1 --CL kd --set m=1 --set b=10 --sample 100000 \\
       --range k1=100:5000 --range kd=0:5000 --seed 1 --no-metrics --out lp.csv
   seapass sweep ... --out big.parquet --resume            # continue an interrupted sweep
-  seapass sweep ... --out big.parquet --scheduler local   # 2 Dask worker processes
+  seapass sweep ... --out big/ --scheduler local          # one Dask worker per core
+  seapass sweep ... --out big/ --scheduler local --workers 4
+  seapass sweep ... --out s3://bucket/big/ --scheduler tcp://HOST:8786
+
+The workers write their parts themselves: with --scheduler, --out must be on a
+file system that the workers share with this machine, or an fsspec URL
+(s3://, gs://, abfs://, ...; credentials come from fsspec's usual environment
+variables and configuration).  A directory output is a Parquet dataset with a
+_manifest.json that readers skip: pyarrow.dataset.dataset("big/").
 
 The load mass can be swept too: --grid m_L=1:25:1.  Output columns: index, the
 swept parameters, passive, margin and (unless --no-metrics) settling_time [s],
@@ -52,10 +60,27 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "--no-margin", action="store_true", help="skip the passivity margin (3x faster verdicts)"
     )
     o = p.add_argument_group("output and execution")
-    o.add_argument("--out", required=True, help="FILE.parquet, FILE.csv, or a directory of parts")
+    o.add_argument(
+        "--out",
+        required=True,
+        help="FILE.parquet, FILE.csv, a directory of parts, or an fsspec URL (s3://bucket/dir/)",
+    )
     o.add_argument("--resume", action="store_true", help="continue an interrupted sweep")
-    o.add_argument("--chunk-size", type=int, default=65536, help="designs per chunk")
-    o.add_argument("--scheduler", help="'local' (2-worker Dask LocalCluster) or tcp://host:port")
+    o.add_argument(
+        "--chunk-size", type=int, default=65536, help="designs per chunk (default 65536)"
+    )
+    o.add_argument(
+        "--scheduler",
+        help="'local' (a Dask LocalCluster on this machine) or tcp://host:port of a running "
+        "Dask scheduler (default: compute in this process)",
+    )
+    o.add_argument(
+        "--workers",
+        type=int,
+        metavar="N",
+        help=f"worker processes of --scheduler local (default: this machine's cores, "
+        f"{available_cores()} here)",
+    )
     o.add_argument("--no-progress", action="store_true", help="no progress bar")
     o.add_argument("--heatmap", metavar="X,Y", help="two parameters for the heat maps")
     o.add_argument("--out-fig", help="heat-map figure file (PNG, PDF or SVG)")
@@ -74,6 +99,16 @@ def run(args: argparse.Namespace) -> int:
             raise ParameterError("--heatmap needs --out-fig FILE.png")
     elif args.out_fig:
         raise ParameterError("--out-fig needs --heatmap X,Y")
+    if args.workers is not None and args.scheduler != "local":
+        raise ParameterError(
+            "--workers N needs --scheduler local (a running scheduler has its own)"
+        )
+    if args.workers is not None and args.workers > available_cores():
+        print(
+            f"warning: --workers {args.workers} is more than this machine's "
+            f"{available_cores()} cores; the workers will share them",
+            file=sys.stderr,
+        )
     names = tuple(n for n in [a.name for a in grid] + [a.name for a in ranges] if n != "m_L")
     sea = model_from_args(args, extra_free=names)
     spec = SweepSpec(
@@ -101,6 +136,7 @@ def run(args: argparse.Namespace) -> int:
             args.out,
             resume=args.resume,
             scheduler=args.scheduler,
+            workers=args.workers,
             progress=not args.no_progress,
         )
     except KeyboardInterrupt:
@@ -110,12 +146,17 @@ def run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return 130
+    print(f"wrote {result.path}", file=sys.stderr)
     summary = result.to_dict()
     if heat is not None:
         from ..plot.sweep import plot_sweep_heatmap
 
-        data = heatmap_data(Path(result.path), heat[0], heat[1])
-        save_plot(lambda: plot_sweep_heatmap(data, title=f"{spec.n_designs} designs"), args.out_fig)
+        data = heatmap_data(result.path, heat[0], heat[1])
+        written = save_plot(
+            lambda: plot_sweep_heatmap(data, title=f"{spec.n_designs} designs"), args.out_fig
+        )
+        for path in written:
+            print(f"wrote {path}", file=sys.stderr)
         summary["figure"] = args.out_fig
     print_json(summary)
     return 0

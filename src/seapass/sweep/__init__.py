@@ -11,17 +11,24 @@ May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files]
 """
 
 from .heatmap import HeatmapData, heatmap_data
-from .runner import DesignSweepResult, evaluate_chunk, run_design_sweep
+from .location import Location, open_location
+from .runner import DesignSweepResult, compute_part, evaluate_chunk, run_design_sweep
 from .spec import GridAxis, RangeAxis, SweepSpec, parse_grid, parse_range
+from .store import MANIFEST, PartSummary
 
 __all__ = [
+    "MANIFEST",
     "DesignSweepResult",
     "GridAxis",
     "HeatmapData",
+    "Location",
+    "PartSummary",
     "RangeAxis",
     "SweepSpec",
+    "compute_part",
     "evaluate_chunk",
     "heatmap_data",
+    "open_location",
     "parse_grid",
     "parse_range",
     "run_design_sweep",

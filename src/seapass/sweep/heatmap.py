@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from ..errors import FileFormatError, ParameterError
+from .location import Location, open_location
 from .store import iter_batches, schema_columns
 
 __all__ = [
@@ -51,7 +52,7 @@ class HeatmapData:
 
 
 def _axis_bins(
-    path: Path, name: str, bins: int
+    path: Location, name: str, bins: int
 ) -> tuple[np.ndarray, Callable[[np.ndarray], np.ndarray]]:
     uniq: set[float] = set()
     lo, hi = math.inf, -math.inf
@@ -64,7 +65,7 @@ def _axis_bins(
         if len(uniq) <= 400:
             uniq.update(np.unique(v).tolist())
     if not math.isfinite(lo):
-        raise FileFormatError(f"{path}: no rows")
+        raise FileFormatError(f"{path.url}: no rows")
     if len(uniq) <= 400:
         centers = np.array(sorted(uniq))
         return centers, lambda v: np.searchsorted(centers, v)
@@ -75,17 +76,25 @@ def _axis_bins(
     return centers, lambda v: np.clip(np.searchsorted(edges, v, side="right") - 1, 0, nb - 1)
 
 
-def heatmap_data(path: str | os.PathLike[str], x: str, y: str, *, bins: int = 60) -> HeatmapData:
+def heatmap_data(
+    path: str | os.PathLike[str] | Location,
+    x: str,
+    y: str,
+    *,
+    bins: int = 60,
+    storage_options: Mapping[str, Any] | None = None,
+) -> HeatmapData:
     """Aggregate a sweep dataset over the parameters ``x`` and ``y`` (streaming, bounded memory).
 
-    Grid axes with at most 400 distinct values keep their values as cells;
-    other axes are binned into ``bins`` equal cells.  Other swept parameters
-    are aggregated over.
+    ``path`` is a ``.parquet`` or ``.csv`` output or a directory of parts, as a
+    path or an fsspec URL.  Grid axes with at most 400 distinct values keep
+    their values as cells; other axes are binned into ``bins`` equal cells.
+    Other swept parameters are aggregated over.
     """
-    path = Path(path)
+    where = open_location(path, storage_options)
     if x == y:
         raise ParameterError(f"--heatmap needs two different parameters, got {x},{y}")
-    schema_cols = set(schema_columns(path))
+    schema_cols = set(schema_columns(where))
     for name in (x, y):
         if name not in schema_cols:
             params = sorted(
@@ -101,18 +110,18 @@ def heatmap_data(path: str | os.PathLike[str], x: str, y: str, *, bins: int = 60
                 }
             )
             raise ParameterError(
-                f"--heatmap: {name!r} is not a column of {path}; swept parameters: {', '.join(params)}"
+                f"--heatmap: {name!r} is not a column of {where.url}; swept parameters: {', '.join(params)}"
             )
     has_metrics = "settling_time" in schema_cols
-    xc, xb = _axis_bins(path, x, bins)
-    yc, yb = _axis_bins(path, y, bins)
+    xc, xb = _axis_bins(where, x, bins)
+    yc, yb = _axis_bins(where, y, bins)
     shape = (yc.size, xc.size)
     count = np.zeros(shape, dtype=np.int64)
     npass = np.zeros(shape, dtype=np.int64)
     nset = np.zeros(shape, dtype=np.int64)
     tsum = np.zeros(shape)
     cols = [x, y, "passive"] + (["settling_time"] if has_metrics else [])
-    for b in iter_batches(path, cols):
+    for b in iter_batches(where, cols):
         xv = b.column(0).to_numpy(zero_copy_only=False).astype(float)
         yv = b.column(1).to_numpy(zero_copy_only=False).astype(float)
         flat = yb(yv) * xc.size + xb(xv)

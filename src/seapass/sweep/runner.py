@@ -1,10 +1,15 @@
-"""Running a sweep: compute chunks here or on a Dask cluster and stream them to disk.
+"""Running a sweep: every chunk is computed and written by whoever runs it.
 
-Chunks run in this process or on a Dask cluster (``scheduler="local"`` starts
-a 2-worker ``LocalCluster``; ``"tcp://host:port"`` connects to a running
-scheduler).  Workers only compute; the client writes every part, so workers
-need no shared file system.  The results are identical either way.  What a
-sweep is lives in [`seapass.sweep.spec`][seapass.sweep.spec], where it is stored in
+Chunks run in this process or on Dask (``scheduler="local"`` starts a
+``LocalCluster`` with one single-threaded worker per core, ``workers=`` to
+choose; ``"tcp://host:port"`` connects to a running scheduler).  Each task
+computes its chunk and writes the Parquet part itself to the output location
+(a shared path or an fsspec URL such as ``s3://bucket/sweep/``), and returns
+only a [`PartSummary`][seapass.sweep.store.PartSummary] of a few numbers.  The
+client tracks the manifest and, for a single-file output, merges the parts at
+the end, so its work per chunk does not grow with the data.  The results are
+identical however the chunks run.  What a sweep is lives in
+[`seapass.sweep.spec`][seapass.sweep.spec], where it is stored in
 [`seapass.sweep.store`][seapass.sweep.store].
 """
 
@@ -14,29 +19,24 @@ import os
 import sys
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pyarrow as pa
-import pyarrow.parquet as pq
 
 from ..batch.step_metrics import batch_step_metrics
 from ..batch.verdicts import batch_is_passive
-from ..errors import MissingExtraError, ParameterError
+from ..errors import ParameterError
 from ..model.sea import SEA
-from ..sim.metrics import SETTLING_CODES, Settling
+from ..sim.metrics import SETTLING_CODES
+from .cluster import check_scheduler, dask_client, run_bounded, total_threads
+from .location import Location, open_location
 from .spec import LOAD_MASS, SweepSpec, spec_from_state, spec_state
-from .store import consolidate, part_path, prepare_parts, write_part
+from .store import PartSummary, SweepStore, summarize_part, write_part
 
-__all__ = ["DesignSweepResult", "evaluate_chunk", "run_design_sweep"]
-
-
-# --------------------------------------------------------------------------- specification
-
-
-# --------------------------------------------------------------------------- computation
+__all__ = ["DesignSweepResult", "compute_part", "evaluate_chunk", "run_design_sweep"]
 
 
 def evaluate_chunk(spec: SweepSpec, c: int) -> pa.Table:
@@ -83,17 +83,58 @@ def _fixed(sea: SEA) -> dict[str, float]:
     return {k: float(v) for k, v in sea.values.items() if v is not None and k in sea.parameters}
 
 
-def _chunk_task(state: Mapping[str, Any], c: int) -> pa.Table:
-    """Dask task: rebuild the spec in the worker and compute one chunk."""
-    return evaluate_chunk(spec_from_state(state), c)
+def compute_part(spec: SweepSpec, c: int, parts: Location) -> PartSummary:
+    """Compute chunk ``c`` and write it to ``parts`` (atomically); a summary, not the data.
+
+    This is what a Dask worker runs for every chunk.
+    """
+    t0 = time.thread_time()
+    table = evaluate_chunk(spec, c)
+    nbytes = write_part(parts, c, table)
+    return summarize_part(c, table, nbytes, time.thread_time() - t0)
 
 
-# --------------------------------------------------------------------------- output
+_SPECS: dict[str, SweepSpec] = {}
+
+
+def _part_task(c: int, state: Mapping[str, Any], parts: Location) -> PartSummary:
+    """Dask task: rebuild the spec once per worker process, then compute and write chunk ``c``."""
+    key = repr(sorted(state.items(), key=lambda kv: kv[0]))
+    spec = _SPECS.get(key)
+    if spec is None:
+        _SPECS.clear()  # one sweep at a time per worker is the common case
+        spec = _SPECS[key] = spec_from_state(state)
+    return compute_part(spec, c, parts)
+
+
+# --------------------------------------------------------------------------- result
 
 
 @dataclass(frozen=True)
 class DesignSweepResult:
-    """Summary of a finished (or interrupted) sweep."""
+    """Summary of a finished sweep.
+
+    Attributes
+    ----------
+    path : str
+        The output: the consolidated file, or the directory of parts (a path or URL).
+    n_designs, n_chunks : int
+    chunks_computed, chunks_resumed : int
+        Chunks computed by this run, and finished chunks found on disk.
+    n_passive : int
+    n_settled : int or None
+        None without metrics.
+    seconds : float
+        Wall-clock time of the run.
+    complete : bool
+    columns : tuple of str
+    workers : int
+        Worker threads that computed chunks (1 in this process).
+    compute_seconds : float
+        CPU time the workers spent computing and writing the chunks of this run.
+    migrated : bool
+        The directory had an old-style ``manifest.json`` and was migrated.
+    """
 
     path: str
     n_designs: int
@@ -105,6 +146,9 @@ class DesignSweepResult:
     seconds: float
     complete: bool
     columns: tuple[str, ...] = field(default=())
+    workers: int = 1
+    compute_seconds: float = 0.0
+    migrated: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)
@@ -113,9 +157,15 @@ class DesignSweepResult:
         return d
 
 
-def _progress(enabled: bool, total: int, done: int) -> Any:
+# --------------------------------------------------------------------------- running
+
+
+@contextmanager
+def _progress(enabled: bool, total: int, done: int) -> Iterator[Callable[[], None]]:
+    """A rich progress bar on a terminal; yields the function that advances it."""
     if not (enabled and sys.stderr.isatty()):
-        return None
+        yield lambda: None
+        return
     from rich.progress import (
         BarColumn,
         MofNCompleteColumn,
@@ -124,166 +174,115 @@ def _progress(enabled: bool, total: int, done: int) -> Any:
         TimeRemainingColumn,
     )
 
-    prog = Progress(
-        TextColumn("sweep"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeRemainingColumn(),
-        transient=True,
-    )
-    prog.start()
-    prog.add_task("chunks", total=total, completed=done)
-    return prog
+    columns = (TextColumn("sweep"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
+    with Progress(*columns, transient=True) as prog:
+        task = prog.add_task("chunks", total=total, completed=done)
+        yield lambda: prog.advance(task)
 
 
-def _local_results(spec: SweepSpec, todo: Sequence[int]) -> Iterator[tuple[int, pa.Table]]:
-    for c in todo:
-        yield c, evaluate_chunk(spec, c)
-
-
-def _dask_results(
-    spec: SweepSpec, todo: Sequence[int], scheduler: str
-) -> Iterator[tuple[int, pa.Table]]:
-    try:
-        from dask.distributed import Client, LocalCluster, as_completed
-    except ImportError:
-        raise MissingExtraError(
-            "scheduler: running on Dask needs the dask extra; install it with "
-            "pip install 'seapass[dask]' (or run without --scheduler)"
-        ) from None
-
-    cluster = None
-    if scheduler == "local":
-        cluster = LocalCluster(
-            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-        )
-        client = Client(cluster)
-    else:
-        client = Client(scheduler, timeout=10)
+@contextmanager
+def _executor(
+    spec: SweepSpec, parts: Location, scheduler: str | None, workers: int | None
+) -> Iterator[tuple[int, Callable[[Sequence[int]], Iterator[PartSummary]]]]:
+    """``(worker threads, run)`` where ``run(chunks)`` computes and writes them."""
+    if scheduler is None:
+        yield 1, lambda todo: (compute_part(spec, c, parts) for c in todo)
+        return
     state = spec_state(spec)
-    window = max(2, 2 * len(client.scheduler_info().get("workers", {})) or 2)
-    try:
-        pending = list(todo)
-        futures: dict[Any, int] = {}
-        ac = as_completed()
-        while pending and len(futures) < window:
-            c = pending.pop(0)
-            f = client.submit(_chunk_task, state, c, pure=False)
-            futures[f] = c
-            ac.add(f)
-        for f in ac:
-            c = futures.pop(f)
-            table = f.result()
-            yield c, table
-            if pending:
-                c2 = pending.pop(0)
-                f2 = client.submit(_chunk_task, state, c2, pure=False)
-                futures[f2] = c2
-                ac.add(f2)
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+    with dask_client(scheduler, workers) as client:
+        yield (
+            total_threads(client),
+            lambda todo: run_bounded(client, _part_task, todo, state, parts),
+        )
+
+
+def _check_output(out: Location, scheduler: str | None) -> None:
+    if scheduler is not None and out.is_memory:
+        raise ParameterError(
+            f"out: {out.url} lives inside this process, where Dask workers cannot write; "
+            "use a shared path or an object store URL (s3://...) with a scheduler"
+        )
 
 
 def run_design_sweep(
     spec: SweepSpec,
-    out: str | os.PathLike[str],
+    out: str | os.PathLike[str] | Location,
     *,
     resume: bool = False,
     scheduler: str | None = None,
+    workers: int | None = None,
+    storage_options: Mapping[str, Any] | None = None,
     progress: bool = True,
-    on_chunk: Callable[[int, pa.Table], None] | None = None,
+    on_part: Callable[[PartSummary], None] | None = None,
 ) -> DesignSweepResult:
-    """Run ``spec``, writing every chunk atomically, then consolidate into ``out``.
+    """Run ``spec``: every chunk is written atomically where it is computed; then finish ``out``.
 
     Parameters
     ----------
     spec : SweepSpec
-    out : path
+    out : path, fsspec URL or Location
         ``*.parquet`` or ``*.csv`` for one consolidated file (parts are kept in
-        ``<out>.parts`` until the end), or a directory for a dataset of parts.
+        ``<out>.parts`` until the end), or a directory for a dataset of parts
+        with ``_manifest.json`` (read it with ``pyarrow.dataset.dataset(out)``).
+        URLs such as ``s3://bucket/sweep/`` or ``memory://x`` go through fsspec.
     resume : bool
         Continue an interrupted sweep of the same spec, skipping finished chunks.
     scheduler : None, "local" or "tcp://host:port"
-        Run chunks in this process, on a new 2-worker Dask ``LocalCluster``, or
-        on an existing Dask scheduler.
+        Run chunks in this process, on a new Dask ``LocalCluster``, or on an
+        existing Dask scheduler.  The workers write the parts, so ``out`` must
+        be a file system they share with the client or an object store.
+    workers : int, optional
+        Worker processes of the LocalCluster (default: this machine's cores);
+        only with ``scheduler="local"``.
+    storage_options : mapping, optional
+        Options of the fsspec file system of ``out`` (credentials, endpoint).
     progress : bool
         Show a rich progress bar (only on a terminal).
-    on_chunk : callable, optional
-        Called as ``on_chunk(c, table)`` after chunk ``c`` is written (tests, monitoring).
+    on_part : callable, optional
+        Called as ``on_part(summary)`` after each part is recorded (tests, monitoring).
 
     Returns
     -------
     DesignSweepResult
-        ``complete=False`` when interrupted (``KeyboardInterrupt`` is re-raised
-        after the finished chunks are safely on disk).
+        A ``KeyboardInterrupt`` is re-raised after the journal is saved; the
+        finished parts stay on disk for ``resume=True``.
     """
-    out = Path(out)
-    if scheduler is not None and not (scheduler == "local" or scheduler.startswith("tcp://")):
-        raise ParameterError(
-            f"--scheduler must be 'local' or a tcp://host:port address, got {scheduler!r}"
-        )
+    check_scheduler(scheduler, workers)
+    where = open_location(out, storage_options)
+    _check_output(where, scheduler)
     t0 = time.perf_counter()
-    parts, done = prepare_parts(spec, out, resume)
-    todo = [c for c in range(spec.n_chunks) if c not in done]
-    n_passive = 0
-    n_settled = 0
-    for c in sorted(done):
-        t = pq.read_table(
-            part_path(parts, c), columns=["passive"] + (["status"] if spec.metrics else [])
-        )
-        n_passive += int(np.count_nonzero(t.column("passive").to_numpy(zero_copy_only=False)))
-        if spec.metrics:
-            n_settled += int(
-                np.count_nonzero(
-                    t.column("status").to_numpy(zero_copy_only=False) == Settling.SETTLED.value
-                )
-            )
-    bar = _progress(progress, spec.n_chunks, len(done))
+    store = SweepStore.open(spec, where, resume=resume)
+    todo = store.todo
     computed = 0
-    columns: tuple[str, ...] = ()
+    compute_seconds = 0.0
+    threads = 1
     try:
-        results = (
-            _local_results(spec, todo)
-            if scheduler is None
-            else _dask_results(spec, todo, scheduler)
-        )
-        for c, table in results:
-            write_part(parts, c, table)
-            computed += 1
-            columns = tuple(table.column_names)
-            n_passive += int(
-                np.count_nonzero(table.column("passive").to_numpy(zero_copy_only=False))
-            )
-            if spec.metrics:
-                st = table.column("status").to_numpy(zero_copy_only=False)
-                n_settled += int(np.count_nonzero(st == Settling.SETTLED.value))
-            if bar is not None:
-                bar.advance(bar.task_ids[0])
-            if on_chunk is not None:
-                on_chunk(c, table)
+        with (
+            _progress(progress, spec.n_chunks, store.resumed) as advance,
+            _executor(spec, store.parts, scheduler, workers) as (threads, run),
+        ):
+            for summary in run(todo):
+                store.record(summary)
+                computed += 1
+                compute_seconds += summary.seconds
+                advance()
+                if on_part is not None:
+                    on_part(summary)
     finally:
-        if bar is not None:
-            bar.stop()
-    if not columns:
-        columns = tuple(pq.read_schema(part_path(parts, 0)).names) if spec.n_chunks else ()
-    final = parts
-    if out.suffix.lower() in (".parquet", ".csv"):
-        consolidate(parts, out, spec.n_chunks)
-        final = out
+        store.flush()
+    final = store.finish()
     return DesignSweepResult(
-        path=str(final),
+        path=final.url,
         n_designs=spec.n_designs,
         n_chunks=spec.n_chunks,
         chunks_computed=computed,
-        chunks_resumed=len(done),
-        n_passive=n_passive,
-        n_settled=n_settled if spec.metrics else None,
+        chunks_resumed=store.resumed,
+        n_passive=store.n_passive,
+        n_settled=store.n_settled if spec.metrics else None,
         seconds=time.perf_counter() - t0,
         complete=True,
-        columns=columns,
+        columns=store.columns,
+        workers=threads,
+        compute_seconds=compute_seconds,
+        migrated=store.migrated,
     )
-
-
-# --------------------------------------------------------------------------- heat maps
