@@ -49,8 +49,10 @@ from ..exact.axis import (
     negative_point,
     safe_float,
 )
+from ..model.display import html_card, poly_text, short_repr
 from ..model.sea import SEA, Impedance
 from .impedance import evaluate_system
+from .portresponse import ImpedanceResponse, response_of
 
 __all__ = [
     "TOLERANCE_POLICY",
@@ -104,7 +106,7 @@ _DESCRIPTIONS = {
 }
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class PassivityResult:
     """Outcome of an exact positive-real test.
 
@@ -135,6 +137,17 @@ class PassivityResult:
         Coefficients of ``P`` in ``x = ω²``, ascending powers.
     tolerance : str
         The tolerance policy used (`TOLERANCE_POLICY`).
+    exact_num, exact_den : tuple of Fraction
+        The reduced ``N`` and ``D`` exactly, ascending powers of ``s`` (for
+        `response` and `plot`; not part of ``to_dict``).
+
+    Examples
+    --------
+    >>> r = is_passive("(s - 1)/(s + 2)")
+    >>> r
+    PassivityResult(passive=False, reason='negative_real_part', omega=..., margin=...)
+    >>> [round(x, 6) for x in r.response().negative_bands[0]]
+    [0.0, 1.414214]
     """
 
     passive: bool
@@ -149,6 +162,8 @@ class PassivityResult:
     real_part: tuple[float, ...] = ()
     axis_poles: tuple[float, ...] = field(default=())
     tolerance: str = TOLERANCE_POLICY
+    exact_num: tuple[Fraction, ...] = field(default=(), compare=False)
+    exact_den: tuple[Fraction, ...] = field(default=(), compare=False)
 
     @property
     def status(self) -> str:
@@ -172,6 +187,58 @@ class PassivityResult:
             "axis_poles": list(self.axis_poles),
             "tolerance": self.tolerance,
         }
+
+    def response(self, omega: Any = None, *, label: str = "") -> ImpedanceResponse:
+        """``Z(jω)`` of the tested impedance and the exact bands where ``Re Z(jω) < 0``.
+
+        Parameters
+        ----------
+        omega : array_like, shape (n,), optional
+            Frequencies [rad/s]; default a grid around the poles and zeros.
+        label : str, optional
+            Legend label.
+        """
+        if self.exact_den:
+            num, den = self.exact_num, self.exact_den
+        else:  # built by hand from floats: the rationals those floats represent
+            num = tuple(Fraction(c) for c in reversed(self.num))
+            den = tuple(Fraction(c) for c in reversed(self.den))
+        return response_of(num, den, omega, label=label)
+
+    def plot(self, kind: str = "real", *, ax: Any = None, omega: Any = None, **kwargs: Any) -> Any:
+        """``Re Z(jω)`` with the failing bands shaded (``kind="real"``) or the Nyquist plot of ``Z``.
+
+        The bands are exact (see `response`).  Returns the matplotlib Axes.
+        """
+        from ..plot.passivity import plot_impedance
+
+        return plot_impedance(self.response(omega), kind=kind, ax=ax, **kwargs)
+
+    def __repr__(self) -> str:
+        return short_repr(
+            "PassivityResult",
+            {
+                "passive": self.passive,
+                "reason": str(self.reason) or None,
+                "omega": self.omega,
+                "margin": self.margin,
+                "marginal": self.marginal or None,
+                "lossless": self.lossless or None,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        rows: list[tuple[str, Any]] = [("verdict", self.status), ("detail", self.detail)]
+        if self.omega is not None:
+            rows.append(("witness", f"Re Z(jω) < 0 at ω = {self.omega:.6g} rad/s"))
+        rows += [
+            ("margin", f"{self.margin:.3g}"),
+            ("Z(s) numerator", poly_text(self.num)),
+            ("Z(s) denominator", poly_text(self.den)),
+        ]
+        return html_card(
+            f"Passivity: {self.status}", rows, note="Exact verdict (rational arithmetic)."
+        )
 
 
 # ---------------------------------------------------------------- conversion
@@ -279,6 +346,8 @@ def positive_real_test(
         "num": _to_floats(num, True),
         "den": _to_floats(den, True),
         "margin": margin,
+        "exact_num": num,
+        "exact_den": den,
     }
     if not num:
         return PassivityResult(

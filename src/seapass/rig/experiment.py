@@ -15,8 +15,10 @@ Two protocols:
   damper ``b1`` and on the impact time scale, and the stiffness frequency
   response of Eq. (10) from [`seapass.model.stiffness.derive_stiffness`][seapass.model.stiffness.derive_stiffness].
 
-Findings are compared with the paper's qualitative claims in
-`ExperimentFinding` objects (match or mismatch, with the reason from the model).
+On the paper's own bench (the packaged rig's hardware) the findings are
+compared with the paper's qualitative claims in `ExperimentFinding` objects
+(match or mismatch, with the reason from the model); a user's rig gets its
+measurements only, with no comparison to the paper.
 
 References
 ----------
@@ -38,6 +40,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import ParameterError
 from ..sim.metrics import Settling
 from .findings import ExperimentFinding, sweep_findings
+from .packaged import is_paper_hardware
 from .predictions import RIG_DESIGNS, controller_gains, critical_gain, rig_design
 from .rigfile import Rig
 from .twin import simulate_loop
@@ -322,7 +325,8 @@ def run_experiment(
                 )
                 if tick is not None:
                     tick()
-    return ExperimentResult(rig.name, tuple(sweeps), tuple(sweep_findings(sweeps)))
+    findings = tuple(sweep_findings(sweeps)) if is_paper_hardware(rig) else ()
+    return ExperimentResult(rig.name, tuple(sweeps), findings)
 
 
 # ----------------------------------------------------------------------------- impacts

@@ -1,0 +1,335 @@
+"""The port impedance on the imaginary axis: ``Z(jω)`` for pictures, exact bands where ``Re Z < 0``.
+
+A plot of ``Re Z(jω)`` or a Nyquist plot samples ``Z`` on a grid of
+frequencies, which is fine for a picture and useless for a verdict: a dip
+below zero narrower than the grid spacing is simply missed.  So the
+frequencies where ``Re Z(jω) < 0`` are never read off the grid.  They come
+from the real-part polynomial ``P(x) = Re N(jω) D(−jω)``, ``x = ω²``, whose
+sign is the sign of ``Re Z(jω)`` wherever ``D(jω) ≠ 0``: its distinct
+positive real roots are isolated exactly (Sturm sequences on rationals), the
+sign of ``P`` between consecutive roots is evaluated exactly at a rational
+point, and only the band edges are rounded to floats (to full double
+precision) for display.  The grid of the curve always contains those edges.
+
+References
+----------
+.. [1] B. D. O. Anderson and S. Vongpanitlerd, *Network Analysis and Synthesis*,
+   Prentice-Hall, 1973, sec. 5.1 (positive real functions).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from ..errors import ParameterError
+from ..exact import poly as ep
+from ..exact.axis import at_j_omega, even_to_x, safe_float
+from ..model.display import Shown, html_card, short_repr
+from ..model.sea import SEA, Impedance
+from .impedance import evaluate_system
+
+__all__ = [
+    "Band",
+    "ImpedanceResponse",
+    "default_frequencies",
+    "impedance_response",
+    "negative_real_bands",
+    "real_part_x",
+    "reduced_impedance",
+]
+
+Band = tuple[float, float]
+"""A frequency band ``(lo, hi)`` in rad/s; ``hi`` may be ``inf``."""
+
+
+def real_part_x(num: ep.Poly, den: ep.Poly) -> ep.Poly:
+    """``P(x) = Re N(jω) D(−jω)`` as an exact polynomial in ``x = ω²`` (ascending)."""
+    nr, ni = at_j_omega(ep.normalize(num))
+    dr, di = at_j_omega(ep.normalize(den))
+    return even_to_x(ep.add(ep.mul(nr, dr), ep.mul(ni, di)))
+
+
+def reduced_impedance(num: ep.Poly, den: ep.Poly) -> tuple[ep.Poly, ep.Poly]:
+    """``N/D`` with common factors cancelled and ``D``'s leading coefficient positive."""
+    num, den = ep.normalize(num), ep.normalize(den)
+    if not den:
+        raise ParameterError("den: the denominator is identically zero")
+    g = ep.pgcd(num, den) if num else ep.monic(den)
+    if ep.degree(g) > 0:
+        num, den = ep.pdivmod(num, g)[0], ep.pdivmod(den, g)[0]
+    if den[-1] < 0:
+        num, den = ep.scale(num, Fraction(-1)), ep.scale(den, Fraction(-1))
+    return num, den
+
+
+def negative_real_bands(num: ep.Poly, den: ep.Poly) -> tuple[Band, ...]:
+    """The frequency bands where ``Re Z(jω) < 0`` for ``Z = num/den``, decided exactly.
+
+    Parameters
+    ----------
+    num, den : tuple of Fraction
+        Exact coefficients, ascending powers of ``s``.
+
+    Returns
+    -------
+    tuple of (float, float)
+        Disjoint open bands ``(lo, hi)`` in rad/s, increasing; ``lo`` may be 0
+        and ``hi`` may be ``inf``.  Empty when ``Re Z(jω) ≥ 0`` everywhere.
+        The edges are the exact positive roots of ``P(x)``, ``ω = √x``, rounded
+        to double precision; whether ``P < 0`` between them is decided exactly.
+        Points where ``P`` only touches zero (a root of even multiplicity)
+        inside a band do not split it.
+
+    Examples
+    --------
+    >>> from fractions import Fraction as F
+    >>> negative_real_bands((F(1),), (F(1), F(1)))   # 1/(1 + s)
+    ()
+    >>> [round(x, 12) for x in negative_real_bands((F(-1), F(1)), (F(1), F(1)))[0]]
+    [0.0, 1.0]
+    """
+    px = real_part_x(num, den)
+    if not px:
+        return ()
+    sf = ep.squarefree_part(px)
+    # separate the isolating intervals (a, b] so that a rational point lies between them
+    tight: list[tuple[Fraction, Fraction]] = []
+    prev = Fraction(0)
+    for a, b in ep.isolate_real_roots(sf, Fraction(0), None):
+        while a <= prev:
+            a, b = ep.refine(sf, a, b, (b - a) / 2)
+        tight.append((a, b))
+        prev = b
+    edges = [0.0] + [_omega_of_root(sf, a, b) for a, b in tight] + [math.inf]
+    gaps, lo = [], Fraction(0)
+    for a, b in tight:
+        gaps.append((lo + a) / 2)
+        lo = b
+    gaps.append(lo * 2 + 1)
+    negative = [ep.evaluate(px, x) < 0 for x in gaps]
+    bands: list[Band] = []
+    for i, neg in enumerate(negative):
+        if not neg:
+            continue
+        if bands and i > 0 and negative[i - 1]:
+            bands[-1] = (bands[-1][0], edges[i + 1])  # an even root inside: one band
+        else:
+            bands.append((edges[i], edges[i + 1]))
+    return tuple(bands)
+
+
+def _omega_of_root(sf: ep.Poly, a: Fraction, b: Fraction) -> float:
+    if a == b:
+        return math.sqrt(safe_float(a))
+    return math.sqrt(ep.root_value(sf, a, b))
+
+
+def default_frequencies(
+    num: Sequence[float], den: Sequence[float], bands: Sequence[Band] = (), points: int = 600
+) -> np.ndarray:
+    """A log-spaced grid covering the poles, zeros and bands of ``num/den`` (descending).
+
+    Two decades below the smallest and above the largest non-zero pole or zero
+    magnitude (``0.1..1e4`` rad/s when there is none), widened to show every
+    finite band edge; the band edges themselves are inserted into the grid.
+    """
+    mags = [abs(r) for r in (*_roots(num), *_roots(den)) if abs(r) > 0 and np.isfinite(abs(r))]
+    mags += [e for band in bands for e in band if 0 < e < math.inf]
+    if mags:
+        lo, hi = min(mags) / 100.0, max(mags) * 100.0
+    else:
+        lo, hi = 0.1, 1e4
+    grid = np.logspace(math.log10(lo), math.log10(hi), points)
+    extra = [e for band in bands for e in band if lo < e < hi]
+    return np.unique(np.concatenate([grid, extra])) if extra else grid
+
+
+def _roots(coeffs: Sequence[float]) -> np.ndarray:
+    c = np.trim_zeros(np.asarray(coeffs, dtype=float), "f")
+    if c.size < 2 or not np.all(np.isfinite(c)):
+        return np.zeros(0)
+    return np.roots(c)
+
+
+@dataclass(frozen=True, repr=False)
+class ImpedanceResponse:
+    """``Z(jω)`` of a port on a grid, and the exact bands where ``Re Z(jω) < 0``.
+
+    Attributes
+    ----------
+    omega : ndarray, shape (n,)
+        Frequencies [rad/s], increasing; they include every finite band edge.
+    value : ndarray, shape (n,), complex
+        ``Z(jω)`` [N·s/m] (``inf`` at a pole on the axis).
+    negative_bands : tuple of (float, float)
+        Where ``Re Z(jω) < 0``, decided exactly (`negative_real_bands`); not
+        from the grid.
+    num, den : tuple of float
+        Reduced ``Z = N/D``, descending powers of ``s``.
+    label : str
+        Legend label.
+    """
+
+    omega: np.ndarray
+    value: np.ndarray
+    negative_bands: tuple[Band, ...]
+    num: tuple[float, ...] = ()
+    den: tuple[float, ...] = ()
+    label: str = ""
+    lossless: bool = field(default=False)
+
+    @property
+    def real(self) -> np.ndarray:
+        """``Re Z(jω)``, shape (n,)."""
+        return np.asarray(self.value.real)
+
+    @property
+    def imag(self) -> np.ndarray:
+        """``Im Z(jω)``, shape (n,)."""
+        return np.asarray(self.value.imag)
+
+    @property
+    def passive_real_part(self) -> bool:
+        """``Re Z(jω) ≥ 0`` at every frequency (exact; the other PR conditions are not checked)."""
+        return not self.negative_bands
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "label": self.label,
+            "omega": self.omega.tolist(),
+            "real": self.real.tolist(),
+            "imag": self.imag.tolist(),
+            "negative_bands": [list(b) for b in self.negative_bands],
+            "num": list(self.num),
+            "den": list(self.den),
+        }
+
+    def plot(self, kind: str = "real", *, ax: Any = None, **kwargs: Any) -> Any:
+        """Draw ``Re Z(jω)`` with the failing bands shaded (``kind="real"``) or a Nyquist plot.
+
+        Returns the matplotlib Axes; see [`seapass.plot.passivity`][seapass.plot.passivity].
+        """
+        from ..plot.passivity import plot_impedance
+
+        return plot_impedance(self, kind=kind, ax=ax, **kwargs)
+
+    def __repr__(self) -> str:
+        return short_repr(
+            "ImpedanceResponse",
+            {
+                "label": self.label or None,
+                "points": self.omega.size,
+                "omega": Shown(_span(self.omega)),
+                "negative_bands": Shown(
+                    _bands_text(self.negative_bands) if self.negative_bands else "()"
+                ),
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        return html_card(
+            f"Impedance response {self.label}".strip(),
+            [
+                ("frequencies", f"{self.omega.size} points, {_span(self.omega)} rad/s"),
+                ("Re Z(jω) < 0 (exact)", _bands_text(self.negative_bands)),
+            ],
+        )
+
+
+def _span(w: np.ndarray) -> str:
+    return f"[{w[0]:.4g}, {w[-1]:.4g}]" if w.size else "[]"
+
+
+def _bands_text(bands: Sequence[Band]) -> str:
+    if not bands:
+        return "none: Re Z(jω) ≥ 0 everywhere"
+    return ", ".join(f"({a:.6g}, {b:.6g})" for a, b in bands)
+
+
+def impedance_response(
+    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    omega: Sequence[float] | np.ndarray | None = None,
+    *,
+    values: Mapping[str, float] | None = None,
+    points: int = 600,
+    label: str = "",
+) -> ImpedanceResponse:
+    """``Z(jω)`` of ``system`` and the exact bands where ``Re Z(jω) < 0``.
+
+    Parameters
+    ----------
+    system : SEA, Impedance, str, sympy.Expr or (num, den)
+        As for [`is_passive`][seapass.analysis.passivity.is_passive]: an SEA's
+        load impedance ``Z_L = F_L/(s X_L)``, a raw impedance, or descending
+        coefficient sequences.
+    omega : array_like, shape (n,), optional
+        Frequencies [rad/s], positive; default `default_frequencies`.  The
+        finite band edges are added to it.
+    values : mapping, optional
+        Parameter values overriding those stored in ``system``.
+    points : int, default 600
+        Size of the default grid (ignored when ``omega`` is given).
+    label : str, optional
+        Legend label (default: the SEA's name).
+
+    Returns
+    -------
+    ImpedanceResponse
+
+    Examples
+    --------
+    >>> r = impedance_response("(s - 1)/(s + 2)")
+    >>> [round(x, 9) for x in r.negative_bands[0]]
+    [0.0, 1.414213562]
+    """
+    num, den, _support = evaluate_system(system, values)
+    if not label and isinstance(system, SEA):
+        label = system.name
+    return response_of(num, den, omega, points=points, label=label)
+
+
+def response_of(
+    num: ep.Poly,
+    den: ep.Poly,
+    omega: Sequence[float] | np.ndarray | None = None,
+    *,
+    points: int = 600,
+    label: str = "",
+) -> ImpedanceResponse:
+    """`ImpedanceResponse` of the exact ``Z = num/den`` (ascending Fraction coefficients)."""
+    num, den = reduced_impedance(num, den)
+    bands = negative_real_bands(num, den) if num else ()
+    n = tuple(safe_float(c) for c in reversed(num)) or (0.0,)
+    d = tuple(safe_float(c) for c in reversed(den))
+    if omega is None:
+        if not 2 <= points <= 1_000_000:
+            raise ParameterError(f"points must be between 2 and 1000000, got {points}")
+        w = default_frequencies(n, d, bands, points)
+    else:
+        w = np.asarray(omega, dtype=float)
+        if w.ndim != 1 or w.size < 2 or np.any(~np.isfinite(w)) or np.any(w <= 0):
+            raise ParameterError(
+                f"omega must be a 1-D array of at least 2 finite positive frequencies, "
+                f"got shape {w.shape}"
+            )
+        extra = [e for b in bands for e in b if w.min() < e < w.max()]
+        w = np.unique(np.concatenate([w, extra]))
+    s = 1j * w
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = np.polyval(n, s) / np.polyval(d, s)
+    return ImpedanceResponse(
+        omega=w,
+        value=z,
+        negative_bands=bands,
+        num=n,
+        den=d,
+        label=label,
+        lossless=bool(num) and not real_part_x(num, den),
+    )
