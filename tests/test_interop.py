@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 
 import control
 import numpy as np
@@ -12,6 +13,7 @@ import pytest
 from seapass.analysis.freqresp import stiffness_response
 from seapass.analysis.passivity import is_passive
 from seapass.analysis.portresponse import impedance_response
+from seapass.analysis.region import passive_intervals, passive_map
 from seapass.errors import ExpressionError, ParameterError
 from seapass.model.catalog import (
     PAPER_VALUES,
@@ -20,10 +22,14 @@ from seapass.model.catalog import (
     TABLE_ROWS,
     design,
 )
+from seapass.model.design_file import load_design
 from seapass.model.realization import INPUTS, OUTPUTS, closed_loop
 from seapass.model.sea import SEA, Impedance
+from seapass.sim.scenarios import Step
+from seapass.sim.simulate import simulate
 
 DESIGNS = [*SIMULATION_DESIGNS, *TABLE_ROWS]
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 W = np.logspace(-1, 4, 97)
 
 
@@ -110,6 +116,7 @@ def test_to_control_names_missing_values_and_bad_kinds() -> None:
 def test_reprs_are_short_and_html_is_a_table() -> None:
     sea = _sea(design("ours"))
     r = is_passive(SEA(D1="k1", CL="kd + bd*s", values=dict(m=1, b=10, k1=1000, kd=500, bd=20)))
+    free = SEA(D1="k1 + b1*s", CL="kd", values=dict(m=1, b=10, k1=1e3, b1=None, kd=None))
     objects = [
         sea,
         Impedance(expr="(s + 1)/(s + 2)"),
@@ -118,6 +125,10 @@ def test_reprs_are_short_and_html_is_a_table() -> None:
         impedance_response(sea),
         closed_loop(sea, load_mass=1.0),
         design("ours"),
+        load_design(EXAMPLES / "ours.toml"),
+        passive_intervals(free.with_values(b1=20.0), "kd", 0.0, 5000.0),
+        passive_map(free, "kd", np.linspace(0.0, 2000.0, 3), "b1", (0.0, 100.0)),
+        simulate(sea, load_mass=1.0, scenario=Step(0.1), horizon=0.5),
     ]
     for obj in objects:
         text = repr(obj)
@@ -142,3 +153,32 @@ def test_control_is_imported_only_on_use() -> None:
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_results_plot_themselves_on_given_axes() -> None:
+    from matplotlib.figure import Figure
+
+    sea = _sea(design("ours"))
+    fig = Figure()
+    ax = fig.subplots()
+    free = sea.with_values(kd=None)
+    assert passive_intervals(free, "kd", 0.0, 5000.0).plot(ax=ax) is ax
+    axes = Figure().subplots(2, 1)
+    run = simulate(sea, load_mass=1.0, scenario=Step(0.1), horizon=0.5)
+    assert list(run.plot(axes=axes)) == list(axes)
+
+
+def test_docs_page_python_runs(capsys: pytest.CaptureFixture[str]) -> None:
+    import re
+
+    from seapass.plot.style import bare_figures
+
+    page = EXAMPLES.parent / "docs" / "plots-and-control.md"
+    blocks = re.findall(r"```python\n(.*?)```", page.read_text(encoding="utf-8"), re.S)
+    assert len(blocks) == 3
+    with bare_figures():
+        for i, block in enumerate(blocks):
+            exec(compile(block, f"{page.name} python block {i}", "exec"), {})
+    out = capsys.readouterr().out.splitlines()
+    assert out[0] == "((35.35533905932738, inf),)"
+    assert out[1:5] == ["333.3333333333333", "['theta_A', 'theta_L', 'f_ext']", "True", "True"]

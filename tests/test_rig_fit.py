@@ -53,6 +53,8 @@ def test_fit_recovers_the_twin_within_two_percent(chirp_log: RigLog) -> None:
         assert p.stderr < 0.02 * value
     assert fit.poorly_determined == ()
     assert fit.windows_used > 100 and fit.residual_std < 0.1
+    for obj in (fit, chirp_log):
+        assert len(repr(obj)) < 200 and "<table>" in obj._repr_html_()
     rig = fit.updated_rig()
     assert rig.actuator_mass == pytest.approx(fit["m"].value, rel=1e-12)
     assert (rig.actuator_damping, rig.damper.b1) == (fit["b"].value, fit["b1"].value)
@@ -166,7 +168,8 @@ def test_a_users_rig_is_not_compared_with_the_paper(
     assert not is_paper_hardware(mine) and is_paper_hardware(RIG.replace(impacts=quick))
     res = run_impacts(mine, windows=[0.01, 0.02])
     assert res.paper_k_out is None and res.findings == ()
-    assert "paper" not in json.dumps(res.to_dict())
+    assert "paper" not in json.dumps(res.to_dict()) and "paper" not in res._repr_html_()
+    assert repr(res).startswith("ImpactResult(impacts=3, k_out_mean=")
     paper = run_impacts(RIG.replace(impacts=quick), windows=[0.01, 0.02])
     assert paper.paper_k_out == (2292.0, 91.6) and len(paper.findings) == 2
     path = tmp_path / "mine.toml"

@@ -176,30 +176,36 @@ def plot_deploy(runs: Sequence[tuple[str, Any]], *, axes: Any = None) -> Any:
 
 
 def plot_rig_fit(fit: RigFit, *, axes: Any = None) -> Any:
-    """The fit of the actuator to a log: applied against model force, and the residuals.
+    """The fit of the actuator to a log: model against applied force, and residuals in time.
 
     Each point is one modulating window (its ``φ``-weighted mean force): the
     force applied (command after delay and saturation) and the force the fitted
-    model needs to move as logged.  Returns the two Axes.
+    model needs to move as logged; a perfect fit lies on the diagonal.
+    Returns the two Axes.
     """
-    ax_f, ax_r = axes_grid(axes, 2, 1, figsize=(8, 5.5), sharex=True)[:, 0]
-    t = fit.t_window
-    ax_f.plot(t, fit.force_applied, ".", ms=3, color="0.45", label="applied (window mean)")
-    ax_f.plot(t, fit.force_model, "-", lw=0.9, color="tab:blue", label="fitted model")
-    ax_f.set_ylabel("force [N]")
-    shown = [p for p in fit.parameters if p.name != "offset"]
-    ax_f.set_title(
-        ", ".join(f"{p.name} = {p.value:.4g} ± {p.stderr:.2g}" for p in shown), fontsize=9
-    )
-    ax_f.legend(loc="upper right", fontsize=8)
-    resid = fit.force_applied - fit.force_model
-    ax_r.plot(t, resid, ".", ms=3, color="tab:red")
+    ax_p, ax_r = axes_grid(axes, 1, 2, figsize=(10, 4.2))[0]
+    applied, model = fit.force_applied, fit.force_model
+    ax_p.plot(applied, model, ".", ms=3, color="tab:blue", label=f"{fit.windows_used} windows")
+    lo = float(min(applied.min(), model.min())) if applied.size else -1.0
+    hi = float(max(applied.max(), model.max())) if applied.size else 1.0
+    ax_p.plot([lo, hi], [lo, hi], color="0.4", lw=0.8, ls="--", label="model = applied")
+    ax_p.set_xlabel("applied force, window mean [N]")
+    ax_p.set_ylabel("fitted model's force [N]")
+    ax_p.legend(loc="upper left", fontsize=8)
+    resid = applied - model
+    ax_r.plot(fit.t_window, resid, ".", ms=3, color="tab:red")
     band = 1.96 * fit.residual_std
     ax_r.axhspan(-band, band, color="tab:red", alpha=0.1, lw=0, label="±1.96 σ")
     ax_r.axhline(0.0, color="0.3", lw=0.8)
     ax_r.set_xlabel("time [s]")
-    ax_r.set_ylabel("residual [N]")
+    ax_r.set_ylabel("applied − model [N]")
     ax_r.legend(loc="upper right", fontsize=8)
-    for ax in (ax_f, ax_r):
+    for ax in (ax_p, ax_r):
         ax.grid(True, alpha=0.3)
-    return np.array([ax_f, ax_r])
+    shown = [p for p in fit.parameters if p.name != "offset"]
+    lines = [
+        ", ".join(f"{p.name} = {p.value:.4g} ± {p.stderr:.2g} {p.unit}" for p in part)
+        for part in (shown[:3], shown[3:])
+    ]
+    ax_p.figure.suptitle("\n".join(lines), fontsize=9)
+    return np.array([ax_p, ax_r])

@@ -16,6 +16,7 @@ import sympy as sp
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ParameterError
+from ..model.display import html_card, short_repr
 from ..model.expr import S
 from ..model.sea import SEA
 from ..model.stiffness import derive_stiffness
@@ -83,7 +84,7 @@ DEFAULT_WINDOWS = (0.005, 0.01, 0.02, 0.03, 0.05, 0.1, 0.2)
 """Read-out times after impact onset [s] of the time-scale study."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class ImpactResult:
     """Perceived stiffness of Ours under steps in load force.
 
@@ -117,6 +118,37 @@ class ImpactResult:
     eq10_with_load: FloatArray
     findings: tuple[ExperimentFinding, ...]
     paper_k_out: tuple[float, float] | None = None
+
+    def plot(self, *, axes: Any = None) -> Any:
+        """Eq. (10) response, ``k_out`` against time scale and against ``b1``; three Axes."""
+        from ..plot.rig import plot_impacts
+
+        return plot_impacts(self, axes=axes)
+
+    def __repr__(self) -> str:
+        return short_repr(
+            "ImpactResult",
+            {
+                "impacts": self.forces.size,
+                "k_out_mean": self.k_out_mean,
+                "k_out_std": self.k_out_std,
+                "k1": self.k1,
+                "window": self.window,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        rows: list[tuple[str, Any]] = [
+            (
+                "k_out",
+                f"{self.k_out_mean:.0f} ± {self.k_out_std:.0f} N/m ({self.forces.size} impacts)",
+            ),
+            ("read at", f"{self.window * 1e3:g} ms after onset"),
+            ("spring k1 / static", f"{self.k1:g} / {self.static_stiffness:.0f} N/m"),
+        ]
+        if self.paper_k_out is not None:
+            rows.append(("paper (its bench)", "{:g} ± {:g} N/m".format(*self.paper_k_out)))
+        return html_card("Perceived stiffness under impacts", rows)
 
     def to_dict(self) -> dict[str, Any]:
         out: dict[str, Any] = {
