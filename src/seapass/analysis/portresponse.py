@@ -30,7 +30,7 @@ import sympy as sp
 
 from ..errors import ParameterError
 from ..exact import poly as ep
-from ..exact.axis import at_j_omega, even_to_x, safe_float
+from ..exact.axis import at_j_omega, even_to_x, negative_bands, safe_float
 from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA, Impedance
 from .impedance import evaluate_system
@@ -95,40 +95,7 @@ def negative_real_bands(num: ep.Poly, den: ep.Poly) -> tuple[Band, ...]:
     >>> [round(x, 12) for x in negative_real_bands((F(-1), F(1)), (F(1), F(1)))[0]]
     [0.0, 1.0]
     """
-    px = real_part_x(num, den)
-    if not px:
-        return ()
-    sf = ep.squarefree_part(px)
-    # separate the isolating intervals (a, b] so that a rational point lies between them
-    tight: list[tuple[Fraction, Fraction]] = []
-    prev = Fraction(0)
-    for a, b in ep.isolate_real_roots(sf, Fraction(0), None):
-        while a <= prev:
-            a, b = ep.refine(sf, a, b, (b - a) / 2)
-        tight.append((a, b))
-        prev = b
-    edges = [0.0] + [_omega_of_root(sf, a, b) for a, b in tight] + [math.inf]
-    gaps, lo = [], Fraction(0)
-    for a, b in tight:
-        gaps.append((lo + a) / 2)
-        lo = b
-    gaps.append(lo * 2 + 1)
-    negative = [ep.evaluate(px, x) < 0 for x in gaps]
-    bands: list[Band] = []
-    for i, neg in enumerate(negative):
-        if not neg:
-            continue
-        if bands and i > 0 and negative[i - 1]:
-            bands[-1] = (bands[-1][0], edges[i + 1])  # an even root inside: one band
-        else:
-            bands.append((edges[i], edges[i + 1]))
-    return tuple(bands)
-
-
-def _omega_of_root(sf: ep.Poly, a: Fraction, b: Fraction) -> float:
-    if a == b:
-        return math.sqrt(safe_float(a))
-    return math.sqrt(ep.root_value(sf, a, b))
+    return tuple(negative_bands(real_part_x(num, den)))
 
 
 def default_frequencies(

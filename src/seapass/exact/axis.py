@@ -28,8 +28,10 @@ __all__ = [
     "even_to_x",
     "is_hurwitz",
     "log2",
+    "negative_bands",
     "negative_point",
     "safe_float",
+    "sign_regions",
     "sqrt_float",
 ]
 
@@ -108,11 +110,16 @@ def all_real_roots(g: ep.Poly) -> bool:
     return ep.count_real_roots(sf, lo, None) == ep.degree(sf)
 
 
-def negative_point(px: ep.Poly) -> float:
-    """A frequency where ``P(ω²) < 0`` (exactly checked), preferring the most negative one."""
+def sign_regions(px: ep.Poly) -> tuple[list[tuple[Fraction, Fraction]], list[Fraction]]:
+    """The distinct positive roots of ``px`` and a rational point in each region between them.
+
+    Returns the isolating intervals ``(a, b]`` of the roots in ``(0, ∞)``,
+    refined so that each starts strictly after the previous one ends (and
+    after 0), however close the roots are, and one point strictly inside each
+    of the ``len(intervals) + 1`` regions they cut ``(0, ∞)`` into; ``px`` has
+    a constant non-zero sign on each region.
+    """
     sf = ep.squarefree_part(px)
-    # refine until every isolating interval starts strictly after the previous
-    # root's interval (and after 0), however close the roots are
     tight: list[tuple[Fraction, Fraction]] = []
     prev = Fraction(0)
     for a, b in ep.isolate_real_roots(px, Fraction(0), None):
@@ -126,6 +133,12 @@ def negative_point(px: ep.Poly) -> float:
         points.append((lo + a) / 2)
         lo = b
     points.append(lo * 2 + 1)
+    return tight, points
+
+
+def negative_point(px: ep.Poly) -> float:
+    """A frequency where ``P(ω²) < 0`` (exactly checked), preferring the most negative one."""
+    _tight, points = sign_regions(px)
     neg = [x for x in points if x > 0 and ep.evaluate(px, x) < 0]
     if not neg:
         raise ArithmeticError("no witness found although P changes sign")  # pragma: no cover
@@ -133,6 +146,42 @@ def negative_point(px: ep.Poly) -> float:
     depth = [abs(ep.evaluate(px, x)) / sum(abs(c) * x**i for i, c in enumerate(px)) for x in neg]
     best = neg[int(np.argmax([float(d) for d in depth]))]
     return sqrt_float(best)
+
+
+def negative_bands(px: ep.Poly) -> list[tuple[float, float]]:
+    """The frequency bands where ``P(ω²) < 0``, decided exactly; ``px`` is ``P`` in ``x = ω²``.
+
+    Disjoint open bands ``(lo, hi)`` in rad/s, increasing; ``lo`` may be 0 and
+    ``hi`` ``inf``.  Whether ``P`` is negative between consecutive positive
+    roots is decided exactly at a rational point; only the edges, ``√x`` of the
+    roots, are rounded to double precision.  A root of even multiplicity inside
+    a band (``P`` touches zero) does not split it.
+
+    Examples
+    --------
+    >>> negative_bands((Fraction(-2), Fraction(1)))   # P = x - 2
+    [(0.0, 1.4142135623730951)]
+    """
+    if not ep.normalize(px):
+        return []
+    sf = ep.squarefree_part(px)
+    tight, points = sign_regions(px)
+    edges = [0.0] + [_sqrt_root(sf, a, b) for a, b in tight] + [math.inf]
+    bands: list[tuple[float, float]] = []
+    previous = False
+    for i, x in enumerate(points):
+        negative = ep.evaluate(px, x) < 0
+        if negative and previous:
+            bands[-1] = (bands[-1][0], edges[i + 1])
+        elif negative:
+            bands.append((edges[i], edges[i + 1]))
+        previous = negative
+    return bands
+
+
+def _sqrt_root(sf: ep.Poly, a: Fraction, b: Fraction) -> float:
+    """``√x`` of the root of square-free ``sf`` in ``(a, b]``, to double precision."""
+    return math.sqrt(safe_float(a) if a == b else ep.root_value(sf, a, b))
 
 
 def sqrt_float(q: Fraction) -> float:
