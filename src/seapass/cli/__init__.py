@@ -35,6 +35,7 @@ COMMANDS: tuple[str, ...] = (
     "sampled",
     "sweep",
     "rig",
+    "export",
     "analyze",
     "reproduce",
     "figure",
