@@ -117,9 +117,9 @@ def impedance_transfer_function(impedance: Impedance, *, name: str = "Z") -> Any
 def state_space(loop: ClosedLoop, *, name: str = "closed_loop") -> Any:
     """``loop`` as a ``control.StateSpace`` with named inputs, outputs and states.
 
-    Inputs are [`INPUTS`][seapass.model.realization.INPUTS] (``theta_A``,
-    ``theta_L``, ``f_ext``), outputs
-    [`OUTPUTS`][seapass.model.realization.OUTPUTS] and states ``loop.states``.
+    Inputs are ``INPUTS`` of [`seapass.model.realization`][seapass.model.realization]
+    (``theta_A``, ``theta_L``, ``f_ext``), outputs its ``OUTPUTS`` (``x_A``,
+    ``v_A``, ``x_L``, ``v_L``, ``f_A``, ``f_D1``, ``a_L``) and states ``loop.states``.
     """
     import control
 

@@ -78,7 +78,7 @@ PAPER_K_OUT = (2292.0, 91.6)
 """The paper's perceived stiffness under impacts, mean and std [N/m] (Sec. VI).
 
 Measured on the paper's bench: set beside the twin's only for that bench
-([`is_paper_hardware`][seapass.rig.rigfile.is_paper_hardware])."""
+([`is_paper_hardware`][seapass.rig.packaged.is_paper_hardware])."""
 
 DEFAULT_WINDOWS = (0.005, 0.01, 0.02, 0.03, 0.05, 0.1, 0.2)
 """Read-out times after impact onset [s] of the time-scale study."""

@@ -70,7 +70,7 @@ def stage_frequency(design: Design, quick: bool) -> Section:
                 name="negative_real_bands",
                 title="Bands where Re Z_L(jω) < 0 (exact)",
                 columns=("from ω [rad/s]", "to ω [rad/s]"),
-                rows=tuple((a, b if b < float("inf") else "∞") for a, b in bands),
+                rows=tuple((a, b) for a, b in bands),
             ),
         ),
         figures=figures,
