@@ -555,6 +555,10 @@ SLOW_BAD = [
         "--points",
         "10000000000",
     ],
+    ["explore", "--port", "-1", "--no-browser"],
+    ["explore", "--port", "abc"],
+    ["explore", "/nonexistent/design.toml", "--no-browser"],
+    ["explore", "--workers", "-2", "--no-browser"],
     ["nonexistent-command"],
     [],
 ]

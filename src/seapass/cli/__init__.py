@@ -39,6 +39,7 @@ COMMANDS: tuple[str, ...] = (
     "analyze",
     "reproduce",
     "figure",
+    "explore",
 )
 """The subcommand modules (``seapass.cli.cmd_<name>``), in ``--help`` order."""
 
