@@ -51,7 +51,7 @@ def test_fit_recovers_the_twin_within_two_percent(chirp_log: RigLog) -> None:
         p = fit[name]
         assert p.low < value < p.high, f"{name}: {value} not in [{p.low}, {p.high}]"
         assert p.stderr < 0.02 * value
-    assert fit.poorly_determined == ()
+    assert fit.poorly_determined == () and fit.consistent_with_zero == ()
     assert fit.windows_used > 100 and fit.residual_std < 0.1
     for obj in (fit, chirp_log):
         assert len(repr(obj)) < 200 and "<table>" in obj._repr_html_()
@@ -69,6 +69,16 @@ def test_exact_model_is_recovered_exactly() -> None:
     for name in ("m", "b", "b1"):
         assert fit[name].value == pytest.approx(TRUTH[name], rel=1e-3), name
     assert abs(fit["coulomb"].value) < 1e-3 and abs(fit["damper_coulomb"].value) < 1e-3
+
+
+def test_a_rig_without_damper_fits_zero_without_alarm() -> None:
+    rig = RIG.replace(damper={"b1": 0.0, "coulomb": 0.0})
+    log = twin_log(rig, chirp_command(rig.control.rate, duration=4.0), load_mass=0.1, seed=2)
+    fit = fit_rig(log, rig)
+    assert set(fit.consistent_with_zero) >= {"b1", "damper_coulomb"}
+    assert fit.poorly_determined == ()
+    assert fit["m"].value == pytest.approx(rig.actuator_mass, rel=0.02)
+    assert fit["b1"].high < 0.1 and fit["damper_coulomb"].high < 0.05
 
 
 def test_a_square_wave_confounds_mass_and_friction() -> None:

@@ -325,8 +325,9 @@ def _fit(args: argparse.Namespace) -> int:
     pct = f"{fit.confidence * 100:g} %"
     print(f"fit of {log.source} ({log.size} samples, {fit.windows_used} windows), k1 = "
           f"{rig.damper.k1:g} N/m from the rig file; {pct} intervals:")  # fmt: skip
+    zero = set(fit.consistent_with_zero)
     for p in fit.parameters:
-        bound = " (at its bound 0)" if p.at_bound else ""
+        bound = " (consistent with 0)" if p.name in zero else ""
         print(
             f"  {p.name:<15} = {p.value:<11.6g} ± {p.stderr:<9.2g} [{p.low:.6g}, {p.high:.6g}] "
             f"{p.unit}{bound}"

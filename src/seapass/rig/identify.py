@@ -167,17 +167,28 @@ class RigFit:
     def poorly_determined(self) -> tuple[str, ...]:
         """Physical parameters this log does not pin down.
 
-        A standard error above a quarter of the estimate (unless it sits on
-        its bound 0: none found), or an estimate correlated beyond ±0.98 with
-        another one: then only a combination is determined, and a small
-        systematic error moves both far (a square wave of force, for one,
-        confounds ``m`` with the Coulomb levels).
+        A standard error above a quarter of the estimate, or an estimate
+        correlated beyond ±0.98 with another one: then only a combination is
+        determined, and a small systematic error moves both far (a square
+        wave of force, for one, confounds ``m`` with the Coulomb levels).  A
+        damping or friction whose interval holds 0 is not flagged: it is
+        `consistent_with_zero` (the rig has none to speak of).
         """
+        zero = set(self.consistent_with_zero)
         return tuple(
             p.name
             for p in self.parameters
             if p.name != "offset"
-            and ((p.relative_error > 0.25 and not p.at_bound) or self.confounded(p.name))
+            and ((p.relative_error > 0.25 and p.name not in zero) or self.confounded(p.name))
+        )
+
+    @property
+    def consistent_with_zero(self) -> tuple[str, ...]:
+        """Dampings and frictions whose interval holds 0 (or that sit on their bound 0)."""
+        return tuple(
+            p.name
+            for p in self.parameters
+            if p.name not in ("m", "offset") and (p.at_bound or p.low <= 0.0)
         )
 
     def updated_rig(self) -> Rig:
@@ -222,6 +233,7 @@ class RigFit:
             "residual_std": self.residual_std,
             "correlation": self.correlation.tolist(),
             "poorly_determined": list(self.poorly_determined),
+            "consistent_with_zero": list(self.consistent_with_zero),
         }
 
     def plot(self, *, axes: Any = None) -> Any:
