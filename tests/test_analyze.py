@@ -55,7 +55,9 @@ def test_not_passive_design_report(tmp_path: Path, capsys: pytest.CaptureFixture
 
 def test_ours_with_sampled_control() -> None:
     design = load_design(EXAMPLES / "ours.toml")
-    report = analyze(design, quick=True, stages=["passivity", "ranges", "sampled"], progress=False)
+    report = analyze(
+        design, quick=True, stages=["passivity", "ranges", "sampled", "zwidth"], progress=False
+    )
     secs = {s.key: s for s in report.sections}
     assert secs["passivity"].findings[0].verdict == "agrees"
     kd = next(r for r in secs["ranges"].tables[0].rows if r[0] == "kd")
@@ -69,6 +71,10 @@ def test_ours_with_sampled_control() -> None:
     assert "search limit" not in rows["kd"][3]
     upper = float(rows["kd"][3].strip("[]").split(",")[1])
     assert 1708.0 < upper < 1e5
+    assert rows["kd"][5] == "yes" and "[" in rows["kd"][4]  # the design's own value, an edge
+    zw = secs["zwidth"]
+    assert zw.status == "ok" and zw.figures and "zwidth.csv" in zw.files
+    assert zw.tables[0].columns[0] == "bd" and len(zw.tables[0].rows) == 5
 
 
 def test_tuning_lp_quick() -> None:
@@ -88,7 +94,7 @@ def test_no_control_rate_skips_sampled() -> None:
     assert "[control] rate" in report.sections[0].text
     assert ANALYSIS_STAGES == (
         "passivity", "witness", "stiffness", "frequency", "ranges", "response", "tuning",
-        "sampled", "rig",
+        "sampled", "zwidth", "rig",
     )  # fmt: skip
     rig = analyze(design, stages=["rig"], progress=False).sections[0]
     assert rig.status == "skipped" and "[rig]" in rig.text

@@ -268,7 +268,7 @@ def test_nonfinite_measurement_stops_safely_until_reset(tmp_path: Path) -> None:
 @needs_cc
 def test_set_gains_accepts_the_certified_interval_only(tmp_path: Path) -> None:
     dsg = design("LP")
-    res = export_c(dsg, tmp_path, force_limit=FORCE_LIMIT, set_gains=True, samples=3, rtol=1e-2)
+    res = export_c(dsg, tmp_path, force_limit=FORCE_LIMIT, set_gains=True, rtol=1e-2)
     (kd,) = res.deployment.gains
     assert kd.tunable and kd.low <= 500.0 <= kd.high < 2000.0
     text = res.header.read_text()
@@ -293,7 +293,7 @@ def test_set_gains_accepts_the_certified_interval_only(tmp_path: Path) -> None:
 @needs_cc
 def test_set_gains_moves_one_gain_at_a_time(tmp_path: Path) -> None:
     dsg = design("APD")
-    res = export_c(dsg, tmp_path, force_limit=FORCE_LIMIT, set_gains=True, samples=3, rtol=1e-2)
+    res = export_c(dsg, tmp_path, force_limit=FORCE_LIMIT, set_gains=True, rtol=1e-2)
     env = {g.name: g for g in res.deployment.gains}
     c = compile_c(res)
     kd2 = (env["kd"].low + 385.0) / 2
@@ -316,7 +316,7 @@ def test_set_gains_moves_one_gain_at_a_time(tmp_path: Path) -> None:
 def test_set_gains_keeps_fixed_gains_fixed(tmp_path: Path) -> None:
     res = export_c(
         design("APD"), tmp_path, force_limit=FORCE_LIMIT, set_gains=True,
-        tunable=["bd"], samples=3, rtol=1e-2,
+        tunable=["bd"], rtol=1e-2,
     )  # fmt: skip
     assert res.deployment.tunable == ("bd",)
     c = compile_c(res)
@@ -332,7 +332,7 @@ def test_set_gains_on_a_rational_controller(tmp_path: Path) -> None:
     data["ranges"] = {"kd": [0.0, 1600.0]}
     dsg = parse_design(data)
     res = export_c(dsg, tmp_path, force_limit=40.0, set_gains=True, tunable=["kd"],
-                   samples=2, rtol=0.05)  # fmt: skip
+                   rtol=1e-2)  # fmt: skip
     assert [f.gain for f in res.deployment.filters] == [None, "kd"]
     (kd,) = (g for g in res.deployment.gains if g.tunable)
     c = compile_c(res)
@@ -429,7 +429,7 @@ def test_generated_files_carry_the_envelope(tmp_path: Path) -> None:
 @pytest.mark.skipif(shutil.which("c++") is None, reason="no C++ compiler for the header check")
 def test_header_is_valid_cpp_for_arduino_sketches(tmp_path: Path) -> None:
     export_c(design("APD"), tmp_path, force_limit=FORCE_LIMIT, set_gains=True,
-               tunable=["bd"], samples=3, rtol=1e-2)  # fmt: skip
+               tunable=["bd"], rtol=1e-2)  # fmt: skip
     sketch = tmp_path / "sketch.cpp"
     sketch.write_text(
         '#include "seapass_ctrl.h"\n'
@@ -484,7 +484,7 @@ def test_cli_verify(tmp_path: Path, capsys) -> None:
         ([], r"no \[rig\].*--force-limit N"),
         (["--force-limit", "5", "--tunable", "kd"], "need --set-gains"),
         (["--force-limit", "5", "--set-gains", "--tunable", ","], "--tunable needs gain names"),
-        (["--force-limit", "5", "--samples", "1"], "--samples must be in"),
+        (["--force-limit", "5", "--rtol", "0"], "--rtol must be in"),
     ],
 )
 def test_cli_errors_are_one_line(args, match, tmp_path: Path, capsys) -> None:

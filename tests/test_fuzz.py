@@ -455,7 +455,7 @@ SLOW_BAD = [
     ["reproduce", "--out", "x", "--jobs", "-3", "--stages", "tables"],
     ["analyze", "/nonexistent/design.toml", "--out", "x"],
     ["export", "c", "/nonexistent/design.toml", "--out", "x"],
-    ["export", "c", "/nonexistent/design.toml", "--out", "x", "--samples", "-1"],
+    ["export", "c", "/nonexistent/design.toml", "--out", "x", "--rtol", "-1"],
     ["export", "c", "/nonexistent/design.toml", "--out", "x", "--hardware-delay", "x"],
     ["export", "cpp", "design.toml", "--out", "x"],
     ["tune", "--design", "bogus"],

@@ -4,91 +4,146 @@ from __future__ import annotations
 
 import argparse
 import io
-import json
 import math
+import sys
 from pathlib import Path
 from typing import Any
 
 from ..errors import ParameterError
 from ..model.expr import parse_value
-from .common import add_model_options, atomic_write_text, model_from_args, print_json, save_plot
+from .common import (
+    add_model_options,
+    atomic_write_text,
+    json_text,
+    model_from_args,
+    print_json,
+    save_plot,
+)
 
 EXAMPLE = """examples:
+  seapass sampled check --period 0.002 --D1 "k1 + b1*s" --CA "kd + bd*s" \\
+      --set m=1.02 --set b=10 --set k1=1005 --set b1=30 --set bd=25 --set kd=2000 --json
   seapass sampled bound kd --period 0.002 --D1 "k1 + b1*s" --CL "kd" \\
       --set m=1.02 --set b=10 --set k1=1005 --set b1=30 --range 0:5000 --json
   seapass sampled bound kd --period 0.002 --D1 "k1 + b1*s" --CA "kd + bd*s" \\
       --set m=1.02 --set b=10 --set k1=1005 --set b1=30 --set bd=25 --range 0:1e5 \\
       --delay 1 --velocity-filter 50 --out results/
-  seapass sampled check --period 0.002 --D1 "k1 + b1*s" --CA "kd + bd*s" \\
-      --set m=1.02 --set b=10 --set k1=1005 --set b1=30 --set bd=25 --set kd=2000 --json
+  seapass sampled region kd bd --period 0.002 --D1 "k1 + b1*s" --CA "kd + bd*s" \\
+      --set m=1.02 --set b=10 --set k1=1005 --set b1=30 --range 0:1e5 --range2 0:100 \\
+      --delay 1 --velocity-filter 50 --out results/
 """
 
+_FORMATTER = argparse.RawDescriptionHelpFormatter
 
-def _loop_options(p: argparse.ArgumentParser) -> None:
+
+def _loop_options(
+    p: argparse.ArgumentParser, *, delay: int = 0, velocity_filter: float | None = None
+) -> None:
     g = p.add_argument_group("sampled loop")
-    g.add_argument("--period", type=float, default=0.002, help="control period T in s (0.002)")
-    g.add_argument("--delay", type=int, default=0, help="computational delay in samples (0)")
+    g.add_argument(
+        "--period", type=float, default=0.002, help="control period T in s (default 0.002)"
+    )
+    g.add_argument(
+        "--delay", type=int, default=delay, help=f"computational delay in samples (default {delay})"
+    )
     g.add_argument(
         "--velocity-filter",
         type=float,
-        default=None,
+        default=velocity_filter,
         metavar="HZ",
-        help="first-order low-pass on the finite-difference velocity, cutoff in Hz",
+        help="first-order low-pass on the finite-difference velocity, cutoff in Hz "
+        f"(default {velocity_filter or 'none'})",
     )
     g.add_argument(
         "--method",
         choices=("tustin", "zoh", "backward"),
         default="tustin",
-        help="discretization of strictly proper controller parts (derivatives always use "
-        "backward differences)",
+        help="discretization of strictly proper controller parts; derivatives always use "
+        "backward differences (default tustin)",
+    )
+    g.add_argument(
+        "--max-precision",
+        type=int,
+        default=4096,
+        metavar="BITS",
+        help="cap of the ball arithmetic's working precision; beyond it the answer is "
+        "'undecided' (default 4096)",
     )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
-    p.add_argument("--out", metavar="DIR", help="write a figure and a CSV into DIR (atomically)")
+    p.add_argument("--out", metavar="DIR", help="write figures, CSV and JSON into DIR (atomically)")
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
     p = sub.add_parser(
         "sampled",
         help="passivity under sampled-data control (ZOH, delay, velocity filter)",
-        description="Exact passivity of the load port when the controller runs at a fixed "
-        "period (Colgate-Schenkel alias condition generalised to the SEA; decided by Sturm "
-        "sequences on a polynomial in cos(wT)).",
+        description="Certified passivity of the load port when the controller runs at a fixed "
+        "period (Colgate-Schenkel alias condition generalised to the SEA; the sign of the "
+        "power polynomial in cos(wT) is decided with certified ball arithmetic, w -> 0 "
+        "included).",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        formatter_class=_FORMATTER,
     )
-    ss = p.add_subparsers(dest="sampled_command", metavar="{bound,check}")
+    ss = p.add_subparsers(dest="sampled_command", metavar="{check,bound,region}")
     ss.required = True
-    b = ss.add_parser(
-        "bound",
-        help="passive values of one parameter (e.g. the largest passive kd)",
-        epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
-    b.add_argument("param", help="free parameter to bound, e.g. kd")
-    b.add_argument("--range", required=True, metavar="LO:HI", help="search range, e.g. 0:5000")
-    b.add_argument("--samples", type=int, default=17, help="scan points before bisection (17)")
-    b.add_argument("--rtol", type=float, default=1e-6, help="edge tolerance relative to range")
-    add_model_options(b)
-    _loop_options(b)
-    b.set_defaults(func=run_bound)
     c = ss.add_parser(
         "check",
-        help="decide passivity of one fully specified design",
+        help="decide passivity of one fully specified design (exit 1 if not passive)",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        formatter_class=_FORMATTER,
     )
     add_model_options(c)
     _loop_options(c)
     c.set_defaults(func=run_check)
+    b = ss.add_parser(
+        "bound",
+        help="certified passive set of one controller parameter (e.g. the largest passive kd)",
+        epilog=EXAMPLE,
+        formatter_class=_FORMATTER,
+    )
+    b.add_argument("param", help="free controller parameter to bound, e.g. kd")
+    b.add_argument(
+        "--range", required=True, metavar="LO:HI", help="range to partition, e.g. 0:5000"
+    )
+    b.add_argument(
+        "--rtol",
+        type=float,
+        default=1e-9,
+        help="relative width of every edge enclosure, in [1e-12, 1e-2] (default 1e-9)",
+    )
+    add_model_options(b)
+    _loop_options(b)
+    b.set_defaults(func=run_bound)
+    r = ss.add_parser(
+        "region",
+        help="Z-width map: passive region of two controller parameters, three loop setups",
+        description="For each of --rows values of P2 the passive set of P1 is certified (as "
+        "by 'sampled bound'), for the ideal zero-order hold, DELAY samples of delay, and the "
+        "delay plus the velocity filter (Colgate & Brown's Z-width).",
+        epilog=EXAMPLE,
+        formatter_class=_FORMATTER,
+    )
+    r.add_argument("p1", help="parameter bounded on each row, e.g. kd (stiffness)")
+    r.add_argument("p2", help="parameter of the rows, e.g. bd (damping)")
+    r.add_argument("--range", required=True, metavar="LO:HI", help="range of P1, e.g. 0:1e5")
+    r.add_argument("--range2", required=True, metavar="LO:HI", help="range of P2, e.g. 0:100")
+    r.add_argument("--rows", type=int, default=25, help="number of P2 rows, 2..200 (default 25)")
+    r.add_argument("--log", action="store_true", help="space the P2 rows logarithmically")
+    r.add_argument(
+        "--rtol", type=float, default=1e-6, help="relative width of edge enclosures (default 1e-6)"
+    )
+    add_model_options(r)
+    _loop_options(r, delay=1, velocity_filter=50.0)
+    r.set_defaults(func=run_region)
 
 
-def _range(text: str) -> tuple[float, float]:
+def _range(text: str, flag: str = "--range") -> tuple[float, float]:
     parts = text.split(":")
     if len(parts) != 2:
-        raise ParameterError(f"--range must look like LO:HI (e.g. 0:5000), got {text!r}")
-    lo, hi = (parse_value(x, "--range") for x in parts)
+        raise ParameterError(f"{flag} must look like LO:HI (e.g. 0:5000), got {text!r}")
+    lo, hi = (parse_value(x, flag) for x in parts)
     if not lo < hi:
-        raise ParameterError(f"--range needs LO < HI, got {text!r}")
+        raise ParameterError(f"{flag} needs LO < HI, got {text!r}")
     return lo, hi
 
 
@@ -97,12 +152,64 @@ def _loop_kw(args: argparse.Namespace) -> dict[str, Any]:
         raise ParameterError(f"--period must be a positive number of seconds, got {args.period}")
     if args.delay < 0:
         raise ParameterError(f"--delay must be >= 0 samples, got {args.delay}")
+    if not 64 <= args.max_precision <= 65536:
+        raise ParameterError(
+            f"--max-precision must be in [64, 65536] bits, got {args.max_precision}"
+        )
     return {
         "period": args.period,
         "delay": args.delay,
         "velocity_filter": args.velocity_filter,
         "method": args.method,
+        "max_precision": args.max_precision,
     }
+
+
+def _write(path: Path, text: str) -> None:
+    atomic_write_text(path, text)
+    print(f"wrote {path}", file=sys.stderr)
+
+
+def _plot(draw: Any, path: Path) -> None:
+    for written in save_plot(draw, path):
+        print(f"wrote {written}", file=sys.stderr)
+
+
+def run_check(args: argparse.Namespace) -> int:
+    from ..sampled.passivity import sampled_passivity, sampled_power_curve
+
+    sea = model_from_args(args)
+    kw = _loop_kw(args)
+    res = sampled_passivity(sea, **kw)
+    if args.out:
+        from ..plot.sampled import plot_power_curve
+
+        d = Path(args.out)
+        _write(d / "sampled_check.json", json_text(res.to_dict()))
+        if res.reason in ("", "negative_power", "low_frequency", "undecided"):
+            curve = {k: v for k, v in kw.items() if k != "max_precision"}
+            w, n = sampled_power_curve(sea, **curve)
+            rows = "".join(f"{a!r},{b!r}\n" for a, b in zip(w, n, strict=True))
+            _write(d / "sampled_power.csv", "omega_rad_s,N\n" + rows)
+            _plot(lambda: plot_power_curve(w, n, period=args.period), d / "sampled_power.png")
+    if args.json:
+        print_json(res.to_dict())
+    else:
+        status = {"passive": "passive", "not_passive": "not passive", "undecided": "undecided"}
+        print(
+            f"{status[res.status.value]} at T = {args.period:g} s (delay {args.delay}): {res.detail}"
+        )
+        if res.omega is not None:
+            print(f"witness: w = {res.omega:.6g} rad/s")
+    return 0 if res.passive else 1
+
+
+def _partition_csv(param: str, res: Any) -> str:
+    buf = io.StringIO()
+    buf.write(f"{param}_lo,{param}_hi,status\n")
+    for a, b, status in res.partition:
+        buf.write(f"{a!r},{b!r},{status}\n")
+    return buf.getvalue()
 
 
 def run_bound(args: argparse.Namespace) -> int:
@@ -117,57 +224,99 @@ def run_bound(args: argparse.Namespace) -> int:
         )
     sea = sea.with_values(**{args.param: None})
     res = sampled_passive_bound(
-        sea,
-        args.param,
-        lo=lo,
-        hi=hi,
-        samples=args.samples,
-        rtol=args.rtol,
-        progress=True,
-        **_loop_kw(args),
+        sea, args.param, lo=lo, hi=hi, rtol=args.rtol, progress=True, **_loop_kw(args)
     )
     out = res.to_dict()
     if args.out:
-        from ..plot.sampled import plot_bound_scan
+        from ..plot.sampled import plot_bound
 
         d = Path(args.out)
-        buf = io.StringIO()
-        buf.write(f"{args.param},passive\n")
-        for x, v in res.samples:
-            buf.write(f"{x!r},{int(v)}\n")
-        atomic_write_text(d / f"sampled_bound_{args.param}.csv", buf.getvalue())
-        atomic_write_text(d / f"sampled_bound_{args.param}.json", json.dumps(out, indent=2))
-        save_plot(lambda: plot_bound_scan(res), d / f"sampled_bound_{args.param}.png")
+        _write(d / f"sampled_bound_{args.param}.csv", _partition_csv(args.param, res))
+        _write(d / f"sampled_bound_{args.param}.json", json_text(out))
+        _plot(lambda: plot_bound(res), d / f"sampled_bound_{args.param}.png")
     if args.json:
         print_json(out)
-    else:
-        ivs = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in res.intervals) or "none"
-        print(f"passive {args.param} at T = {args.period:g} s: {ivs}")
-        print(f"largest passive {args.param}: {res.max_passive}")
+        return 0
+    ivs = ", ".join(f"[{a:.10g}, {b:.10g}]" for a, b in res.intervals) or "none"
+    print(f"passive {args.param} at T = {args.period:g} s (delay {args.delay}): {ivs}")
+    for e in res.edges:
+        print(f"  edge in [{e.lo:.12g}, {e.hi:.12g}] ({e.kind.replace('_', ' ')})")
+    if res.undecided:
+        print(f"  undecided slivers: {len(res.undecided)} (each narrower than rtol)")
+    if res.low_frequency is not None:
+        print(f"  low-frequency condition: {res.low_frequency}")
     return 0
 
 
-def run_check(args: argparse.Namespace) -> int:
-    from ..sampled.passivity import sampled_passivity, sampled_power_curve
+def run_region(args: argparse.Namespace) -> int:
+    from ..sampled.region import LoopSetup, sampled_region
 
-    sea = model_from_args(args)
+    lo1, hi1 = _range(args.range)
+    lo2, hi2 = _range(args.range2, "--range2")
     kw = _loop_kw(args)
-    res = sampled_passivity(sea, **kw)
+    sea = model_from_args(args, extra_free=(args.p1, args.p2))
+    for name in (args.p1, args.p2):
+        if name not in sea.parameters:
+            raise ParameterError(
+                f"parameter {name!r} does not appear in the model; it uses: "
+                + ", ".join(sea.parameters)
+            )
+    d = max(int(args.delay), 1)
+    setups = [LoopSetup("ideal ZOH"), LoopSetup(f"{d}-sample delay", d)]
+    if args.velocity_filter is not None:
+        setups.append(
+            LoopSetup(
+                f"{d}-sample delay + {args.velocity_filter:g} Hz filter", d, args.velocity_filter
+            )
+        )
+    with _RowProgress(f"Z-width map {args.p1} vs {args.p2}") as progress:
+        zmap = sampled_region(
+            sea, args.p1, args.p2, period=kw["period"], p1_range=(lo1, hi1), p2_range=(lo2, hi2),
+            n=args.rows, setups=setups, method=kw["method"], rtol=args.rtol, log_p2=args.log,
+            progress=progress,
+        )  # fmt: skip
     if args.out:
-        from ..plot.sampled import plot_power_curve
+        from ..plot.sampled import plot_zwidth
 
-        d = Path(args.out)
-        atomic_write_text(d / "sampled_check.json", json.dumps(res.to_dict(), indent=2))
-        if res.reason in ("", "negative_power"):
-            w, n = sampled_power_curve(sea, **kw)
-            rows = "".join(f"{a!r},{b!r}\n" for a, b in zip(w, n, strict=True))
-            atomic_write_text(d / "sampled_power.csv", "omega_rad_s,N\n" + rows)
-            save_plot(lambda: plot_power_curve(w, n, period=args.period), d / "sampled_power.png")
+        out = Path(args.out)
+        stem = f"sampled_region_{args.p1}_{args.p2}"
+        _write(out / f"{stem}.csv", zmap.to_csv())
+        _write(out / f"{stem}.json", json_text(zmap.to_dict()))
+        _plot(lambda: plot_zwidth(zmap), out / f"{stem}.png")
     if args.json:
-        print_json(res.to_dict())
-    else:
-        status = "passive" if res.passive else "not passive"
-        print(f"{status} at T = {args.period:g} s (delay {args.delay}): {res.detail}")
-        if res.omega is not None:
-            print(f"witness: w = {res.omega:.6g} rad/s")
+        print_json(zmap.to_dict())
+        return 0
+    print(f"largest passive {args.p1} per {args.p2} at T = {args.period:g} s (certified per row):")
+    header = f"{args.p2:>12}  " + "  ".join(f"{s.label:>28}" for s in zmap.setups)
+    print(header)
+    bounds = [zmap.upper_boundary(s.label) for s in zmap.setups]
+    for i, v in enumerate(zmap.p2_values):
+        cells = "  ".join(f"{'none' if math.isnan(b[i]) else f'{b[i]:.6g}':>28}" for b in bounds)
+        print(f"{v:>12.6g}  {cells}")
     return 0
+
+
+class _RowProgress:
+    """A rich progress bar over the rows when stderr is a terminal (else silent)."""
+
+    def __init__(self, label: str) -> None:
+        self.label = label
+        self.bar: Any = None
+        self.task: Any = None
+
+    def __enter__(self) -> Any:
+        if not sys.stderr.isatty():
+            return None
+        from rich.progress import Progress
+
+        self.bar = Progress(transient=True)
+        self.bar.start()
+        self.task = self.bar.add_task(self.label, total=None)
+        return self._advance
+
+    def _advance(self, done: int, total: int) -> None:
+        self.bar.update(self.task, completed=done, total=total)
+
+    def __exit__(self, *exc: object) -> None:
+        if self.bar is not None:
+            self.bar.stop()

@@ -304,7 +304,6 @@ def export_c(
     set_gains: bool = False,
     tunable: Sequence[str] | None = None,
     allow_nonpassive: bool = False,
-    samples: int = 17,
     rtol: float = 1e-6,
     progress: bool = False,
 ) -> ExportResult:
@@ -324,7 +323,7 @@ def export_c(
     out : path-like
         Directory to write into (created if missing).  Existing files of these
         names are replaced only if seapass wrote them.
-    force_limit, hardware_delay, set_gains, tunable, allow_nonpassive, samples, rtol, progress
+    force_limit, hardware_delay, set_gains, tunable, allow_nonpassive, rtol, progress
         See [`plan_deployment`][seapass.export.deployment.plan_deployment].
 
     Returns
@@ -354,7 +353,6 @@ def export_c(
         set_gains=set_gains,
         tunable=tunable,
         allow_nonpassive=allow_nonpassive,
-        samples=samples,
         rtol=rtol,
         progress=progress,
     )

@@ -141,7 +141,6 @@ def plan_deployment(
     set_gains: bool = False,
     tunable: Sequence[str] | None = None,
     allow_nonpassive: bool = False,
-    samples: int = 17,
     rtol: float = 1e-6,
     progress: bool = False,
 ) -> Deployment:
@@ -164,9 +163,9 @@ def plan_deployment(
         Gains the runtime may change (default: every controller gain).
     allow_nonpassive : bool, default False
         Export a design that fails the sampled-data check (marked NOT CERTIFIED).
-    samples, rtol : int, float
-        Scan points and edge tolerance of the per-gain intervals
-        ([`sampled_passive_bound`][seapass.sampled.bound.sampled_passive_bound]).
+    rtol : float
+        Relative width of the edge enclosures of the per-gain intervals, certified by
+        [`sampled_passive_bound`][seapass.sampled.bound.sampled_passive_bound].
     progress : bool, default False
         Show a progress bar while the intervals are computed.
 
@@ -217,7 +216,7 @@ def plan_deployment(
             f"{delay} and velocity filter {vf or 'none'}: {verdict.detail}; lower the gains "
             "(see sampled_passive_bound) or pass allow_nonpassive=True"
         )
-    envelopes, notes = certify_gains(design, names, samples=samples, rtol=rtol, progress=progress)
+    envelopes, notes = certify_gains(design, names, rtol=rtol, progress=progress)
     return Deployment(
         design=design,
         period=Fraction(repr(period)),

@@ -69,7 +69,7 @@ def inward_interval(lo: Fraction | float, hi: Fraction | float) -> tuple[float, 
 
 
 def _certified_interval(
-    design: Design, gain: str, lo: float, hi: float, *, samples: int, rtol: float, progress: bool
+    design: Design, gain: str, lo: float, hi: float, *, rtol: float, progress: bool
 ) -> tuple[Fraction, Fraction] | None:
     """Sampled-data passive interval of ``gain`` (others at their values) containing its value."""
     res = sampled_passive_bound(
@@ -80,8 +80,8 @@ def _certified_interval(
         hi=hi,
         delay=design.control_delay,
         velocity_filter=design.velocity_filter,
-        samples=samples,
         rtol=rtol,
+        design_value=float(design.values[gain]),
         progress=progress,
     )
     nominal = Fraction(design.values[gain])
@@ -105,7 +105,6 @@ def certify_gains(
     design: Design,
     tunable: Sequence[str],
     *,
-    samples: int = 17,
     rtol: float = 1e-6,
     progress: bool = False,
 ) -> tuple[tuple[GainEnvelope, ...], tuple[str, ...]]:
@@ -123,9 +122,7 @@ def certify_gains(
         search = None
         if g in tunable:
             search = (float(ranges[g][0]), float(ranges[g][1]))
-            iv = _certified_interval(
-                design, g, *search, samples=samples, rtol=rtol, progress=progress
-            )
+            iv = _certified_interval(design, g, *search, rtol=rtol, progress=progress)
             if iv is None:
                 notes.append(
                     f"{g}: no passive interval of [{search[0]:g}, {search[1]:g}] contains the "

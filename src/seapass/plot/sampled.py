@@ -15,33 +15,77 @@ from typing import Any
 import numpy as np
 
 from ..sampled.bound import SampledBoundResult
+from ..sampled.region import ZWidthMap
 from .style import axes_grid
 
-__all__ = ["plot_bound_scan", "plot_bound_table", "plot_power_curve", "plot_sampled_limits"]
+__all__ = [
+    "plot_bound",
+    "plot_bound_table",
+    "plot_power_curve",
+    "plot_sampled_limits",
+    "plot_zwidth",
+]
 
 
-def plot_bound_scan(result: SampledBoundResult, ax: Any = None) -> Any:
-    """Passive intervals of ``result.param`` and the scan verdicts; returns the Axes."""
+def plot_bound(result: SampledBoundResult, ax: Any = None) -> Any:
+    """Certified passive intervals of ``result.param``, edge enclosures, the design value.
+
+    Returns the Axes.
+    """
     ax = axes_grid(ax, 1, 1, figsize=(7, 2.6))[0, 0]
     for i, (lo, hi) in enumerate(result.intervals):
-        ax.axvspan(lo, hi, color="tab:green", alpha=0.25, label="passive" if i == 0 else None)
-    xs = np.array([x for x, _ in result.samples])
-    ok = np.array([v for _, v in result.samples], dtype=bool)
-    ax.plot(xs[ok], np.zeros(ok.sum()), "o", color="tab:green", label="scan: passive")
-    ax.plot(xs[~ok], np.zeros((~ok).sum()), "x", color="tab:red", label="scan: not passive")
-    if result.max_passive is not None:
+        if hi > lo:
+            ax.axvspan(
+                lo,
+                hi,
+                color="tab:green",
+                alpha=0.3,
+                label="passive (certified)" if i == 0 else None,
+            )
+        else:
+            ax.axvline(lo, color="tab:green", lw=2, label="passive (isolated value)")
+    for i, e in enumerate(result.edges):
         ax.axvline(
-            result.max_passive,
-            color="k",
-            ls="--",
-            lw=1,
-            label=f"max passive {result.param} = {result.max_passive:.6g}",
-        )
+            0.5 * (e.lo + e.hi), color="k", ls="--", lw=1,
+            label=f"edge ({e.kind.replace('_', ' ')}) ±{0.5 * (e.hi - e.lo):.1e}" if i == 0 else None,
+        )  # fmt: skip
+    for i, (lo, hi) in enumerate(result.undecided):
+        ax.axvspan(lo, hi, color="tab:orange", alpha=0.6, label="undecided" if i == 0 else None)
+    if result.design_value is not None:
+        ax.plot([result.design_value], [0.5], "v", color="tab:blue", label=f"design {result.param}")
     ax.set_yticks([])
+    ax.set_ylim(0, 1)
     ax.set_xlim(result.lo, result.hi)
     ax.set_xlabel(f"{result.param} (SI units)")
-    ax.set_title(f"Sampled-data passivity at T = {result.period * 1e3:g} ms")
-    ax.legend(loc="upper right", fontsize=9)
+    ax.set_title(f"Sampled-data passivity at T = {result.period * 1e3:g} ms (delay {result.delay})")
+    ax.legend(loc="upper right", fontsize=8)
+    return ax
+
+
+def plot_zwidth(zmap: ZWidthMap, ax: Any = None) -> Any:
+    """Z-width map: the certified passive set of ``p1`` on every ``p2`` row, one colour per
+    loop setup (drawn as bars one row spacing wide: only the rows are certified).
+
+    Returns the Axes.
+    """
+    ax = axes_grid(ax, 1, 1, figsize=(7.5, 4.6))[0, 0]
+    xs = np.asarray(zmap.p2_values)
+    edges = np.concatenate([[xs[0]], 0.5 * (xs[1:] + xs[:-1]), [xs[-1]]])
+    colors = ("tab:green", "tab:orange", "tab:red", "tab:purple", "tab:brown")
+    for k, setup in enumerate(zmap.setups):
+        color = colors[k % len(colors)]
+        for i, row in enumerate(zmap.rows[setup.label]):
+            for lo, hi in row.intervals:
+                ax.fill_between(
+                    [edges[i], edges[i + 1]], lo, hi, color=color, alpha=0.22, lw=0,
+                )  # fmt: skip
+        ax.plot(xs, zmap.upper_boundary(setup.label), "o-", ms=3, color=color, label=setup.label)
+    ax.set_xlabel(f"{zmap.p2} (SI units)")
+    ax.set_ylabel(f"passive {zmap.p1} (SI units)")
+    ax.set_ylim(zmap.p1_range)
+    ax.set_title(f"Z-width at T = {zmap.period * 1e3:g} ms: passive {zmap.p1} vs {zmap.p2}")
+    ax.legend(fontsize=8, loc="upper left")
+    ax.grid(True, alpha=0.3)
     return ax
 
 

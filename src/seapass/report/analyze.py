@@ -42,7 +42,7 @@ from functools import partial
 from ..model.design_file import Design
 from .document import Report, Section, SectionStatus, Verdict, to_json
 from .pipeline import Stage, run_stages, select_stages
-from .stages import design_dynamics, design_frequency, design_hardware, design_passivity
+from .stages import design_dynamics, design_frequency, design_hardware, design_passivity, zwidth
 from .stages.design_passivity import values_text
 
 __all__ = ["ANALYSIS_STAGES", "analyze", "verdict_line"]
@@ -59,6 +59,7 @@ _STAGE_FUNCS: tuple[tuple[str, str, Callable[[Design, bool], Section]], ...] = (
     ("response", "Step response", design_dynamics.stage_response),
     ("tuning", "Tuned gains", design_dynamics.stage_tuning),
     ("sampled", "Sampled-data passivity", design_hardware.stage_sampled),
+    ("zwidth", "Z-width map", zwidth.stage_design_zwidth),
     ("rig", "Digital twin of the rig", design_hardware.stage_rig),
 )
 

@@ -44,7 +44,7 @@ from collections.abc import Callable, Sequence
 from ..version import __version__
 from .document import Report
 from .pipeline import Stage, run_stages, select_stages
-from .stages import hardware, regions, simulation, tables
+from .stages import hardware, regions, simulation, tables, zwidth
 
 __all__ = ["STAGES", "reproduce", "stage_keys"]
 
@@ -56,6 +56,7 @@ STAGES: tuple[Stage, ...] = (
     Stage("simulation", "Simulation study", simulation.stage_simulation, core=False),
     Stage("rig", "Rig experiment (digital twin)", hardware.stage_rig, core=False),
     Stage("sampled", "Sampled-data passivity", hardware.stage_sampled, core=False),
+    Stage("zwidth", "Z-width map (sampled)", zwidth.stage_zwidth, core=False),
     Stage("deploy", "Deployable controllers", hardware.stage_deploy, core=False),
     Stage("tradeoff", "Design-space trade-off", simulation.stage_tradeoff, core=False),
 )

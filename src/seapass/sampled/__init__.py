@@ -1,11 +1,19 @@
-"""Sampled-data control: discrete controllers, sampled passivity, the fixed-rate runtime.
+"""Sampled-data control: discrete controllers, certified sampled passivity, the runtime.
 
 What lives here: [`controllers`][seapass.sampled.controllers] (exact discretization and
-the deployable difference equations), [`passivity`][seapass.sampled.passivity]
-(passivity of the continuous port under the digital controller, and passive
-bounds), [`coupling`][seapass.sampled.coupling] (the digital loop coupled to passive
-environments, a simulation check) and [`runtime`][seapass.sampled.runtime] (a
-fixed-rate control loop with safety, for hardware or the twin).
+the deployable difference equations); the certified sampled-data passivity analysis:
+[`plant`][seapass.sampled.plant] (exact plant rationals), [`alias`][seapass.sampled.alias]
+(alias sums as arb balls), [`power`][seapass.sampled.power] (the weighted power polynomial),
+[`certified`][seapass.sampled.certified] (sign and stability decisions on ball polynomials),
+[`verdict`][seapass.sampled.verdict] (one certified decision),
+[`lowfreq`][seapass.sampled.lowfreq] (the closed-form low-frequency condition),
+[`passivity`][seapass.sampled.passivity] (the public verdict),
+[`family`][seapass.sampled.family] and [`boxes`][seapass.sampled.boxes] (controllers as
+functions of one parameter, branch and bound), [`bound`][seapass.sampled.bound] (certified
+passive sets of one parameter), [`region`][seapass.sampled.region] (Z-width maps);
+[`coupling`][seapass.sampled.coupling] (the digital loop coupled to passive environments,
+a simulation check) and [`runtime`][seapass.sampled.runtime] (a fixed-rate control loop
+with safety, for hardware or the twin).
 
 May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model],
 [`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim], [`seapass.batch`][seapass.batch].
@@ -20,7 +28,8 @@ from .controllers import (
     OursController,
     discretize,
 )
-from .passivity import SampledPassivityResult, sampled_passivity
+from .passivity import SampledPassivityResult, SampledStatus, sampled_passivity
+from .region import ZWidthMap, sampled_region
 from .runtime import ControlLoop, HardwareInterface, SimulatedHardware
 
 __all__ = [
@@ -33,8 +42,11 @@ __all__ = [
     "OursController",
     "SampledBoundResult",
     "SampledPassivityResult",
+    "SampledStatus",
     "SimulatedHardware",
+    "ZWidthMap",
     "discretize",
     "sampled_passive_bound",
     "sampled_passivity",
+    "sampled_region",
 ]

@@ -1,36 +1,68 @@
-"""The passive range of one parameter under sampled-data control."""
+"""Passive set of one controller parameter under sampled-data control, certified.
+
+`sampled_passive_bound` partitions a range of one controller parameter (a gain, a
+time constant: anything that appears only in ``CA``/``CL``) into proven passive intervals,
+proven non-passive intervals and edge enclosures of relative width at most ``rtol`` (see
+[`seapass.sampled.boxes`][seapass.sampled.boxes] for the branch and bound).  No value is sampled, so an island
+wider than the tolerance cannot be missed; values where the deployed controller changes
+structure (``tp = 0``, ``tz = tp``, a gain of 0) are decided one by one.
+"""
 
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import Any
 
-import numpy as np
-
-from ..errors import ParameterError
+from ..errors import ParameterError, SeapassError, UnrealizableError
 from ..model.sea import SEA
-from .controllers import Method
-from .passivity import sampled_passivity
+from .boxes import BoxVerdict, bound_boxes
+from .controllers import Method, controller_tfs
+from .family import controller_family
+from .lowfreq import low_frequency_limit
+from .passivity import check_delay, check_ranges, sampled_passivity
+from .plant import plant_key, plant_of
+from .verdict import PRECISIONS, decide
 
-__all__ = ["SampledBoundResult", "sampled_passive_bound"]
+__all__ = ["Edge", "SampledBoundResult", "sampled_passive_bound"]
+
+#: Smallest and largest relative edge tolerance accepted.
+RTOL_RANGE = (1e-12, 1e-2)
+
+
+@dataclass(frozen=True)
+class Edge:
+    """Enclosure ``[lo, hi]`` of one boundary of the passive set and what changes there."""
+
+    lo: float
+    hi: float
+    kind: str  # "low_frequency", "stability", "nyquist", "interior", "special"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"lo": self.lo, "hi": self.hi, "kind": self.kind}
 
 
 @dataclass(frozen=True)
 class SampledBoundResult:
-    """Passive values of one parameter under sampling (`sampled_passive_bound`).
+    """Certified passive values of one parameter (`sampled_passive_bound`).
 
     Attributes
     ----------
-    param : str
-    period : float
     intervals : list of (float, float)
-        Passive sub-intervals of ``[lo, hi]`` (ends refined to ``rtol``).
+        Proven passive intervals (closed; a degenerate ``(v, v)`` is an isolated value).
+        Their ends are the inner ends of the edge enclosures: conservative.
+    edges : list of Edge
+        Every boundary of the passive set, enclosed to ``rtol`` relative width.
+    undecided : list of (float, float)
+        Sub-intervals (each narrower than the tolerance) the certification could not
+        settle away from the edges; empty in all but near-degenerate cases.
     max_passive : float or None
-        Largest passive value found (``hi`` if passive up to the range end).
-    samples : list of (float, bool)
-        The scan that located the intervals (each verdict exact).
+        Largest proven passive value.
+    partition : list of (float, float, str)
+        The whole range as proven boxes and leaves: ``(lo, hi, status)``.
     """
 
     param: str
@@ -39,32 +71,61 @@ class SampledBoundResult:
     hi: float
     intervals: list[tuple[float, float]]
     max_passive: float | None
-    samples: list[tuple[float, bool]]
+    edges: list[Edge] = field(default_factory=list)
+    undecided: list[tuple[float, float]] = field(default_factory=list)
+    partition: list[tuple[float, float, str]] = field(default_factory=list)
+    delay: int = 0
+    velocity_filter: float | None = None
+    rtol: float = 1e-9
+    design_value: float | None = None
+    design_passive: bool | None = None
+    low_frequency: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
         return {
             "param": self.param,
             "period": self.period,
             "range": [self.lo, self.hi],
+            "delay": self.delay,
+            "velocity_filter": self.velocity_filter,
             "intervals": [list(iv) for iv in self.intervals],
             "max_passive": self.max_passive,
+            "edges": [e.to_dict() for e in self.edges],
+            "undecided": [list(iv) for iv in self.undecided],
+            "rtol": self.rtol,
+            "design_value": self.design_value,
+            "design_passive": self.design_passive,
+            "low_frequency": self.low_frequency,
         }
 
 
-def _scan(fn: Any, xs: list[float], progress: bool, label: str) -> list[bool]:
-    import sys
-
-    if not (progress and sys.stderr.isatty()):
-        return [bool(fn(float(x))) for x in xs]
-    from rich.progress import Progress
-
-    out = []
-    with Progress(transient=True) as bar:
-        task = bar.add_task(label, total=len(xs))
-        for x in xs:
-            out.append(bool(fn(float(x))))
-            bar.advance(task)
+def _merge_status(boxes: list[BoxVerdict]) -> list[tuple[Fraction, Fraction, str, str]]:
+    out: list[tuple[Fraction, Fraction, str, str]] = []
+    for b in boxes:
+        if out and out[-1][2] == b.status and out[-1][1] == b.lo and b.status != "undecided":
+            out[-1] = (out[-1][0], b.hi, b.status, out[-1][3])
+        else:
+            out.append((b.lo, b.hi, b.status, b.reason))
     return out
+
+
+def _edge_kind(sea: SEA, param: str, left: float, right: float, loop: dict[str, Any]) -> str:
+    """Which condition flips across an edge (from certified verdicts just outside it)."""
+    kinds = []
+    for v in (left, right):
+        try:
+            r = sampled_passivity(sea, values={param: v}, continuous_gate=False, **loop)
+        except SeapassError:  # no deployable controller just outside the edge
+            return "interior"
+        kinds.append(r.reason)
+    reasons = set(kinds) - {""}
+    if "unstable" in reasons:
+        return "stability"
+    if "low_frequency" in reasons:
+        return "low_frequency"
+    if "negative_power" in reasons:
+        return "interior"
+    return "interior"
 
 
 def sampled_passive_bound(
@@ -78,77 +139,212 @@ def sampled_passive_bound(
     velocity_filter: float | None = None,
     method: Method = "tustin",
     values: Mapping[str, float] | None = None,
-    samples: int = 17,
-    rtol: float = 1e-6,
+    rtol: float = 1e-9,
+    design_value: float | None = None,
+    max_precision: int = PRECISIONS[-1],
     progress: bool = False,
 ) -> SampledBoundResult:
-    """Passive values of ``param`` in ``[lo, hi]`` at sampling period ``period``.
+    """Certified passive values of the controller parameter ``param`` in ``[lo, hi]``.
 
-    The range is scanned at ``samples`` points (each verdict exact, by
-    `sampled_passivity`) and every change of verdict is refined by
-    bisection to ``rtol·(hi − lo)``.  Passive islands narrower than the scan
-    step can be missed; raise ``samples`` to look closer.  ``progress=True``
-    shows a rich progress bar when stderr is a terminal.
+    Parameters
+    ----------
+    sea : SEA
+        The design; ``param`` must appear in ``CA`` or ``CL`` only, every other
+        parameter needs a value.
+    param : str
+    period : float
+        Control period (s).
+    lo, hi : float
+        Range to partition (``lo < hi``; ``lo = 0`` is fine).
+    delay, velocity_filter, method
+        The sampled loop, as in [`sampled_passivity`][seapass.sampled.passivity.sampled_passivity].
+    values : mapping, optional
+        Parameter values overriding those in ``sea``.
+    rtol : float, default 1e-9
+        Relative width of every edge enclosure, in ``[1e-12, 1e-2]``.
+    design_value : float, optional
+        The design's own value: the range is widened to include it and its verdict is
+        reported (it always agrees with the intervals).
+    max_precision : int
+        Precision cap (bits) of the balls.
+    progress : bool
+        Show a rich progress bar when stderr is a terminal.
+
+    Returns
+    -------
+    SampledBoundResult
 
     Examples
     --------
     >>> ours = SEA(D1="k1 + b1*s", CA="kd + bd*s", values=dict(m=1, b=10, k1=1005, b1=30, bd=0))
-    >>> r = sampled_passive_bound(ours, "kd", period=0.002, lo=0, hi=2e4, samples=5, rtol=1e-3)
-    >>> r.max_passive is not None
-    True
+    >>> r = sampled_passive_bound(ours, "kd", period=0.002, lo=0, hi=2e4)
+    >>> [round(x) for x in r.intervals[0]]
+    [0, 10033]
     """
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise ParameterError(f"need a finite range lo < hi, got [{lo}, {hi}]")
-    if samples < 2:
-        raise ParameterError(f"samples must be at least 2, got {samples}")
+    if not (isinstance(rtol, int | float) and RTOL_RANGE[0] <= rtol <= RTOL_RANGE[1]):
+        raise ParameterError(
+            f"rtol must be in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}] (relative width of an edge "
+            f"enclosure), got {rtol!r}"
+        )
     base = sea.with_values(**(values or {}))
-
-    def passive(v: float) -> bool:
-        return sampled_passivity(
-            base,
-            period=period,
-            delay=delay,
-            velocity_filter=velocity_filter,
-            method=method,
-            values={param: v},
-        ).passive
-
-    xs = list(np.linspace(lo, hi, samples))
-    verdicts = _scan(passive, xs, progress, f"sampled bound of {param}")
-    width = rtol * (hi - lo)
-    edges: list[float] = []
-    for i in range(samples - 1):
-        if verdicts[i] != verdicts[i + 1]:
-            a, b = float(xs[i]), float(xs[i + 1])
-            va = verdicts[i]
-            while b - a > width:
-                mid = (a + b) / 2
-                if passive(mid) == va:
-                    a = mid
-                else:
-                    b = mid
-            edges.append(a if va else b)
-    intervals: list[tuple[float, float]] = []
-    start = float(xs[0]) if verdicts[0] else None
-    k = 0
-    for i in range(samples - 1):
-        if verdicts[i] != verdicts[i + 1]:
-            e = edges[k]
-            k += 1
-            if verdicts[i]:
-                intervals.append((start if start is not None else e, e))
-                start = None
-            else:
-                start = e
-    if start is not None:
-        intervals.append((start, float(xs[-1])))
-    best = intervals[-1][1] if intervals else None
-    return SampledBoundResult(
-        param,
-        float(period),
-        float(lo),
-        float(hi),
-        intervals,
-        best,
-        [(float(x), v) for x, v in zip(xs, verdicts, strict=True)],
+    if param not in base.parameters:
+        raise ParameterError(
+            f"parameter {param!r} does not appear in the model; it uses: "
+            + ", ".join(base.parameters)
+        )
+    plant_params = {str(x) for k in ("m", "b", "D1", "D2") for x in getattr(base, k).free_symbols}
+    if param in plant_params:
+        raise ParameterError(
+            f"{param} is a plant parameter; sampled bounds are certified for controller "
+            "parameters (those in CA/CL only): use `sampled check` at chosen values"
+        )
+    if design_value is not None:
+        lo, hi = min(lo, design_value), max(hi, design_value)
+    base = base.with_values(**{param: None})
+    if base.free_parameters != (param,):
+        others = [p for p in base.free_parameters if p != param]
+        raise ParameterError("sampled bound needs values for: " + ", ".join(others))
+    T = check_ranges(base.with_values(**{param: hi}), period)
+    delay = check_delay(delay)
+    probe = base.with_values(**{param: hi})
+    plant_of(probe)
+    key = plant_key(probe)
+    loop: dict[str, Any] = {
+        "period": period,
+        "delay": delay,
+        "velocity_filter": velocity_filter,
+        "method": method,
+    }
+    fam = controller_family(
+        base, param, period=period, delay=delay, velocity_filter=velocity_filter, method=method
     )
+    # the precision the point verdicts need at a few values starts the boxes
+    start = PRECISIONS[0]
+    for v in {lo, hi, (lo + hi) / 2, *(() if design_value is None else (design_value,))}:
+        ka, kl = controller_tfs(
+            base.with_values(**{param: v}),
+            **{k: loop[k] for k in ("period", "delay", "velocity_filter", "method")},
+        )
+        start = max(start, decide(key, ka, kl, T, max_precision=max_precision).precision)
+    flo, fhi = Fraction(lo), Fraction(hi)
+    span = fhi - flo
+    advance = _progress_bar(progress, f"sampled bound of {param}")
+    try:
+        boxes = bound_boxes(
+            key, T, fam, flo, fhi,
+            rtol=Fraction(rtol), atol=Fraction(rtol) * span / 10**6,
+            start_precision=start, max_precision=max_precision, advance=advance,
+        )  # fmt: skip
+    finally:
+        if advance is not None:
+            advance(None)
+    # values where the deployed controller differs from the family: decided alone
+    points = {}
+    for v in fam.special:
+        if flo <= v <= fhi and float(v) == v:
+            try:
+                r = sampled_passivity(base, values={param: float(v)}, continuous_gate=False, **loop)
+            except UnrealizableError:  # the discretization is undefined there: not deployable
+                points[v] = False
+                continue
+            points[v] = r.passive
+    return _assemble(base, param, boxes, points, float(lo), float(hi), loop, rtol, design_value)
+
+
+def _assemble(
+    sea: SEA,
+    param: str,
+    boxes: list[BoxVerdict],
+    points: dict[Fraction, bool],
+    lo: float,
+    hi: float,
+    loop: dict[str, Any],
+    rtol: float,
+    design_value: float | None,
+) -> SampledBoundResult:
+    merged = _merge_status(boxes)
+    # passive pieces as exact ends, then the special points overriding
+    pieces: list[tuple[Fraction, Fraction]] = [(a, b) for a, b, st, _r in merged if st == "passive"]
+    for v, ok in points.items():
+        if ok and not any(a <= v <= b for a, b in pieces):
+            pieces.append((v, v))
+        if not ok:
+            cut = []
+            for a, b in pieces:
+                if a < v < b:
+                    cut += [(a, v), (v, b)]  # open at v: reported closed, v is an edge of width 0
+                elif a == v == b:
+                    continue
+                else:
+                    cut.append((a, b))
+            pieces = cut
+    pieces.sort()
+    joined: list[tuple[Fraction, Fraction]] = []
+    for a, b in pieces:
+        if joined and joined[-1][1] == a and points.get(a, True):
+            joined[-1] = (joined[-1][0], b)
+        else:
+            joined.append((a, b))
+    edges: list[Edge] = []
+    undecided: list[tuple[float, float]] = []
+    for a, b, st, reason in merged:
+        if st != "undecided":
+            continue
+        if reason == "edge":
+            kind = _edge_kind(
+                sea, param, float(a) - (float(b - a) or 1e-300), float(b) + float(b - a), loop
+            )
+            edges.append(Edge(float(a), float(b), kind))
+        else:
+            undecided.append((float(a), float(b)))
+    for v, ok in points.items():
+        inside = any(a < v < b for a, b in joined)
+        if not inside and any(a <= v <= b for a, b in joined) != ok:
+            edges.append(Edge(float(v), float(v), "special"))
+    edges.sort(key=lambda e: e.lo)
+    intervals = [(float(a), float(b)) for a, b in joined]
+    design_passive = None
+    if design_value is not None:
+        design_passive = any(a <= design_value <= b for a, b in intervals)
+    low = None
+    if any(e.kind == "low_frequency" for e in edges) and loop["method"] != "zoh":
+        low = low_frequency_limit(
+            sea, param, delay=int(loop["delay"]), period=float(loop["period"]), lo=lo, hi=hi
+        )
+    return SampledBoundResult(
+        param=param,
+        period=float(loop["period"]),
+        lo=lo,
+        hi=hi,
+        intervals=intervals,
+        max_passive=intervals[-1][1] if intervals else None,
+        edges=edges,
+        undecided=undecided,
+        partition=[(float(a), float(b), st) for a, b, st, _r in merged],
+        delay=int(loop["delay"]),
+        velocity_filter=loop["velocity_filter"],
+        rtol=rtol,
+        design_value=design_value,
+        design_passive=design_passive,
+        low_frequency=low,
+    )
+
+
+def _progress_bar(progress: bool, label: str) -> Any:
+    if not (progress and sys.stderr.isatty()):
+        return None
+    from rich.progress import Progress
+
+    bar = Progress(transient=True)
+    task = bar.add_task(label, total=1.0)
+    bar.start()
+
+    def advance(step: float | None) -> None:
+        if step is None:
+            bar.stop()
+        else:
+            bar.advance(task, step)
+
+    return advance

@@ -47,11 +47,12 @@ __all__ = [
     "DiscreteTF",
     "LPController",
     "OursController",
-    "clamped_spectral_radius",
     "controller_tfs",
+    "discrete_paths",
     "discretize",
     "filter_pole",
     "state_space",
+    "zoh_discretize",
 ]
 
 Method = Literal["tustin", "zoh", "backward"]
@@ -189,7 +190,8 @@ def _split(expr: sp.Expr) -> tuple[list[sp.Rational], sp.Expr]:
     return coeffs, sp.cancel(rem.as_expr() / pd.as_expr())
 
 
-def _zoh(proper: sp.Expr, period: Fraction) -> sp.Expr:
+def zoh_discretize(proper: sp.Expr, period: Fraction) -> sp.Expr:
+    """ZOH equivalent of a strictly proper ``C(s)`` in ``q = z⁻¹`` (scipy, floats made exact)."""
     from scipy.signal import cont2discrete
 
     num, den = sp.fraction(sp.cancel(sp.together(proper)))
@@ -204,6 +206,36 @@ def _zoh(proper: sp.Expr, period: Fraction) -> sp.Expr:
     qn = sum(sp.Rational(Fraction(float(c))) * _ZINV**i for i, c in enumerate(nd))
     qd = sum(sp.Rational(Fraction(float(c))) * _ZINV**i for i, c in enumerate(dd))
     return qn / qd
+
+
+def discrete_paths(
+    coeffs: Sequence[sp.Expr],
+    proper: sp.Expr,
+    period: Fraction,
+    *,
+    method: Method,
+    velocity_filter: float | None,
+) -> tuple[sp.Expr, sp.Expr]:
+    """``(error path, measurement path)`` in ``q = z⁻¹`` of ``C(s)`` split into its polynomial
+    part ``coeffs`` (ascending) and strictly proper part ``proper`` (see the module docstring).
+
+    Works with symbolic coefficients too (a free parameter of a bound); only the ZOH of a
+    proper part needs numbers.
+    """
+    q = _ZINV
+    Tq = sp.Rational(period.numerator, period.denominator)
+    a = filter_pole(velocity_filter, float(period))
+    aq = sp.Rational(a.numerator, a.denominator)
+    delta = (1 - q) / Tq * (1 - aq) / (1 - aq * q)
+    deriv = sum((c * delta**i for i, c in enumerate(coeffs) if i >= 1), sp.Integer(0))
+    const = coeffs[0] if coeffs else sp.Integer(0)
+    if proper == 0:
+        return const, deriv
+    if method == "tustin":
+        return const + proper.subs(S, 2 / Tq * (1 - q) / (1 + q)), deriv
+    if method == "backward":
+        return const + proper.subs(S, (1 - q) / Tq), deriv
+    return const + zoh_discretize(proper, period), deriv
 
 
 def discretize(
@@ -259,21 +291,9 @@ def discretize(
         names = ", ".join(sorted(map(str, leftover)))
         raise ParameterError(f"controller has parameters without values: {names}; give them")
     coeffs, proper = _split(e)
-    q = _ZINV
-    Tq = sp.Rational(T.numerator, T.denominator)
-    a = filter_pole(velocity_filter, float(T))
-    aq = sp.Rational(a.numerator, a.denominator)
-    delta = (1 - q) / Tq * (1 - aq) / (1 - aq * q)
-    deriv = sum((c * delta**i for i, c in enumerate(coeffs) if i >= 1), sp.Integer(0))
-    const = coeffs[0] if coeffs else sp.Integer(0)
-    if proper == 0:
-        err_expr: sp.Expr = const
-    elif method == "tustin":
-        err_expr = const + proper.subs(S, 2 / Tq * (1 - q) / (1 + q))
-    elif method == "backward":
-        err_expr = const + proper.subs(S, (1 - q) / Tq)
-    else:
-        err_expr = const + _zoh(proper, T)
+    err_expr, deriv = discrete_paths(
+        coeffs, proper, T, method=method, velocity_filter=velocity_filter
+    )
     err = DiscreteTF(*_coeffs_in_q(sp.sympify(err_expr)), T)
     meas = DiscreteTF(*_coeffs_in_q(sp.sympify(deriv)), T)
     if split:
@@ -434,23 +454,3 @@ def controller_tfs(
     ctrl = DiscreteController.from_sea(sea, period, method=method, velocity_filter=velocity_filter)
     ka, kl = ctrl.transfer_functions()
     return ka.delayed(int(delay)), kl.delayed(int(delay))
-
-
-def clamped_spectral_radius(sea: SEA, ka: DiscreteTF, kl: DiscreteTF, period: float) -> float:
-    """Spectral radius of the sampled actuator loop with the port held, and of ``K_L``."""
-    from scipy.signal import cont2discrete, tf2ss
-
-    e = sea.elements()
-    alpha = e["m"] * S**2 + e["b"] * S
-    num, den = sp.fraction(sp.cancel(1 / sea.numeric(alpha + e["D1"])))
-    n = [float(c) for c in sp.Poly(num, S).all_coeffs()]
-    d = [float(c) for c in sp.Poly(den, S).all_coeffs()]
-    A, B, C, _D = tf2ss(n, d)
-    Ad, Bd, Cd, _, _ = cont2discrete((A, B, C, np.zeros((1, 1))), period, method="zoh")
-    Ak, Bk, Ck, Dk = state_space(ka)
-    top = np.hstack([Ad - Bd @ Dk @ Cd, -Bd @ Ck])
-    bot = np.hstack([Bk @ Cd, Ak])
-    rho = float(np.max(np.abs(np.linalg.eigvals(np.vstack([top, bot])))))
-    if not kl.is_zero and kl.poles().size:
-        rho = max(rho, float(np.max(np.abs(kl.poles()))))
-    return rho

@@ -17,8 +17,7 @@ import sympy as sp
 from ..errors import ModelError, ParameterError
 from ..model.expr import S
 from ..model.sea import SEA
-from .controllers import DiscreteTF, Method, state_space
-from .passivity import controller_tfs
+from .controllers import DiscreteTF, Method, controller_tfs, state_space
 
 __all__ = ["CoupledCheck", "coupled_check", "coupled_closed_loop", "worst_sampled_environment"]
 

@@ -1,0 +1,134 @@
+"""Z-width maps (Colgate & Brown) in the reports: the passive region of two gains, sampled.
+
+Each ``stage_*`` returns a [`Section`][seapass.report.document.Section]:
+``stage_zwidth(quick)`` for the paper's rig (Ours, ``kd`` against ``bd`` at 500 Hz) and
+``stage_design_zwidth(design, quick)`` for a design file with a ``[control] rate``.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+
+from ...errors import ModelError
+from ...model.design_file import Design
+from ...model.sea import SEA
+from ...plot.sampled import plot_zwidth
+from ...plot.style import figure_bytes
+from ...rig.predictions import rig_sea
+from ...rig.rigfile import paper_rig
+from ...sampled.region import LoopSetup, ZWidthMap, sampled_region
+from ..document import FigureData, Finding, Section, SectionStatus, Table, Verdict, to_json
+
+__all__ = ["stage_design_zwidth", "stage_zwidth"]
+
+_TEXT = (
+    "The Z-width (Colgate & Brown, 1994) is the range of impedances a haptic device renders "
+    "passively. Here: for each value of {p2} the passive set of {p1} is certified by branch "
+    "and bound (`seapass.sampled.region`), for the ideal zero-order hold, {d} sample(s) of "
+    "computational delay, and the delay plus the {f:g} Hz velocity filter. Only the spacing "
+    "of the {n} rows is a sampling; every row is exact to its edge enclosures."
+)
+
+
+def _setups(delay: int, velocity_filter: float) -> tuple[LoopSetup, ...]:
+    d = max(int(delay), 1)
+    return (
+        LoopSetup("ideal ZOH"),
+        LoopSetup(f"{d}-sample delay", d),
+        LoopSetup(f"{d}-sample delay + {velocity_filter:g} Hz filter", d, velocity_filter),
+    )
+
+
+def _section(
+    key: str, title: str, zmap: ZWidthMap, text: str, findings: tuple[Finding, ...]
+) -> Section:
+    bounds = [zmap.upper_boundary(s.label) for s in zmap.setups]
+    rows = tuple(
+        (v, *(None if math.isnan(b[i]) else float(b[i]) for b in bounds))
+        for i, v in enumerate(zmap.p2_values)
+    )
+    table = Table(
+        name=f"{key}_boundary",
+        title=f"Largest passive {zmap.p1} per {zmap.p2} (T = {zmap.period * 1e3:g} ms)",
+        columns=(zmap.p2, *(s.label for s in zmap.setups)),
+        rows=rows,
+        note="Full passive sets (islands included) per row in the CSV and JSON files.",
+    )
+    fig = figure_bytes(plot_zwidth(zmap))
+    return Section(
+        key=key,
+        title=title,
+        text=text,
+        tables=(table,),
+        figures=(FigureData(key, f"Z-width: passive {zmap.p1} against {zmap.p2}.", fig),),
+        findings=findings,
+        files={f"{key}.csv": zmap.to_csv(), f"{key}.json": to_json(zmap.to_dict())},
+    )
+
+
+def stage_zwidth(quick: bool) -> Section:
+    """Ours on the paper's rig: passive ``kd`` against ``bd`` at the rig's rate."""
+    rig = paper_rig()
+    sea = rig_sea(rig, "ours", bd=rig.experiment.bd_ours).with_values(bd=None, kd=None)
+    n = 5 if quick else 21
+    filt = rig.control.velocity_filter_hz or 50.0
+    zmap = sampled_region(
+        sea, "kd", "bd", period=rig.period, p1_range=(0.0, 1e5), p2_range=(0.0, 100.0), n=n,
+        setups=_setups(rig.control.delay_samples, filt), rtol=1e-6,
+    )  # fmt: skip
+    ideal, _delayed, real = (zmap.upper_boundary(s.label) for s in zmap.setups)
+    bd0 = rig.experiment.bd_ours
+    i = int(np.argmin(np.abs(np.asarray(zmap.p2_values) - bd0)))
+    finding = Finding(
+        "Damping widens the sampled Z-width (Colgate & Schenkel: K ≤ 2(b + B)/T-like growth "
+        "for the damped transmission)",
+        Verdict.INFO,
+        f"largest passive kd grows from {ideal[0]:.5g} to {ideal[-1]:.5g} N/m (ideal ZOH) and "
+        f"from {real[0]:.5g} to {real[-1]:.5g} N/m (rig delay and filter) as bd goes "
+        f"0 → {zmap.p2_values[-1]:g} N·s/m; at bd ≈ {zmap.p2_values[i]:g} the rig limit is "
+        f"{real[i]:.5g} N/m",
+    )
+    text = _TEXT.format(p1="kd", p2="bd", d=max(rig.control.delay_samples, 1), f=filt, n=n)
+    return _section("zwidth", f"Z-width of Ours at {1 / rig.period:g} Hz (beyond the paper)", zmap,
+                    text, (finding,))  # fmt: skip
+
+
+def _first(text: str, name: str) -> int:
+    found = re.search(rf"\b{re.escape(name)}\b", text)
+    return found.start() if found else len(text)
+
+
+def stage_design_zwidth(design: Design, quick: bool) -> Section:
+    """The design's first two controller gains against each other at its control rate."""
+    title = "Z-width map (sampled-data passive region of two gains)"
+    if design.period is None:
+        return Section("zwidth", title, status=SectionStatus.SKIPPED,
+                       text="Skipped: the design file has no `[control] rate`.")  # fmt: skip
+    # the gains in the order they are written (``kd + bd*s``: stiffness over damping)
+    written = f"{design.CA} {design.CL}"
+    gains = sorted(
+        (g for g in design.analysis_ranges() if g in design.gains), key=lambda g: _first(written, g)
+    )
+    if len(gains) < 2:
+        return Section("zwidth", title, status=SectionStatus.SKIPPED,
+                       text="Skipped: the controllers have fewer than two gains to map.")  # fmt: skip
+    p1, p2 = gains[0], gains[1]
+    ranges = design.analysis_ranges()
+    sea: SEA = design.sea().with_values(**{p1: None, p2: None})
+    filt = design.velocity_filter or 50.0
+    n = 5 if quick else 15
+    try:
+        zmap = sampled_region(
+            sea, p1, p2, period=design.period, p1_range=ranges[p1], p2_range=ranges[p2], n=n,
+            setups=_setups(design.control_delay, filt), rtol=1e-6,
+        )  # fmt: skip
+    except ModelError as exc:
+        return Section("zwidth", title, status=SectionStatus.SKIPPED,
+                       text=f"Skipped: the sampled-data test does not apply to this plant: {exc}")  # fmt: skip
+    text = _TEXT.format(p1=p1, p2=p2, d=max(design.control_delay, 1), f=filt, n=n)
+    if design.velocity_filter is None:
+        text += " (The design has no velocity filter; 50 Hz is shown for comparison.)"
+    return _section("zwidth", title, zmap, text, ())

@@ -1,0 +1,311 @@
+"""Certified passive set of one controller parameter under sampled-data control.
+
+The controllers are polynomial in the parameter ``λ`` ([`seapass.sampled.family`][seapass.sampled.family]), so
+the weighted power polynomial is ``P̃(x; λ) = Σ_k λ^k P̃_k(x)`` with ball polynomials
+``P̃_k`` computed once, and the characteristic polynomial of the loop with the port held is
+``χ(z; λ) = Σ_a λ^a χ_a(z)``.  A box ``[λ_lo, λ_hi]`` is
+
+* **passive** when, for every ``λ`` in it, ``χ`` is Schur-stable and ``P̃(x; λ) > 0`` on
+  ``[−1, 1]`` (both proven with coefficient enclosures over the whole box);
+* **not passive** when every ``λ`` in it has a proven negative value of ``P̃`` or an
+  unstable loop;
+* otherwise split in two.
+
+Boxes are split until they are decided or narrower than the tolerance; the undecided
+leaves that remain hold the edges (each an enclosure of width ``≤ rtol·|λ|``).  Nothing is
+sampled: a passive island wider than the tolerance cannot be missed, because every box is
+either proven or split.  Values where the deployed controller differs from the family (a
+degree of ``C(s)`` drops, a pole cancels) are decided one by one as points.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+from flint import arb, arb_poly, fmpq, fmpq_poly
+
+from .alias import AliasSums
+from .certified import (
+    Sign,
+    bernstein,
+    modulus_on_circle,
+    negative_at,
+    precision,
+    schur_stable,
+    sign_on,
+)
+from .family import ControllerFamily, poly_product
+from .power import weighted_polynomials
+from .verdict import (
+    PRECISIONS,
+    alias_injection,
+    cached_sums,
+    characteristic,
+    needed_sums,
+    precision_ladder,
+)
+
+__all__ = ["BoxVerdict", "bound_boxes"]
+
+#: Most boxes examined in one bound (bounds time; what is left is reported undecided).
+MAX_BOXES = 20000
+
+
+@dataclass(frozen=True)
+class BoxVerdict:
+    lo: Fraction
+    hi: Fraction
+    status: str  # "passive", "not_passive", "undecided"
+    reason: str = ""
+
+
+def _fq(x: Fraction) -> fmpq:
+    return fmpq(x.numerator, x.denominator)
+
+
+def _shift(polys: Sequence[Any], c: arb) -> list[Any]:
+    """Taylor coefficients in ``δ`` of ``Σ_k p_k (c + δ)^k`` (``p_k`` polys or scalars)."""
+    K = len(polys) - 1
+    out = []
+    for j in range(K + 1):
+        acc = None
+        for k in range(j, K + 1):
+            term = polys[k] * (math.comb(k, j) * c ** (k - j))
+            acc = term if acc is None else acc + term
+        out.append(acc)
+    return out
+
+
+@dataclass
+class _Setup:
+    sums: AliasSums
+    p_family: list[arb_poly]  # P̃_k
+    chi_family: list[list[arb]]  # χ_a coefficients (z ascending)
+    dl_family: list[list[arb]]  # d_L in z, per λ power
+    prec: int
+    chi_circle: list[arb_poly] = field(default_factory=list)
+    dl_circle: list[arb_poly] = field(default_factory=list)
+
+
+def _z_coeffs(polys: Sequence[fmpq_poly], e: int) -> list[list[arb]]:
+    """``z^e p(1/z)`` coefficients for every λ-power ``p``."""
+    out = []
+    for p in polys:
+        c = [arb(x) for x in p.coeffs()] + [arb(0)] * (e + 1 - len(p.coeffs()))
+        out.append(list(reversed(c)))
+    return out
+
+
+def _setup(
+    key: str, period: Fraction, fam: ControllerFamily, names: tuple[str, ...], prec: int
+) -> _Setup:
+    sums = cached_sums(key, period, names, prec)
+    a, load = fam.actuator, fam.load
+    vfam = [
+        poly_product(list(a.den), list(load.den)),
+        poly_product(list(a.num), list(load.den)),
+        poly_product(list(load.num), list(a.den)),
+    ]
+    with precision(prec):
+        p_family = weighted_polynomials(sums, vfam)
+        e = max((p.degree() for p in (*a.num, *a.den)), default=0)
+        e = max(e, 0)
+        chi = []
+        for k in range(max(len(a.num), len(a.den))):
+            na = a.num[k] if k < len(a.num) else fmpq_poly([0])
+            da = a.den[k] if k < len(a.den) else fmpq_poly([0])
+            coeffs = (
+                characteristic(sums, na, da, pad=e) if not (na.is_zero() and da.is_zero()) else []
+            )
+            chi.append([c.real for c in coeffs])
+        n = max((len(c) for c in chi), default=0)
+        chi = [c + [arb(0)] * (n - len(c)) for c in chi]
+        el = max((p.degree() for p in load.den), default=0)
+        dl = _z_coeffs(list(load.den), max(el, 0))
+        return _Setup(sums, p_family, chi, dl, prec, modulus_on_circle(chi), modulus_on_circle(dl))
+
+
+def _coeff_box(family: list[list[arb]], a: arb, w: arb) -> list[arb]:
+    """Enclosures over ``λ ∈ [a, a + w]`` of the coefficients of ``Σ_k λ^k f_k``."""
+    if not family:
+        return []
+    out = []
+    for col in zip(*family, strict=True):
+        ctrl = bernstein(_shift(list(col), a), w)
+        box = ctrl[0]
+        for c in ctrl[1:]:
+            box = box.union(c)
+        out.append(box)
+    return out
+
+
+def _stable_on_box(family: list[list[arb]], circle: list[arb_poly], a: arb, w: arb) -> bool | None:
+    """Schur stability for every ``λ`` in ``[a, a + w]`` (``None``: not proven either way).
+
+    Stable (or unstable) at ``λ = a`` and no root on the unit circle anywhere in the box
+    (``|χ(e^{jφ}; λ)|² > 0``, with a leading coefficient that never vanishes) proves the
+    same for the whole box: roots move continuously and cannot cross the circle.
+    """
+    if not family:
+        return True
+    at_a = _coeff_box(family, a, arb(0))
+    first = schur_stable(at_a)
+    if first is None:
+        return None
+    box = _coeff_box(family, a, w)
+    if schur_stable(box) is True:
+        return True
+    lead = box[-1]
+    if not (lead > 0 or lead < 0):
+        return None
+    if (
+        sign_on(bernstein(_shift(circle, a), w), Fraction(-1), Fraction(1), budget=100).sign
+        is Sign.POSITIVE
+    ):
+        return first
+    return None
+
+
+def _value(poly: arb_poly, x: float) -> float:
+    return float(poly(arb(x)).mid())
+
+
+def _deepest(poly: arb_poly, x: Fraction) -> Fraction:
+    """Walk from a negative point towards the local minimum of ``poly`` (ball midpoints at
+    the working precision: floats cannot see values far below the coefficients)."""
+    best = float(x)
+    best_val = _value(poly, best)
+    for k in (2, 5, 8, 11, 14, 17, 20, 24, 28):
+        h = 2.0**-k
+        for t in range(-8, 9):
+            y = min(1.0, max(-1.0, best + h * t / 8))
+            v = _value(poly, y)
+            if v < best_val:
+                best, best_val = y, v
+    return Fraction(best)
+
+
+def _classify(
+    s: _Setup,
+    lo: Fraction,
+    hi: Fraction,
+    load_zero: bool,
+    start: Sequence[tuple[Fraction, Fraction]] = (),
+) -> tuple[str, str, tuple[tuple[Fraction, Fraction], ...]]:
+    with precision(s.prec):
+        a = arb(_fq(lo))
+        w = arb(_fq(hi - lo))
+        stable = _stable_on_box(s.chi_family, s.chi_circle, a, w)
+        if stable is False:
+            return "not_passive", "unstable", ()
+        dl_ok = True if load_zero else _stable_on_box(s.dl_family, s.dl_circle, a, w)
+        if dl_ok is False:
+            return "not_passive", "unstable", ()
+        controls = bernstein(_shift(s.p_family, a), w)
+        res = sign_on(controls, Fraction(-1), Fraction(1), budget=200, start=start)
+        if res.sign is Sign.NEGATIVE:
+            return "not_passive", "negative_power", ()
+        if res.sign is Sign.POSITIVE and stable and dl_ok:
+            return "passive", "", ()
+        if res.sign is Sign.POSITIVE:
+            return "undecided", "", res.partition
+        # the centre alone: a deep negative point of the centre often holds for the box
+        centre_poly = _shift(s.p_family, arb(_fq((lo + hi) / 2)))[0]
+        centre = sign_on([centre_poly], Fraction(-1), Fraction(1), budget=60)
+        if centre.sign is Sign.NEGATIVE and centre.witness is not None:
+            for x in (_deepest(centre_poly, centre.witness), *_global_minimum(centre_poly)):
+                if negative_at(controls, x):
+                    return "not_passive", "negative_power", ()
+    return "undecided", "", ()
+
+
+def _global_minimum(poly: arb_poly) -> list[Fraction]:
+    xs = [math.cos(math.pi * i / 256) for i in range(257)] + [1 - 2.0**-k for k in range(12, 48, 4)]
+    vals = [_value(poly, x) for x in xs]
+    return [_deepest(poly, Fraction(xs[min(range(len(xs)), key=vals.__getitem__)]))]
+
+
+def bound_boxes(
+    key: str,
+    period: Fraction,
+    fam: ControllerFamily,
+    lo: Fraction,
+    hi: Fraction,
+    *,
+    rtol: Fraction,
+    atol: Fraction,
+    start_precision: int = PRECISIONS[0],
+    max_precision: int = PRECISIONS[-1],
+    advance: Callable[[float], None] | None = None,
+) -> list[BoxVerdict]:
+    """Partition ``[lo, hi]`` into proven boxes and undecided leaves (sorted).
+
+    Undecided regions that are not edges (proven boxes of opposite verdicts on both sides)
+    are examined again at the next precision, up to ``max_precision``.
+    """
+    a_zero, l_zero = fam.actuator.is_zero, fam.load.is_zero
+    if a_zero and l_zero:
+        return [BoxVerdict(lo, hi, "passive", "no_control")]
+    if not l_zero and alias_injection(key):
+        return [BoxVerdict(lo, hi, "not_passive", "alias_injection")]
+    names = needed_sums(a_zero, l_zero)
+    if "Sg" not in names:
+        names = (*names, "Sg")
+    ladder = [p for p in precision_ladder(max_precision) if p >= start_precision] or [max_precision]
+    tol_rel = rtol / 4  # adjacent leaves may merge into one enclosure
+    done: list[BoxVerdict] = []
+    todo = [(lo, hi)]
+    boxes = 0
+    for prec in ladder:
+        s = _setup(key, period, fam, names, prec)
+        leaves: list[tuple[Fraction, Fraction]] = []
+        stack: list[tuple[Fraction, Fraction, tuple[tuple[Fraction, Fraction], ...]]]
+        stack = [(a, b, ()) for a, b in reversed(todo)]
+        while stack:
+            a, b, start = stack.pop()
+            boxes += 1
+            status, reason, part = _classify(s, a, b, l_zero, start)
+            if status != "undecided":
+                done.append(BoxVerdict(a, b, status, reason))
+                if advance:
+                    advance(float((b - a) / (hi - lo)))
+                continue
+            if b - a <= max(tol_rel * max(abs(a), abs(b)), atol) or boxes > MAX_BOXES:
+                leaves.append((a, b))
+                continue
+            mid = (a + b) / 2
+            stack.append((mid, b, part))
+            stack.append((a, mid, part))
+        proven = sorted(done, key=lambda v: v.lo)
+        todo = []
+        for group in _merge(leaves):
+            if _is_edge(group, proven):
+                done.append(BoxVerdict(group[0], group[1], "undecided", "edge"))
+            else:
+                todo.append(group)
+        if not todo or boxes > MAX_BOXES:
+            break
+    for a, b in todo:
+        done.append(BoxVerdict(a, b, "undecided", "undecided"))
+    return sorted(done, key=lambda v: v.lo)
+
+
+def _merge(leaves: list[tuple[Fraction, Fraction]]) -> list[tuple[Fraction, Fraction]]:
+    out: list[tuple[Fraction, Fraction]] = []
+    for a, b in sorted(leaves):
+        if out and out[-1][1] == a:
+            out[-1] = (out[-1][0], b)
+        else:
+            out.append((a, b))
+    return out
+
+
+def _is_edge(leaf: tuple[Fraction, Fraction], proven: list[BoxVerdict]) -> bool:
+    a, b = leaf
+    left = next((v.status for v in reversed(proven) if v.hi == a), None)
+    right = next((v.status for v in proven if v.lo == b), None)
+    return left is not None and right is not None and left != right

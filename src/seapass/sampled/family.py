@@ -1,0 +1,186 @@
+"""Discrete controllers whose coefficients depend on one free parameter ``λ``.
+
+The discretization is the very one of [`seapass.sampled.controllers.discretize`][seapass.sampled.controllers.discretize]
+(polynomial part → derivative on the measurement with backward differences and the optional
+velocity filter; strictly proper part → Tustin / backward / ZOH), carried out with ``λ``
+left symbolic.  Each controller becomes ``n(z⁻¹; λ)/d(z⁻¹; λ)`` with coefficients that are
+polynomials in ``λ`` (denominators cleared), equal to the deployed controller at every
+``λ`` except finitely many *special values* (a degree of ``C(s)`` drops, a factor cancels,
+the discretization is undefined); those are returned so callers decide them one by one.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+import sympy as sp
+from flint import fmpq, fmpq_poly
+
+from ..errors import ParameterError
+from ..model.expr import S, symbol, to_fraction
+from ..model.sea import SEA
+from .controllers import Method, discrete_paths
+
+__all__ = ["ControllerFamily", "ControllerPolys", "controller_family", "poly_product"]
+
+_Q = sp.Symbol("q")  # z^-1
+
+
+@dataclass(frozen=True)
+class ControllerPolys:
+    """``num``/``den`` as ``[coefficient of λ^a]`` of polynomials in ``z⁻¹`` (fmpq)."""
+
+    num: tuple[fmpq_poly, ...]
+    den: tuple[fmpq_poly, ...]
+
+    @property
+    def is_zero(self) -> bool:
+        return all(p.is_zero() for p in self.num)
+
+    def at(self, lam: Fraction) -> tuple[fmpq_poly, fmpq_poly]:
+        x = fmpq(lam.numerator, lam.denominator)
+        return _at(self.num, x), _at(self.den, x)
+
+
+def _at(coeffs: tuple[fmpq_poly, ...], x: fmpq) -> fmpq_poly:
+    out = fmpq_poly([0])
+    for c in reversed(coeffs):
+        out = out * x + c
+    return out
+
+
+def _fq(r: sp.Expr) -> fmpq:
+    r = sp.Rational(r)
+    return fmpq(int(r.p), int(r.q))
+
+
+def _split(expr: sp.Expr, lam: sp.Symbol) -> tuple[list[sp.Expr], sp.Expr, list[sp.Expr]]:
+    """Polynomial part (ascending), strictly proper remainder, and λ-polynomials whose roots
+    change the structure (leading coefficients in ``s``, cancellations)."""
+    num, den = sp.fraction(sp.cancel(sp.together(expr)))
+    field = sp.QQ.frac_field(lam)
+    pn, pd = sp.Poly(num, S, domain=field), sp.Poly(den, S, domain=field)
+    quo, rem = sp.div(pn, pd)
+    special = [pn.LC(), pd.LC()]
+    if pn.degree() > 0 and pd.degree() > 0:
+        special.append(sp.resultant(pn.as_expr(), pd.as_expr(), S))
+    coeffs = [sp.sympify(field.to_sympy(c)) for c in quo.all_coeffs()[::-1]]
+    return (
+        coeffs,
+        sp.cancel(rem.as_expr() / pd.as_expr()),
+        [sp.sympify(field.to_sympy(x)) if not isinstance(x, sp.Expr) else x for x in special],
+    )
+
+
+def _in_q(expr: sp.Expr, lam: sp.Symbol) -> tuple[list[fmpq_poly], list[fmpq_poly], list[sp.Expr]]:
+    """``expr(q; λ)`` as ``num``/``den`` coefficient lists (in ``λ``) and special polynomials."""
+    num, den = sp.fraction(sp.cancel(sp.together(expr)))
+    pq_num = sp.Poly(sp.expand(num), _Q, lam)
+    pq_den = sp.Poly(sp.expand(den), _Q, lam)
+    special = [sp.Poly(den, _Q, lam).as_expr().subs(_Q, 0)]
+    if sp.Poly(num, _Q).degree() > 0 and sp.Poly(den, _Q).degree() > 0:
+        special.append(sp.resultant(sp.expand(num), sp.expand(den), _Q))
+
+    def split(p: sp.Poly) -> list[fmpq_poly]:
+        if p.is_zero:
+            return [fmpq_poly([0])]
+        k = p.degree(lam)
+        out = [[fmpq(0)] * (p.degree(_Q) + 1) for _ in range(max(k, 0) + 1)]
+        for (i, a), c in p.terms():
+            out[a][i] = _fq(c)
+        return [fmpq_poly(c) for c in out]
+
+    return split(pq_num), split(pq_den), special
+
+
+def poly_product(p: list[fmpq_poly], r: list[fmpq_poly]) -> list[fmpq_poly]:
+    """Product of two polynomials in ``λ`` whose coefficients are polynomials in ``z⁻¹``."""
+    out = [fmpq_poly([0])] * (len(p) + len(r) - 1)
+    out = list(out)
+    for i, a in enumerate(p):
+        for j, b in enumerate(r):
+            out[i + j] = out[i + j] + a * b
+    return out
+
+
+def _add(p: list[fmpq_poly], r: list[fmpq_poly]) -> list[fmpq_poly]:
+    n = max(len(p), len(r))
+    zero = fmpq_poly([0])
+    return [(p[i] if i < len(p) else zero) + (r[i] if i < len(r) else zero) for i in range(n)]
+
+
+def _discretize(
+    expr: sp.Expr, lam: sp.Symbol, period: Fraction, method: Method, velocity_filter: float | None
+) -> tuple[ControllerPolys, list[sp.Expr]]:
+    coeffs, proper, special = _split(expr, lam)
+    if method == "zoh" and lam in proper.free_symbols:
+        raise ParameterError(
+            f"{lam} sits in a strictly proper controller part discretized by ZOH; "
+            "bounds need --method tustin or backward there"
+        )
+    err, deriv = discrete_paths(
+        coeffs, proper, period, method=method, velocity_filter=velocity_filter
+    )
+    ne, de, s1 = _in_q(sp.sympify(err), lam)
+    nm, dm, s2 = _in_q(sp.sympify(deriv), lam)
+    # DiscreteTF.__add__: (ne dm + nm de)/(de dm), no cancellation
+    num = _add(poly_product(ne, dm), poly_product(nm, de))
+    den = poly_product(de, dm)
+    return ControllerPolys(tuple(num), tuple(den)), [*special, *s1, *s2]
+
+
+@dataclass(frozen=True)
+class ControllerFamily:
+    """Both controllers as functions of ``λ``; ``special``: rational ``λ`` to decide alone."""
+
+    actuator: ControllerPolys
+    load: ControllerPolys
+    special: tuple[Fraction, ...]
+
+
+def _rational_roots(exprs: list[sp.Expr], lam: sp.Symbol) -> set[Fraction]:
+    out: set[Fraction] = set()
+    for e in exprs:
+        e = sp.sympify(e)
+        num = sp.fraction(sp.together(e))[0]
+        if lam not in num.free_symbols:
+            continue
+        p = sp.Poly(sp.expand(num), lam)
+        poly = fmpq_poly([_fq(c) for c in reversed(p.all_coeffs())])
+        for f, _m in poly.factor()[1]:
+            if f.degree() == 1:
+                r = -f[0] / f[1]
+                out.add(Fraction(int(r.p), int(r.q)))
+    return out
+
+
+def controller_family(
+    sea: SEA,
+    param: str,
+    *,
+    period: float,
+    delay: int = 0,
+    velocity_filter: float | None = None,
+    method: Method = "tustin",
+) -> ControllerFamily:
+    """``K_A``, ``K_L`` of ``sea`` with ``param`` free (every other value substituted)."""
+    lam = symbol(param)
+    T = Fraction(repr(float(period)))
+    vals = {k: v for k, v in sea.values.items() if v is not None and k != param}
+    subs = {symbol(k): sp.Rational(to_fraction(v, k)) for k, v in vals.items()}
+    parts = []
+    special: list[sp.Expr] = []
+    for attr in ("CA", "CL"):
+        e = sp.sympify(getattr(sea, attr)).xreplace(subs)
+        leftover = e.free_symbols - {S, lam}
+        if leftover:
+            raise ParameterError(
+                "controller has parameters without values: " + ", ".join(sorted(map(str, leftover)))
+            )
+        polys, sp_ = _discretize(e, lam, T, method, velocity_filter)
+        if delay:
+            polys = ControllerPolys(tuple(p.left_shift(delay) for p in polys.num), polys.den)
+        parts.append(polys)
+        special += sp_
+    return ControllerFamily(parts[0], parts[1], tuple(sorted(_rational_roots(special, lam))))

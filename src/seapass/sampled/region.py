@@ -1,0 +1,191 @@
+"""Z-width maps: the passive region of two controller parameters under sampled-data control.
+
+Colgate and Brown's *Z-width* [1]_ is the range of impedances a haptic device renders
+passively; for a virtual wall ``K + B s`` it is the region of stiffness against damping.
+`sampled_region` computes that region for any two controller parameters ``P1``,
+``P2`` of an SEA at a period, for several loop setups (ideal zero-order hold, a
+computational delay, delay plus velocity filter): for each of ``n`` values of ``P2`` the
+passive set of ``P1`` is *certified* by [`sampled_passive_bound`][seapass.sampled.bound.sampled_passive_bound]
+(intervals with edge enclosures, islands included).  Only the spacing of the ``P2`` rows
+is a sampling, and the figure says so.
+
+References
+----------
+.. [1] J. E. Colgate, J. M. Brown, "Factors affecting the Z-width of a haptic display",
+   Proc. IEEE ICRA 1994, pp. 3205–3210.
+.. [2] J. E. Colgate, G. G. Schenkel, "Passivity of a class of sampled-data systems:
+   application to haptic interfaces", J. Robotic Systems 14(1), 1997.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..model.sea import SEA
+from .bound import SampledBoundResult, sampled_passive_bound
+from .controllers import Method
+
+__all__ = ["LoopSetup", "ZWidthMap", "default_setups", "sampled_region"]
+
+#: Most rows of one map (each row is a certified bound).
+MAX_ROWS = 200
+
+
+@dataclass(frozen=True)
+class LoopSetup:
+    """One sampled loop: a label, whole samples of delay, velocity filter cut-off (Hz)."""
+
+    label: str
+    delay: int = 0
+    velocity_filter: float | None = None
+
+
+def default_setups(delay: int = 1, velocity_filter: float | None = 50.0) -> tuple[LoopSetup, ...]:
+    """Ideal ZOH, ``delay`` samples of delay, and delay plus the velocity filter."""
+    d = max(int(delay), 1)
+    out = [LoopSetup("ideal ZOH"), LoopSetup(f"{d}-sample delay", d)]
+    if velocity_filter is not None:
+        out.append(
+            LoopSetup(f"{d}-sample delay + {velocity_filter:g} Hz filter", d, velocity_filter)
+        )
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class ZWidthMap:
+    """Certified passive sets of ``p1`` for each value of ``p2`` and each loop setup.
+
+    Attributes
+    ----------
+    rows : dict of str to list of SampledBoundResult
+        ``rows[setup.label][i]`` is the passive set of ``p1`` at ``p2 = p2_values[i]``.
+    """
+
+    p1: str
+    p2: str
+    period: float
+    p1_range: tuple[float, float]
+    p2_values: tuple[float, ...]
+    setups: tuple[LoopSetup, ...]
+    rows: dict[str, list[SampledBoundResult]]
+
+    def upper_boundary(self, label: str) -> np.ndarray:
+        """Largest passive ``p1`` for every ``p2`` row (NaN where none)."""
+        return np.array(
+            [np.nan if r.max_passive is None else r.max_passive for r in self.rows[label]]
+        )
+
+    def to_csv(self) -> str:
+        """One line per passive interval: setup, loop, ``p2``, ``p1`` interval, enclosures."""
+        buf = io.StringIO()
+        buf.write(f"setup,delay,velocity_filter_hz,{self.p2},{self.p1}_lo,{self.p1}_hi\n")
+        for s in self.setups:
+            for v, r in zip(self.p2_values, self.rows[s.label], strict=True):
+                filt = "" if s.velocity_filter is None else repr(s.velocity_filter)
+                if not r.intervals:
+                    buf.write(f'"{s.label}",{s.delay},{filt},{v!r},,\n')
+                for a, b in r.intervals:
+                    buf.write(f'"{s.label}",{s.delay},{filt},{v!r},{a!r},{b!r}\n')
+        return buf.getvalue()
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "p1": self.p1,
+            "p2": self.p2,
+            "period": self.period,
+            "p1_range": list(self.p1_range),
+            "p2_values": list(self.p2_values),
+            "setups": [
+                {"label": s.label, "delay": s.delay, "velocity_filter": s.velocity_filter}
+                for s in self.setups
+            ],
+            "rows": {k: [r.to_dict() for r in v] for k, v in self.rows.items()},
+        }
+
+
+def sampled_region(
+    sea: SEA,
+    p1: str,
+    p2: str,
+    *,
+    period: float,
+    p1_range: tuple[float, float],
+    p2_range: tuple[float, float],
+    n: int = 25,
+    setups: Sequence[LoopSetup] | None = None,
+    method: Method = "tustin",
+    rtol: float = 1e-6,
+    log_p2: bool = False,
+    progress: Callable[[int, int], None] | None = None,
+) -> ZWidthMap:
+    """Z-width map: certified passive sets of ``p1`` on ``n`` rows of ``p2``.
+
+    Parameters
+    ----------
+    sea : SEA
+        The design; ``p1`` and ``p2`` appear in ``CA``/``CL`` only, every other parameter
+        needs a value.
+    p1, p2 : str
+        The bounded parameter (certified per row) and the row parameter.
+    period : float
+        Control period (s).
+    p1_range, p2_range : (float, float)
+        Range of ``p1`` to partition and of the ``p2`` rows (ends included).
+    n : int, default 25
+        Number of ``p2`` rows, in ``[2, 200]``.
+    setups : sequence of LoopSetup, optional
+        Loop setups to overlay; `default_setups` by default.
+    method : {"tustin", "zoh", "backward"}
+    rtol : float, default 1e-6
+        Relative width of every edge enclosure.
+    log_p2 : bool
+        Space the rows logarithmically (``p2_range`` must then be positive).
+    progress : callable, optional
+        Called with ``(done, total)`` after each row.
+
+    Returns
+    -------
+    ZWidthMap
+
+    Examples
+    --------
+    >>> wall = SEA(D1="k1 + b1*s", CA="kd + bd*s", values=dict(m=1, b=10, k1=1005, b1=30))
+    >>> z = sampled_region(wall, "kd", "bd", period=0.002, p1_range=(0, 1e5),
+    ...                    p2_range=(0, 50), n=2, setups=default_setups()[:1])
+    >>> [round(v) for v in z.upper_boundary("ideal ZOH")]
+    [10033, 54519]
+    """
+    if p1 == p2:
+        raise ParameterError("sampled region needs two different parameters")
+    if not 2 <= int(n) <= MAX_ROWS:
+        raise ParameterError(f"n (rows) must be in [2, {MAX_ROWS}], got {n!r}")
+    lo2, hi2 = (float(x) for x in p2_range)
+    if not (math.isfinite(lo2) and math.isfinite(hi2) and lo2 < hi2):
+        raise ParameterError(f"need a finite range lo < hi for {p2}, got {p2_range}")
+    if log_p2 and lo2 <= 0:
+        raise ParameterError(f"a logarithmic {p2} axis needs a positive range, got {p2_range}")
+    values = np.geomspace(lo2, hi2, int(n)) if log_p2 else np.linspace(lo2, hi2, int(n))
+    setups = tuple(setups or default_setups())
+    rows: dict[str, list[SampledBoundResult]] = {s.label: [] for s in setups}
+    base = sea.with_values(**{p1: None, p2: None})
+    total, done = len(setups) * len(values), 0
+    for s in setups:
+        for v in values:
+            row = sampled_passive_bound(
+                base.with_values(**{p2: float(v)}), p1, period=period,
+                lo=float(p1_range[0]), hi=float(p1_range[1]),
+                delay=s.delay, velocity_filter=s.velocity_filter, method=method, rtol=rtol,
+            )  # fmt: skip
+            rows[s.label].append(row)
+            done += 1
+            if progress is not None:
+                progress(done, total)
+    return ZWidthMap(p1, p2, float(period), (float(p1_range[0]), float(p1_range[1])),
+                     tuple(float(v) for v in values), setups, rows)  # fmt: skip
