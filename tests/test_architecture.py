@@ -1,7 +1,10 @@
 """The house rules of the package layout, checked on the source (see docs/architecture.md).
 
 * imports point one way: a subpackage imports only from its own package and from
-  the layers below it (:data:`LAYERS`), at module level and inside functions;
+  the layers below it (:data:`LAYERS`), at module level and inside functions; the one
+  exception is a result's ``.plot()`` method, which may import :mod:`seapass.plot`
+  inside its body (the convenience python-control offers too: the result only hands
+  itself to the plot layer, and computing stays separate from drawing);
 * no module imports a private name (``_x``) from another module;
 * no module is longer than 500 lines, and none is named ``*_core``/``*_extra``/``*_misc``;
 * every subpackage says in its docstring what lives there and what it may import;
@@ -52,20 +55,33 @@ def _dotted(path: Path) -> list[str]:
 
 def _imports(path: Path) -> list[tuple[int, str, list[str]]]:
     """``(line, absolute module, imported names)`` of every import in ``path``."""
+    return [(line, module, names) for line, module, names, _f in _imports_in_functions(path)]
+
+
+def _imports_in_functions(path: Path) -> list[tuple[int, str, list[str], str]]:
+    """`_imports` plus the name of the innermost enclosing function (``""`` at module level)."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
     here = _dotted(path)
     package = here if path.name == "__init__.py" else here[:-1]
     out = []
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            out += [(node.lineno, a.name, []) for a in node.names]
-        elif isinstance(node, ast.ImportFrom):
-            if node.level:
-                base = package[: len(package) - node.level + 1]
-                module = ".".join(base + ([node.module] if node.module else []))
-            else:
-                module = node.module or ""
-            out.append((node.lineno, module, [a.name for a in node.names]))
+
+    def visit(node: ast.AST, func: str) -> None:
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef):
+                visit(child, child.name)
+                continue
+            if isinstance(child, ast.Import):
+                out.extend((child.lineno, a.name, [], func) for a in child.names)
+            elif isinstance(child, ast.ImportFrom):
+                if child.level:
+                    base = package[: len(package) - child.level + 1]
+                    module = ".".join(base + ([child.module] if child.module else []))
+                else:
+                    module = child.module or ""
+                out.append((child.lineno, module, [a.name for a in child.names], func))
+            visit(child, func)
+
+    visit(tree, "")
     return out
 
 
@@ -88,11 +104,13 @@ def test_imports_point_down(path: Path) -> None:
     if unit is None:
         return
     bad = []
-    for line, module, _names in _imports(path):
+    for line, module, _names, func in _imports_in_functions(path):
         parts = module.split(".")
         if parts[0] != "seapass" or len(parts) < 2:
             continue
         target = parts[1]
+        if target == "plot" and func == "plot":
+            continue  # a result's .plot() hands itself to the plot layer
         if target != unit and RANK[target] >= RANK[unit]:
             bad.append(f"line {line}: {module} (layer {target} is not below {unit})")
     assert not bad, "\n".join(bad)

@@ -305,7 +305,7 @@ COMMANDS = _commands()
 FAST = sorted(
     k
     for k in COMMANDS
-    if k[0] in {"check", "bound", "region", "response", "witness"} or k[0] == "sampled"
+    if k[0] in {"check", "bound", "region", "response", "plot", "witness"} or k[0] == "sampled"
 )
 
 
@@ -447,6 +447,10 @@ SLOW_BAD = [
     ["figure", "sims", "--out", "x", "--horizon", "nan"],
     ["figure", "sims", "--out", "x", "--seed", "abc"],
     ["tables", "--format", "xml"],
+    ["rig", "fit", "/nonexistent/log.csv", "--rig", "/nonexistent/rig.toml"],
+    ["rig", "fit", "log.csv", "--rig", "rig.toml", "--window", "-3"],
+    ["rig", "fit", "log.csv", "--rig", "rig.toml", "--confidence", "nan"],
+    ["rig", "template", "--bogus"],
     ["reproduce", "--out", "x", "--stages", "bogus"],
     ["reproduce", "--out", "x", "--jobs", "-3", "--stages", "tables"],
     ["analyze", "/nonexistent/design.toml", "--out", "x"],

@@ -143,7 +143,7 @@ def test_replace_revalidates_cross_field_rules():
 
 def test_cli_show_and_bad_file(tmp_path, capsys):
     assert main(["rig", "show"]) == 0
-    assert '"k1": 1005.0' in capsys.readouterr().out
+    assert "k1 = 1005.0" in capsys.readouterr().out
     d = _doc()
     d["spring"] = {"k1": 1.0}
     p = tmp_path / "bad.toml"

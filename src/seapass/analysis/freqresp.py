@@ -10,14 +10,15 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ParameterError
+from ..model.display import Shown, html_card, short_repr
 from ..model.expr import S
-from ..model.sea import SEA
+from ..model.sea import SEA, Impedance
 from ..model.stiffness import derive_stiffness
 
 __all__ = ["FrequencyResponse", "stiffness_coefficients", "stiffness_response"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class FrequencyResponse:
     """``|F_L/X_L(jω)|`` and its phase.
 
@@ -51,16 +52,64 @@ class FrequencyResponse:
             "high_frequency": self.high_frequency,
         }
 
+    def plot(self, *, axes: Any = None, **kwargs: Any) -> Any:
+        """Bode plot (magnitude and phase); returns the two Axes.
+
+        See [`seapass.plot.passivity.plot_bode`][seapass.plot.passivity.plot_bode].
+        """
+        from ..plot.passivity import plot_bode
+
+        return plot_bode(self, axes=axes, **kwargs)
+
+    def __repr__(self) -> str:
+        w = self.omega
+        return short_repr(
+            "FrequencyResponse",
+            {
+                "label": self.label or None,
+                "points": w.size,
+                "omega": Shown(f"[{w[0]:.4g}, {w[-1]:.4g}]" if w.size else "[]"),
+                "static": self.static,
+                "high_frequency": self.high_frequency,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        w = self.omega
+        i = int(np.argmax(self.magnitude)) if self.magnitude.size else None
+        rows: list[tuple[str, Any]] = [
+            (
+                "frequencies",
+                f"{w.size} points" + (f", {w[0]:.4g}..{w[-1]:.4g} rad/s" if w.size else ""),
+            ),
+            ("static stiffness F_L/X_L(0)", f"{self.static:.6g} N/m"),
+            ("high-frequency stiffness", f"{self.high_frequency:.6g} N/m"),
+        ]
+        if i is not None:
+            rows.append(("peak", f"{self.magnitude[i]:.6g} N/m at ω = {w[i]:.6g} rad/s"))
+        return html_card(f"Rendered stiffness {self.label}".strip(), rows)
+
 
 def stiffness_coefficients(
-    sea: SEA, values: Mapping[str, float] | None = None
+    sea: SEA | Impedance, values: Mapping[str, float] | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Numerator and denominator of ``F_L/X_L`` as float arrays, descending powers of ``s``."""
-    model = sea.with_values(**values) if values else sea
+    """Numerator and denominator of ``F_L/X_L`` as float arrays, descending powers of ``s``.
+
+    For a raw `Impedance` ``Z`` (force over velocity) the stiffness is ``s·Z``.
+    """
+    if isinstance(sea, Impedance):
+        model: SEA | Impedance = (
+            Impedance(expr=sea.expr, values={**sea.values, **values}) if values else sea
+        )
+    else:
+        model = sea.with_values(**values) if values else sea
     if model.free_parameters:
         names = ", ".join(model.free_parameters)
         raise ParameterError(f"no value for parameter(s) {names}: give them with --set")
-    expr = derive_stiffness(model).stiffness.xreplace(model.substitutions())
+    if isinstance(model, Impedance):
+        expr = (model.expr * S).xreplace(model.substitutions())
+    else:
+        expr = derive_stiffness(model).stiffness.xreplace(model.substitutions())
     num, den = sp.fraction(sp.cancel(sp.together(expr)))
     n = np.array([float(c) for c in sp.Poly(num, S).all_coeffs()])
     d = np.array([float(c) for c in sp.Poly(den, S).all_coeffs()])
@@ -68,7 +117,7 @@ def stiffness_coefficients(
 
 
 def stiffness_response(
-    sea: SEA,
+    sea: SEA | Impedance,
     omega: np.ndarray | None = None,
     *,
     values: Mapping[str, float] | None = None,
@@ -78,8 +127,9 @@ def stiffness_response(
 
     Parameters
     ----------
-    sea : SEA
-        Model with values for all parameters.
+    sea : SEA or Impedance
+        Model with values for all parameters (for a raw impedance ``Z``, the
+        stiffness ``s·Z``).
     omega : array_like, shape (n,), optional
         Frequencies [rad/s]; default 400 log-spaced points over 1e-1..1e4.
     values : mapping, optional
@@ -111,5 +161,5 @@ def stiffness_response(
         phase=np.degrees(np.unwrap(np.angle(h))),
         static=float(static),
         high_frequency=float(high),
-        label=label or sea.name,
+        label=label or getattr(sea, "name", ""),
     )

@@ -51,8 +51,10 @@ from ..exact.axis import (
     negative_point,
     safe_float,
 )
+from ..model.display import html_card, poly_text, short_repr
 from ..model.sea import SEA, Impedance
 from .impedance import evaluate_system
+from .portresponse import ImpedanceResponse, response_of
 
 __all__ = [
     "TOLERANCE_POLICY",
@@ -107,7 +109,7 @@ _DESCRIPTIONS = {
 }
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class PassivityResult:
     """Outcome of an exact positive-real test.
 
@@ -138,6 +140,17 @@ class PassivityResult:
         Coefficients of ``P`` in ``x = ω²``, ascending powers.
     tolerance : str
         The tolerance policy used (`TOLERANCE_POLICY`).
+    exact_num, exact_den : flint.fmpq_poly or None
+        The reduced ``N`` and ``D`` exactly (for
+        `response` and `plot`; not part of ``to_dict``).
+
+    Examples
+    --------
+    >>> r = is_passive("(s - 1)/(s + 2)")
+    >>> r
+    PassivityResult(passive=False, reason='negative_real_part', omega=..., margin=...)
+    >>> [round(x, 6) for x in r.response().negative_bands[0]]
+    [0.0, 1.414214]
     """
 
     passive: bool
@@ -152,6 +165,8 @@ class PassivityResult:
     real_part: tuple[float, ...] = ()
     axis_poles: tuple[float, ...] = field(default=())
     tolerance: str = TOLERANCE_POLICY
+    exact_num: fmpq_poly | None = field(default=None, compare=False)
+    exact_den: fmpq_poly | None = field(default=None, compare=False)
 
     @property
     def status(self) -> str:
@@ -175,6 +190,58 @@ class PassivityResult:
             "axis_poles": list(self.axis_poles),
             "tolerance": self.tolerance,
         }
+
+    def response(self, omega: Any = None, *, label: str = "") -> ImpedanceResponse:
+        """``Z(jω)`` of the tested impedance and the exact bands where ``Re Z(jω) < 0``.
+
+        Parameters
+        ----------
+        omega : array_like, shape (n,), optional
+            Frequencies [rad/s]; default a grid around the poles and zeros.
+        label : str, optional
+            Legend label.
+        """
+        if self.exact_num is not None and self.exact_den is not None:
+            num, den = self.exact_num, self.exact_den
+        else:  # built by hand from floats: the rationals those floats represent
+            num = ep.as_poly(list(reversed(self.num)))
+            den = ep.as_poly(list(reversed(self.den)))
+        return response_of(num, den, omega, label=label)
+
+    def plot(self, kind: str = "real", *, ax: Any = None, omega: Any = None, **kwargs: Any) -> Any:
+        """``Re Z(jω)`` with the failing bands shaded (``kind="real"``) or the Nyquist plot of ``Z``.
+
+        The bands are exact (see `response`).  Returns the matplotlib Axes.
+        """
+        from ..plot.passivity import plot_impedance
+
+        return plot_impedance(self.response(omega), kind=kind, ax=ax, **kwargs)
+
+    def __repr__(self) -> str:
+        return short_repr(
+            "PassivityResult",
+            {
+                "passive": self.passive,
+                "reason": str(self.reason) or None,
+                "omega": self.omega,
+                "margin": self.margin,
+                "marginal": self.marginal or None,
+                "lossless": self.lossless or None,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        rows: list[tuple[str, Any]] = [("verdict", self.status), ("detail", self.detail)]
+        if self.omega is not None:
+            rows.append(("witness", f"Re Z(jω) < 0 at ω = {self.omega:.6g} rad/s"))
+        rows += [
+            ("margin", f"{self.margin:.3g}"),
+            ("Z(s) numerator", poly_text(self.num)),
+            ("Z(s) denominator", poly_text(self.den)),
+        ]
+        return html_card(
+            f"Passivity: {self.status}", rows, note="Exact verdict (rational arithmetic)."
+        )
 
 
 # ---------------------------------------------------------------- conversion
@@ -292,6 +359,8 @@ def positive_real_test(
         "num": _to_floats(num, True),
         "den": _to_floats(den, True),
         "margin": margin,
+        "exact_num": num,
+        "exact_den": den,
     }
     if num.is_zero():
         return PassivityResult(

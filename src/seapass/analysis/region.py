@@ -33,6 +33,7 @@ from flint import fmpq, fmpq_poly
 
 from ..errors import ParameterError
 from ..exact import poly as ep
+from ..model.display import Shown, html_card, short_repr
 from ..model.expr import S, symbol, to_fraction
 from ..model.sea import SEA, Impedance
 from ..model.stiffness import load_impedance
@@ -44,7 +45,7 @@ _X = sp.Symbol("x")
 _OM = sp.Symbol("omega")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class PassiveIntervals:
     """Exact passive set of one parameter within ``[lo, hi]``.
 
@@ -80,6 +81,39 @@ class PassiveIntervals:
             "intervals": [list(iv) for iv in self.intervals],
             "critical_values": list(self.critical_values),
         }
+
+    def plot(self, *, ax: Any = None, **kwargs: Any) -> Any:
+        """The passive set as a bar over the search range; returns the Axes."""
+        from ..plot.region import plot_passive_intervals
+
+        return plot_passive_intervals(self, ax=ax, **kwargs)
+
+    def __repr__(self) -> str:
+        return short_repr(
+            "PassiveIntervals",
+            {
+                "param": self.param,
+                "range": Shown(f"[{self.lo:g}, {self.hi:g}]"),
+                "intervals": Shown(_intervals_text(self.intervals)),
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        return html_card(
+            f"Exact passive set of {self.param}",
+            [
+                ("search range", f"[{self.lo:g}, {self.hi:g}]"),
+                ("passive for", _intervals_text(self.intervals)),
+            ],
+        )
+
+
+def _intervals_text(intervals: Sequence[tuple[float, float]], limit: int = 4) -> str:
+    if not intervals:
+        return "[] (nowhere)"
+    text = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in intervals[:limit])
+    more = len(intervals) - limit
+    return text + (f" and {more} more" if more > 0 else "")
 
 
 def _univariate(expr: sp.Expr, p: sp.Symbol) -> fmpq_poly:
@@ -262,7 +296,7 @@ def _with(system: SEA | Impedance, values: Mapping[str, Any]) -> SEA | Impedance
     return Impedance(expr=system.expr, values={**system.values, **vals})
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class PassiveMap:
     """Passive region over two parameters.
 
@@ -284,6 +318,32 @@ class PassiveMap:
             "x": self.x.tolist(),
             "intervals": [[list(iv) for iv in ivs] for ivs in self.intervals],
         }
+
+    def plot(self, *, ax: Any = None, **kwargs: Any) -> Any:
+        """The passive region as a filled map; returns the Axes."""
+        from ..plot.region import plot_passive_map
+
+        return plot_passive_map(self, ax=ax, **kwargs)
+
+    def __repr__(self) -> str:
+        return short_repr(
+            "PassiveMap",
+            {
+                "x": Shown(f"{self.param_x} in [{self.x[0]:g}, {self.x[-1]:g}] ({self.x.size})"),
+                "y": Shown(f"{self.param_y} in [{self.y[0]:g}, {self.y[-1]:g}]"),
+                "passive_fraction": float(self.mask.mean()) if self.mask.size else None,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        return html_card(
+            f"Passive region over {self.param_x} and {self.param_y}",
+            [
+                (self.param_x, f"{self.x.size} values in [{self.x[0]:g}, {self.x[-1]:g}]"),
+                (self.param_y, f"exact along [{self.y[0]:g}, {self.y[-1]:g}]"),
+                ("passive share of the grid", f"{self.mask.mean():.1%}" if self.mask.size else "-"),
+            ],
+        )
 
 
 def passive_map(

@@ -27,6 +27,7 @@ COMMANDS: tuple[str, ...] = (
     "bound",
     "region",
     "response",
+    "plot",
     "witness",
     "tables",
     "simulate",

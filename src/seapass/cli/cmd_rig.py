@@ -1,4 +1,4 @@
-"""``seapass rig``: the paper's hardware experiment on the digital twin."""
+"""``seapass rig``: rig files, the paper's hardware experiment on the twin, and fitting a rig to a log."""
 
 from __future__ import annotations
 
@@ -7,6 +7,7 @@ import csv
 import functools
 import io
 import math
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -14,8 +15,9 @@ from ..errors import ParameterError
 from ..files.atomic import atomic_write_text
 from ..rig.experiment import run_experiment
 from ..rig.impacts import run_impacts
+from ..rig.packaged import rig_template
 from ..rig.rigfile import Rig, load_rig, paper_rig
-from .common import print_json, save_plot
+from .common import print_json, save_plot, write_figure
 
 _SWEEP_EPILOG = """\
 examples:
@@ -30,8 +32,23 @@ examples:
 """
 _SHOW_EPILOG = """\
 examples:
-  seapass rig show                    # the packaged paper rig and its derived values
+  seapass rig show                    # the packaged paper rig as TOML, derived values as comments
   seapass rig show --rig my_rig.toml  # validate a rig file (exit 2 naming the bad key)
+  seapass rig show --json             # the rig and its derived values as JSON
+"""
+_TEMPLATE_EPILOG = """\
+example:
+  seapass rig template > myrig.toml   # then edit it and check it with: seapass rig show --rig myrig.toml
+"""
+_FIT_EPILOG = """\
+The log is a CSV file with the columns time [s], commanded force [N], x_A [m], x_L [m],
+one row per control sample (a header row is optional). Log a chirp of force (e.g. 5-25 Hz)
+with the load free to move, at the rig's control rate. Only the actuator's equation is
+fitted: the load side does not enter.
+
+examples:
+  seapass rig fit chirp.csv --rig myrig.toml
+  seapass rig fit chirp.csv --rig myrig.toml --plot fit.png --rig-out fitted.toml --json
 """
 
 
@@ -64,8 +81,9 @@ def _common(p: argparse.ArgumentParser) -> None:
 def register(subparsers: Any) -> None:
     rig = subparsers.add_parser(
         "rig",
-        help="digital twin of the paper's hardware rig: kd sweep and impacts",
-        description="Run the paper's Section VI experiment on the digital twin of a rig.",
+        help="rig files, the digital twin (kd sweep, impacts) and fitting a rig to a log",
+        description="Run the paper's Section VI experiment on the digital twin of a rig, "
+        "write and check rig files, and fit a rig's actuator to a logged run.",
         epilog=_SWEEP_EPILOG + _IMPACT_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -114,7 +132,47 @@ def register(subparsers: Any) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     sh.add_argument("--rig", metavar="FILE", help="rig TOML file (default: packaged paper rig)")
+    sh.add_argument("--json", action="store_true", help="print the rig and derived values as JSON")
     sh.set_defaults(func=_show)
+
+    tp = sub.add_parser(
+        "template",
+        help="print a commented rig file to start your own from",
+        epilog=_TEMPLATE_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    tp.set_defaults(func=_template)
+
+    ft = sub.add_parser(
+        "fit",
+        help="fit m, b, b1 and Coulomb friction of a rig to a logged run",
+        description="Fit the actuator's mass m, damping b, damper b1 and the Coulomb levels "
+        "of actuator and damper to a logged chirp or step, with confidence intervals "
+        "(modulating-function least squares; see seapass.rig.identify).",
+        epilog=_FIT_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    ft.add_argument("log", metavar="LOG.csv", help="the logged run (time, force, x_A, x_L)")
+    ft.add_argument(
+        "--rig", metavar="FILE", required=True, help="rig TOML file (k1, encoders, rate, delay)"
+    )
+    ft.add_argument(
+        "--window", type=int, default=16, help="samples per modulating window (default: 16)"
+    )
+    ft.add_argument(
+        "--delay",
+        type=int,
+        help="samples between a logged command and its action (default: the rig's delay_samples)",
+    )
+    ft.add_argument(
+        "--confidence", type=float, default=0.95, help="level of the intervals (default: 0.95)"
+    )
+    ft.add_argument("--plot", metavar="FILE", help="write the fit plot (.png, .svg or .pdf)")
+    ft.add_argument(
+        "--rig-out", metavar="FILE", help="write the rig file with the fitted values (TOML)"
+    )
+    ft.add_argument("--json", action="store_true", help="print the fit as JSON")
+    ft.set_defaults(func=_fit)
 
 
 def _rig(args: argparse.Namespace) -> Rig:
@@ -196,11 +254,19 @@ def _impacts(args: argparse.Namespace) -> int:
     if args.json:
         print_json(result.to_dict())
         return 0
+    paper = "" if result.paper_k_out is None else "; paper {:g} ± {:g}".format(*result.paper_k_out)
     print(
         f"k_out = {result.k_out_mean:.0f} ± {result.k_out_std:.0f} N/m "
-        f"({result.forces.size} impacts, read at {result.window * 1e3:g} ms; paper 2292 ± 91.6; "
+        f"({result.forces.size} impacts, read at {result.window * 1e3:g} ms{paper}; "
         f"k1 = {result.k1:g}; static {result.static_stiffness:.0f})"
     )
+    if result.paper_k_out is None:
+        by_b1 = zip(result.b1_values, result.k_out_vs_b1, strict=True)
+        print("k_out against b1: " + ", ".join(f"b1 = {b:g}: {k:.0f}" for b, k in by_b1))
+        by_t = zip(result.windows, result.k_out_vs_window, strict=True)
+        print(
+            "k_out against read-out time: " + ", ".join(f"{t * 1e3:g} ms: {k:.0f}" for t, k in by_t)
+        )
     for f in result.findings:
         tag = {True: "match", False: "MISMATCH", None: "n/a"}[f.match]
         print(f"[{tag}] {f.claim}: {f.detail}")
@@ -209,5 +275,62 @@ def _impacts(args: argparse.Namespace) -> int:
 
 def _show(args: argparse.Namespace) -> int:
     rig = _rig(args)
-    print_json({"rig": rig.to_dict(), "derived": rig.derived()})
+    if args.json:
+        print_json({"rig": rig.to_dict(), "derived": rig.derived()})
+    else:
+        sys.stdout.write(rig.to_toml())
+    return 0
+
+
+def _template(args: argparse.Namespace) -> int:
+    sys.stdout.write(rig_template())
+    return 0
+
+
+def _fit(args: argparse.Namespace) -> int:
+    from ..rig.identify import fit_rig
+    from ..rig.log import load_log
+
+    rig = load_rig(args.rig)
+    log = load_log(args.log)
+    reach = float(max(abs(log.x_A).max(), abs(log.x_L).max()))
+    if reach > 1.0:
+        print(
+            f"warning: positions reach {reach:g} m; the log's positions must be in metres "
+            "(millimetres given?)",
+            file=sys.stderr,
+        )
+    fit = fit_rig(log, rig, window=args.window, delay=args.delay, confidence=args.confidence)
+    updated = fit.updated_rig() if args.rig_out else None
+    if args.plot:
+        write_figure(fit.plot, args.plot)
+    if updated is not None:
+        atomic_write_text(Path(args.rig_out), updated.to_toml())
+        print(f"wrote {args.rig_out}", file=sys.stderr)
+    for name in fit.poorly_determined:
+        others = fit.confounded(name)
+        why = (
+            f"correlated with {', '.join(others)} beyond ±0.98"
+            if others
+            else f"standard error {fit[name].relative_error:.0%} of the estimate"
+        )
+        print(
+            f"warning: {name} is poorly determined by this log ({why}); log a chirp with the "
+            "load free to move",
+            file=sys.stderr,
+        )
+    if args.json:
+        print_json(fit.to_dict())
+        return 0
+    pct = f"{fit.confidence * 100:g} %"
+    print(f"fit of {log.source} ({log.size} samples, {fit.windows_used} windows), k1 = "
+          f"{rig.damper.k1:g} N/m from the rig file; {pct} intervals:")  # fmt: skip
+    zero = set(fit.consistent_with_zero)
+    for p in fit.parameters:
+        bound = " (consistent with 0)" if p.name in zero else ""
+        print(
+            f"  {p.name:<15} = {p.value:<11.6g} ± {p.stderr:<9.2g} [{p.low:.6g}, {p.high:.6g}] "
+            f"{p.unit}{bound}"
+        )
+    print(f"residual force: {fit.residual_std:.3g} N (standard deviation per window)")
     return 0

@@ -27,6 +27,7 @@ __all__ = [
     "save_plot",
     "system_from_args",
     "values_from_args",
+    "write_figure",
 ]
 
 
@@ -104,6 +105,29 @@ def save_plot(
     with figure_style(), bare_figures():
         axes = draw()
         return save_figure(axes, path, formats=formats)
+
+
+def write_figure(draw: Callable[[], Any], path: str | os.PathLike[str]) -> Path:
+    """`save_plot` for a ``--plot FILE`` option: one file, announced on stderr.
+
+    The suffix picks the format (``.png``, ``.svg`` or ``.pdf``); a path without
+    one gets ``.png``.  Prints ``wrote PATH`` on stderr (stdout stays clean for
+    ``--json``).
+    """
+    from ..errors import ParameterError
+    from ..plot.style import FIGURE_FORMATS
+
+    p = Path(path)
+    suffix = p.suffix.lower().lstrip(".")
+    if not suffix:
+        p = p.with_name(p.name + ".png")
+    elif suffix not in FIGURE_FORMATS:
+        raise ParameterError(
+            f"--plot {str(path)!r}: unknown figure format .{suffix}; use .png, .svg or .pdf"
+        )
+    (written,) = save_plot(draw, p)
+    print(f"wrote {written}", file=sys.stderr)
+    return written
 
 
 def print_section_problems(report: Any) -> None:

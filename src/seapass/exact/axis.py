@@ -28,9 +28,11 @@ __all__ = [
     "even_to_x",
     "is_hurwitz",
     "log2",
+    "negative_bands",
     "negative_point",
     "real_part_polynomial",
     "safe_float",
+    "sign_regions",
     "sqrt_float",
 ]
 
@@ -133,19 +135,18 @@ def all_real_roots(g: fmpq_poly) -> bool:
     return ep.count_real_roots(sf) == sf.degree()
 
 
-def negative_point(px: fmpq_poly) -> float:
-    """A frequency ``ω`` where ``P(ω²) < 0`` (exactly checked), preferring the most negative.
+def sign_regions(px: fmpq_poly) -> tuple[list[ep.Interval], list[fmpq]]:
+    """The distinct positive roots of ``px`` and a rational point in each region between them.
 
-    ``px`` is a real-part polynomial in ``x = ω²`` that is negative somewhere on
-    ``x > 0``.  The candidates are the midpoints between consecutive isolating
-    intervals of its positive roots (and one point beyond the last); the one
-    with the largest relative depth ``|P(x)|/Σ|c_i|x^i`` wins.
+    Returns the isolating intervals ``(a, b]`` of the roots in ``(0, ∞)``,
+    refined so that each starts strictly after the previous one ends (and
+    after 0), however close the roots are, and one point strictly inside each
+    of the ``len(intervals) + 1`` regions they cut ``(0, ∞)`` into; ``px`` has
+    a constant non-zero sign on each region.
 
-    >>> negative_point(fmpq_poly([-1, 0, 1]))  # P(x) = x² − 1 < 0 on (0, 1)
-    0.7071067811865476
+    >>> sign_regions(fmpq_poly([-1, 0, 1]))[1]  # P(x) = x² − 1: one root, two regions
+    [1/2, 3]
     """
-    # refine until every isolating interval starts strictly after the previous
-    # root's interval (and after 0), however close the roots are
     tight: list[ep.Interval] = []
     prev = fmpq(0)
     for a, b in ep.isolate_real_roots(px, 0):
@@ -159,6 +160,21 @@ def negative_point(px: fmpq_poly) -> float:
         points.append((lo + a) / 2)
         lo = b
     points.append(lo * 2 + 1)
+    return tight, points
+
+
+def negative_point(px: fmpq_poly) -> float:
+    """A frequency ``ω`` where ``P(ω²) < 0`` (exactly checked), preferring the most negative.
+
+    ``px`` is a real-part polynomial in ``x = ω²`` that is negative somewhere on
+    ``x > 0``.  The candidates are the points of `sign_regions` (between
+    consecutive positive roots, and one beyond the last); the one with the
+    largest relative depth ``|P(x)|/Σ|c_i|x^i`` wins.
+
+    >>> negative_point(fmpq_poly([-1, 0, 1]))  # P(x) = x² − 1 < 0 on (0, 1)
+    0.7071067811865476
+    """
+    _tight, points = sign_regions(px)
     neg = [x for x in points if x > 0 and px(x) < 0]
     if not neg:
         raise ArithmeticError("no witness found although P changes sign")  # pragma: no cover
@@ -167,6 +183,47 @@ def negative_point(px: fmpq_poly) -> float:
     depth = [float(abs(px(x)) / absp(x)) for x in neg]
     best = neg[max(range(len(neg)), key=depth.__getitem__)]  # the first maximum
     return sqrt_float(best)
+
+
+def negative_bands(px: fmpq_poly) -> list[tuple[float, float]]:
+    """The frequency bands where ``P(ω²) < 0``, decided exactly; ``px`` is ``P`` in ``x = ω²``.
+
+    Disjoint open bands ``(lo, hi)`` in rad/s, increasing; ``lo`` may be 0 and
+    ``hi`` ``inf``.  Whether ``P`` is negative between consecutive positive
+    roots is decided exactly at a rational point; only the edges, ``√x`` of the
+    roots, are rounded to double precision.  A root of even multiplicity inside
+    a band (``P`` touches zero) does not split it.
+
+    Examples
+    --------
+    >>> negative_bands(fmpq_poly([-2, 1]))   # P = x - 2
+    [(0.0, 1.4142135623730951)]
+    """
+    if px.is_zero():
+        return []
+    tight, points = sign_regions(px)
+    edges = [0.0] + [root_sqrt(px, iv) for iv in tight] + [math.inf]
+    bands: list[tuple[float, float]] = []
+    previous = False
+    for i, x in enumerate(points):
+        negative = px(x) < 0
+        if negative and previous:
+            bands[-1] = (bands[-1][0], edges[i + 1])
+        elif negative:
+            bands.append((edges[i], edges[i + 1]))
+        previous = negative
+    return bands
+
+
+def root_sqrt(px: fmpq_poly, iv: ep.Interval) -> float:
+    """``√x`` of the root of ``px`` in ``(a, b]``, to double precision (``inf`` beyond range)."""
+    a, b = iv
+    if a == b:
+        return sqrt_float(a) if a > 0 else 0.0
+    try:
+        return math.sqrt(ep.root_value(px, iv))
+    except OverflowError:
+        return sqrt_float(b)
 
 
 def sqrt_float(q: fmpq) -> float:

@@ -3,12 +3,12 @@
 What lives here: [`atomic`][seapass.files.atomic] (write a file or a directory so
 that an interrupted run never leaves a half-written one) and
 [`toml`][seapass.files.toml] (read design and rig files; every error names the
-file).
+file; write the flat tables seapass writes back).
 
 May import: [`seapass.errors`][seapass.errors] only.
 """
 
 from .atomic import atomic_save, atomic_write, atomic_write_text
-from .toml import load_toml_file
+from .toml import dump_toml, load_toml_file
 
-__all__ = ["atomic_save", "atomic_write", "atomic_write_text", "load_toml_file"]
+__all__ = ["atomic_save", "atomic_write", "atomic_write_text", "dump_toml", "load_toml_file"]

@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 
 from ..errors import ParameterError
+from .display import html_card, short_repr
 from .sea import SEA
 
 __all__ = [
@@ -62,7 +63,7 @@ illustrate) for plots, reports and checks.
 """
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class CatalogDesign:
     """The structure of a named design.
 
@@ -102,6 +103,15 @@ class CatalogDesign:
                 raise ParameterError(f"bad range for {name}: ({lo}, {hi})")
         if not self.label:
             object.__setattr__(self, "label", self.title)
+
+    def __repr__(self) -> str:
+        elements = {k: v for k, v in self.elements().items() if v != "0"}
+        return short_repr("CatalogDesign", {"key": self.key, **elements, "gains": self.gains})
+
+    def _repr_html_(self) -> str:
+        rows = [*self.elements().items(), ("gains", ", ".join(self.gains) or "none")]
+        rows += [(f"range of {k}", f"[{lo:g}, {hi:g}]") for k, (lo, hi) in self.ranges.items()]
+        return html_card(f"{self.key}: {self.title}", rows)
 
     def sea(self, values: Mapping[str, float | None] | None = None, **more: float | None) -> SEA:
         """The [`SEA`][seapass.model.sea.SEA] with ``values``; gains not given stay free."""

@@ -55,6 +55,7 @@ from typing import Any
 
 from ..errors import FileFormatError, SeapassError
 from ..files.toml import load_toml_file
+from .display import html_card, short_repr
 from .sea import SEA
 
 __all__ = ["Design", "load_design", "parse_design"]
@@ -68,7 +69,7 @@ _NAME = re.compile(r"^[A-Za-z0-9_.-]{1,64}$")
 _PARAM = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,31}$")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Design:
     """A complete SEA design: model, parameter values, ranges and test conditions.
 
@@ -151,6 +152,20 @@ class Design:
                 raise FileFormatError(f"ranges.{name}: need lo < hi, got [{lo}, {hi}]")
         if not self.load_masses:
             raise FileFormatError("simulation.load_masses must not be empty")
+
+    def __repr__(self) -> str:
+        elements = {
+            k: getattr(self, k) for k in ("D1", "D2", "CA", "CL") if getattr(self, k) != "0"
+        }
+        return short_repr("Design", {"name": self.name, **elements, "values": dict(self.values)})
+
+    def _repr_html_(self) -> str:
+        rows: list[tuple[str, Any]] = [(k, getattr(self, k)) for k in ("D1", "D2", "CA", "CL")]
+        rows += list(self.values.items())
+        rows += [(f"range of {k}", f"[{lo:g}, {hi:g}]") for k, (lo, hi) in self.ranges.items()]
+        if self.control_rate:
+            rows.append(("control rate", f"{self.control_rate:g} Hz"))
+        return html_card(f"Design {self.name}" + (f": {self.title}" if self.title else ""), rows)
 
     def sea(self) -> SEA:
         """The [`SEA`][seapass.model.sea.SEA] with every value of the file."""

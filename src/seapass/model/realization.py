@@ -16,6 +16,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ParameterError, SimulationError, UnrealizableError
+from .display import html_card, short_repr
 from .expr import S, finite_number, symbol
 from .sea import SEA
 
@@ -72,7 +73,7 @@ def _realize(num: np.ndarray, den: np.ndarray, name: str) -> _Element:
     return _Element(p0, p1, A, B, C)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class ClosedLoop:
     """Closed-loop state space ``ẋ = A x + B u``, ``y = C x + D u``.
 
@@ -118,6 +119,41 @@ class ClosedLoop:
         """Rows of ``C`` and ``D`` for output ``name``."""
         i = OUTPUTS.index(name)
         return self.C[i], self.D[i]
+
+    def to_control(self, *, name: str = "closed_loop") -> Any:
+        """This loop as a ``control.StateSpace`` with named inputs, outputs and states.
+
+        Inputs `INPUTS` (``theta_A``, ``theta_L``, ``f_ext``), outputs `OUTPUTS`,
+        states ``self.states``; e.g. ``sys["x_L", "f_ext"]`` is the load's
+        compliance with the load mass attached.
+        """
+        from .pycontrol import state_space
+
+        return state_space(self, name=name)
+
+    def __repr__(self) -> str:
+        p = self.poles
+        return short_repr(
+            "ClosedLoop",
+            {
+                "states": len(self.states),
+                "load_mass": self.load_mass,
+                "max_pole_real_part": float(p.real.max()) if p.size else None,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        p = self.poles
+        return html_card(
+            "Closed loop (state space)",
+            [
+                ("states", ", ".join(self.states)),
+                ("inputs", ", ".join(INPUTS)),
+                ("outputs", ", ".join(OUTPUTS)),
+                ("load mass", f"{self.load_mass:g} kg"),
+                ("largest pole real part", f"{p.real.max():.6g} 1/s" if p.size else "-"),
+            ],
+        )
 
 
 def _assemble(

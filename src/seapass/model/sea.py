@@ -16,6 +16,7 @@ from typing import Any
 import sympy as sp
 
 from ..errors import DegenerateModelError, ExpressionError, ParameterError
+from .display import html_card, short_repr
 from .expr import (
     STANDARD_SYMBOLS,
     S,
@@ -68,7 +69,7 @@ def _freeze_values(values: Mapping[str, Any] | None) -> Mapping[str, float | Non
     return MappingProxyType(out)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class SEA:
     """A 1-DoF series elastic actuator with linear control.
 
@@ -174,8 +175,46 @@ class SEA:
         """Element expressions as strings (``0`` for absent elements)."""
         return {k: str(v) for k, v in self.elements().items()}
 
+    def to_control(
+        self, kind: str = "impedance", *, values: Mapping[str, float] | None = None
+    ) -> Any:
+        """The port impedance (``kind="impedance"``) or stiffness as a ``control.TransferFunction``.
 
-@dataclass(frozen=True)
+        ``"impedance"`` is ``Z_L = F_L/(s X_L)`` (input ``v_L``, output ``F_L``),
+        ``"stiffness"`` is ``F_L/X_L`` (input ``x_L``).  Coefficients are exact
+        until the final rounding; see [`seapass.model.pycontrol`][seapass.model.pycontrol].
+        The closed loop as a ``control.StateSpace``:
+        ``closed_loop(sea, load_mass=...).to_control()``.
+
+        Examples
+        --------
+        >>> sea = SEA(D1="k1", CL="kd", values=dict(m=1, b=10, k1=1000, kd=500))
+        >>> sea.to_control("stiffness").den_array[0, 0].tolist()
+        [1.0, 10.0, 1000.0]
+        """
+        from .pycontrol import transfer_function
+
+        return transfer_function(self, kind, values=values)
+
+    def __repr__(self) -> str:
+        fields: dict[str, Any] = {"name": self.name or None}
+        for attr in _ELEMENTS:
+            expr = getattr(self, attr)
+            if expr != 0:
+                fields[attr] = str(expr)
+        for attr in ("m", "b"):
+            if str(getattr(self, attr)) != attr:
+                fields[attr] = str(getattr(self, attr))
+        fields["values"] = dict(self.values) if self.values else None
+        return short_repr("SEA", fields)
+
+    def _repr_html_(self) -> str:
+        rows: list[tuple[str, Any]] = [(a, str(getattr(self, a))) for a in (*_ELEMENTS, "m", "b")]
+        rows += [(k, "free" if v is None else v) for k, v in self.values.items()]
+        return html_card(f"SEA {self.name}".strip(), rows)
+
+
+@dataclass(frozen=True, repr=False)
 class Impedance:
     """A raw rational impedance ``Z(s)`` with optional parameter values.
 
@@ -222,6 +261,36 @@ class Impedance:
             for k, v in self.values.items()
             if v is not None
         }
+
+    def to_control(self) -> Any:
+        """``Z(s)`` as a ``control.TransferFunction`` (input ``v``, output ``F``)."""
+        from .pycontrol import impedance_transfer_function
+
+        return impedance_transfer_function(self)
+
+    @classmethod
+    def from_control(cls, system: Any) -> Impedance:
+        """An `Impedance` from a SISO continuous-time ``control.TransferFunction`` or ``StateSpace``.
+
+        The float coefficients are taken as the exact rationals they represent.
+
+        Examples
+        --------
+        >>> import control
+        >>> Impedance.from_control(control.tf([1, 1], [1, 2]))
+        Impedance(Z='(s + 1)/(s + 2)')
+        """
+        from .pycontrol import impedance_from_control
+
+        return impedance_from_control(system)
+
+    def __repr__(self) -> str:
+        return short_repr("Impedance", {"Z": str(self.expr), "values": dict(self.values) or None})
+
+    def _repr_html_(self) -> str:
+        rows: list[tuple[str, Any]] = [("Z(s)", str(self.expr))]
+        rows += [(k, "free" if v is None else v) for k, v in self.values.items()]
+        return html_card("Impedance", rows)
 
 
 def _poly_expr(coeffs: Any, allowed: Iterable[str], what: str) -> sp.Expr:

@@ -4,7 +4,8 @@
 time and steady-state error against ``kd``, LP/Ours × load masses, dotted line
 at LP's instability gain); `plot_impacts` shows the perceived stiffness
 (Eq. (10) frequency response, ``k_out`` against the impact time scale and
-against ``b1``); `plot_deploy` shows runs of the deployed controller.
+against ``b1``; the paper's value only for the paper's rig); `plot_deploy` shows runs
+of the deployed controller; `plot_rig_fit` shows a fit of the actuator to a log.
 """
 
 from __future__ import annotations
@@ -15,10 +16,11 @@ from typing import Any
 import numpy as np
 
 from ..rig.experiment import ExperimentResult, RigSweepResult
+from ..rig.identify import RigFit
 from ..rig.impacts import ImpactResult
 from .style import axes_grid
 
-__all__ = ["plot_deploy", "plot_impacts", "plot_rig_sweep", "plot_traces"]
+__all__ = ["plot_deploy", "plot_impacts", "plot_rig_fit", "plot_rig_sweep", "plot_traces"]
 
 _COLORS = {"LP": "tab:red", "ours": "tab:blue"}
 _STYLES = ("-", "--", "-.", ":")
@@ -103,7 +105,9 @@ def plot_impacts(result: ImpactResult, *, axes: Any = None) -> Any:
     ax_f.loglog(result.omega, result.eq10_magnitude, label="Eq. (10), massless port")
     ax_f.loglog(result.omega, result.eq10_with_load, "--", label="with load-side mass")
     ax_f.axhline(result.k1, color="gray", linestyle=":", label="$k_1$")
-    ax_f.axhline(2292.0, color="k", linestyle="-.", linewidth=0.8, label="paper $k_{out}$")
+    paper = result.paper_k_out
+    if paper is not None:
+        ax_f.axhline(paper[0], color="k", linestyle="-.", linewidth=0.8, label="paper $k_{out}$")
     ax_f.set_xlabel("frequency $\\omega$ (rad/s)")
     ax_f.set_ylabel("$|F_L/X_L(j\\omega)|$ (N/m)")
     ax_f.set_title(f"Ours, $k_d$={result.kd:g}, $b_d$={result.bd:g}")
@@ -117,7 +121,14 @@ def plot_impacts(result: ImpactResult, *, axes: Any = None) -> Any:
     ax_w.axhline(
         result.static_stiffness, color="gray", linestyle="--", linewidth=0.8, label="static"
     )
-    ax_w.axhspan(2292.0 - 91.6, 2292.0 + 91.6, color="k", alpha=0.15, label="paper 2292±91.6")
+    if paper is not None:
+        ax_w.axhspan(
+            paper[0] - paper[1],
+            paper[0] + paper[1],
+            color="k",
+            alpha=0.15,
+            label=f"paper {paper[0]:g}±{paper[1]:g}",
+        )
     ax_w.axvline(result.window * 1e3, color="k", linestyle=":", linewidth=0.8)
     ax_w.set_xlabel("read-out time after impact onset (ms)")
     ax_w.set_ylabel("$k_{out} = F_L/X_L$ (N/m)")
@@ -131,7 +142,8 @@ def plot_impacts(result: ImpactResult, *, axes: Any = None) -> Any:
         label="twin, mean ± std",
     )
     ax_b.axhline(result.k1, color="gray", linestyle=":", label="$k_1$")
-    ax_b.axhspan(2292.0 - 91.6, 2292.0 + 91.6, color="k", alpha=0.15, label="paper")
+    if paper is not None:
+        ax_b.axhspan(paper[0] - paper[1], paper[0] + paper[1], color="k", alpha=0.15, label="paper")
     ax_b.set_xlabel("damper viscous coefficient $b_1$ (N s/m)")
     ax_b.set_ylabel(f"$k_{{out}}$ at {result.window * 1e3:g} ms (N/m)")
     ax_b.set_title(f"{result.forces.size} impacts per $b_1$")
@@ -161,3 +173,39 @@ def plot_deploy(runs: Sequence[tuple[str, Any]], *, axes: Any = None) -> Any:
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=9)
     return np.array([a1, a2])
+
+
+def plot_rig_fit(fit: RigFit, *, axes: Any = None) -> Any:
+    """The fit of the actuator to a log: model against applied force, and residuals in time.
+
+    Each point is one modulating window (its ``φ``-weighted mean force): the
+    force applied (command after delay and saturation) and the force the fitted
+    model needs to move as logged; a perfect fit lies on the diagonal.
+    Returns the two Axes.
+    """
+    ax_p, ax_r = axes_grid(axes, 1, 2, figsize=(10, 4.2))[0]
+    applied, model = fit.force_applied, fit.force_model
+    ax_p.plot(applied, model, ".", ms=3, color="tab:blue", label=f"{fit.windows_used} windows")
+    lo = float(min(applied.min(), model.min())) if applied.size else -1.0
+    hi = float(max(applied.max(), model.max())) if applied.size else 1.0
+    ax_p.plot([lo, hi], [lo, hi], color="0.4", lw=0.8, ls="--", label="model = applied")
+    ax_p.set_xlabel("applied force, window mean [N]")
+    ax_p.set_ylabel("fitted model's force [N]")
+    ax_p.legend(loc="upper left", fontsize=8)
+    resid = applied - model
+    ax_r.plot(fit.t_window, resid, ".", ms=3, color="tab:red")
+    band = 1.96 * fit.residual_std
+    ax_r.axhspan(-band, band, color="tab:red", alpha=0.1, lw=0, label="±1.96 σ")
+    ax_r.axhline(0.0, color="0.3", lw=0.8)
+    ax_r.set_xlabel("time [s]")
+    ax_r.set_ylabel("applied − model [N]")
+    ax_r.legend(loc="upper right", fontsize=8)
+    for ax in (ax_p, ax_r):
+        ax.grid(True, alpha=0.3)
+    shown = [p for p in fit.parameters if p.name != "offset"]
+    lines = [
+        ", ".join(f"{p.name} = {p.value:.4g} ± {p.stderr:.2g} {p.unit}" for p in part)
+        for part in (shown[:3], shown[3:])
+    ]
+    ax_p.figure.suptitle("\n".join(lines), fontsize=9)
+    return np.array([ax_p, ax_r])

@@ -13,6 +13,10 @@ returns a [`Report`][seapass.report.document.Report]:
     ([`seapass.analysis.witness.find_destabilizing_environment`][seapass.analysis.witness.find_destabilizing_environment]).
 ``stiffness``
     Rendered-stiffness frequency response.
+``frequency``
+    Passivity in the frequency domain: Bode of ``F_L/X_L`` with phase,
+    ``Re Z_L(jω)`` with the exact bands where it is negative shaded, and the
+    Nyquist plot of ``Z_L``.
 ``ranges``
     The exact passive set of every controller gain (and of every parameter with
     a ``[ranges]`` entry), the others held at their values
@@ -38,7 +42,7 @@ from functools import partial
 from ..model.design_file import Design
 from .document import Report, Section, SectionStatus, Verdict, to_json
 from .pipeline import Stage, run_stages, select_stages
-from .stages import design_dynamics, design_hardware, design_passivity, zwidth
+from .stages import design_dynamics, design_frequency, design_hardware, design_passivity, zwidth
 from .stages.design_passivity import values_text
 
 __all__ = ["ANALYSIS_STAGES", "analyze", "verdict_line"]
@@ -50,6 +54,7 @@ _STAGE_FUNCS: tuple[tuple[str, str, Callable[[Design, bool], Section]], ...] = (
     ("passivity", "Passivity verdict", design_passivity.stage_passivity),
     ("witness", "Destabilizing environment", design_passivity.stage_witness),
     ("stiffness", "Stiffness frequency response", design_dynamics.stage_stiffness),
+    ("frequency", "Passivity in the frequency domain", design_frequency.stage_frequency),
     ("ranges", "Exact passive ranges", design_passivity.stage_ranges),
     ("response", "Step response", design_dynamics.stage_response),
     ("tuning", "Tuned gains", design_dynamics.stage_tuning),

@@ -1,33 +1,50 @@
-"""The hardware rig: its file, the digital twin, and the paper's experiment on it.
+"""The hardware rig: its file, the digital twin, the paper's experiment on it, and your own rig.
 
 What lives here: [`rigfile`][seapass.rig.rigfile] (`Rig` and its strict TOML
-loader), [`plant`][seapass.rig.plant] (the nonlinear plant: friction, saturation,
-encoders), [`twin`][seapass.rig.twin] (batches of sampled closed loops on it),
-[`experiment`][seapass.rig.experiment], [`impacts`][seapass.rig.impacts],
-[`predictions`][seapass.rig.predictions] and [`findings`][seapass.rig.findings] (the paper's
-Section VI on the twin) and [`mujoco_model`][seapass.rig.mujoco_model] (an optional
-MuJoCo cross-check; needs the ``mujoco`` extra).
+loader and writer), [`packaged`][seapass.rig.packaged] (the template for your
+rig; whether a rig is the paper's bench), [`plant`][seapass.rig.plant] (the
+nonlinear plant: friction, saturation, encoders), [`twin`][seapass.rig.twin]
+(batches of sampled closed loops on it), [`experiment`][seapass.rig.experiment],
+[`impacts`][seapass.rig.impacts], [`predictions`][seapass.rig.predictions] and
+[`findings`][seapass.rig.findings] (the paper's Section VI on the twin),
+[`log`][seapass.rig.log] (a logged run: the CSV loader, logs made on the twin),
+[`moments`][seapass.rig.moments] and [`identify`][seapass.rig.identify] (fitting
+``m, b, b1`` and Coulomb friction to a log, with confidence intervals) and
+[`mujoco_model`][seapass.rig.mujoco_model] (an optional MuJoCo cross-check; needs
+the ``mujoco`` extra).
 
 May import: everything in [`seapass.sampled`][seapass.sampled] and below.
 """
 
 from .experiment import ExperimentResult, RigSweepResult, run_experiment, run_rig_sweep
+from .identify import FitParameter, RigFit, fit_rig
 from .impacts import ImpactResult, run_impacts
+from .log import RigLog, chirp_command, load_log, twin_log
+from .packaged import is_paper_hardware, rig_template
 from .plant import TwinPlant
 from .rigfile import Rig, load_rig, paper_rig
 from .twin import LoopResult, simulate_loop
 
 __all__ = [
     "ExperimentResult",
+    "FitParameter",
     "ImpactResult",
     "LoopResult",
     "Rig",
+    "RigFit",
+    "RigLog",
     "RigSweepResult",
     "TwinPlant",
+    "chirp_command",
+    "fit_rig",
+    "is_paper_hardware",
+    "load_log",
     "load_rig",
     "paper_rig",
+    "rig_template",
     "run_experiment",
     "run_impacts",
     "run_rig_sweep",
     "simulate_loop",
+    "twin_log",
 ]

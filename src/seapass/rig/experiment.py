@@ -15,8 +15,10 @@ Two protocols:
   damper ``b1`` and on the impact time scale, and the stiffness frequency
   response of Eq. (10) from [`seapass.model.stiffness.derive_stiffness`][seapass.model.stiffness.derive_stiffness].
 
-Findings are compared with the paper's qualitative claims in
-`ExperimentFinding` objects (match or mismatch, with the reason from the model).
+On the paper's own bench (the packaged rig's hardware) the findings are
+compared with the paper's qualitative claims in `ExperimentFinding` objects
+(match or mismatch, with the reason from the model); a user's rig gets its
+measurements only, with no comparison to the paper.
 
 References
 ----------
@@ -36,8 +38,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ParameterError
+from ..model.display import html_card, short_repr
 from ..sim.metrics import Settling
 from .findings import ExperimentFinding, sweep_findings
+from .packaged import is_paper_hardware
 from .predictions import RIG_DESIGNS, controller_gains, critical_gain, rig_design
 from .rigfile import Rig
 from .twin import simulate_loop
@@ -104,7 +108,7 @@ def settling_metrics(
 # ----------------------------------------------------------------------------- sweep
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class RigSweepResult:
     """Settling experiment for one design and one load mass.
 
@@ -126,6 +130,19 @@ class RigSweepResult:
     unstable_gain_sampled: float | None
     t: FloatArray = field(repr=False)
     x_L: FloatArray = field(repr=False)
+
+    def __repr__(self) -> str:
+        settled = int(np.sum(~np.isnan(self.settling_time)))
+        return short_repr(
+            "RigSweepResult",
+            {
+                "design": self.design,
+                "load_mass": self.load_mass,
+                "gains": self.kd.size,
+                "settled": settled,
+                "unstable_from": self.unstable_gain_twin,
+            },
+        )
 
     def rows(self) -> list[dict[str, Any]]:
         """One dict per gain (for CSV)."""
@@ -266,13 +283,44 @@ def run_rig_sweep(
 # ----------------------------------------------------------------------------- findings
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class ExperimentResult:
-    """The full settling experiment: one `RigSweepResult` per (design, mass)."""
+    """The full settling experiment: one `RigSweepResult` per (design, mass).
+
+    ``findings`` are the paper's claims checked on the twin, for the paper's
+    bench only (empty for any other rig).
+    """
 
     rig_name: str
     sweeps: tuple[RigSweepResult, ...]
     findings: tuple[ExperimentFinding, ...]
+
+    def plot(self, *, axes: Any = None) -> Any:
+        """Settling time and steady-state error against ``kd``; returns the Axes."""
+        from ..plot.rig import plot_rig_sweep
+
+        return plot_rig_sweep(self, axes=axes)
+
+    def __repr__(self) -> str:
+        return short_repr(
+            "ExperimentResult",
+            {
+                "rig": self.rig_name,
+                "sweeps": len(self.sweeps),
+                "findings": len(self.findings) or None,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        rows = [
+            (
+                f"{s.design}, m_L = {s.load_mass:g} kg",
+                f"{int(np.sum(~np.isnan(s.settling_time)))}/{s.kd.size} gains settled; unstable "
+                f"from kd = {'-' if s.unstable_gain_twin is None else f'{s.unstable_gain_twin:g}'}",
+            )
+            for s in self.sweeps
+        ]
+        return html_card(f"Rig experiment on {self.rig_name}", rows)
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -322,7 +370,8 @@ def run_experiment(
                 )
                 if tick is not None:
                     tick()
-    return ExperimentResult(rig.name, tuple(sweeps), tuple(sweep_findings(sweeps)))
+    findings = tuple(sweep_findings(sweeps)) if is_paper_hardware(rig) else ()
+    return ExperimentResult(rig.name, tuple(sweeps), findings)
 
 
 # ----------------------------------------------------------------------------- impacts

@@ -2,7 +2,8 @@
 
 Each impact is a step of load force applied to the output held by Ours; the
 ratio ``k_out = F_L/X_L`` read a short time later is compared with the spring
-``k1`` and with the stiffness frequency response of Eq. (10).
+``k1`` and with the stiffness frequency response of Eq. (10), and, on the
+paper's own bench only, with the paper's measurement.
 """
 
 from __future__ import annotations
@@ -15,17 +16,23 @@ import sympy as sp
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ParameterError
+from ..model.display import html_card, short_repr
 from ..model.expr import S
 from ..model.sea import SEA
 from ..model.stiffness import derive_stiffness
 from .findings import ExperimentFinding
+from .packaged import is_paper_hardware
 from .rigfile import Rig
 from .twin import simulate_loop
 
 FloatArray = NDArray[np.float64]
 
 __all__ = [
+    "DEFAULT_WINDOWS",
+    "PAPER_K_OUT",
     "ImpactResult",
+    "impact_forces",
+    "k_out_ratio",
     "rig_stiffness_response",
     "run_impacts",
 ]
@@ -67,7 +74,17 @@ def rig_stiffness_response(
     return np.abs(k), np.abs(k + ml * s**2 + rig.load.viscous * s)
 
 
-@dataclass(frozen=True)
+PAPER_K_OUT = (2292.0, 91.6)
+"""The paper's perceived stiffness under impacts, mean and std [N/m] (Sec. VI).
+
+Measured on the paper's bench: set beside the twin's only for that bench
+([`is_paper_hardware`][seapass.rig.packaged.is_paper_hardware])."""
+
+DEFAULT_WINDOWS = (0.005, 0.01, 0.02, 0.03, 0.05, 0.1, 0.2)
+"""Read-out times after impact onset [s] of the time-scale study."""
+
+
+@dataclass(frozen=True, repr=False)
 class ImpactResult:
     """Perceived stiffness of Ours under steps in load force.
 
@@ -75,6 +92,9 @@ class ImpactResult:
     ``k_out_vs_b1`` (mean, std) are aligned; ``windows`` / ``k_out_vs_window``
     (mean) are aligned and ``k_out_linear_vs_window`` is the friction-free,
     unquantized twin; ``omega`` aligns with both ``eq10_*`` magnitudes.
+    ``paper_k_out`` is the paper's measurement (`PAPER_K_OUT`) for the paper's
+    bench and None for any other rig, whose ``findings`` are then empty: the
+    paper's claims are about its own bench.
     """
 
     kd: float
@@ -97,9 +117,41 @@ class ImpactResult:
     eq10_magnitude: FloatArray
     eq10_with_load: FloatArray
     findings: tuple[ExperimentFinding, ...]
+    paper_k_out: tuple[float, float] | None = None
+
+    def plot(self, *, axes: Any = None) -> Any:
+        """Eq. (10) response, ``k_out`` against time scale and against ``b1``; three Axes."""
+        from ..plot.rig import plot_impacts
+
+        return plot_impacts(self, axes=axes)
+
+    def __repr__(self) -> str:
+        return short_repr(
+            "ImpactResult",
+            {
+                "impacts": self.forces.size,
+                "k_out_mean": self.k_out_mean,
+                "k_out_std": self.k_out_std,
+                "k1": self.k1,
+                "window": self.window,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        rows: list[tuple[str, Any]] = [
+            (
+                "k_out",
+                f"{self.k_out_mean:.0f} ± {self.k_out_std:.0f} N/m ({self.forces.size} impacts)",
+            ),
+            ("read at", f"{self.window * 1e3:g} ms after onset"),
+            ("spring k1 / static", f"{self.k1:g} / {self.static_stiffness:.0f} N/m"),
+        ]
+        if self.paper_k_out is not None:
+            rows.append(("paper (its bench)", "{:g} ± {:g} N/m".format(*self.paper_k_out)))
+        return html_card("Perceived stiffness under impacts", rows)
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        out: dict[str, Any] = {
             "kd": self.kd,
             "bd": self.bd,
             "load_mass": self.load_mass,
@@ -108,25 +160,133 @@ class ImpactResult:
             "static_stiffness": self.static_stiffness,
             "k_out_mean": self.k_out_mean,
             "k_out_std": self.k_out_std,
-            "paper_k_out": [2292.0, 91.6],
-            "impacts": [
-                {"force": float(f), "k_out": float(k)}
-                for f, k in zip(self.forces, self.k_out, strict=True)
-            ],
-            "vs_b1": [
-                {"b1": float(b), "k_out_mean": float(m), "k_out_std": float(s)}
-                for b, m, s in zip(
-                    self.b1_values, self.k_out_vs_b1, self.k_out_vs_b1_std, strict=True
-                )
-            ],
-            "vs_window": [
-                {"window": float(w), "k_out_mean": float(m), "k_out_linear": float(lin)}
-                for w, m, lin in zip(
-                    self.windows, self.k_out_vs_window, self.k_out_linear_vs_window, strict=True
-                )
-            ],
-            "findings": [f.to_dict() for f in self.findings],
         }
+        if self.paper_k_out is not None:
+            out["paper_k_out"] = list(self.paper_k_out)
+        out.update(
+            {
+                "impacts": [
+                    {"force": float(f), "k_out": float(k)}
+                    for f, k in zip(self.forces, self.k_out, strict=True)
+                ],
+                "vs_b1": [
+                    {"b1": float(b), "k_out_mean": float(m), "k_out_std": float(s)}
+                    for b, m, s in zip(
+                        self.b1_values, self.k_out_vs_b1, self.k_out_vs_b1_std, strict=True
+                    )
+                ],
+                "vs_window": [
+                    {"window": float(w), "k_out_mean": float(m), "k_out_linear": float(lin)}
+                    for w, m, lin in zip(
+                        self.windows,
+                        self.k_out_vs_window,
+                        self.k_out_linear_vs_window,
+                        strict=True,
+                    )
+                ],
+                "findings": [f.to_dict() for f in self.findings],
+            }
+        )
+        return out
+
+
+def impact_forces(rig: Rig, seed: int | None = None) -> FloatArray:
+    """The step magnitudes of the ``[impacts]`` protocol [N], shape (count,)."""
+    im = rig.impacts
+    rng = np.random.default_rng(im.seed if seed is None else seed)
+    return rng.uniform(im.force_min, im.force_max, im.count)
+
+
+def _checked_grid(
+    rig: Rig, b1_values: ArrayLike | None, windows: ArrayLike | None
+) -> tuple[FloatArray, FloatArray]:
+    """``b1`` values (default 0, b1/2, b1, 2 b1) and read-out times, validated."""
+    b1 = rig.damper.b1
+    b1s = np.asarray(
+        b1_values if b1_values is not None else sorted({0.0, 0.5 * b1, b1, 2.0 * b1}), dtype=float
+    )
+    duration = rig.impacts.duration
+    if windows is None:  # the default times that fit in the rig's impact duration
+        windows = [w for w in DEFAULT_WINDOWS if w <= duration] or [rig.impacts.window]
+    wins = np.asarray(windows, dtype=float)
+    if b1s.ndim != 1 or np.any(b1s < 0):
+        raise ParameterError("b1_values must be a 1-D array of damping values >= 0")
+    if wins.ndim != 1 or np.any(wins <= 0) or np.any(wins > duration):
+        raise ParameterError(f"windows must be a 1-D array of times in (0, {duration:g}] s")
+    return b1s, wins
+
+
+def _loop_options(rig: Rig) -> dict[str, Any]:
+    im = rig.impacts
+    return {
+        "load_mass": im.load_mass,
+        "kp_actuator": im.kd,
+        "kv_actuator": im.bd,
+        "duration": im.duration,
+    }
+
+
+def k_out_ratio(x: FloatArray, forces: FloatArray, tau: float, period: float) -> FloatArray:
+    """``F / X_L`` read ``tau`` after onset; a load that has not moved reads as ``inf``.
+
+    ``x``: load displacement since onset, axes ``(..., impact, sample)``;
+    ``forces``: axis ``impact``.
+    """
+    d = x[..., round(tau / period)]
+    safe = np.where(d > 0, d, 1.0)
+    return np.where(d > 0, forces / safe, np.inf)
+
+
+def _displacements(rig: Rig, forces: FloatArray, b1s: FloatArray) -> FloatArray:
+    """Encoder load displacement of every (b1 value, impact) run, axes (b1, impact, sample)."""
+    nb, n = b1s.size, forces.size
+    res = simulate_loop(
+        rig, b1=np.repeat(b1s, n), load_force=np.tile(forces, nb), **_loop_options(rig)
+    )
+    return (res.x_L_measured - res.x_L_measured[:, :1]).reshape(nb, n, -1)
+
+
+def _linear_by_window(rig: Rig, force: float, windows: FloatArray) -> FloatArray:
+    """``k_out`` of the friction-free, unquantized twin at each read-out time (one impact)."""
+    lin = simulate_loop(
+        rig, load_force=[force], friction=False, quantize=False, **_loop_options(rig)
+    )
+    xl = lin.x_L - lin.x_L[:, :1]
+    f = np.array([force])
+    return np.array([float(k_out_ratio(xl, f, w, rig.period)[0]) for w in windows])
+
+
+def _paper_findings(
+    rig: Rig,
+    stats: dict[str, float],
+    windows: FloatArray,
+    by_window: FloatArray,
+    b1s: FloatArray,
+    by_b1: FloatArray,
+) -> tuple[ExperimentFinding, ...]:
+    """The paper's two claims about impacts, checked on its bench's twin."""
+    im, k1 = rig.impacts, rig.damper.k1
+    mean, std, static = stats["mean"], stats["std"], stats["static"]
+    paper_mean, paper_std = PAPER_K_OUT
+    scale = ", ".join(f"{t * 1e3:g} ms: {k:.0f}" for t, k in zip(windows, by_window, strict=True))
+    return (
+        ExperimentFinding(
+            f"k_out > k1 under impact (paper: {paper_mean:g} ± {paper_std:g} N/m vs "
+            f"k1 = {k1:g} N/m)",
+            mean > k1,
+            f"twin: k_out = {mean:.0f} ± {std:.0f} N/m at {im.window * 1e3:g} ms after a step of "
+            f"{im.force_min:g}-{im.force_max:g} N (kd = {im.kd:g}, bd = {im.bd:g}, "
+            f"b1 = {rig.damper.b1:g}); static stiffness k1·kd/(k1+kd) = {static:.0f} N/m. Early "
+            "in an impact the damper force b1·v and the load inertia carry the force before the "
+            "spring deflects, so the ratio exceeds k1; it decays toward the static value as the "
+            f"window grows ({scale}).",
+        ),
+        ExperimentFinding(
+            "k_out grows with the transmission damping b1",
+            bool(np.all(np.diff(by_b1[np.argsort(b1s)]) > 0)),
+            ", ".join(f"b1 = {b:g}: {m:.0f} N/m" for b, m in zip(b1s, by_b1, strict=True)),
+        ),
+    )
 
 
 def run_impacts(
@@ -144,72 +304,29 @@ def run_impacts(
     output held by Ours (``kd + bd s`` on the actuator, reference 0);
     ``k_out,i = F_i / X_L(window)`` with ``X_L`` from the encoders.  The same
     forces are replayed for each ``b1`` in ``b1_values`` and the ratio is read at
-    each time in ``windows``.
+    each time in ``windows``.  The paper's claims are checked only on the
+    paper's bench (see `ImpactResult`).
     """
-    im = rig.impacts
-    rng = np.random.default_rng(im.seed if seed is None else seed)
-    forces = rng.uniform(im.force_min, im.force_max, im.count)
-    b1_nom = rig.damper.b1
-    b1s = np.asarray(
-        b1_values if b1_values is not None else sorted({0.0, 0.5 * b1_nom, b1_nom, 2.0 * b1_nom}),
-        dtype=float,
+    im, k1 = rig.impacts, rig.damper.k1
+    forces = impact_forces(rig, seed)
+    b1s, wins = _checked_grid(rig, b1_values, windows)
+    x = _displacements(rig, forces, b1s)
+    k_b1 = k_out_ratio(x, forces, im.window, rig.period)  # (b1, impact)
+    nominal = int(np.argmin(np.abs(b1s - rig.damper.b1)))
+    k_nom = k_b1[nominal]
+    vs_win = np.array(
+        [float(np.mean(k_out_ratio(x[nominal], forces, w, rig.period))) for w in wins]
     )
-    wins = np.asarray(
-        windows if windows is not None else [0.005, 0.01, 0.02, 0.03, 0.05, 0.1, 0.2], dtype=float
-    )
-    if b1s.ndim != 1 or np.any(b1s < 0):
-        raise ParameterError("b1_values must be a 1-D array of damping values >= 0")
-    if wins.ndim != 1 or np.any(wins <= 0) or np.any(wins > im.duration):
-        raise ParameterError(f"windows must be a 1-D array of times in (0, {im.duration:g}] s")
-    nb, n = b1s.size, im.count
-    # Batch axis: (b1 value, impact) flattened.
-    common: dict[str, Any] = dict(
-        load_mass=im.load_mass,
-        kp_actuator=im.kd,
-        kv_actuator=im.bd,
-        duration=im.duration,
-    )
-    res = simulate_loop(rig, b1=np.repeat(b1s, n), load_force=np.tile(forces, nb), **common)
-    x = (res.x_L_measured - res.x_L_measured[:, :1]).reshape(nb, n, -1)
-    T = rig.period
-
-    def ratio(xs: FloatArray, f: FloatArray, tau: float) -> FloatArray:
-        # xs: (..., impact, sample), f: (impact,); a load that has not moved reads as inf.
-        d = xs[..., round(tau / T)]
-        safe = np.where(d > 0, d, 1.0)
-        return np.where(d > 0, f / safe, np.inf)
-
-    k_b1 = ratio(x, forces, im.window)
-    nominal = int(np.argmin(np.abs(b1s - b1_nom)))
-    lin = simulate_loop(rig, load_force=forces[:1], friction=False, quantize=False, **common)
-    xl = lin.x_L - lin.x_L[:, :1]
-    vs_win = np.array([float(np.mean(ratio(x[nominal], forces, w))) for w in wins])
-    vs_lin = np.array([float(ratio(xl, forces[:1], w)[0]) for w in wins])
     w = np.logspace(0, 3, 200) if omega is None else np.asarray(omega, dtype=float)
     mag, mag_l = rig_stiffness_response(rig, w, kd=im.kd, bd=im.bd, load_mass=im.load_mass)
-    k_nom = k_b1[nominal]
-    k1 = rig.damper.k1
-    static = k1 * im.kd / (k1 + im.kd) if im.kd > 0 else 0.0
-    mean, std = float(np.mean(k_nom)), float(np.std(k_nom, ddof=1)) if n > 1 else 0.0
+    n = forces.size
+    stats = {
+        "mean": float(np.mean(k_nom)),
+        "std": float(np.std(k_nom, ddof=1)) if n > 1 else 0.0,
+        "static": k1 * im.kd / (k1 + im.kd) if im.kd > 0 else 0.0,
+    }
     means = k_b1.mean(axis=1)
-    monotone = bool(np.all(np.diff(means[np.argsort(b1s)]) > 0))
-    findings = (
-        ExperimentFinding(
-            "k_out > k1 under impact (paper: 2292 ± 91.6 N/m vs k1 = 1005 N/m)",
-            mean > k1,
-            f"twin: k_out = {mean:.0f} ± {std:.0f} N/m at {im.window * 1e3:g} ms after a step of "
-            f"{im.force_min:g}-{im.force_max:g} N (kd = {im.kd:g}, bd = {im.bd:g}, b1 = {b1_nom:g}); "
-            f"static stiffness k1·kd/(k1+kd) = {static:.0f} N/m. Early in an impact the damper "
-            "force b1·v and the load inertia carry the force before the spring deflects, so the "
-            "ratio exceeds k1; it decays toward the static value as the window grows "
-            f"({', '.join(f'{t * 1e3:g} ms: {k:.0f}' for t, k in zip(wins, vs_win, strict=True))}).",
-        ),
-        ExperimentFinding(
-            "k_out grows with the transmission damping b1",
-            monotone,
-            ", ".join(f"b1 = {b:g}: {m:.0f} N/m" for b, m in zip(b1s, means, strict=True)),
-        ),
-    )
+    paper = is_paper_hardware(rig)
     return ImpactResult(
         kd=im.kd,
         bd=im.bd,
@@ -217,18 +334,19 @@ def run_impacts(
         window=im.window,
         forces=forces,
         k_out=k_nom,
-        k_out_mean=mean,
-        k_out_std=std,
+        k_out_mean=stats["mean"],
+        k_out_std=stats["std"],
         k1=k1,
-        static_stiffness=static,
+        static_stiffness=stats["static"],
         b1_values=b1s,
         k_out_vs_b1=means,
-        k_out_vs_b1_std=k_b1.std(axis=1, ddof=1) if n > 1 else np.zeros(nb),
+        k_out_vs_b1_std=k_b1.std(axis=1, ddof=1) if n > 1 else np.zeros(b1s.size),
         windows=wins,
         k_out_vs_window=vs_win,
-        k_out_linear_vs_window=vs_lin,
+        k_out_linear_vs_window=_linear_by_window(rig, float(forces[0]), wins),
         omega=w,
         eq10_magnitude=mag,
         eq10_with_load=mag_l,
-        findings=findings,
+        findings=_paper_findings(rig, stats, wins, vs_win, b1s, means) if paper else (),
+        paper_k_out=PAPER_K_OUT if paper else None,
     )

@@ -28,7 +28,7 @@ from importlib import resources
 from typing import Any
 
 from ..errors import FileFormatError
-from ..files.toml import load_toml_file
+from ..files.toml import dump_toml, load_toml_file
 
 __all__ = [
     "ControlSpec",
@@ -380,6 +380,14 @@ class Rig:
             d = dataclasses.asdict(getattr(self, sec))
             out[sec] = {k: (list(v) if isinstance(v, tuple) else v) for k, v in d.items()}
         return out
+
+    def to_toml(self) -> str:
+        """The rig as rig-file TOML that `parse_rig` reads back to an equal `Rig`.
+
+        The derived values (`derived`) follow as comments.
+        """
+        derived = "\n".join(f"#   {k} = {v:.6g}" for k, v in self.derived().items())
+        return dump_toml(self.to_dict()) + "\n# derived (not read back):\n" + derived + "\n"
 
     def derived(self) -> dict[str, float]:
         """Derived quantities (for reports)."""

@@ -46,6 +46,7 @@ import scipy.linalg
 
 from ..analysis.coupled import Stability
 from ..errors import ParameterError
+from ..model.display import html_card, short_repr
 from ..model.expr import finite_number
 from ..model.realization import ClosedLoop, closed_loop
 from ..model.sea import SEA
@@ -73,7 +74,7 @@ _DIVERGENCE = 1e8  # |state| above this multiple of the problem scale counts as 
 # --------------------------------------------------------------------------- simulation
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class SimulationResult:
     """Sampled response of a closed-loop simulation.
 
@@ -168,6 +169,36 @@ class SimulationResult:
             "positive_work": self.positive_work,
             "poles": [[float(p.real), float(p.imag)] for p in self.poles],
         }
+
+    def plot(self, metrics: Any = None, *, axes: Any = None, **kwargs: Any) -> Any:
+        """Positions and actuator force (with the settling band of ``metrics``); two Axes."""
+        from ..plot.sim import plot_simulation
+
+        return plot_simulation(self, metrics, axes=axes, **kwargs)
+
+    def __repr__(self) -> str:
+        return short_repr(
+            "SimulationResult",
+            {
+                "status": str(self.status),
+                "samples": self.time.size,
+                "horizon": float(self.time[-1]) if self.time.size else None,
+                "final_x_L": float(self.x_L[-1]) if self.x_L.size else None,
+                "target": self.target,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        end = float(self.time[-1]) if self.time.size else 0.0
+        return html_card(
+            f"Simulation: {self.status}",
+            [
+                ("samples", f"{self.time.size} over {end:.6g} s"),
+                ("load x_L at the end", f"{self.x_L[-1]:.6g} m (target {self.target:g} m)"),
+                ("peak actuator force", f"{np.abs(self.f_A).max():.6g} N"),
+                ("actuator work", f"{self.energy:.6g} J"),
+            ],
+        )
 
 
 def _foh_matrix(sys: ClosedLoop) -> np.ndarray:

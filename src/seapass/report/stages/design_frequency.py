@@ -1,0 +1,78 @@
+"""Design stage: passivity in the frequency domain (Bode with phase, ``Re Z(jω)``, Nyquist).
+
+The bands where ``Re Z(jω) < 0`` are exact (the real roots of the real-part
+polynomial, isolated exactly); the curves are sampled only to draw them.
+"""
+
+from __future__ import annotations
+
+from ...analysis.freqresp import stiffness_response
+from ...analysis.portresponse import impedance_response
+from ...model.design_file import Design
+from ...plot.passivity import plot_bode, plot_nyquist, plot_real_part
+from ...plot.style import figure_bytes
+from ..document import FigureData, Section, Table, to_json
+
+__all__ = ["stage_frequency"]
+
+
+def _band_text(a: float, b: float) -> str:
+    return f"({a:.6g}, {'∞' if b == float('inf') else f'{b:.6g}'})"
+
+
+def stage_frequency(design: Design, quick: bool) -> Section:
+    """Bode of ``F_L/X_L`` with phase, ``Re Z_L(jω)`` with the failing bands, Nyquist of ``Z_L``."""
+    sea = design.sea()
+    resp = impedance_response(sea, points=300 if quick else 600, label=design.name)
+    fr = stiffness_response(sea, resp.omega, label=design.name)
+    bands = resp.negative_bands
+    k1 = design.values.get("k1")
+    figures = (
+        FigureData(
+            "bode",
+            "Rendered stiffness F_L/X_L(jω), magnitude and phase; shaded: Re Z_L(jω) < 0 (exact).",
+            figure_bytes(plot_bode(fr, reference=k1, bands=bands)),
+        ),
+        FigureData(
+            "real_part",
+            "Re Z_L(jω) on a symmetric-log axis; shaded: the exact bands where it is negative.",
+            figure_bytes(plot_real_part(resp)),
+        ),
+        FigureData(
+            "nyquist",
+            "Nyquist plot of Z_L(jω); a passive port stays in the closed right half-plane.",
+            figure_bytes(plot_nyquist(resp)),
+        ),
+    )
+    if bands:
+        shown = ", ".join(_band_text(a, b) for a, b in bands)
+        text = (
+            f"**Re Z_L(jω) < 0 for ω in {shown} rad/s.** There the port returns energy: "
+            "the phase of F_L/X_L leaves [0°, 180°] and the Nyquist curve of Z_L enters the "
+            "left half-plane."
+        )
+    else:
+        text = (
+            "Re Z_L(jω) ≥ 0 at every frequency: the phase of F_L/X_L stays within [0°, 180°] "
+            "and the Nyquist curve of Z_L stays in the closed right half-plane (the pole "
+            "conditions of the full verdict are in the passivity section)."
+        )
+    text += (
+        " The bands are decided exactly, from the real roots of the real-part polynomial "
+        "Re N(jω)D(−jω), not from the plotted grid."
+    )
+    return Section(
+        key="frequency",
+        title="Passivity in the frequency domain",
+        text=text,
+        tables=(
+            Table(
+                name="negative_real_bands",
+                title="Bands where Re Z_L(jω) < 0 (exact)",
+                columns=("from ω [rad/s]", "to ω [rad/s]"),
+                rows=tuple((a, b) for a, b in bands),
+            ),
+        ),
+        figures=figures,
+        files={"impedance_response.json": to_json(resp.to_dict())},
+    )
