@@ -29,6 +29,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("sim",),
     ("batch",),
     ("sampled",),
+    ("tuning",),
     ("rig",),
     ("export",),
     ("sweep",),

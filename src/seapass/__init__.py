@@ -9,9 +9,10 @@ subpackage          what lives there
 ``seapass.exact``   the exact polynomial kernel
 ``seapass.model``   ``SEA``, the safe parser, stiffness, catalog, design files
 ``seapass.analysis``  exact passivity, conditions, passive sets, witnesses
-``seapass.sim``     simulation, tracking metrics, tuning
+``seapass.sim``     simulation, tracking metrics
 ``seapass.batch``   vectorized verdicts and step metrics
 ``seapass.sampled``  discrete controllers, sampled-data passivity, runtime
+``seapass.tuning``  passivity-constrained tuning of any design
 ``seapass.rig``     rig files, the digital twin, the paper's experiment
 ``seapass.sweep``   resumable design-space sweeps (local or Dask)
 ``seapass.paper``   Tables I and II, the simulation study
@@ -55,7 +56,8 @@ _LAZY: dict[str, str] = {
     "simulate": "sim.simulate",
     "Step": "sim.scenarios",
     "tracking_metrics": "sim.metrics",
-    "tune": "sim.tuning",
+    "tune": "tuning.optimize",
+    "TuningOptions": "tuning.problem",
     "sampled_passivity": "sampled.passivity",
     "sampled_passive_bound": "sampled.bound",
     "load_rig": "rig.rigfile",
@@ -67,7 +69,7 @@ _LAZY: dict[str, str] = {
 
 _SUBPACKAGES = frozenset(
     {"analysis", "batch", "cli", "errors", "exact", "files", "model", "paper", "plot",
-     "report", "rig", "sampled", "sim", "sweep"}
+     "report", "rig", "sampled", "sim", "sweep", "tuning"}
 )  # fmt: skip
 
 __all__ = [
@@ -77,6 +79,7 @@ __all__ = [
     "PassivityResult",
     "SeapassError",
     "Step",
+    "TuningOptions",
     "__version__",
     "analyze",
     "derive_stiffness",
@@ -131,4 +134,5 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
     from .sim.metrics import tracking_metrics
     from .sim.scenarios import Step
     from .sim.simulate import simulate
-    from .sim.tuning import tune
+    from .tuning.optimize import tune
+    from .tuning.problem import TuningOptions

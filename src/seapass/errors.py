@@ -16,8 +16,10 @@ __all__ = [
     "NotPassiveError",
     "ParameterError",
     "SeapassError",
+    "SeapassWarning",
     "SimulationError",
     "SymbolicLimitError",
+    "TuningWarning",
     "UnrealizableError",
 ]
 
@@ -64,3 +66,11 @@ class NotPassiveError(SeapassError, ValueError):
 
 class MissingExtraError(SeapassError, ImportError):
     """An optional extra (``seapass[dask]``, ``seapass[mujoco]``, ...) is needed but not installed."""
+
+
+class SeapassWarning(UserWarning):
+    """Base class of every warning seapass issues."""
+
+
+class TuningWarning(SeapassWarning):
+    """A tuned result needs attention: a gain at the edge of its box, a limit not met."""

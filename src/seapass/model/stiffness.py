@@ -98,11 +98,11 @@ class _PolySize(NamedTuple):
     degree: int
     terms: int
 
-    def __add__(self, other: object) -> _PolySize:  # type: ignore[override]
+    def __add__(self, other: object) -> _PolySize:
         assert isinstance(other, _PolySize)
         return _PolySize(max(self.degree, other.degree), min(self.terms + other.terms, TERM_CAP))
 
-    def __mul__(self, other: object) -> _PolySize:  # type: ignore[override]
+    def __mul__(self, other: object) -> _PolySize:
         assert isinstance(other, _PolySize)
         return _PolySize(self.degree + other.degree, min(self.terms * other.terms, TERM_CAP))
 
