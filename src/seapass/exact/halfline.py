@@ -240,18 +240,18 @@ def minimum_on_half_line(
         candidates.append(((at_inf > 0) - (at_inf < 0), None))
     sign = min(s for s, _ in candidates)
     if sign == 0:  # the infimum is exactly 0, attained where p vanishes (or at infinity)
-        where = next(pt for s, pt in candidates if s == 0)
+        where = next(c for s, c in candidates if s == 0)
         return HalfLineMinimum(Fraction(0), Fraction(0), 0, where)
     best: tuple[Fraction, Fraction, HalfLinePoint | None] | None = None
     lows = []
-    for s, pt in candidates:
+    for s, cand in candidates:
         if s > sign:
             continue  # a candidate of larger sign cannot be the minimum
-        at: HalfLinePoint | None = pt
-        if pt is None:
+        at: HalfLinePoint | None = cand
+        if cand is None:
             lo = hi = at_inf
         else:
-            lo, hi, at = _value_enclosure(p, q, pt, rtol)
+            lo, hi, at = _value_enclosure(p, q, cand, rtol)
         lows.append(lo)
         if best is None or hi < best[1]:
             best = (lo, hi, at)
