@@ -48,6 +48,7 @@ _LAZY: dict[str, str] = {
     "derive_stiffness": "model.stiffness",
     "is_passive": "analysis.passivity",
     "PassivityResult": "analysis.passivity",
+    "passivity_indices": "analysis.indices",
     "passive_intervals": "analysis.region",
     "passive_map": "analysis.region",
     "exact_passivity_condition": "analysis.conditions",
@@ -91,6 +92,7 @@ __all__ = [
     "paper_rig",
     "passive_intervals",
     "passive_map",
+    "passivity_indices",
     "reproduce",
     "sampled_passive_bound",
     "sampled_passivity",
@@ -119,6 +121,7 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:  # what type checkers and IDEs see
     from .analysis.conditions import exact_passivity_condition
     from .analysis.freqresp import stiffness_response
+    from .analysis.indices import passivity_indices
     from .analysis.passivity import PassivityResult, is_passive
     from .analysis.region import passive_intervals, passive_map
     from .analysis.witness import find_destabilizing_environment

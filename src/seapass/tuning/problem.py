@@ -17,7 +17,6 @@ the paper's plant with the catalog's gains and boxes), a
 from __future__ import annotations
 
 import difflib
-import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, fields, replace
 from enum import StrEnum
@@ -28,7 +27,7 @@ from ..errors import ParameterError
 from ..model.catalog import PAPER_VALUES, CatalogDesign
 from ..model.catalog import design as catalog_design
 from ..model.design_file import Design
-from ..model.expr import symbol
+from ..model.expr import finite_number, symbol
 from ..model.sea import SEA
 
 __all__ = [
@@ -132,15 +131,18 @@ class TuningOptions:
                 f"objective must be one of {choices}, got {self.objective!r}"
             ) from None
         for name in ("dt_search", "dt_verify"):
-            _positive(getattr(self, name), name)
+            finite_number(getattr(self, name), name, positive=True)
         for name in ("load_mass", "horizon", "force_limit", "period", "velocity_filter"):
             if getattr(self, name) is not None:
-                _positive(getattr(self, name), name)
-        if self.step is not None and not (_finite(self.step, "step") != 0):
+                finite_number(getattr(self, name), name, positive=True)
+        if self.step is not None and not (finite_number(self.step, "step") != 0):
             raise ParameterError("step must be nonzero")
-        if self.max_overshoot is not None and _finite(self.max_overshoot, "max_overshoot") < 0:
+        if (
+            self.max_overshoot is not None
+            and finite_number(self.max_overshoot, "max_overshoot") < 0
+        ):
             raise ParameterError(f"max_overshoot must be >= 0, got {self.max_overshoot}")
-        if not 0 < _finite(self.tolerance, "tolerance") < 1:
+        if not 0 < finite_number(self.tolerance, "tolerance") < 1:
             raise ParameterError(f"tolerance must be in (0, 1), got {self.tolerance}")
         for name, low in (("maxiter", 1), ("popsize", 2), ("delay", 0)):
             v = getattr(self, name)
@@ -156,23 +158,6 @@ class TuningOptions:
             if name not in known:
                 raise ParameterError(f"unknown tuning option {name!r}{_did_you_mean(name, known)}")
         return replace(self, **changes)
-
-
-def _finite(value: Any, name: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name}: expected a number, got {value!r}") from None
-    if not math.isfinite(v):
-        raise ParameterError(f"{name} must be finite, got {v}")
-    return v
-
-
-def _positive(value: Any, name: str) -> float:
-    v = _finite(value, name)
-    if v <= 0:
-        raise ParameterError(f"{name} must be positive, got {v:g}")
-    return v
 
 
 def _did_you_mean(name: str, choices: Iterable[str]) -> str:
@@ -321,7 +306,7 @@ def _box(given: Any, where: str) -> tuple[float, float]:
         lo, hi = given
     except (TypeError, ValueError):
         raise ParameterError(f"{where}: expected (lo, hi), got {given!r}") from None
-    lo, hi = _finite(lo, f"{where} lower bound"), _finite(hi, f"{where} upper bound")
+    lo, hi = finite_number(lo, f"{where} lower bound"), finite_number(hi, f"{where} upper bound")
     if not lo < hi:
         raise ParameterError(f"{where}: need lo < hi, got ({lo:g}, {hi:g})")
     return (lo, hi)
