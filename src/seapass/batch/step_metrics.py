@@ -202,42 +202,16 @@ def _settling(model: ModalForm, T: float, band: float, t_end: np.ndarray) -> np.
         ea = np.abs(e2[fine, k2f]) > band
         eb = np.abs(e2[fine, k2f + 1]) > band
         again = np.zeros(j.size, dtype=bool)
-        # an excursion between the two samples: its peak (golden section) is a point outside
         peak = ~ea & ~eb
         if np.any(peak):
-            mp = model.take(j[peak])
-            tp = _argmax_abs(mp, left[peak], right[peak])
-            found = np.abs(mp.err(tp[:, None])[:, 0]) > band
-            pk = np.nonzero(peak)[0]
-            left[pk[found]] = tp[found]
-            ea[pk[found]] = True
-            # no excursion there: the exit is at the last sample outside before it
-            miss = pk[~found]
-            if miss.size:
-                cols = np.arange(_K2 + 1)[None, :]
-                out_s = (np.abs(e2[fine][miss]) > band) & (cols <= k2f[miss, None])
-                has = out_s.any(axis=1)
-                last = _K2 - np.argmax(out_s[:, ::-1], axis=1)
-                mh = miss[has]
-                left[mh] = af[mh] + last[has] * h2f[mh]
-                right[mh] = left[mh] + h2f[mh]
-                ea[mh] = True
-                eb[mh] = False
-                # the whole coarse interval is inside after all: search before it
-                again[miss[~has]] = True
+            _excursion_between_samples(
+                model, band, j, np.nonzero(peak)[0], (e2[fine], k2f, h2f, af),
+                (left, right, ea, eb, again),
+            )  # fmt: skip
         # bisection on |e| − band where the left end is outside and the right inside
         bis = ea & ~eb
-        lo, hi = left[bis], right[bis]
-        if lo.size:
-            mb = model.take(j[bis])
-            for _ in range(40):
-                mid = 0.5 * (lo + hi)
-                outside = np.abs(mb.err(mid[:, None])[:, 0]) > band
-                lo = np.where(outside, mid, lo)
-                hi = np.where(outside, hi, mid)
-                if np.all(hi - lo < 2e-8):
-                    break
-            out[j[bis]] = hi
+        if np.any(bis):
+            out[j[bis]] = _bisect_exit(model.take(j[bis]), left[bis], right[bis], band)
         # otherwise the end of the sub-interval bounds the exit (within 0.1 ms)
         done = ~bis & ~again
         out[j[done]] = right[done]
@@ -245,6 +219,56 @@ def _settling(model: ModalForm, T: float, band: float, t_end: np.ndarray) -> np.
         idx = np.concatenate([retry, j[again]])
     out[idx] = hi_t[idx]  # unresolved after all passes: the bound is the answer
     return out
+
+
+def _excursion_between_samples(
+    model: ModalForm,
+    band: float,
+    j: np.ndarray,
+    pk: np.ndarray,
+    fine: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    state: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+) -> None:
+    """Designs ``pk`` whose last uncertain interval has both ends inside the band.
+
+    An excursion between the two samples has its peak (golden section) outside
+    the band; then the exit lies after the peak.  With no excursion there, the
+    exit is at the last sample outside before it, or, when there is none, the
+    whole coarse interval is inside after all and the search goes on before it
+    (``again``).  Updates ``left, right, ea, eb, again`` in place.
+    """
+    e2, k2f, h2f, af = fine
+    left, right, ea, eb, again = state
+    mp = model.take(j[pk])
+    tp = _argmax_abs(mp, left[pk], right[pk])
+    found = np.abs(mp.err(tp[:, None])[:, 0]) > band
+    left[pk[found]] = tp[found]
+    ea[pk[found]] = True
+    miss = pk[~found]
+    if not miss.size:
+        return
+    cols = np.arange(_K2 + 1)[None, :]
+    out_s = (np.abs(e2[miss]) > band) & (cols <= k2f[miss, None])
+    has = out_s.any(axis=1)
+    last = _K2 - np.argmax(out_s[:, ::-1], axis=1)
+    mh = miss[has]
+    left[mh] = af[mh] + last[has] * h2f[mh]
+    right[mh] = left[mh] + h2f[mh]
+    ea[mh] = True
+    eb[mh] = False
+    again[miss[~has]] = True
+
+
+def _bisect_exit(model: ModalForm, lo: np.ndarray, hi: np.ndarray, band: float) -> np.ndarray:
+    """The last exit from the band in ``[lo, hi]`` (``lo`` outside, ``hi`` inside), to 2e-8 s."""
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        outside = np.abs(model.err(mid[:, None])[:, 0]) > band
+        lo = np.where(outside, mid, lo)
+        hi = np.where(outside, hi, mid)
+        if np.all(hi - lo < 2e-8):
+            break
+    return hi
 
 
 def _argmax_abs(model: ModalForm, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:

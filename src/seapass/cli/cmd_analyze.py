@@ -7,7 +7,7 @@ import sys
 import time
 from pathlib import Path
 
-from ..report.document import SectionStatus
+from .common import print_section_problems
 
 EXAMPLE = """examples:
   seapass analyze examples/ours.toml --out results/ours
@@ -67,10 +67,5 @@ def run(args: argparse.Namespace) -> int:
     print(
         f"wrote {out / 'report.html'} and {out / 'report.md'} in {time.perf_counter() - t0:.1f} s"
     )
-    skipped = [s.key for s in report.sections if s.status == SectionStatus.SKIPPED]
-    if skipped:
-        print(f"  skipped (reason in the report): {', '.join(skipped)}", file=sys.stderr)
-    for s in report.sections:
-        if s.status == SectionStatus.FAILED:
-            print(f"  {s.key} FAILED: {s.text}", file=sys.stderr)
+    print_section_problems(report)
     return 1 if report.failed else 0

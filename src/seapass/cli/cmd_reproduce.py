@@ -7,7 +7,7 @@ import sys
 import time
 from pathlib import Path
 
-from ..report.document import SectionStatus
+from .common import print_section_problems
 
 EXAMPLE = """examples:
   seapass reproduce --out results/
@@ -92,9 +92,4 @@ def _summary(report: object, out: Path, seconds: float) -> None:
         f"{len(report.sections)} sections, {n['agrees']} findings agree with the paper, "
         f"{n['differs']} differ"
     )
-    skipped = [s.key for s in report.sections if s.status == SectionStatus.SKIPPED]
-    if skipped:
-        print(f"  skipped (reason in the report): {', '.join(skipped)}", file=sys.stderr)
-    for s in report.sections:
-        if s.status == SectionStatus.FAILED:
-            print(f"  {s.key} FAILED: {s.text}", file=sys.stderr)
+    print_section_problems(report)

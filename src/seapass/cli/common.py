@@ -23,6 +23,7 @@ __all__ = [
     "json_text",
     "model_from_args",
     "print_json",
+    "print_section_problems",
     "save_plot",
     "system_from_args",
     "values_from_args",
@@ -103,3 +104,15 @@ def save_plot(
     with figure_style(), bare_figures():
         axes = draw()
         return save_figure(axes, path, formats=formats)
+
+
+def print_section_problems(report: Any) -> None:
+    """One stderr line naming the skipped sections of a report, one per failed section."""
+    from ..report.document import SectionStatus
+
+    skipped = [s.key for s in report.sections if s.status == SectionStatus.SKIPPED]
+    if skipped:
+        print(f"  skipped (reason in the report): {', '.join(skipped)}", file=sys.stderr)
+    for s in report.sections:
+        if s.status == SectionStatus.FAILED:
+            print(f"  {s.key} FAILED: {s.text}", file=sys.stderr)
