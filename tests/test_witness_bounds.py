@@ -45,7 +45,9 @@ def _float_poles(system, env: Environment) -> np.ndarray:
 def _sample(bounds: EnvironmentBounds, n: int, seed: int) -> list[Environment]:
     """Corners and log-uniform draws of the box (zero lower bounds kept as values)."""
     rng = np.random.default_rng(seed)
-    out = [Environment(m, b, k) for m in bounds.mass for b in bounds.damping for k in bounds.stiffness]
+    out = [
+        Environment(m, b, k) for m in bounds.mass for b in bounds.damping for k in bounds.stiffness
+    ]
     for _ in range(n):
         vals = []
         for lo, hi in (bounds.mass, bounds.damping, bounds.stiffness):
@@ -81,8 +83,14 @@ def test_no_destabilizing_hand_is_proven_and_checked_by_sampling():
     ("system", "bounds"),
     [
         (LOAD_PD, EnvironmentBounds(mass=(0.5, 5.0), damping=(0.0, 50.0), stiffness=(0.0, 2000.0))),
-        (LOAD_PD, EnvironmentBounds(mass=(2.0, 10.0), damping=(40.0, 100.0), stiffness=(0.0, 10.0))),
-        (LOAD_PD_TINY, EnvironmentBounds(mass=(1e-6, 1e-4), damping=(0.0, 1.0), stiffness=(0.0, 10.0))),
+        (
+            LOAD_PD,
+            EnvironmentBounds(mass=(2.0, 10.0), damping=(40.0, 100.0), stiffness=(0.0, 10.0)),
+        ),
+        (
+            LOAD_PD_TINY,
+            EnvironmentBounds(mass=(1e-6, 1e-4), damping=(0.0, 1.0), stiffness=(0.0, 10.0)),
+        ),
         (Impedance(expr="1/(s + 1) - 1/1024"), HUMAN_LIMB),
         (Impedance(expr="(s - 1)/(s + 2)"), EnvironmentBounds((0.1, 1.0), (1.0, 2.0), (0.0, 5.0))),
         (Impedance(expr="(s - 1)/(s + 2)"), EnvironmentBounds((0.1, 1.0), (0.0, 0.25), (0.0, 5.0))),
