@@ -32,6 +32,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("sim",),
     ("batch",),
     ("sampled",),
+    ("tuning",),
     ("rig",),
     ("export",),
     ("sweep",),

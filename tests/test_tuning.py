@@ -11,9 +11,10 @@ from seapass.analysis.passivity import is_passive
 from seapass.analysis.region import passive_intervals
 from seapass.errors import ParameterError
 from seapass.model.catalog import design as catalog_design
-from seapass.paper.simstudy import QUICK_OPTIONS, SimulationStudy, StudyRow, run_simulation_study
+from seapass.paper.simstudy import SimulationStudy, StudyRow, run_simulation_study
 from seapass.sim.metrics import Settling, TrackingMetrics
-from seapass.sim.tuning import TuningOptions, design_sea, tune
+from seapass.tuning import QUICK_OPTIONS, TuningOptions, tune
+from seapass.tuning.problem import design_sea
 
 QUICK = replace(QUICK_OPTIONS, maxiter=8)
 
@@ -45,6 +46,7 @@ def test_quick_tune_gives_passive_settling_design_within_limits(design):
         assert lo <= res.gains[gain] <= hi
     d = res.to_dict()
     assert d["design"] == design and set(d["gains"]) == set(catalog_design(design).gains)
+    assert {"gains", "objective", "passive", "on_bound"} <= set(d)
     json.dumps(d)
 
 
@@ -56,8 +58,8 @@ def test_tuning_is_reproducible_and_seeded():
 
 
 def test_force_limit_and_bounds_are_respected():
-    opts = replace(QUICK, force_limit=100.0, bounds={"kd": (0.0, 400.0), "bd": (0.0, 50.0)})
-    res = tune("APD", options=opts, progress=False)
+    opts = replace(QUICK, force_limit=100.0)
+    res = tune("APD", tune={"kd": (0.0, 400.0), "bd": (0.0, 50.0)}, options=opts, progress=False)
     assert res.gains["kd"] <= 400.0 and res.gains["bd"] <= 50.0
     assert res.metrics.peak_force <= 100.0 + 1e-9
 
@@ -76,8 +78,8 @@ def test_bad_design_and_options():
         tune("PID", options=QUICK, progress=False)
     with pytest.raises(ParameterError):
         TuningOptions(load_mass=0.0)
-    with pytest.raises(ParameterError):
-        TuningOptions(horizon=1e-4)
+    with pytest.raises(ParameterError, match="horizon"):
+        tune("LP", options=TuningOptions(horizon=1e-4), progress=False)
     with pytest.raises(ParameterError):
         TuningOptions(step=0.0)
 

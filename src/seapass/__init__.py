@@ -9,9 +9,10 @@ subpackage          what lives there
 ``seapass.exact``   the exact polynomial kernel
 ``seapass.model``   ``SEA``, the safe parser, stiffness, catalog, design files
 ``seapass.analysis``  exact passivity, conditions, passive sets, witnesses
-``seapass.sim``     simulation, tracking metrics, tuning
+``seapass.sim``     simulation, tracking metrics
 ``seapass.batch``   vectorized verdicts and step metrics
 ``seapass.sampled``  discrete controllers, sampled-data passivity, runtime
+``seapass.tuning``  passivity-constrained tuning of any design
 ``seapass.rig``     rig files, the digital twin, the paper's experiment
 ``seapass.export``  C code of the deployed controller, envelope built in
 ``seapass.sweep``   resumable design-space sweeps (local or Dask)
@@ -48,6 +49,7 @@ _LAZY: dict[str, str] = {
     "derive_stiffness": "model.stiffness",
     "is_passive": "analysis.passivity",
     "PassivityResult": "analysis.passivity",
+    "passivity_indices": "analysis.indices",
     "passive_intervals": "analysis.region",
     "passive_map": "analysis.region",
     "exact_passivity_condition": "analysis.conditions",
@@ -56,7 +58,8 @@ _LAZY: dict[str, str] = {
     "simulate": "sim.simulate",
     "Step": "sim.scenarios",
     "tracking_metrics": "sim.metrics",
-    "tune": "sim.tuning",
+    "tune": "tuning.optimize",
+    "TuningOptions": "tuning.problem",
     "sampled_passivity": "sampled.passivity",
     "sampled_passive_bound": "sampled.bound",
     "load_rig": "rig.rigfile",
@@ -69,7 +72,7 @@ _LAZY: dict[str, str] = {
 
 _SUBPACKAGES = frozenset(
     {"analysis", "batch", "cli", "errors", "exact", "export", "files", "model", "paper",
-     "plot", "report", "rig", "sampled", "sim", "sweep"}
+     "plot", "report", "rig", "sampled", "sim", "sweep", "tuning"}
 )  # fmt: skip
 
 __all__ = [
@@ -79,6 +82,7 @@ __all__ = [
     "PassivityResult",
     "SeapassError",
     "Step",
+    "TuningOptions",
     "__version__",
     "analyze",
     "derive_stiffness",
@@ -91,6 +95,7 @@ __all__ = [
     "paper_rig",
     "passive_intervals",
     "passive_map",
+    "passivity_indices",
     "reproduce",
     "sampled_passive_bound",
     "sampled_passivity",
@@ -119,6 +124,7 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:  # what type checkers and IDEs see
     from .analysis.conditions import exact_passivity_condition
     from .analysis.freqresp import stiffness_response
+    from .analysis.indices import passivity_indices
     from .analysis.passivity import PassivityResult, is_passive
     from .analysis.region import passive_intervals, passive_map
     from .analysis.witness import find_destabilizing_environment
@@ -135,4 +141,5 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
     from .sim.metrics import tracking_metrics
     from .sim.scenarios import Step
     from .sim.simulate import simulate
-    from .sim.tuning import tune
+    from .tuning.optimize import tune
+    from .tuning.problem import TuningOptions

@@ -17,8 +17,10 @@ __all__ = [
     "NotPassiveError",
     "ParameterError",
     "SeapassError",
+    "SeapassWarning",
     "SimulationError",
     "SymbolicLimitError",
+    "TuningWarning",
     "UnrealizableError",
 ]
 
@@ -69,3 +71,11 @@ class CompilerError(SeapassError, RuntimeError):
 
 class MissingExtraError(SeapassError, ImportError):
     """An optional extra (``seapass[dask]``, ``seapass[mujoco]``, ...) is needed but not installed."""
+
+
+class SeapassWarning(UserWarning):
+    """Base class of every warning seapass issues."""
+
+
+class TuningWarning(SeapassWarning):
+    """A tuned result needs attention: a gain at the edge of its box, a limit not met."""

@@ -2,24 +2,26 @@
 
 For a design that fails the positive-real test, `find_destabilizing_environment`
 looks for a passive mass-spring-damper environment ``Z_e = m_e s + b_e + k_e/s``
-(``m_e, b_e, k_e >= 0``: a plausible person or object) that makes the coupled
-system unstable, and returns it with the coupled poles and a simulation of the
-growing oscillation as evidence.
+that makes the coupled system unstable, and returns it with the coupled poles
+and a simulation of the growing oscillation as evidence.
 
-Construction (Colgate and Hogan [1]_).  At a frequency ``ω0`` where
-``Z(jω0) = R + jX`` has ``R < 0``, an environment with ``b_e < −R`` and
-reactance ``m_e ω0 − k_e/ω0 = −X`` makes ``Z + Z_e`` real and negative at
-``jω0``.  Near the root ``s*`` of ``Z + Z_e`` close to ``jω0``,
-``s* − jω0 ≈ −(Z + Z_e)(jω0) / (Z + Z_e)'(jω0)``; adding a resonant tank
-(equal extra reactances ``T`` in ``m_e ω0`` and ``k_e/ω0``) makes
-``Z_e' = m_e + k_e/ω0²`` dominate, so ``Re s* ≈ (−R − b_e)/(m_e + k_e/ω0²) > 0``.
-Tanks of several sizes are tried and every candidate is verified exactly
-([`seapass.analysis.coupled.coupled_stability`][seapass.analysis.coupled.coupled_stability]); the one with the fastest growth is
-returned.  Failures of the other conditions (a pole in the right half-plane,
-a repeated or wrongly signed pole on the axis, a cancelled unstable mode) are
-handled by the same tank when ``Re Z(jω)`` dips below zero, and otherwise by
-an exactly verified search over springs, dampers, masses and their
-combinations, starting with the free port.
+By default the environment must be physically meaningful: within
+[`HUMAN_LIMB`][seapass.analysis.environment_box.HUMAN_LIMB] (0.1–10 kg,
+0–100 N·s/m, 0–5000 N/m) or any other
+[`EnvironmentBounds`][seapass.analysis.environment_box.EnvironmentBounds].  Not
+passive only means that *some* passive environment destabilizes the design; it
+may take a 4 mg environment at 16,000 rad/s.  When nothing in the bounds is
+found, seapass tries to prove that nothing in the bounds can
+([`certify_box`][seapass.analysis.environment_box.certify_box], exact) and says
+plainly which: proven, or only not found; and it names an environment outside
+the bounds that does destabilize the design.
+
+The search (`seapass.analysis.witness_search`): the Colgate–Hogan construction at
+the frequencies where an environment of the box can reach the imaginary axis,
+competing with a grid of the box; every candidate verified exactly
+([`coupled_stability`][seapass.analysis.coupled.coupled_stability]); the fastest
+growth wins and is refined inside the box.  ``bounds=None`` searches without
+bounds, starting with the free port.
 
 References
 ----------
@@ -31,32 +33,29 @@ References
 
 from __future__ import annotations
 
-import itertools
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, TypeAlias
 
 import numpy as np
 import sympy as sp
-from flint import fmpq, fmpq_poly
+from flint import fmpq_poly
 
 from ..errors import NotPassiveError
-from ..exact import poly as ep
-from ..exact.axis import at_j_omega, negative_point, real_part_polynomial
+from ..exact.halfline import HalfLinePoint
 from ..model.sea import SEA, Impedance
-from .coupled import (
-    CoupledResult,
-    Environment,
-    characteristic_from_polys,
-    classify_polynomial,
-    coupled_stability,
-    polynomial_roots,
-    to_float,
-)
+from .coupled import CoupledResult, Environment, coupled_stability
 from .coupled_response import CoupledSimulation, simulate_coupled
+from .environment_box import (
+    HUMAN_LIMB,
+    BoxCertificate,
+    EnvironmentBounds,
+    certify_box,
+    crossing_cells,
+)
 from .impedance import exact_rational_function
 from .passivity import PassivityResult, is_passive
+from .witness_search import Candidate, bounded_candidates, refine, score, unbounded_candidates
 
 __all__ = [
     "WitnessResult",
@@ -64,15 +63,6 @@ __all__ = [
 ]
 
 SystemLike: TypeAlias = SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]]
-
-TANK_FACTORS = (0.0, *(10.0 ** (k / 2) for k in range(-4, 13)))
-"""Tank sizes tried, relative to ``|Z'(jω0)| ω0`` (the SEA's own reactance slope)."""
-REFINE_STEPS = 60
-"""Steps of the local refinement that maximizes the growth rate of the best candidate, and how far
-(in decades) it may move each parameter: the witness should stay a plausible object, not the
-degenerate limit a pure growth maximization runs to.
-"""
-REFINE_DECADES = 2.0
 
 
 @dataclass(frozen=True)
@@ -87,9 +77,10 @@ class WitnessResult:
     reason : str
         The positive-real test's failure code (``""`` when passive).
     found : bool
-        A destabilizing passive environment was found and verified exactly.
+        A destabilizing passive environment within ``bounds`` was found and
+        verified exactly.
     environment : Environment or None
-        The environment (``mass, damping, stiffness >= 0``).
+        The environment (``mass, damping, stiffness >= 0``, within ``bounds``).
     method : str
         ``"free port"``, ``"tuned at w0"`` (the construction) or ``"search"``.
     omega : float or None
@@ -100,6 +91,18 @@ class WitnessResult:
         The growing response.
     candidates : int
         Number of environments verified.
+    detail : str
+        One plain paragraph: what was found, or that nothing in the bounds can
+        (proven) or was found (searched).
+    bounds : EnvironmentBounds or None
+        The box searched (None: no bounds).
+    certified : bool
+        Proven exactly that no environment in ``bounds`` destabilizes the design
+        (only when nothing was found; see
+        [`certify_box`][seapass.analysis.environment_box.certify_box]).
+    outside : Environment or None
+        When nothing in ``bounds`` destabilizes the design: one found without
+        bounds that does.
     """
 
     passive: bool
@@ -113,6 +116,9 @@ class WitnessResult:
     candidates: int = 0
     detail: str = ""
     passivity: PassivityResult | None = field(default=None, repr=False)
+    bounds: EnvironmentBounds | None = None
+    certified: bool = False
+    outside: Environment | None = None
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -124,123 +130,13 @@ class WitnessResult:
             "method": self.method,
             "omega": self.omega,
             "candidates": self.candidates,
+            "bounds": self.bounds.to_dict() if self.bounds else None,
+            "certified": self.certified,
+            "outside": self.outside.to_dict() if self.outside else None,
             "coupled": self.coupled.to_dict() if self.coupled else None,
             "max_real_part": self.coupled.max_real_part if self.coupled else None,
             "simulation": self.simulation.to_dict() if self.simulation else None,
         }
-
-
-# ---------------------------------------------------------------- candidates
-
-
-def _z_at(num: fmpq_poly, den: fmpq_poly, w: fmpq) -> tuple[fmpq, fmpq]:
-    """Exact ``(Re, Im)`` of ``Z(jw)``."""
-    nr, ni = (p(w) for p in at_j_omega(num))
-    dr, di = (p(w) for p in at_j_omega(den))
-    mag = dr * dr + di * di
-    if mag == 0:
-        raise ZeroDivisionError("w is a pole of Z")
-    return (nr * dr + ni * di) / mag, (ni * dr - nr * di) / mag
-
-
-def _eval_jw(p: fmpq_poly, w: fmpq) -> tuple[fmpq, fmpq]:
-    re, im = at_j_omega(p)
-    return re(w), im(w)
-
-
-def _dz_abs(num: fmpq_poly, den: fmpq_poly, w: fmpq) -> float:
-    """``|Z'(jw)|``, exact until the final conversion (no overflow for extreme values)."""
-    nr, ni = _eval_jw(num, w)
-    dr, di = _eval_jw(den, w)
-    dnr, dni = _eval_jw(num.derivative(), w)
-    ddr, ddi = _eval_jw(den.derivative(), w)
-    # (N' D - N D') / D^2, numerator and |D|^2 as exact complex pairs
-    ar, ai = (
-        dnr * dr - dni * di - (nr * ddr - ni * ddi),
-        dnr * di + dni * dr - (nr * ddi + ni * ddr),
-    )
-    mag2 = dr * dr + di * di
-    if mag2 == 0:
-        return math.inf
-    num_abs = math.hypot(to_float(ar), to_float(ai))
-    return num_abs / to_float(mag2) if to_float(mag2) > 0 else math.inf
-
-
-def _negative_frequencies(num: fmpq_poly, den: fmpq_poly) -> list[float]:
-    """Frequencies with ``Re Z(jω) < 0`` (exact check), the most negative first."""
-    px = real_part_polynomial(num, den)
-    if not px:
-        return []
-    odd = ep.positive_roots_odd_multiplicity(px)
-    if px.leading_coefficient() > 0 and ep.count_real_roots(odd, 0) == 0:
-        return []
-    try:
-        out = [negative_point(px)]
-        # a few more, log-spaced across the band where P < 0, for robustness
-        roots = [ep.root_value(px, iv) for iv in ep.isolate_real_roots(px, 0)]
-    except OverflowError:  # frequencies beyond the double range: leave it to the grid
-        return []
-    edges = [0.0, *roots, (roots[-1] * 100 + 1) if roots else 1e6]
-    for lo, hi in itertools.pairwise(edges):
-        for x in np.geomspace(max(lo, hi * 1e-6, 1e-300), hi, 7)[1:-1]:
-            if px(ep.rational(float(x))) < 0:
-                out.append(math.sqrt(float(x)))
-    return out
-
-
-def _tuned(num: fmpq_poly, den: fmpq_poly, w0: float) -> list[Environment]:
-    """The construction at ``w0``: ``b_e`` below ``−R``, reactance ``−X``, tanks of several sizes."""
-    try:
-        r, x = _z_at(num, den, ep.rational(w0))
-    except ZeroDivisionError:
-        return []
-    if r >= 0:
-        return []
-    slope = _dz_abs(num, den, ep.rational(w0)) * w0
-    if not (math.isfinite(slope) and slope > 0):
-        slope = abs(to_float(r))
-    out = []
-    for be in (fmpq(0), -r / 2):
-        for f in TANK_FACTORS:
-            tank = f * slope
-            me = (max(-to_float(x), 0.0) + tank) / w0
-            ke = (max(to_float(x), 0.0) + tank) * w0
-            env = _env(me, to_float(be), ke)
-            if env is not None:
-                out.append(env)
-    return out
-
-
-def _env(m: float, b: float, k: float) -> Environment | None:
-    """An environment, or None when a value is not a finite non-negative float."""
-    vals = (m, b, k)
-    if all(math.isfinite(v) and v >= 0 for v in vals):
-        return Environment(mass=m, damping=b, stiffness=k)
-    return None
-
-
-def _grid(num: fmpq_poly, den: fmpq_poly) -> list[Environment]:
-    """Springs, dampers, masses and combinations, scaled to the impedance."""
-    roots = polynomial_roots(den)
-    mags = [abs(p) for p in roots if 0 < abs(p) < math.inf]
-    with np.errstate(all="ignore"):
-        wc = float(np.exp(np.mean(np.log(mags)))) if mags else 1.0
-    if not (math.isfinite(wc) and wc > 0):
-        wc = 1.0
-    try:
-        zc = math.hypot(*(to_float(v) for v in _z_at(num, den, ep.rational(wc))))
-    except ZeroDivisionError:
-        zc = 1.0
-    if not (math.isfinite(zc) and zc > 0 and math.isfinite(wc) and wc > 0):
-        zc, wc = 1.0, 1.0
-    scales = [10.0**k for k in range(-4, 5)]
-    cands = [_env(0.0, zc * f, 0.0) for f in scales]
-    cands += [_env(0.0, 0.0, zc * wc * f) for f in scales]
-    cands += [_env(zc / wc * f, 0.0, 0.0) for f in scales]
-    for fm, fk in itertools.product(scales[::2], scales[::2]):
-        cands.append(_env(zc / wc * fm, 0.0, zc * wc * fk))
-        cands.append(_env(zc / wc * fm, zc * 1e-2, zc * wc * fk))
-    return [e for e in cands if e is not None]
 
 
 # ---------------------------------------------------------------- entry point
@@ -249,16 +145,20 @@ def _grid(num: fmpq_poly, den: fmpq_poly) -> list[Environment]:
 def find_destabilizing_environment(
     system: SystemLike,
     *,
+    bounds: EnvironmentBounds | None = HUMAN_LIMB,
     values: Mapping[str, float] | None = None,
     simulate: bool = True,
     throw: bool = False,
 ) -> WitnessResult:
-    """Find a passive environment that destabilizes a non-passive design.
+    """Find a passive environment within ``bounds`` that destabilizes a non-passive design.
 
     Parameters
     ----------
     system : SEA, Impedance, str, sympy.Expr or (num, den)
         The design (its port impedance is used), with numeric values.
+    bounds : EnvironmentBounds or None, default HUMAN_LIMB
+        The environments allowed (a human limb: 0.1–10 kg, 0–100 N·s/m,
+        0–5000 N/m); None for any passive mass-spring-damper.
     values : mapping, optional
         Parameter values overriding those stored in ``system``.
     simulate : bool, default True
@@ -271,15 +171,17 @@ def find_destabilizing_environment(
     -------
     WitnessResult
         ``found`` is False for a passive design (none exists, by the passivity
-        theorem) and when the search fails (reported in ``detail``).
+        theorem) and when nothing in ``bounds`` was found; then ``certified``
+        says whether that is proven, and ``outside`` names an environment beyond
+        the bounds that does destabilize the design.
 
     Examples
     --------
     >>> from seapass import SEA
     >>> lp = SEA(D1="k1", CL="kd", values=dict(m=1, b=10, k1=1000, kd=2000))
     >>> w = find_destabilizing_environment(lp, simulate=False)
-    >>> w.found, w.coupled.rhp
-    (True, True)
+    >>> w.found, w.coupled.rhp, 0.1 <= w.environment.mass <= 10
+    (True, True, True)
     """
     pr = is_passive(system, values=values)
     if pr.passive:
@@ -289,97 +191,120 @@ def find_destabilizing_environment(
             found=False,
             detail="passive: no passive environment can destabilize it (passivity theorem)",
             passivity=pr,
+            bounds=bounds,
         )
     num, den = exact_rational_function(system, values)
     if den.leading_coefficient() < 0:
         num, den = -num, -den
-    g = num.gcd(den) if not num.is_zero() else ep.monic(den)
-    rn, rd = (num // g, den // g) if not num.is_zero() else (num, den)
+    rn, rd = _reduced(num, den)
+    stages: list[tuple[str, list[Candidate]]]
+    if bounds is None:
+        stages = [
+            ("free port", [(Environment(), None)]),
+            ("tuned at w0", unbounded_candidates(rn, rd)),
+        ]
+        cells = None
+    else:
+        cells = crossing_cells(rn, rd, bounds) if not rn.is_zero() else []
+        stages = [("tuned at w0", bounded_candidates(rn, rd, bounds, cells))]
+    hit, count = _search(num, den, stages, bounds)
+    if hit is not None:
+        method, env, w0 = hit
+        coupled = coupled_stability(system, env, values=values)
+        return _found(system, values, pr, method, env, w0, coupled, count, simulate, throw, bounds)
+    return _not_found(num, den, rn, rd, pr, count, bounds, cells)
 
-    stages: list[tuple[str, list[tuple[Environment, float | None]]]] = [
-        ("free port", [(Environment(), None)]),
-    ]
-    tuned: list[tuple[Environment, float | None]] = []
-    for wneg in _negative_frequencies(rn, rd) if not rn.is_zero() else []:
-        tuned += [(env, wneg) for env in _tuned(rn, rd, wneg)]
-    # the construction and the search compete: the fastest verified growth wins
-    stages.append(("tuned at w0", tuned + [(env, None) for env in _grid(rn, rd)]))
 
+def _reduced(num: fmpq_poly, den: fmpq_poly) -> tuple[fmpq_poly, fmpq_poly]:
+    """``num/den`` with their common factor cancelled."""
+    if num.is_zero():
+        return num, den
+    g = num.gcd(den)
+    return num // g, den // g
+
+
+def _search(
+    num: fmpq_poly,
+    den: fmpq_poly,
+    stages: list[tuple[str, list[Candidate]]],
+    bounds: EnvironmentBounds | None,
+) -> tuple[tuple[str, Environment, float | None] | None, int]:
+    """Score every candidate exactly, stage by stage; the fastest growth of the first
+    stage with one wins and is refined.  ``(method, environment, ω0)`` or None."""
     count = 0
     fallback: tuple[str, Environment, float | None] | None = None
     for method, cands in stages:
         best: tuple[float, Environment, float | None] | None = None
         for env, wc in cands:
             count += 1
-            status, rate = _score(num, den, env)
+            status, rate = score(num, den, env)
             if status == "rhp" and (best is None or rate > best[0]):
                 best = (rate, env, wc)
             elif status == "unstable" and fallback is None:
                 fallback = (method, env, wc)
         if best is not None:
-            env, extra = _refine(num, den, best[1], best[0])
+            env, extra = refine(num, den, best[1], best[0], bounds)
             count += extra
-            coupled = coupled_stability(system, env, values=values)
             if best[2] is None and method != "free port":
                 method = "search"
-            return _found(system, values, pr, method, env, best[2], coupled, count, simulate, throw)
-    if fallback is not None:
-        method, env, wf = fallback
-        coupled = coupled_stability(system, env, values=values)
-        return _found(system, values, pr, method, env, wf, coupled, count, simulate, throw)
+            return (method, env, best[2]), count
+    return fallback, count
+
+
+def _not_found(
+    num: fmpq_poly,
+    den: fmpq_poly,
+    rn: fmpq_poly,
+    rd: fmpq_poly,
+    pr: PassivityResult,
+    count: int,
+    bounds: EnvironmentBounds | None,
+    cells: list[tuple[HalfLinePoint, bool]] | None,
+) -> WitnessResult:
+    """Nothing found: prove that nothing in the box can, if possible, and look outside it."""
+    where = "" if bounds is None else f" within {bounds.describe()}"
+    if bounds is None:
+        return WitnessResult(
+            passive=False, reason=pr.reason, found=False, candidates=count, passivity=pr,
+            detail=f"not passive ({pr.reason}), but none of {count} mass-spring-damper "
+            "environments tried destabilizes it",
+        )  # fmt: skip
+    cert = certify_box(num, den, bounds, cells)
+    outside, extra = _search(
+        num, den, [("free port", [(Environment(), None)]), ("search", unbounded_candidates(rn, rd))],
+        None,
+    )  # fmt: skip
+    beyond = ""
+    if outside is not None:
+        e = outside[1]
+        beyond = (
+            f" Outside the bounds, m_e = {e.mass:.4g} kg, b_e = {e.damping:.4g} N*s/m, "
+            f"k_e = {e.stiffness:.4g} N/m does."
+        )
     return WitnessResult(
         passive=False,
         reason=pr.reason,
         found=False,
-        candidates=count,
-        detail=f"not passive ({pr.reason}), but none of {count} mass-spring-damper "
-        "environments tried destabilizes it",
+        candidates=count + extra,
         passivity=pr,
+        bounds=bounds,
+        certified=cert.certified,
+        outside=None if outside is None else outside[1],
+        detail=_not_found_text(pr, count, where, cert) + beyond,
     )
 
 
-def _score(num: fmpq_poly, den: fmpq_poly, env: Environment) -> tuple[str, float]:
-    """Exact class (``"rhp"``, ``"unstable"``, ``"bounded"``) and a float growth rate."""
-    ne, de = env.polynomials()
-    try:
-        chi, _ = characteristic_from_polys(num, den, ne, de)
-        _, rhp, repeated = classify_polynomial(chi)
-    except (ValueError, ArithmeticError):
-        return "bounded", -math.inf
-    if not rhp:
-        return ("unstable" if repeated else "bounded"), -math.inf
-    roots = polynomial_roots(chi, fast=True)
-    with np.errstate(all="ignore"):
-        rate = float(np.max(roots.real)) if roots.size else 0.0
-    return "rhp", rate if math.isfinite(rate) else 0.0
-
-
-def _refine(
-    num: fmpq_poly, den: fmpq_poly, env: Environment, rate: float
-) -> tuple[Environment, int]:
-    """Pattern search on ``log m_e, log b_e, log k_e`` for a faster growth, each step exact."""
-    x0 = x = np.array([env.mass, env.damping, env.stiffness])
-    step, count = 0.5, 0
-    while step > 0.05 and count < REFINE_STEPS:
-        improved = False
-        for i, sign in itertools.product(range(3), (1.0, -1.0)):
-            if x[i] == 0:
-                continue
-            y = x.copy()
-            y[i] = x[i] * 10.0 ** (sign * step)
-            ratio = y[i] / x0[i]
-            if not (np.all(np.isfinite(y)) and y[i] > 0 and 0 < ratio < math.inf):
-                continue
-            if abs(math.log10(ratio)) > REFINE_DECADES + 1e-9:
-                continue
-            count += 1
-            cand = Environment(mass=float(y[0]), damping=float(y[1]), stiffness=float(y[2]))
-            status, r = _score(num, den, cand)
-            if status == "rhp" and r > rate * (1 + 1e-6):
-                x, rate, env, improved = y, r, cand, True
-        if not improved:
-            step /= 2
-    return env, count
+def _not_found_text(pr: PassivityResult, count: int, where: str, cert: BoxCertificate) -> str:
+    if cert.certified:
+        return (
+            f"not passive ({pr.reason}), but no passive environment{where} destabilizes it: "
+            "proven exactly (no environment in these bounds puts a coupled pole on the "
+            "imaginary axis, and one of them is stable)."
+        )
+    return (
+        f"not passive ({pr.reason}); none of {count} passive environments{where} tried "
+        f"destabilizes it, but this is a search, not a proof ({cert.reason})."
+    )
 
 
 def _found(
@@ -393,6 +318,7 @@ def _found(
     count: int,
     simulate: bool,
     throw: bool,
+    bounds: EnvironmentBounds | None,
 ) -> WitnessResult:
     sim, note = None, ""
     if simulate:
@@ -405,10 +331,11 @@ def _found(
         if coupled.rhp
         else "a repeated pole on the imaginary axis"
     )
+    within = "" if bounds is None else f" (within {bounds.describe()})"
     detail = (
         f"not passive ({pr.reason}); the passive environment m_e = {env.mass:.6g} kg, "
-        f"b_e = {env.damping:.6g} N*s/m, k_e = {env.stiffness:.6g} N/m makes the coupled "
-        f"system unstable: {kind}{note}"
+        f"b_e = {env.damping:.6g} N*s/m, k_e = {env.stiffness:.6g} N/m{within} makes the "
+        f"coupled system unstable: {kind}{note}"
     )
     if throw:
         raise NotPassiveError(detail)
@@ -424,4 +351,5 @@ def _found(
         candidates=count,
         detail=detail,
         passivity=pr,
+        bounds=bounds,
     )

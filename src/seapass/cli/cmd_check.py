@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from ..analysis.indices import PassivityIndices, passivity_indices
 from ..analysis.passivity import is_passive
 from .common import add_model_options, print_json, system_from_args
 
@@ -21,7 +22,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="decide exactly whether a design (or an impedance Z(s)) is passive",
         description="Exact positive-real test of the load impedance Z_L = F_L/(s X_L), "
         "or of a raw impedance given with --Z. Decided by exact rational arithmetic and "
-        "certified root isolation, never by a frequency grid.",
+        "certified root isolation, never by a frequency grid. Also the passivity indices of "
+        "MATLAB's getPassiveIndex: input feedforward nu (N*s/m for an SEA port; nu < 0: "
+        "|nu| of parallel damping makes it passive) and output feedback rho, exact.",
         epilog=EXAMPLE,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -34,10 +37,26 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 def run(args: argparse.Namespace) -> int:
     system = system_from_args(args)
     result = is_passive(system)
+    indices = passivity_indices(system)
     if args.json:
-        print_json(result.to_dict())
+        print_json({**result.to_dict(), "indices": indices.to_dict()})
     else:
         print(f"{result.status}: {result.detail}")
         if result.omega is not None:
             print(f"witness: Re Z(jw) < 0 at w = {result.omega:.6g} rad/s")
+        print(_indices_text(indices))
     return 0
+
+
+def _indices_text(ix: PassivityIndices) -> str:
+    """One line: ν and ρ with where they are attained."""
+
+    def where(omega: float | None, value: float) -> str:
+        if omega is None:
+            return " (as w -> inf)" if abs(value) != float("inf") else ""
+        return f" (at w = {omega:.6g} rad/s)"
+
+    return (
+        f"passivity indices: input feedforward nu = {ix.nu:.6g}{where(ix.input.omega, ix.nu)}, "
+        f"output feedback rho = {ix.rho:.6g}{where(ix.output.omega, ix.rho)}"
+    )

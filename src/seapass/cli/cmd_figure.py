@@ -43,7 +43,7 @@ def run(args: argparse.Namespace) -> int:
 
     from ..paper.simstudy import run_simulation_study
     from ..plot.sim import plot_simulation_study
-    from ..sim.tuning import TuningOptions
+    from ..tuning.problem import TuningOptions
 
     out = Path(args.out)
     if out.exists() and not out.is_dir():

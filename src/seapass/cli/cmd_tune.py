@@ -1,120 +1,286 @@
-"""``seapass tune``: best-case passive gains of LP, APD or Ours (paper Sec. V)."""
+"""``seapass tune``: the best passive gains of any design (a design file, a model, or LP/APD/ours)."""
 
 from __future__ import annotations
 
 import argparse
-from dataclasses import replace
+import difflib
+import sys
+import warnings
+from collections.abc import Mapping, Sequence
+from pathlib import Path
 
-from ..errors import ParameterError
-from ..model.expr import parse_value
-from ..paper.simstudy import QUICK_OPTIONS
-from ..sim.tuning import TuningOptions, tune
-from .common import print_json
+from ..errors import ParameterError, TuningWarning
+from ..model.catalog import CATALOG
+from ..model.design_file import Design, load_design
+from ..model.expr import parse_assignment, parse_value
+from ..model.sea import SEA
+from ..tuning.optimize import TuningResult, tune
+from ..tuning.problem import QUICK_OPTIONS, DesignLike, TuningOptions, design_parts
+from .common import add_model_options, print_json
 
 EXAMPLE = """examples:
-  seapass tune --design ours --load-mass 10 --json
-  seapass tune --design LP --quick
-  seapass tune --design APD --bound kd=0:2000 --bound bd=0:150 --force-limit 500
+  seapass tune examples/ours.toml --json
+  seapass tune examples/ours.toml --tune kd=0:5000 --tune b1 --objective itae
+  seapass tune --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
+      --set b1=30 --tune kd=0:5000 --tune bd=0:300 --period 0.002 --max-overshoot 5
+  seapass tune ours --load-mass 10 --quick
 
-Designs: LP (D1 = k1, C_L = kd), APD (D1 = k1, C_A = kd + bd*s),
-ours (D1 = k1 + b1*s, C_A = kd + bd*s). The objective is the 2 % settling time of
-the load after a reference step; every candidate that could become the best is
-checked with the exact passivity test, and the peak actuator force is limited.
+DESIGN is a design file (TOML, see 'seapass analyze --help') or one of the paper's
+designs LP, APD, ours (m = 1 kg, b = 10 N*s/m, k1 = 1000 N/m); or give the model
+with --D1/--D2/--CA/--CL/--set.  Gains to tune: --tune NAME=LO:HI, or --tune NAME
+for the design's box (the file's [ranges], else [0, max(10*value, 1000)]);
+default: the controller gains (the parameters of CA and CL; LP/APD/ours: the
+catalog's gains).  Every other parameter stays at its value.  Every candidate
+that could become the best is checked with the exact passivity test (and the
+sampled-data test with --period).  Exit code 0 when the result is feasible,
+1 when no passive gains within the limits were found, 2 on bad input.
 """
 
 
-def register(sub: argparse._SubParsersAction) -> None:
+def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
     p = sub.add_parser(
         "tune",
-        help="tune LP / APD / ours for the fastest passive step response",
-        description="Differential evolution (fixed seed, reproducible) on the exact "
-        "simulated settling time, under the exact passivity constraint and an actuator "
-        "force limit. A progress bar is shown on stderr when it is a terminal.",
+        help="tune the gains of any design for the best passive step response",
+        description="Differential evolution (seeded, reproducible) on the simulated step "
+        "response, under exact passivity (always), sampled-data passivity (--period), a "
+        "force limit and an overshoot limit. A progress bar is shown on stderr when it "
+        "is a terminal; Ctrl-C stops cleanly (exit 130).",
         epilog=EXAMPLE,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--design", required=True, help="LP, APD or ours (case-insensitive)")
-    p.add_argument("--load-mass", type=float, default=10.0, help="load mass m_L [kg]")
-    p.add_argument("--step", type=float, default=0.5, help="reference step [m]")
-    p.add_argument("--horizon", type=float, default=10.0, help="simulated time [s]")
-    p.add_argument("--force-limit", type=float, default=1000.0, help="peak |f_A| [N]")
-    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
-                   help="plant value m, b or k1 (defaults 1, 10, 1000)")  # fmt: skip
-    p.add_argument(
-        "--bound",
-        action="append",
-        default=[],
-        metavar="GAIN=LO:HI",
-        help="search range of a gain, e.g. --bound kd=0:2000",
-    )
-    p.add_argument("--maxiter", type=int, default=None, help="generations (default 60)")
-    p.add_argument("--popsize", type=int, default=None, help="population per gain (default 12)")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--quick", action="store_true", help="small budget (for previews and tests)")
-    p.add_argument("--no-progress", action="store_true", help="never show a progress bar")
+    p.add_argument("design", nargs="?", metavar="DESIGN", help="design file or LP, APD, ours")
+    p.add_argument("--design", dest="design_option", help=argparse.SUPPRESS)  # old spelling
+    add_model_options(p)
+    g = p.add_argument_group("what to tune")
+    g.add_argument("--tune", action="append", default=[], metavar="NAME=LO:HI",
+                   help="a gain and its box, repeatable; NAME alone: the design's box")  # fmt: skip
+    g.add_argument("--bound", action="append", default=[], help=argparse.SUPPRESS)  # old name
+    g.add_argument("--objective", default="settling", choices=("settling", "itae"),
+                   help="settling: 2%% settling time; itae: integral of t*|error| (default: settling)")  # fmt: skip
+    g.add_argument("--max-overshoot", type=float, metavar="PCT",
+                   help="overshoot limit in percent of the step (default: none)")  # fmt: skip
+    g.add_argument("--force-limit", type=float, default=1000.0, metavar="N",
+                   help="peak actuator force |f_A| [N] (default: 1000)")  # fmt: skip
+    g.add_argument("--no-force-limit", action="store_true", help="no force limit")
+    g.add_argument("--period", type=float, metavar="T",
+                   help="also require passivity under sampled-data control with period T [s]")  # fmt: skip
+    g.add_argument("--delay", type=int, metavar="N",
+                   help="samples of delay of that controller (default: the file's, else 0)")  # fmt: skip
+    g.add_argument("--velocity-filter", type=float, metavar="HZ",
+                   help="its velocity low-pass cut-off [Hz] (default: the file's, else none)")  # fmt: skip
+    s = p.add_argument_group("the step response (default: the file's [simulation], else 10 kg, 0.5 m, 10 s)")  # fmt: skip
+    s.add_argument("--load-mass", type=float, metavar="KG", help="tuning load mass m_L [kg]")
+    s.add_argument("--step", type=float, metavar="M", help="reference step [m]")
+    s.add_argument("--horizon", type=float, metavar="S", help="simulated time [s]")
+    b = p.add_argument_group("the search")
+    b.add_argument("--maxiter", type=int, help="generations (default: 60; --quick: 12)")
+    b.add_argument("--popsize", type=int, help="population per gain (default: 12; --quick: 6)")
+    b.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
+    b.add_argument("--quick", action="store_true", help="small budget (for previews and tests)")
+    b.add_argument("--no-progress", action="store_true", help="never show a progress bar")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 
 
-def _bounds(items: list[str]) -> dict[str, tuple[float, float]]:
-    out: dict[str, tuple[float, float]] = {}
+# ----------------------------------------------------------------- arguments
+
+
+def _did_you_mean(name: str, choices: Sequence[str]) -> str:
+    close = difflib.get_close_matches(name, list(choices), n=1)
+    return f"; did you mean {close[0]!r}?" if close else ""
+
+
+def parse_tune(items: Sequence[str], flag: str = "--tune") -> dict[str, tuple[float, float] | None]:
+    """``NAME=LO:HI`` or ``NAME`` items into ``{name: (lo, hi) or None}``; repeats are errors."""
+    out: dict[str, tuple[float, float] | None] = {}
     for item in items:
         name, sep, rng = item.partition("=")
+        name = name.strip()
+        if not name.isidentifier():
+            raise ParameterError(f"{flag} {item!r}: expected NAME=LO:HI or NAME, e.g. kd=0:5000")
+        if name in out:
+            raise ParameterError(f"{flag} {name} is given twice; give each gain once")
+        if not sep:
+            out[name] = None
+            continue
         lo, sep2, hi = rng.partition(":")
-        if not sep or not sep2:
-            raise ParameterError(f"--bound {item!r}: expected GAIN=LO:HI, e.g. kd=0:2000")
-        a, b = parse_value(lo, f"{name} lower bound"), parse_value(hi, f"{name} upper bound")
-        if not 0 <= a < b:
-            raise ParameterError(f"--bound {item!r}: need 0 <= LO < HI")
-        out[name.strip()] = (a, b)
+        if not sep2:
+            raise ParameterError(f"{flag} {item!r}: expected NAME=LO:HI, e.g. {name}=0:5000")
+        a = parse_value(lo.strip(), f"{flag} {name} lower bound")
+        z = parse_value(hi.strip(), f"{flag} {name} upper bound")
+        if not a < z:
+            raise ParameterError(f"{flag} {item!r}: need LO < HI")
+        out[name] = (a, z)
     return out
 
 
-def options_from_args(args: argparse.Namespace) -> TuningOptions:
-    plant: dict[str, float] = {}
-    for item in args.set:
-        name, _, raw = item.partition("=")
-        name = name.strip()
-        if name not in ("m", "b", "k1"):
-            raise ParameterError(f"--set {item!r}: tune accepts only m, b and k1")
-        plant[name] = parse_value(raw, name)
-    base = TuningOptions(
+def _assignments(items: Sequence[str]) -> dict[str, float]:
+    out: dict[str, float] = {}
+    for item in items:
+        name, value = parse_assignment(item)
+        if name in out:
+            raise ParameterError(f"--set {name} is given twice; give each value once")
+        out[name] = value
+    return out
+
+
+def _design(args: argparse.Namespace) -> tuple[DesignLike, Design | None, dict[str, float]]:
+    """The design named on the command line, its design file (if any) and the ``--set`` values."""
+    if args.design and args.design_option:
+        raise ParameterError("give the design once (DESIGN or --design)")
+    name = args.design or args.design_option
+    model_given = any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL"))
+    values = _assignments(args.set)
+    if name is not None and model_given:
+        raise ParameterError("give either DESIGN or the model --D1/--D2/--CA/--CL, not both")
+    if name is None and not model_given:
+        raise ParameterError(
+            "nothing to tune: give a design file, LP/APD/ours, or the model with --D1 ... --set"
+        )
+    if name is None:
+        sea = SEA(D1=args.D1, D2=args.D2, CA=args.CA, CL=args.CL, values=values)
+        _check_names(values, sea.parameters, "--set")
+        return sea, None, {}
+    if name.lower() in {k.lower() for k in CATALOG} and not Path(name).is_file():
+        return name, None, values
+    path = Path(name)
+    if path.suffix != ".toml" and not path.exists():
+        keys = ", ".join(CATALOG)
+        raise ParameterError(
+            f"DESIGN {name!r} is neither a design file nor a catalog name ({keys})"
+        )
+    design = load_design(path)
+    return design, design, values
+
+
+def _check_names(values: Mapping[str, object], parameters: Sequence[str], flag: str) -> None:
+    for name in values:
+        if name not in parameters:
+            raise ParameterError(
+                f"{flag} {name}: not a parameter of the design ({', '.join(parameters)})"
+                f"{_did_you_mean(name, parameters)}"
+            )
+
+
+def options_from_args(args: argparse.Namespace, file: Design | None) -> TuningOptions:
+    """`TuningOptions` from the command line (design-file defaults are resolved later)."""
+    opts = TuningOptions(
+        objective=args.objective,
+        max_overshoot=None if args.max_overshoot is None else args.max_overshoot / 100.0,
+        force_limit=None if args.no_force_limit else args.force_limit,
         load_mass=args.load_mass,
         step=args.step,
         horizon=args.horizon,
-        force_limit=args.force_limit,
+        period=args.period,
+        delay=args.delay,
+        velocity_filter=args.velocity_filter,
         seed=args.seed,
-        bounds=_bounds(args.bound),
-        m=plant.get("m", 1.0),
-        b=plant.get("b", 10.0),
-        k1=plant.get("k1", 1000.0),
     )
     if args.quick:
-        base = replace(
-            base,
+        opts = opts.replace(
             maxiter=QUICK_OPTIONS.maxiter,
             popsize=QUICK_OPTIONS.popsize,
             dt_search=QUICK_OPTIONS.dt_search,
         )
     if args.maxiter is not None:
-        base = replace(base, maxiter=args.maxiter)
+        opts = opts.replace(maxiter=args.maxiter)
     if args.popsize is not None:
-        base = replace(base, popsize=args.popsize)
-    return base
+        opts = opts.replace(popsize=args.popsize)
+    return opts
+
+
+# ----------------------------------------------------------------- run
 
 
 def run(args: argparse.Namespace) -> int:
-    if not args.load_mass > 0:
-        raise ParameterError(f"--load-mass must be positive, got {args.load_mass:g}")
-    opts = options_from_args(args)
-    result = tune(args.design, options=opts, progress=False if args.no_progress else None)
+    design, file, values = _design(args)
+    boxes = parse_tune([*args.tune, *args.bound])
+    opts = options_from_args(args, file)
+    if opts.period is not None and opts.period >= 0.1:
+        print(
+            f"warning: --period {opts.period:g} s is a {1 / opts.period:.3g} Hz controller; "
+            "the period is in seconds (500 Hz is --period 0.002)",
+            file=sys.stderr,
+        )
+    _name, sea, default_gains, _boxes = design_parts(design)
+    _check_names(values, sea.parameters, "--set")
+    _check_names(boxes, sea.parameters, "--tune")
+    if isinstance(design, SEA):
+        boxes = _model_gains(sea, boxes)
+    clash = sorted(set(values) & set(boxes or default_gains))
+    if clash:
+        raise ParameterError(
+            f"--set {clash[0]}: {clash[0]} is tuned; drop --set {clash[0]} or name the gains "
+            "to tune with --tune NAME=LO:HI"
+        )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", TuningWarning)  # printed below, once, as lines
+        result = tune(
+            design,
+            tune=boxes or None,
+            values=values or None,
+            options=opts,
+            progress=False if args.no_progress else None,
+        )
+    for message in result.warnings:
+        print(f"warning: {message}", file=sys.stderr)
     if args.json:
         print_json(result.to_dict())
     else:
-        m = result.metrics
-        gains = ", ".join(f"{k} = {v:.6g}" for k, v in result.gains.items())
-        ts = "-" if m.settling_time is None else f"{m.settling_time:.4f} s"
-        print(f"{result.design}: {gains}")
-        print(f"passive: {result.passive}; settling time {ts} ({m.status}); "
-              f"final error {m.final_error:.3e} m; peak force {m.peak_force:.4g} N")  # fmt: skip
-    return 0
+        _print_text(result)
+    hint = _control_hint(file, opts)
+    if hint:
+        print(f"note: {hint}", file=sys.stderr)
+    return 0 if result.feasible else 1
+
+
+def _model_gains(
+    sea: SEA, boxes: dict[str, tuple[float, float] | None]
+) -> dict[str, tuple[float, float] | None]:
+    """The gains of a model given with --D1 ...: --tune, else the controller's parameters."""
+    controller = sorted(str(x) for x in sea.CA.free_symbols | sea.CL.free_symbols)
+    gains = boxes or dict.fromkeys(controller)
+    missing = [p for p in sea.parameters if p not in gains and sea.values.get(p) is None]
+    if missing:
+        raise ParameterError(
+            f"no value for {', '.join(missing)}: give --set {missing[0]}=VALUE "
+            f"(or tune it with --tune {missing[0]}=LO:HI)"
+        )
+    for name, box in gains.items():
+        if box is None and sea.values.get(name) is None:
+            raise ParameterError(
+                f"--tune {name}=LO:HI: {name} has no value (--set), so give its search box"
+            )
+    return gains
+
+
+def _control_hint(file: Design | None, opts: TuningOptions) -> str:
+    if file is None or file.period is None or opts.period is not None:
+        return ""
+    return (
+        f"the design file sets a {file.control_rate:g} Hz controller; add --period "
+        f"{file.period:g} to also require passivity under it"
+    )
+
+
+def _print_text(result: TuningResult) -> None:
+    m = result.metrics
+    gains = ", ".join(f"{k} = {v:.6g}" for k, v in result.gains.items())
+    print(f"{result.design}: {gains}")
+    kind = result.options.objective
+    unit = "s" if kind == "settling" else "m*s^2"
+    what = "settling time" if kind == "settling" else "ITAE"
+    print(f"{what}: {result.objective:.6g} {unit} ({m.status})")
+    verdicts = f"passive: {'yes' if result.passive else 'NO'}"
+    if result.sampled_passive is not None:
+        verdicts += (
+            f"; passive at T = {result.options.period:g} s: "
+            f"{'yes' if result.sampled_passive else 'NO'}"
+        )
+    print(verdicts)
+    overshoot = "-" if m.overshoot is None else f"{100 * m.overshoot:.3g} %"
+    print(
+        f"peak force {m.peak_force:.4g} N; overshoot {overshoot}; final error {m.final_error:.3e} m"
+    )
+    if result.on_bound:
+        print(f"on the edge of the box: {', '.join(sorted(result.on_bound))}")

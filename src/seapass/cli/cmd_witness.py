@@ -5,7 +5,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..analysis.witness import find_destabilizing_environment
+from ..analysis.environment_box import HUMAN_LIMB, EnvironmentBounds
+from ..analysis.witness import WitnessResult, find_destabilizing_environment
+from ..errors import ParameterError
+from ..model.expr import parse_value
 from .common import (
     add_model_options,
     atomic_write_text,
@@ -18,7 +21,16 @@ from .common import (
 EXAMPLE = """examples:
   seapass witness --D1 k1 --CL kd --set m=1 --set b=10 --set k1=1000 --set kd=2000 --json
   seapass witness --D1 k1 --CL kd --set m=1 --set b=10 --set k1=1000 --set kd=2000 --out witness/
-  seapass witness --Z "(s - 1)/(s + 1)"
+  seapass witness --D1 k1 --CL "kd + bd*s" --set m=1 --set b=10 --set k1=1000 --set kd=500 \\
+      --set bd=25 --mass 0.5:5 --stiffness 0:2000
+  seapass witness --Z "(s - 1)/(s + 1)" --unbounded
+
+The environment is a passive mass-spring-damper m_e s + b_e + k_e/s within the
+bounds; the default is a human limb and what a hand holds: mass 0.1-10 kg,
+damping 0-100 N*s/m (none: the worst case), stiffness 0-5000 N/m (a free mass
+to a co-contracted arm). When nothing in the bounds destabilizes the design,
+the output says whether that is proven exactly or only not found, and names an
+environment outside the bounds that does.
 """
 
 
@@ -35,14 +47,47 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     )
     add_model_options(p)
     p.add_argument("--Z", help="raw impedance Z(s) instead of an SEA model, e.g. '(s - 1)/(s + 1)'")
+    g = p.add_argument_group("the environments allowed (default: a human limb)")
+    for name, unit in (("mass", "kg"), ("damping", "N*s/m"), ("stiffness", "N/m")):
+        lo, hi = getattr(HUMAN_LIMB, name)
+        g.add_argument(f"--{name}", metavar="LO:HI",
+                       help=f"range of the environment's {name} [{unit}] (default: {lo:g}:{hi:g})")  # fmt: skip
+    g.add_argument("--unbounded", action="store_true",
+                   help="any passive mass-spring-damper (may find physically meaningless ones)")  # fmt: skip
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.add_argument("--out", metavar="DIR", help="write witness.png and witness.json into DIR")
     p.set_defaults(func=run)
 
 
+def parse_range(text: str, flag: str) -> tuple[float, float]:
+    """``LO:HI`` with ``0 <= LO <= HI``, both finite."""
+    lo, sep, hi = text.partition(":")
+    if not sep:
+        raise ParameterError(f"{flag} {text!r}: expected LO:HI, e.g. {flag} 0.1:10")
+    a, b = (
+        parse_value(lo.strip(), f"{flag} lower bound"),
+        parse_value(hi.strip(), f"{flag} upper bound"),
+    )
+    if not 0 <= a <= b:
+        raise ParameterError(f"{flag} {text!r}: need 0 <= LO <= HI (a passive environment)")
+    return a, b
+
+
+def bounds_from_args(args: argparse.Namespace) -> EnvironmentBounds | None:
+    """The environment box of the command line (None with --unbounded)."""
+    given = {n: getattr(args, n) for n in ("mass", "damping", "stiffness") if getattr(args, n)}
+    if args.unbounded:
+        if given:
+            raise ParameterError(f"--unbounded and --{next(iter(given))}: give one or the other")
+        return None
+    ranges = {n: parse_range(v, f"--{n}") for n, v in given.items()}
+    return EnvironmentBounds(**{**HUMAN_LIMB.to_dict(), **ranges})  # type: ignore[arg-type]
+
+
 def run(args: argparse.Namespace) -> int:
     system = system_from_args(args)
-    result = find_destabilizing_environment(system, simulate=True)
+    bounds = bounds_from_args(args)
+    result = find_destabilizing_environment(system, bounds=bounds, simulate=True)
     data = result.to_dict()
     if args.out:
         out = Path(args.out)
@@ -73,4 +118,15 @@ def run(args: argparse.Namespace) -> int:
             )
     else:
         print(result.detail)
+        _print_bounds_verdict(result)
     return 0
+
+
+def _print_bounds_verdict(result: WitnessResult) -> None:
+    """The plain answer when nothing in the bounds destabilizes the design."""
+    if result.passive or result.bounds is None:
+        return
+    if result.certified:
+        print("within the bounds: no destabilizing environment (proven exactly)")
+    else:
+        print("within the bounds: none found (a search, not a proof)")

@@ -28,6 +28,11 @@ Format (every section but ``[model]`` and ``[parameters]`` is optional)::
     horizon = 10.0                      # s
     tune_mass = 10.0                    # kg; default: the median load mass
 
+    [environment]                       # who or what holds the port, for the witness
+    mass = [0.1, 10.0]                  # kg      (default: a human limb, 0.1-10 kg)
+    damping = [0.0, 100.0]              # N*s/m   (default 0-100)
+    stiffness = [0.0, 5000.0]           # N/m     (default 0-5000)
+
     [control]                           # sampled-data (digital) controller
     rate = 500.0                        # Hz
     delay = 0                           # samples
@@ -60,7 +65,9 @@ from .sea import SEA
 
 __all__ = ["Design", "load_design", "parse_design"]
 
-_TOP = ("name", "title", "model", "parameters", "ranges", "simulation", "control", "rig")
+_TOP = ("name", "title", "model", "parameters", "ranges", "simulation", "environment", "control",
+        "rig")  # fmt: skip
+_ENVIRONMENT = ("mass", "damping", "stiffness")
 _MODEL = ("D1", "D2", "CA", "CL")
 _SIM = ("load_masses", "step", "horizon", "tune_mass")
 _CONTROL = ("rate", "delay", "velocity_filter")
@@ -97,6 +104,10 @@ class Design:
         Cut-off (Hz) of the velocity low-pass.
     rig_file : str or None
         Rig TOML path (resolved against the design file) or ``"paper"``.
+    environment : mapping of str to (float, float)
+        Bounds of the environments the witness may use (``mass``, ``damping``,
+        ``stiffness``); those not given keep the human-limb default of
+        [`seapass.analysis.environment_box.HUMAN_LIMB`][seapass.analysis.environment_box.HUMAN_LIMB].
     """
 
     name: str
@@ -115,6 +126,7 @@ class Design:
     control_delay: int = 0
     velocity_filter: float | None = None
     rig_file: str | None = None
+    environment: Mapping[str, tuple[float, float]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if not _NAME.match(self.name):
@@ -125,6 +137,10 @@ class Design:
         object.__setattr__(
             self, "ranges", MappingProxyType({k: tuple(v) for k, v in self.ranges.items()})
         )
+        object.__setattr__(
+            self, "environment",
+            MappingProxyType({k: tuple(v) for k, v in self.environment.items()}),
+        )  # fmt: skip
         for key in ("m", "b"):
             if key not in self.values:
                 raise FileFormatError(f"missing parameters.{key} (actuator mass / damping)")
@@ -224,6 +240,7 @@ class Design:
                 "delay": self.control_delay,
                 "velocity_filter": self.velocity_filter,
             },
+            "environment": {k: list(v) for k, v in self.environment.items()},
             "rig": self.rig_file,
         }
 
@@ -330,6 +347,8 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
             kw["horizon"] = _number(sim["horizon"], "simulation.horizon", positive=True)
         if "tune_mass" in sim:
             kw["tune_mass"] = _number(sim["tune_mass"], "simulation.tune_mass", positive=True)
+    if "environment" in data:
+        kw["environment"] = _environment(_table(data["environment"], "environment"))
     if "control" in data:
         ctl = _table(data["control"], "control")
         _unknown(ctl, _CONTROL, "control")
@@ -359,6 +378,20 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
             path = Path(_string(rig["file"], "rig.file"))
             kw["rig_file"] = str(path if path.is_absolute() else Path(base_dir) / path)
     return Design(**kw)
+
+
+def _environment(table: Mapping[str, Any]) -> dict[str, tuple[float, float]]:
+    _unknown(table, _ENVIRONMENT, "environment")
+    out = {}
+    for name, v in table.items():
+        key = f"environment.{name}"
+        if not isinstance(v, list) or len(v) != 2:
+            raise FileFormatError(f"{key}: expected [lo, hi], got {v!r}")
+        lo, hi = _number(v[0], f"{key}[0]", nonneg=True), _number(v[1], f"{key}[1]", nonneg=True)
+        if not lo <= hi:
+            raise FileFormatError(f"{key}: need lo <= hi, got [{lo}, {hi}]")
+        out[name] = (lo, hi)
+    return out
 
 
 def load_design(path: str | os.PathLike[str]) -> Design:

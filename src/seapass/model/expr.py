@@ -17,6 +17,7 @@ from collections.abc import Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from fractions import Fraction
 from types import MappingProxyType
+from typing import NamedTuple
 
 import sympy as sp
 
@@ -25,11 +26,13 @@ from ..errors import ExpressionError, ParameterError, SymbolicLimitError
 __all__ = [
     "STANDARD_SYMBOLS",
     "UNITS",
+    "FractionSize",
     "S",
     "W",
     "check_rational_in_s",
     "check_symbolic_size",
     "finite_number",
+    "fraction_size",
     "parse_assignment",
     "parse_expression",
     "parse_value",
@@ -196,16 +199,46 @@ def _integer_exponent(node: ast.AST, src: str) -> int:
 
 def _multinomial(terms: int, n: int) -> int:
     """Number of monomials of ``(t_1 + ... + t_terms)**n``, capped to stay small."""
-    return min(math.comb(terms + n - 1, n), 10**12)
+    return min(math.comb(terms + n - 1, n), TERM_CAP)
 
 
-def symbolic_size(expr: sp.Expr) -> tuple[int, int]:
-    """Upper bounds ``(degree in s, number of terms)`` of ``expr`` as one fraction ``N/D``.
+class FractionSize(NamedTuple):
+    """Upper bounds of ``N`` and ``D`` when an expression is brought to one fraction ``N/D``.
+
+    Degrees are in ``s``; terms count monomials in ``s`` and every parameter.
+    """
+
+    num_degree: int
+    den_degree: int
+    num_terms: int
+    den_terms: int
+
+    @property
+    def degree(self) -> int:
+        """``deg N + deg D``."""
+        return self.num_degree + self.den_degree
+
+    @property
+    def terms(self) -> int:
+        """``terms(N) + terms(D)``."""
+        return self.num_terms + self.den_terms
+
+
+TERM_CAP = 10**12
+"""Term counts are capped here (beyond every budget, so capping never hides a refusal)."""
+
+
+def fraction_size(expr: sp.Expr) -> FractionSize:
+    """Upper bounds of ``N`` and ``D`` of ``expr`` brought to one fraction ``N/D``.
 
     Computed from the expression tree without expanding anything (linear in
     the tree size): sums of fractions multiply denominators, products add
-    degrees, powers use the multinomial count.  The degree bound is on
-    ``deg N + deg D``, the term bound on ``terms(N) + terms(D)``.
+    degrees, powers use the multinomial count.
+
+    Examples
+    --------
+    >>> fraction_size(parse_expression("kd + ki/s"))
+    FractionSize(num_degree=1, den_degree=1, num_terms=2, den_terms=1)
     """
 
     def walk(e: sp.Basic) -> tuple[int, int, int, int]:  # deg N, deg D, terms N, terms D
@@ -218,7 +251,7 @@ def symbolic_size(expr: sp.Expr) -> tuple[int, int]:
             for a in e.args[1:]:
                 an, ad, atn, atd = walk(a)
                 dn, dd = max(dn + ad, an + dd), dd + ad
-                tn, td = min(tn * atd + atn * td, 10**12), min(td * atd, 10**12)
+                tn, td = min(tn * atd + atn * td, TERM_CAP), min(td * atd, TERM_CAP)
             return dn, dd, tn, td
         if isinstance(e, sp.Mul):
             dn = dd = 0
@@ -226,7 +259,7 @@ def symbolic_size(expr: sp.Expr) -> tuple[int, int]:
             for a in e.args:
                 an, ad, atn, atd = walk(a)
                 dn, dd = dn + an, dd + ad
-                tn, td = min(tn * atn, 10**12), min(td * atd, 10**12)
+                tn, td = min(tn * atn, TERM_CAP), min(td * atd, TERM_CAP)
             return dn, dd, tn, td
         if isinstance(e, sp.Pow) and e.exp.is_Integer:
             n = int(e.exp)
@@ -238,8 +271,16 @@ def symbolic_size(expr: sp.Expr) -> tuple[int, int]:
         atoms = sum(1 for _ in sp.preorder_traversal(e))
         return atoms, atoms, atoms, atoms
 
-    dn, dd, tn, td = walk(sp.sympify(expr))
-    return dn + dd, tn + td
+    return FractionSize(*walk(sp.sympify(expr)))
+
+
+def symbolic_size(expr: sp.Expr) -> tuple[int, int]:
+    """Upper bounds ``(deg N + deg D, terms(N) + terms(D))`` of ``expr`` as one fraction ``N/D``.
+
+    See `fraction_size`, which keeps the numerator and denominator apart.
+    """
+    size = fraction_size(expr)
+    return size.degree, size.terms
 
 
 def check_symbolic_size(expr: sp.Expr, what: str = "expression") -> None:

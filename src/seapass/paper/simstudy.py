@@ -1,7 +1,7 @@
 """The paper's simulation study (Sec. V): tune LP, APD and Ours at one load mass, test at three.
 
 Setup: ``m = 1 kg``, ``b = 10 N·s/m``, ``k1 = 1000 N/m``, ``D2 = 0``; gains
-tuned by [`seapass.sim.tuning.tune`][seapass.sim.tuning.tune] at ``m_L = 10 kg`` for a 0.5 m step
+tuned by [`seapass.tuning.tune`][seapass.tuning.optimize.tune] at ``m_L = 10 kg`` for a 0.5 m step
 (exact passivity constraint, force limit), then each design is simulated
 at ``m_L ∈ {1, 10, 25} kg`` and its 2 % settling time and final error are
 tabulated.  `run_simulation_study` returns the data; figures live in
@@ -18,6 +18,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from types import MappingProxyType
@@ -25,16 +26,14 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import ParameterError, TuningWarning
 from ..model.catalog import design as catalog_design
 from ..sim.metrics import TrackingMetrics, tracking_metrics
 from ..sim.simulate import SimulationResult, Step, simulate
-from ..sim.tuning import TuningOptions, TuningResult, tune
+from ..tuning.optimize import TuningResult, tune
+from ..tuning.problem import QUICK_OPTIONS, TuningOptions
 
 __all__ = ["QUICK_OPTIONS", "SimulationStudy", "StudyRow", "run_simulation_study"]
-
-QUICK_OPTIONS = TuningOptions(maxiter=12, popsize=6, dt_search=1e-2)
-"""A small optimiser budget for tests and previews (about 10x cheaper)."""
 
 
 @dataclass(frozen=True)
@@ -226,13 +225,17 @@ def run_simulation_study(
     tuned: dict[str, TuningResult] = {}
     runs: dict[tuple[str, float], SimulationResult] = {}
     rows: list[StudyRow] = []
+    step = 0.5
     for key in keys:
-        tr = tune(key, options=opts, progress=progress)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", TuningWarning)  # kept in tr.warnings and the JSON
+            tr = tune(key, options=opts, progress=progress)
         tuned[key] = tr
+        step = float(tr.options.step)  # type: ignore[arg-type]
         if on_design is not None:
             on_design(tr)
         for mass in ms:
-            res = simulate(tr.sea, load_mass=mass, scenario=Step(opts.step), horizon=horizon, dt=dt)
+            res = simulate(tr.sea, load_mass=mass, scenario=Step(step), horizon=horizon, dt=dt)
             runs[(key, mass)] = res
             rows.append(StudyRow(key, mass, tracking_metrics(res, tolerance=opts.tolerance)))
     return SimulationStudy(
@@ -241,7 +244,7 @@ def run_simulation_study(
         tuning=MappingProxyType(tuned),
         runs=MappingProxyType(runs),
         rows=tuple(rows),
-        step=opts.step,
+        step=step,
         horizon=horizon,
         dt=dt,
     )

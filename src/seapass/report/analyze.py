@@ -24,8 +24,9 @@ returns a [`Report`][seapass.report.document.Report]:
 ``response``
     Step response at every load mass, with 2 % settling time and final error.
 ``tuning``
-    The fastest passive gains ([`seapass.sim.tuning.tune`][seapass.sim.tuning.tune]) when the design has
-    the structure of one of the tunable designs (LP, APD, ours); skipped otherwise.
+    The fastest passive gains of the controller ([`seapass.tuning.tune`][seapass.tuning.optimize.tune]),
+    each in its ``[ranges]`` box, the other parameters at their values; with ``[control]``,
+    also the verdict of the tuned gains under the digital controller.
 ``sampled``
     Passivity under the digital controller and the largest passive value of
     every gain, when ``[control] rate`` is given ([`seapass.sampled.passivity`][seapass.sampled.passivity]).

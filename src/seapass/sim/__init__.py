@@ -1,10 +1,10 @@
-"""Time-domain simulation, tracking metrics and passivity-constrained tuning.
+"""Time-domain simulation and tracking metrics.
 
 What lives here: [`scenarios`][seapass.sim.scenarios] (what drives the loop: steps,
 displaced loads, forces, trajectories), [`simulate`][seapass.sim.simulate] (exact
 matrix-exponential simulation with a load mass), [`metrics`][seapass.sim.metrics]
-(the one settling definition and the `Settling` status enum) and
-[`tuning`][seapass.sim.tuning] (the fastest passive gains).
+(the one settling definition and the `Settling` status enum).  Tuning lives in
+[`seapass.tuning`][seapass.tuning] (it also needs the sampled-data analysis).
 
 May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model],
 [`seapass.analysis`][seapass.analysis].
@@ -13,7 +13,6 @@ May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact]
 from .metrics import Settling, TrackingMetrics, settling_time, tracking_metrics
 from .scenarios import ForceImpulse, ForceStep, LoadDisplaced, Step, Trajectory
 from .simulate import SimulationResult, Stability, simulate
-from .tuning import TuningOptions, TuningResult, tune
 
 __all__ = [
     "ForceImpulse",
@@ -25,10 +24,7 @@ __all__ = [
     "Step",
     "TrackingMetrics",
     "Trajectory",
-    "TuningOptions",
-    "TuningResult",
     "settling_time",
     "simulate",
     "tracking_metrics",
-    "tune",
 ]

@@ -5,27 +5,25 @@ Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
 
 from __future__ import annotations
 
-from dataclasses import replace
+import warnings
 from typing import Any
 
 import numpy as np
-import sympy as sp
 
 from ...analysis.freqresp import stiffness_response
-from ...model.catalog import SIMULATION_DESIGNS
+from ...errors import ParameterError, TuningWarning
 from ...model.design_file import Design
-from ...model.expr import STANDARD_SYMBOLS, parse_expression
-from ...paper.simstudy import QUICK_OPTIONS
 from ...plot.response import plot_stiffness_response
 from ...plot.sim import plot_step_responses
 from ...plot.style import figure_bytes
+from ...sampled.passivity import sampled_passivity
 from ...sim.metrics import tracking_metrics
 from ...sim.simulate import Step, simulate
-from ...sim.tuning import TuningOptions, tune
-from ..document import FigureData, Finding, Section, SectionStatus, Table, Verdict, to_json
+from ...tuning.optimize import tune
+from ...tuning.problem import QUICK_OPTIONS, TuningOptions
+from ..document import FigureData, Finding, Section, Table, Verdict, to_json
 
 __all__ = [
-    "matching_tunable_design",
     "metrics_table",
     "stage_response",
     "stage_stiffness",
@@ -114,54 +112,33 @@ def stage_response(design: Design, quick: bool) -> Section:
     )
 
 
-def matching_tunable_design(design: Design) -> str | None:
-    """Name of the tunable design (``LP``, ``APD``, ``ours``) with the same structure, if any."""
-
-    sea = design.sea()
-    if sea.D2 != 0 or not {"m", "b", "k1"} <= set(design.values):
-        return None
-    allowed = (*STANDARD_SYMBOLS, *design.values)
-    for spec in SIMULATION_DESIGNS:
-        key = spec.key
-        same = all(
-            sp.simplify(getattr(sea, attr) - parse_expression(getattr(spec, attr), allowed)) == 0
-            for attr in ("D1", "CA", "CL")
-        )
-        if same:
-            return key
-    return None
-
-
 def stage_tuning(design: Design, quick: bool) -> Section:
-
-    key = matching_tunable_design(design)
-    if key is None:
-        names = "; ".join(
-            f"{s.key}: D1 = {s.D1}, C_A = {s.CA}, C_L = {s.CL}" for s in SIMULATION_DESIGNS
-        )
+    """The best passive gains of the design's controller, in the boxes of its ``[ranges]``."""
+    opts = QUICK_OPTIONS if quick else TuningOptions()
+    title = "Tuned gains (fastest passive step response)"
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", TuningWarning)  # they go into the text
+            tr = tune(design, options=opts, progress=False)
+    except ParameterError as exc:  # e.g. a single gain passive nowhere in its box
         return Section(
-            "tuning", "Tuned gains", status=SectionStatus.SKIPPED,
-            text=f"Skipped: automatic tuning supports these structures only (D2 = 0, parameters named m, b, k1 and as shown): {names}.",
+            "tuning", title, text=f"Nothing to tune: {exc}.",
+            findings=(Finding("Some gains in the box are passive", Verdict.DIFFERS, str(exc)),),
         )  # fmt: skip
-    v = design.values
-    opts = TuningOptions(
-        load_mass=design.tuning_mass, step=design.step, horizon=design.horizon,
-        m=v["m"], b=v["b"], k1=v["k1"],
-    )  # fmt: skip
-    if quick:
-        opts = replace(
-            opts, maxiter=QUICK_OPTIONS.maxiter, popsize=QUICK_OPTIONS.popsize,
-            dt_search=QUICK_OPTIONS.dt_search,
-        )  # fmt: skip
-    tr = tune(key, options=opts, progress=False)
     runs = step_responses(tr.sea, design, 2e-3 if quick else 1e-3)
     gains = ", ".join(f"{k} = {g:.5g}" for k, g in tr.gains.items())
     table = Table(
         name="tuned_gains",
         title="Tuned gains vs the file's gains",
-        columns=("gain", "file value", "tuned", "search range"),
+        columns=("gain", "file value", "tuned", "search range", "at the edge"),
         rows=tuple(
-            (g, v.get(g), tr.gains[g], f"[{tr.bounds[g][0]:g}, {tr.bounds[g][1]:g}]")
+            (
+                g,
+                design.values.get(g),
+                tr.gains[g],
+                f"[{tr.box[g][0]:g}, {tr.box[g][1]:g}]",
+                tr.on_bound.get(g, ""),
+            )
             for g in tr.gains
         ),
     )
@@ -170,25 +147,53 @@ def stage_tuning(design: Design, quick: bool) -> Section:
             runs, step=design.step, title=f"{design.name} with tuned gains ({gains})"
         )
     )
+    findings = [Finding("The tuned gains are passive", _verdict(tr.passive), gains)]
+    text = (
+        f"The controller gains {', '.join(tr.gains)} were tuned by differential evolution "
+        f"(seed {opts.seed}) for the fastest 2 % settling of a {tr.options.step:g} m step at "
+        f"m_L = {tr.options.load_mass:g} kg, each in its box (the file's `[ranges]`, else "
+        f"`[0, max(10·value, 1000)]`), every other parameter at its value, under the exact "
+        f"passivity constraint and a {opts.force_limit:g} N force limit"
+        + (" (reduced budget, --quick)" if quick else "")
+        + f". Result: {gains} (passive: {'yes' if tr.passive else 'NO'})."
+    )
+    if tr.warnings:
+        text += " " + " ".join(f"**Note:** {w}." for w in tr.warnings)
+    sampled = _sampled_check(design, tr.sea)
+    if sampled is not None:
+        findings.append(
+            Finding(
+                f"The tuned gains are passive under the {design.control_rate:g} Hz controller",
+                _verdict(sampled.passive),
+                sampled.detail or sampled.reason or "passive",
+            )
+        )
+        text += (
+            f" Under the file's digital controller ({design.control_rate:g} Hz, "
+            f"{design.control_delay} sample(s) of delay) the tuned gains are "
+            f"{'passive' if sampled.passive else '**not** passive'}; "
+            f"`seapass tune {design.name}.toml --period {design.period:g}` tunes under it."
+        )
     return Section(
         key="tuning",
-        title="Tuned gains (fastest passive step response)",
-        text=(
-            f"The design has the structure of **{key}**, so its gains were tuned by "
-            f"differential evolution (fixed seed) for the fastest 2 % settling at "
-            f"m_L = {design.tuning_mass:g} kg, under the exact passivity constraint and a "
-            f"{opts.force_limit:g} N force limit"
-            + (" (reduced budget, --quick)" if quick else "")
-            + f". Result: {gains} (passive: {'yes' if tr.passive else 'NO'})."
-        ),
+        title=title,
+        text=text,
         tables=(table, metrics_table("tuned_metrics", "Step response with the tuned gains", runs)),
         figures=(FigureData("tuned_response", "Step response with the tuned gains.", fig),),
-        findings=(
-            Finding(
-                "The tuned gains are passive",
-                Verdict.AGREES if tr.passive else Verdict.DIFFERS,
-                gains,
-            ),
-        ),
+        findings=tuple(findings),
         files={"tuning.json": to_json(tr.to_dict())},
     )
+
+
+def _verdict(ok: bool) -> Verdict:
+    return Verdict.AGREES if ok else Verdict.DIFFERS
+
+
+def _sampled_check(design: Design, sea: Any) -> Any:
+    """The sampled-data verdict of ``sea`` under the file's ``[control]``, or None."""
+    if design.period is None:
+        return None
+    return sampled_passivity(
+        sea, period=design.period, delay=design.control_delay,
+        velocity_filter=design.velocity_filter,
+    )  # fmt: skip

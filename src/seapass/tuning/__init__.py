@@ -1,0 +1,29 @@
+"""Passivity-constrained tuning of any SEA design.
+
+What lives here: [`problem`][seapass.tuning.problem] (the design, the gains and
+their box, the objective and the limits: `TuningOptions`, validated into a
+`TuningProblem` before any work), [`cost`][seapass.tuning.cost] (what the
+optimizer minimizes: the simulated objective, penalties for the force and
+overshoot limits, exact continuous and sampled passivity where it matters),
+[`search`][seapass.tuning.search] (differential evolution with a seed, a progress
+bar and a clean Ctrl-C) and [`optimize`][seapass.tuning.optimize] (`tune`, the
+one entry point, and its `TuningResult`).
+
+May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact],
+[`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis],
+[`seapass.sim`][seapass.sim], [`seapass.batch`][seapass.batch],
+[`seapass.sampled`][seapass.sampled] (the sampled-data passivity constraint).
+"""
+
+from .optimize import TuningResult, tune
+from .problem import QUICK_OPTIONS, Objective, TuningOptions, TuningProblem, resolve_problem
+
+__all__ = [
+    "QUICK_OPTIONS",
+    "Objective",
+    "TuningOptions",
+    "TuningProblem",
+    "TuningResult",
+    "resolve_problem",
+    "tune",
+]

@@ -1,0 +1,183 @@
+"""The cost the optimizer sees: objective plus penalties, with exact constraint checks.
+
+One candidate (a vector of gains) is simulated at the search time step; its
+cost is the objective (`objective_value`) plus, for each violated soft limit
+(peak force, overshoot), a penalty of at least one `cost_unit`; an unstable
+closed loop costs ten units.  The unit exceeds every feasible objective, so any
+candidate within the limits beats any candidate outside them.
+
+The hard constraints are decided exactly, but only where they can matter: for
+a candidate that would become the best so far.  Exact continuous passivity
+([`is_passive`][seapass.analysis.passivity.is_passive]) comes first, then, when a
+period is given, passivity under sampled-data control
+([`sampled_passivity`][seapass.sampled.passivity.sampled_passivity]); a candidate
+that fails either costs five more units and cannot become the best.  Both
+verdicts are cached per candidate.  A check that cannot decide (an error for
+these values) counts as a failure: the tuner never calls an undecided design
+passive.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..analysis.passivity import is_passive
+from ..errors import SeapassError
+from ..model.realization import closed_loop_factory
+from ..sampled.passivity import sampled_passivity
+from ..sim.metrics import Settling, TrackingMetrics, tracking_metrics
+from ..sim.scenarios import Step
+from ..sim.simulate import SimulationResult, simulate_closed_loop
+from .problem import Objective, TuningOptions, TuningProblem
+
+__all__ = [
+    "CandidateCost",
+    "ConstraintChecks",
+    "cost_unit",
+    "itae",
+    "limit_penalty",
+    "objective_value",
+]
+
+UNSTABLE_UNITS = 10.0
+CONSTRAINT_UNITS = 5.0
+
+
+def cost_unit(options: TuningOptions) -> float:
+    """A cost above every feasible objective value (see the module docstring).
+
+    ``10·horizon`` for the settling time (a run that has not settled costs at
+    most about twice the horizon), ``|step|·horizon²`` for ITAE (twice that of a
+    load that never moves).
+    """
+    horizon = float(options.horizon or 0.0)
+    if options.objective is Objective.ITAE:
+        return abs(float(options.step or 0.0)) * horizon**2
+    return 10.0 * horizon
+
+
+def itae(result: SimulationResult) -> float:
+    """``∫ t |x_L − θ| dt`` over the samples (trapezoidal rule), m·s²."""
+    t = result.time
+    y = t * np.abs(result.x_L - result.target)
+    return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(t))) if t.size > 1 else 0.0
+
+
+def objective_value(
+    options: TuningOptions, result: SimulationResult, metrics: TrackingMetrics
+) -> float:
+    """The objective of one run, without penalties.
+
+    Settling: the settling time, or, for a run that has not settled in the
+    horizon, ``horizon·(1 + tail error/|step|)``.  ITAE: `itae`.
+    """
+    if options.objective is Objective.ITAE:
+        return itae(result)
+    if metrics.settling_time is not None:
+        return metrics.settling_time
+    tail = np.abs(result.x_L[int(0.8 * result.x_L.size) :] - result.target)
+    return float(options.horizon or 0.0) * (1.0 + float(np.max(tail)) / abs(options.step or 1.0))
+
+
+def limit_penalty(options: TuningOptions, metrics: TrackingMetrics) -> float:
+    """Penalty of the soft limits (peak force, overshoot) in units of `cost_unit`."""
+    units = 0.0
+    if options.force_limit is not None and metrics.peak_force > options.force_limit:
+        units += 1.0 + metrics.peak_force / options.force_limit
+    overshoot = metrics.overshoot or 0.0
+    if options.max_overshoot is not None and overshoot > options.max_overshoot:
+        units += 1.0 + overshoot / max(options.max_overshoot, options.tolerance)
+    return units
+
+
+@dataclass
+class ConstraintChecks:
+    """Exact passivity verdicts of candidates, cached; counts what it ran."""
+
+    problem: TuningProblem
+    continuous: dict[tuple[float, ...], bool] = field(default_factory=dict)
+    sampled: dict[tuple[float, ...], bool] = field(default_factory=dict)
+
+    def passive(self, x: tuple[float, ...]) -> bool:
+        """Exact continuous passivity, then sampled passivity when a period is set."""
+        if x not in self.continuous:
+            self.continuous[x] = _decide(lambda: is_passive(self.problem.candidate(x)).passive)
+        if not self.continuous[x]:
+            return False
+        opts = self.problem.options
+        if opts.period is None:
+            return True
+        if x not in self.sampled:
+            self.sampled[x] = _decide(
+                lambda: (
+                    sampled_passivity(
+                        self.problem.candidate(x),
+                        period=float(opts.period),
+                        delay=int(opts.delay or 0),
+                        velocity_filter=opts.velocity_filter,
+                    ).passive
+                )
+            )
+        return self.sampled[x]
+
+
+def _decide(check: Any) -> bool:
+    try:
+        return bool(check())
+    except (SeapassError, ArithmeticError, ValueError):
+        return False  # undecided for these values: never called passive
+
+
+class CandidateCost:
+    """The search cost of a gain vector (callable), see the module docstring.
+
+    Parameters
+    ----------
+    problem : TuningProblem
+    checks : ConstraintChecks
+        Where the exact verdicts are cached (shared with the final verification).
+    """
+
+    def __init__(self, problem: TuningProblem, checks: ConstraintChecks) -> None:
+        opts = problem.options
+        self.problem = problem
+        self.checks = checks
+        self.unit = cost_unit(opts)
+        self.best = math.inf
+        self.evaluations = 0
+        self._build = closed_loop_factory(problem.sea, problem.gains, load_mass=opts.load_mass)  # type: ignore[arg-type]
+        self._scenario = Step(float(opts.step))  # type: ignore[arg-type]
+
+    def __call__(self, x: np.ndarray) -> float:
+        self.evaluations += 1
+        opts = self.problem.options
+        try:
+            loop = self._build(list(x))
+        except SeapassError:  # e.g. a zero denominator at these gains
+            return UNSTABLE_UNITS * self.unit + 1e3
+        worst = float(np.max(loop.poles.real)) if loop.poles.size else -1.0
+        if worst >= 0:
+            return UNSTABLE_UNITS * self.unit + min(worst, 1e3)
+        res = simulate_closed_loop(
+            loop,
+            scenario=self._scenario,
+            horizon=float(opts.horizon),  # type: ignore[arg-type]
+            dt=opts.dt_search,
+        )
+        met = tracking_metrics(res, tolerance=opts.tolerance)
+        if met.status == Settling.UNSTABLE:
+            return UNSTABLE_UNITS * self.unit + min(float(np.max(res.poles.real)), 1e3)
+        cost = objective_value(opts, res, met)
+        if opts.objective is Objective.SETTLING and met.settling_time is not None:
+            cost += 1e-3 * met.final_error / max(met.band, 1e-300)  # tie-break
+        cost += self.unit * limit_penalty(opts, met)
+        # the exact constraints only where they can matter: a candidate that would be the best
+        if cost < self.best:
+            if not self.checks.passive(tuple(float(v) for v in x)):
+                return cost + CONSTRAINT_UNITS * self.unit
+            self.best = cost
+        return cost

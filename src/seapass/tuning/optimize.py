@@ -1,0 +1,405 @@
+"""Tune the gains of any SEA design under exact passivity: `tune` and its `TuningResult`.
+
+The job, in four readable steps:
+
+1. **resolve** the problem (`resolve_problem`): the design, the gains to tune
+   and their box, every other parameter fixed, the objective and the limits;
+   every input error is raised here, before any work;
+2. **narrow** the box of a single tuned gain to the exact passive set
+   ([`passive_intervals`][seapass.analysis.region.passive_intervals], its largest
+   piece), so the search never leaves it;
+3. **search** with differential evolution (`differential_search`) on the
+   cost of `CandidateCost`: the objective on the simulated step response,
+   penalties for the force and overshoot limits, and exact passivity (and
+   sampled passivity when a period is given) for every candidate that could
+   become the best; then move gains that ended next to an edge of the box onto
+   it when that is better (`snap_to_edges`);
+4. **verify** the optimum at the finer time step: exact verdicts, metrics, the
+   limits, and which gains sit at an edge of their box (``on_bound``, with a
+   [`TuningWarning`][seapass.errors.TuningWarning]: the optimum may lie beyond).
+
+References
+----------
+.. [1] S. A. Mehta and D. P. Losey, "Combining Performance and Passivity in
+   Linear Control of Series Elastic Actuators", Sec. V.
+"""
+
+from __future__ import annotations
+
+import sys
+import warnings
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field, replace
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from ..analysis.passivity import PassivityResult, is_passive
+from ..analysis.region import passive_intervals
+from ..errors import NotPassiveError, ParameterError, TuningWarning
+from ..model.sea import SEA
+from ..sampled.passivity import SampledPassivityResult, sampled_passivity
+from ..sim.metrics import TrackingMetrics, tracking_metrics
+from ..sim.scenarios import Step
+from ..sim.simulate import simulate
+from .cost import CandidateCost, ConstraintChecks, objective_value
+from .problem import BoxLike, DesignLike, Objective, TuningOptions, TuningProblem, resolve_problem
+from .search import differential_search
+
+__all__ = ["SNAP_FRACTION", "TuningResult", "narrowed_box", "snap_to_edges", "tune", "verify"]
+
+SNAP_FRACTION = 0.05
+"""Gains this close to an edge of the searched box (a fraction of its width) are tried on it."""
+
+
+@dataclass(frozen=True)
+class TuningResult:
+    """Outcome of `tune`.
+
+    Attributes
+    ----------
+    design : str
+        The design's name.
+    gains : mapping of str to float
+        The tuned gains.
+    objective : float
+        The objective at the gains, verified at ``options.dt_verify``: the
+        settling time (s) or ITAE (m·s²), see ``options.objective``.
+    passive : bool
+        Exact continuous-time verdict at the gains.
+    sampled_passive : bool or None
+        Verdict under sampled-data control at ``options.period`` (None without a period).
+    feasible : bool
+        Passive (and sampled-passive) and within the force and overshoot limits.
+    violations : tuple of str
+        What is not met: ``"passivity"``, ``"sampled passivity"``, ``"force limit"``,
+        ``"overshoot"``.
+    on_bound : mapping of str to str
+        Gains within 1 % of an edge of their box (``"lower"`` or ``"upper"``).
+    metrics : TrackingMetrics
+        Of the step response at the tuning load mass, at ``options.dt_verify``.
+    box : mapping of str to (float, float)
+        The box given (or defaulted) per gain.
+    bounds : mapping of str to (float, float)
+        The box actually searched (a single gain's box narrowed to its passive set).
+    cost : float
+        The best search cost (objective plus penalties, at ``options.dt_search``).
+    evaluations, passivity_checks, sampled_checks : int
+        Simulations, exact continuous and sampled passivity tests run.
+    sea : SEA
+        The design with the tuned gains.
+    options : TuningOptions
+        With the load mass, step, horizon and digital-controller settings resolved.
+    passivity, sampled : PassivityResult, SampledPassivityResult or None
+        The verdicts in full.
+    warnings : tuple of str
+        One sentence per gain on a bound and per violated limit.
+    """
+
+    design: str
+    gains: Mapping[str, float]
+    objective: float
+    passive: bool
+    sampled_passive: bool | None
+    feasible: bool
+    violations: tuple[str, ...]
+    on_bound: Mapping[str, str]
+    metrics: TrackingMetrics
+    box: Mapping[str, tuple[float, float]]
+    bounds: Mapping[str, tuple[float, float]]
+    cost: float
+    evaluations: int
+    passivity_checks: int
+    sampled_checks: int
+    sea: SEA = field(repr=False)
+    options: TuningOptions = field(repr=False)
+    passivity: PassivityResult | None = field(default=None, repr=False)
+    sampled: SampledPassivityResult | None = field(default=None, repr=False)
+    warnings: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: ``gains``, ``objective``, ``passive``, ``on_bound`` and the rest."""
+        o = self.options
+        return {
+            "design": self.design,
+            "gains": dict(self.gains),
+            "objective": self.objective,
+            "objective_kind": str(o.objective),
+            "objective_unit": Objective(o.objective).unit,
+            "passive": self.passive,
+            "sampled_passive": self.sampled_passive,
+            "feasible": self.feasible,
+            "violations": list(self.violations),
+            "on_bound": sorted(self.on_bound),
+            "on_bound_edges": dict(self.on_bound),
+            "box": {k: list(v) for k, v in self.box.items()},
+            "bounds": {k: list(v) for k, v in self.bounds.items()},
+            "cost": self.cost,
+            "evaluations": self.evaluations,
+            "passivity_checks": self.passivity_checks,
+            "sampled_checks": self.sampled_checks,
+            "load_mass": o.load_mass,
+            "step": o.step,
+            "horizon": o.horizon,
+            "force_limit": o.force_limit,
+            "max_overshoot": o.max_overshoot,
+            "period": o.period,
+            "delay": o.delay if o.period is not None else None,
+            "velocity_filter": o.velocity_filter if o.period is not None else None,
+            "seed": o.seed,
+            "warnings": list(self.warnings),
+            **self.metrics.to_dict(),
+        }
+
+
+def tune(
+    design: DesignLike,
+    *,
+    tune: BoxLike | None = None,
+    values: Mapping[str, float] | None = None,
+    options: TuningOptions | None = None,
+    progress: bool | None = None,
+    callback: Callable[[int, float], None] | None = None,
+    throw: bool = False,
+    **changes: Any,
+) -> TuningResult:
+    """Tune the gains of ``design`` for the best passive step response.
+
+    Parameters
+    ----------
+    design : SEA, Design, CatalogDesign or str
+        Any SEA; a design file's [`Design`][seapass.model.design_file.Design] (its
+        ``[ranges]`` give the boxes, its ``[simulation]`` the load mass, step and
+        horizon); or a catalog name ``"LP"``, ``"APD"``, ``"ours"`` (the paper's
+        plant, the catalog's gains and boxes).
+    tune : mapping of str to (lo, hi) or None, or iterable of str, optional
+        The gains to tune, each with its box ``(lo, hi)`` or None for the
+        design's default box.  Every other parameter keeps its value.  Default:
+        the catalog's gains, a design file's controller gains (the parameters
+        of ``C_A`` and ``C_L``), an SEA's free parameters (else its controller
+        gains); see [`resolve_problem`][seapass.tuning.problem.resolve_problem].
+    values : mapping of str to float, optional
+        Values of fixed parameters overriding the design's, e.g. the plant of a
+        catalog design: ``tune("ours", values={"k1": 1005, "b1": 30}, tune=["kd", "bd"])``.
+    options : TuningOptions, optional
+        Objective, limits, load mass, step, sampled-data period, budget, seed.
+    progress : bool, optional
+        A rich progress bar on stderr (default: when stderr is a terminal).
+    callback : callable, optional
+        ``callback(generation, best_cost)`` after each generation; raising
+        ``KeyboardInterrupt`` stops the run.
+    throw : bool, default False
+        Raise [`NotPassiveError`][seapass.errors.NotPassiveError] when the result is
+        not feasible (not passive, or a limit is violated).
+    **changes
+        Any field of `TuningOptions`, replacing the one in ``options``, e.g.
+        ``objective="itae"``, ``period=0.002``, ``seed=3``.
+
+    Returns
+    -------
+    TuningResult
+        A result that is not feasible (nothing in the box is passive, say) is
+        returned with ``feasible=False`` and its ``violations``.
+
+    Raises
+    ------
+    ParameterError
+        For invalid input (before any work), naming the argument.
+    KeyboardInterrupt
+        Propagated after the progress bar is closed; nothing is written.
+
+    Examples
+    --------
+    >>> import seapass
+    >>> sea = seapass.SEA(D1="k1 + b1*s", CA="kd + bd*s",
+    ...                   values=dict(m=1, b=10, k1=1000, b1=30, kd=500, bd=25))
+    >>> r = seapass.tune(sea, tune={"kd": (0, 3000), "bd": (0, 400)},
+    ...                  maxiter=4, popsize=4, dt_search=1e-2, progress=False)
+    >>> r.passive, sorted(r.gains)
+    (True, ['bd', 'kd'])
+    """
+    opts = (options or TuningOptions()).replace(**changes)
+    problem = resolve_problem(design, tune, opts, values)
+    bounds = narrowed_box(problem)
+    if problem.options.period is not None:  # fail now on what the sampled analysis refuses
+        _sampled_verdict(problem, problem.candidate(sum(bounds[g]) / 2 for g in problem.gains))
+    checks = ConstraintChecks(problem)
+    cost = CandidateCost(problem, checks)
+    show = sys.stderr.isatty() if progress is None else progress
+    found = differential_search(
+        cost,
+        [bounds[g] for g in problem.gains],
+        problem.options,
+        label=problem.name,
+        progress=show,
+        callback=callback,
+    )
+    x, best = snap_to_edges(problem, bounds, [float(v) for v in found.x], float(found.fun), cost)
+    result = verify(problem, x, bounds=bounds, checks=checks)
+    result = _with_counts(result, cost, best)
+    for message in result.warnings:
+        warnings.warn(message, TuningWarning, stacklevel=2)
+    if throw and not result.feasible:
+        raise NotPassiveError(f"tuning {problem.name}: {'; '.join(result.warnings)}")
+    return result
+
+
+def narrowed_box(problem: TuningProblem) -> dict[str, tuple[float, float]]:
+    """The box to search: a single gain's box narrowed to the largest piece of its exact
+    passive set (several gains: the box as given; passivity is checked per candidate).
+
+    Raises
+    ------
+    ParameterError
+        When a single gain is passive nowhere in its box.
+    """
+    box = dict(problem.box)
+    if len(problem.gains) != 1:
+        return box
+    (gain,) = problem.gains
+    lo, hi = box[gain]
+    pieces = passive_intervals(problem.sea, gain, lo, hi).intervals
+    pieces = [(a, b) for a, b in pieces if b > a]
+    if not pieces:
+        raise ParameterError(
+            f"{problem.name} is not passive for any {gain} in [{lo:g}, {hi:g}] "
+            "(the other parameters at their values): nothing to tune"
+        )
+    a, b = max(pieces, key=lambda ab: ab[1] - ab[0])
+    return {gain: (float(a), float(b))}
+
+
+def snap_to_edges(
+    problem: TuningProblem,
+    bounds: Mapping[str, tuple[float, float]],
+    x: list[float],
+    best: float,
+    cost: Callable[[Any], float],
+) -> tuple[list[float], float]:
+    """Move gains within `SNAP_FRACTION` of an edge of the searched box onto it, when better.
+
+    Differential evolution approaches an optimum on the boundary of its box only
+    slowly (a trial point beyond the box is resampled inside it), so a gain the
+    objective pushes against an edge ends a little inside it.  Each such gain is
+    tried at the edge with the full cost, exact passivity included; the move is
+    kept only when it lowers the cost.
+    """
+    x = list(x)
+    for i, gain in enumerate(problem.gains):
+        lo, hi = bounds[gain]
+        near = [e for e in (lo, hi) if 0 < abs(x[i] - e) <= SNAP_FRACTION * (hi - lo)]
+        for edge in near:
+            trial = [*x[:i], edge, *x[i + 1 :]]
+            value = float(cost(np.array(trial)))
+            if value < best:
+                x, best = trial, value
+    return x, best
+
+
+def verify(
+    problem: TuningProblem,
+    x: list[float],
+    *,
+    bounds: Mapping[str, tuple[float, float]],
+    checks: ConstraintChecks | None = None,
+) -> TuningResult:
+    """Everything about the gains ``x``: exact verdicts, metrics at ``dt_verify``, limits."""
+    opts = problem.options
+    gains = dict(zip(problem.gains, x, strict=True))
+    sea = problem.candidate(x)
+    pr = is_passive(sea)
+    sampled = None if opts.period is None else _sampled_verdict(problem, sea)
+    res = simulate(
+        sea,
+        load_mass=float(opts.load_mass),  # type: ignore[arg-type]
+        scenario=Step(float(opts.step)),  # type: ignore[arg-type]
+        horizon=float(opts.horizon),  # type: ignore[arg-type]
+        dt=opts.dt_verify,
+    )
+    met = tracking_metrics(res, tolerance=opts.tolerance)
+    violations, notes = _limits(problem, pr, sampled, met)
+    on_bound = problem.on_bound(gains)
+    notes += [_edge_note(problem, name, gains[name], edge) for name, edge in on_bound.items()]
+    return TuningResult(
+        design=problem.name,
+        gains=MappingProxyType(gains),
+        objective=objective_value(opts, res, met),
+        passive=pr.passive,
+        sampled_passive=None if sampled is None else sampled.passive,
+        feasible=not violations,
+        violations=tuple(violations),
+        on_bound=MappingProxyType(on_bound),
+        metrics=met,
+        box=problem.box,
+        bounds=MappingProxyType(dict(bounds)),
+        cost=float("nan"),
+        evaluations=0,
+        passivity_checks=len(checks.continuous) if checks else 0,
+        sampled_checks=len(checks.sampled) if checks else 0,
+        sea=sea,
+        options=opts,
+        passivity=pr,
+        sampled=sampled,
+        warnings=tuple(notes),
+    )
+
+
+def _edge_note(problem: TuningProblem, name: str, value: float, edge: str) -> str:
+    lo, hi = problem.box[name]
+    where = f"{name} = {value:.6g} is at the {edge} edge of its box [{lo:g}, {hi:g}]"
+    if edge == "lower" and lo == 0:
+        return f"{where}: the best design wants little or none of it"
+    return (
+        f"{where}: the optimum may lie beyond it; widen the box if the physics allows "
+        f"(--tune {name}=LO:HI, or tune={{{name!r}: (lo, hi)}})"
+    )
+
+
+def _sampled_verdict(problem: TuningProblem, sea: SEA) -> SampledPassivityResult:
+    opts = problem.options
+    return sampled_passivity(
+        sea,
+        period=float(opts.period),  # type: ignore[arg-type]
+        delay=int(opts.delay or 0),
+        velocity_filter=opts.velocity_filter,
+    )
+
+
+def _limits(
+    problem: TuningProblem,
+    pr: PassivityResult,
+    sampled: SampledPassivityResult | None,
+    met: TrackingMetrics,
+) -> tuple[list[str], list[str]]:
+    """Violated constraints and one sentence for each."""
+    opts = problem.options
+    violations, notes = [], []
+    if not pr.passive:
+        violations.append("passivity")
+        notes.append(f"no passive gains found in the box: the best is not passive ({pr.detail})")
+    if sampled is not None and not sampled.passive:
+        violations.append("sampled passivity")
+        notes.append(
+            f"the best gains are not passive under sampled-data control at T = {opts.period:g} s "
+            f"({sampled.detail or sampled.reason})"
+        )
+    if opts.force_limit is not None and met.peak_force > opts.force_limit * (1 + 1e-9):
+        violations.append("force limit")
+        notes.append(f"peak force {met.peak_force:.4g} N exceeds the limit {opts.force_limit:g} N")
+    if met.settling_time is None:
+        notes.append(
+            f"the best gains do not settle within the {opts.horizon:g} s horizon ({met.status}): "
+            "widen the boxes, relax the limits or lengthen the horizon"
+        )
+    overshoot = met.overshoot or 0.0
+    if opts.max_overshoot is not None and overshoot > opts.max_overshoot * (1 + 1e-9):
+        violations.append("overshoot")
+        notes.append(
+            f"overshoot {100 * overshoot:.3g} % exceeds the limit {100 * opts.max_overshoot:g} %"
+        )
+    return violations, notes
+
+
+def _with_counts(result: TuningResult, cost: CandidateCost, best: float) -> TuningResult:
+    return replace(result, cost=best, evaluations=cost.evaluations)
