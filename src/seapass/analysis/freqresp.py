@@ -59,7 +59,9 @@ def stiffness_coefficients(
     model = sea.with_values(**values) if values else sea
     if model.free_parameters:
         names = ", ".join(model.free_parameters)
-        raise ParameterError(f"no value for parameter(s) {names}: give them with --set")
+        raise ParameterError(
+            f"no value for parameter(s) {names}: give them, e.g. values={{{names.split(', ')[0]!r}: 1.0}}"
+        )
     expr = derive_stiffness(model).stiffness.xreplace(model.substitutions())
     num, den = sp.fraction(sp.cancel(sp.together(expr)))
     n = np.array([float(c) for c in sp.Poly(num, S).all_coeffs()])

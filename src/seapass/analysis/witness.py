@@ -56,7 +56,7 @@ from .coupled import (
 )
 from .coupled_response import CoupledSimulation, simulate_coupled
 from .impedance import exact_rational_function
-from .passivity import PassivityResult, is_passive
+from .passivity import PassivityResult, Reason, is_passive
 
 __all__ = [
     "WitnessResult",
@@ -337,7 +337,7 @@ def find_destabilizing_environment(
         reason=pr.reason,
         found=False,
         candidates=count,
-        detail=f"not passive ({pr.reason}), but none of {count} mass-spring-damper "
+        detail=f"not passive ({Reason(pr.reason).description}), but none of {count} mass-spring-damper "
         "environments tried destabilizes it",
         passivity=pr,
     )
@@ -409,7 +409,7 @@ def _found(
         else "a repeated pole on the imaginary axis"
     )
     detail = (
-        f"not passive ({pr.reason}); the passive environment m_e = {env.mass:.6g} kg, "
+        f"not passive ({Reason(pr.reason).description}); the passive environment m_e = {env.mass:.6g} kg, "
         f"b_e = {env.damping:.6g} N*s/m, k_e = {env.stiffness:.6g} N/m makes the coupled "
         f"system unstable: {kind}{note}"
     )

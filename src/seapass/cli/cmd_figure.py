@@ -3,10 +3,8 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
-from ..files.atomic import atomic_write_text
-from .common import save_plot
+from .common import add_out_dir_option, check_out_dir, save_plot, write_text
 
 EXAMPLE = """examples:
   seapass figure sims --out figures/
@@ -27,10 +25,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Regenerate a figure of the paper from first principles, with the data "
         "behind it. Every file is written atomically.",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("target", choices=TARGETS, help="which figure")
-    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    add_out_dir_option(p, "the figure (PNG, PDF) and its data (CSV, JSON)", required=True)
     p.add_argument("--quick", action="store_true", help="small optimiser budget (preview)")
     p.add_argument("--horizon", type=float, default=10.0, help="evaluation horizon [s]")
     p.add_argument("--seed", type=int, default=0, help="optimiser seed")
@@ -45,9 +42,8 @@ def run(args: argparse.Namespace) -> int:
     from ..plot.sim import plot_simulation_study
     from ..sim.tuning import TuningOptions
 
-    out = Path(args.out)
-    if out.exists() and not out.is_dir():
-        raise NotADirectoryError(f"--out {str(out)!r} exists and is not a directory")
+    out = check_out_dir(args.out)
+    assert out is not None  # --out is required
     opts = replace(TuningOptions(), seed=args.seed, horizon=args.horizon)
     study = run_simulation_study(
         options=opts,
@@ -57,9 +53,8 @@ def run(args: argparse.Namespace) -> int:
     )
     # compute everything first, then write each file atomically
     save_plot(lambda: plot_simulation_study(study), out / "sims", formats=("png", "pdf"))
-    atomic_write_text(out / "sims.csv", study.timeseries_csv())
-    atomic_write_text(out / "sims_table.csv", study.table_csv())
-    atomic_write_text(out / "sims_table.json", study.table_json())
+    write_text(out / "sims.csv", study.timeseries_csv())
+    write_text(out / "sims_table.csv", study.table_csv())
+    write_text(out / "sims_table.json", study.table_json())
     print(study.summary())
-    print(f"wrote sims.png, sims.pdf, sims.csv, sims_table.csv, sims_table.json to {out}")
     return 0

@@ -7,7 +7,7 @@ import sys
 import time
 from pathlib import Path
 
-from .common import print_section_problems
+from .common import announce_report, print_section_problems
 
 EXAMPLE = """examples:
   seapass reproduce --out results/
@@ -32,7 +32,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "simulation study, rig experiment on the digital twin, sampled-data limits) and "
         "write a self-contained HTML report, a Markdown report and all data.",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     p.add_argument(
@@ -77,19 +76,19 @@ def run(args: argparse.Namespace) -> int:
         log=lambda line: print(line, file=sys.stderr),
         jobs=args.jobs,
     )
-    write_report(report, out)
-    _summary(report, out, time.perf_counter() - t0)
+    written = write_report(report, out)
+    announce_report(out, written)
+    _summary(report, time.perf_counter() - t0)
     return 1 if report.failed else 0
 
 
-def _summary(report: object, out: Path, seconds: float) -> None:
+def _summary(report: object, seconds: float) -> None:
     from ..report.document import Report
 
     assert isinstance(report, Report)
     n = {v: sum(1 for _s, f in report.findings if f.verdict == v) for v in ("agrees", "differs")}
     print(
-        f"wrote {out / 'report.html'} and {out / 'report.md'} in {seconds:.1f} s: "
-        f"{len(report.sections)} sections, {n['agrees']} findings agree with the paper, "
-        f"{n['differs']} differ"
+        f"report in {seconds:.1f} s: {len(report.sections)} sections, {n['agrees']} findings "
+        f"agree with the paper, {n['differs']} differ"
     )
     print_section_problems(report)

@@ -4,14 +4,23 @@ from __future__ import annotations
 
 import argparse
 import io
-import json
 import math
-from pathlib import Path
 from typing import Any
 
 from ..errors import ParameterError
+from ..files.limits import MAX_DELAY_SAMPLES, MAX_SAMPLED_SCAN, MIN_RTOL
 from ..model.expr import parse_value
-from .common import add_model_options, atomic_write_text, model_from_args, print_json, save_plot
+from .common import (
+    add_model_options,
+    check_out_dir,
+    check_period,
+    json_text,
+    model_from_args,
+    print_json,
+    save_plot,
+    warn_unrealizable,
+    write_text,
+)
 
 EXAMPLE = """examples:
   seapass sampled bound kd --period 0.002 --D1 "k1 + b1*s" --CL "kd" \\
@@ -26,8 +35,8 @@ EXAMPLE = """examples:
 
 def _loop_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("sampled loop")
-    g.add_argument("--period", type=float, default=0.002, help="control period T in s (0.002)")
-    g.add_argument("--delay", type=int, default=0, help="computational delay in samples (0)")
+    g.add_argument("--period", type=float, default=0.002, help="control period T in s")
+    g.add_argument("--delay", type=int, default=0, help="computational delay in samples")
     g.add_argument(
         "--velocity-filter",
         type=float,
@@ -54,7 +63,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "period (Colgate-Schenkel alias condition generalised to the SEA; decided by Sturm "
         "sequences on a polynomial in cos(wT)).",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     ss = p.add_subparsers(dest="sampled_command", metavar="{bound,check}")
     ss.required = True
@@ -62,11 +70,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "bound",
         help="passive values of one parameter (e.g. the largest passive kd)",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     b.add_argument("param", help="free parameter to bound, e.g. kd")
     b.add_argument("--range", required=True, metavar="LO:HI", help="search range, e.g. 0:5000")
-    b.add_argument("--samples", type=int, default=17, help="scan points before bisection (17)")
+    b.add_argument("--samples", type=int, default=17, help="scan points before bisection")
     b.add_argument("--rtol", type=float, default=1e-6, help="edge tolerance relative to range")
     add_model_options(b)
     _loop_options(b)
@@ -75,7 +82,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "check",
         help="decide passivity of one fully specified design",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_model_options(c)
     _loop_options(c)
@@ -95,8 +101,14 @@ def _range(text: str) -> tuple[float, float]:
 def _loop_kw(args: argparse.Namespace) -> dict[str, Any]:
     if not (math.isfinite(args.period) and args.period > 0):
         raise ParameterError(f"--period must be a positive number of seconds, got {args.period}")
-    if args.delay < 0:
-        raise ParameterError(f"--delay must be >= 0 samples, got {args.delay}")
+    if not 0 <= args.delay <= MAX_DELAY_SAMPLES:
+        raise ParameterError(
+            f"--delay {args.delay}: give 0 to {MAX_DELAY_SAMPLES} samples of computational delay"
+        )
+    vf = args.velocity_filter
+    if vf is not None and not (math.isfinite(vf) and vf > 0):
+        raise ParameterError(f"--velocity-filter must be a positive cut-off in Hz, got {vf}")
+    check_period(args.period)
     return {
         "period": args.period,
         "delay": args.delay,
@@ -105,17 +117,29 @@ def _loop_kw(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
+def _check_scan(args: argparse.Namespace, lo: float, hi: float) -> None:
+    """Bound the work of the scan and of the bisection before it starts."""
+    if not 2 <= args.samples <= MAX_SAMPLED_SCAN:
+        raise ParameterError(f"--samples {args.samples}: give 2 to {MAX_SAMPLED_SCAN} scan points")
+    rtol = args.rtol
+    # the bisection stops at rtol*(hi - lo): below the float spacing it could never get there
+    spacing = 4 * math.ulp(max(abs(lo), abs(hi), 1e-300))
+    if not (math.isfinite(rtol) and MIN_RTOL <= rtol <= 0.5) or rtol * (hi - lo) < spacing:
+        raise ParameterError(
+            f"--rtol {rtol:g}: give a tolerance from {MIN_RTOL:g} to 0.5 that is above the "
+            f"floating-point spacing of --range (here at least {spacing / (hi - lo):.3g})"
+        )
+
+
 def run_bound(args: argparse.Namespace) -> int:
     from ..sampled.bound import sampled_passive_bound
 
     lo, hi = _range(args.range)
-    sea = model_from_args(args, extra_free=(args.param,))
-    if args.param not in sea.parameters:
-        raise ParameterError(
-            f"parameter {args.param!r} does not appear in the model; it uses: "
-            + ", ".join(sea.parameters)
-        )
-    sea = sea.with_values(**{args.param: None})
+    _check_scan(args, lo, hi)
+    kw = _loop_kw(args)
+    out = check_out_dir(args.out)
+    sea = model_from_args(args, extra_free={args.param: f"sampled bound {args.param}"})
+    warn_unrealizable(sea)
     res = sampled_passive_bound(
         sea,
         args.param,
@@ -124,44 +148,45 @@ def run_bound(args: argparse.Namespace) -> int:
         samples=args.samples,
         rtol=args.rtol,
         progress=True,
-        **_loop_kw(args),
+        **kw,
     )
-    out = res.to_dict()
-    if args.out:
+    data = res.to_dict()
+    if out is not None:
         from ..plot.sampled import plot_bound_scan
 
-        d = Path(args.out)
         buf = io.StringIO()
         buf.write(f"{args.param},passive\n")
         for x, v in res.samples:
             buf.write(f"{x!r},{int(v)}\n")
-        atomic_write_text(d / f"sampled_bound_{args.param}.csv", buf.getvalue())
-        atomic_write_text(d / f"sampled_bound_{args.param}.json", json.dumps(out, indent=2))
-        save_plot(lambda: plot_bound_scan(res), d / f"sampled_bound_{args.param}.png")
+        write_text(out / f"sampled_bound_{args.param}.csv", buf.getvalue())
+        write_text(out / f"sampled_bound_{args.param}.json", json_text(data))
+        save_plot(lambda: plot_bound_scan(res), out / f"sampled_bound_{args.param}.png")
     if args.json:
-        print_json(out)
+        print_json(data)
     else:
-        ivs = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in res.intervals) or "none"
-        print(f"passive {args.param} at T = {args.period:g} s: {ivs}")
-        print(f"largest passive {args.param}: {res.max_passive}")
+        ivs = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in res.intervals)
+        print(f"passive {args.param} at T = {args.period:g} s: {ivs or 'none in the range'}")
+        if res.max_passive is not None:
+            print(f"largest passive {args.param}: {res.max_passive:.6g}")
     return 0
 
 
 def run_check(args: argparse.Namespace) -> int:
     from ..sampled.passivity import sampled_passivity, sampled_power_curve
 
-    sea = model_from_args(args)
     kw = _loop_kw(args)
+    d = check_out_dir(args.out)
+    sea = model_from_args(args)
+    warn_unrealizable(sea)
     res = sampled_passivity(sea, **kw)
-    if args.out:
+    if d is not None:
         from ..plot.sampled import plot_power_curve
 
-        d = Path(args.out)
-        atomic_write_text(d / "sampled_check.json", json.dumps(res.to_dict(), indent=2))
+        write_text(d / "sampled_check.json", json_text(res.to_dict()))
         if res.reason in ("", "negative_power"):
             w, n = sampled_power_curve(sea, **kw)
             rows = "".join(f"{a!r},{b!r}\n" for a, b in zip(w, n, strict=True))
-            atomic_write_text(d / "sampled_power.csv", "omega_rad_s,N\n" + rows)
+            write_text(d / "sampled_power.csv", "omega_rad_s,N\n" + rows)
             save_plot(lambda: plot_power_curve(w, n, period=args.period), d / "sampled_power.png")
     if args.json:
         print_json(res.to_dict())

@@ -9,7 +9,14 @@ from ..errors import ParameterError
 from ..model.expr import parse_value
 from ..paper.simstudy import QUICK_OPTIONS
 from ..sim.tuning import TuningOptions, tune
-from .common import print_json
+from .common import (
+    add_json_option,
+    check_names,
+    check_step,
+    parse_named,
+    print_json,
+    values_from_args,
+)
 
 EXAMPLE = """examples:
   seapass tune --design ours --load-mass 10 --json
@@ -31,11 +38,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         "simulated settling time, under the exact passivity constraint and an actuator "
         "force limit. A progress bar is shown on stderr when it is a terminal.",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--design", required=True, help="LP, APD or ours (case-insensitive)")
     p.add_argument("--load-mass", type=float, default=10.0, help="load mass m_L [kg]")
-    p.add_argument("--step", type=float, default=0.5, help="reference step [m]")
+    p.add_argument("--step", type=float, metavar="M", help="reference step [m] (the default: 0.5)")
     p.add_argument("--horizon", type=float, default=10.0, help="simulated time [s]")
     p.add_argument("--force-limit", type=float, default=1000.0, help="peak |f_A| [N]")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
@@ -52,35 +58,26 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--quick", action="store_true", help="small budget (for previews and tests)")
     p.add_argument("--no-progress", action="store_true", help="never show a progress bar")
-    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    add_json_option(p)
     p.set_defaults(func=run)
 
 
 def _bounds(items: list[str]) -> dict[str, tuple[float, float]]:
     out: dict[str, tuple[float, float]] = {}
-    for item in items:
-        name, sep, rng = item.partition("=")
-        lo, sep2, hi = rng.partition(":")
-        if not sep or not sep2:
-            raise ParameterError(f"--bound {item!r}: expected GAIN=LO:HI, e.g. kd=0:2000")
-        a, b = parse_value(lo, f"{name} lower bound"), parse_value(hi, f"{name} upper bound")
+    for name, (lo, hi) in parse_named(items, "--bound", 2, "GAIN=LO:HI, e.g. kd=0:2000"):
+        a, b = parse_value(lo, f"--bound {name} LO"), parse_value(hi, f"--bound {name} HI")
         if not 0 <= a < b:
-            raise ParameterError(f"--bound {item!r}: need 0 <= LO < HI")
-        out[name.strip()] = (a, b)
+            raise ParameterError(f"--bound {name}={lo}:{hi}: need 0 <= LO < HI")
+        out[name] = (a, b)
     return out
 
 
 def options_from_args(args: argparse.Namespace) -> TuningOptions:
-    plant: dict[str, float] = {}
-    for item in args.set:
-        name, _, raw = item.partition("=")
-        name = name.strip()
-        if name not in ("m", "b", "k1"):
-            raise ParameterError(f"--set {item!r}: tune accepts only m, b and k1")
-        plant[name] = parse_value(raw, name)
+    plant = values_from_args(args)
+    check_names(plant, ("m", "b", "k1"), "--set", "the plant (tune takes m, b and k1)")
     base = TuningOptions(
         load_mass=args.load_mass,
-        step=args.step,
+        step=0.5 if args.step is None else args.step,
         horizon=args.horizon,
         force_limit=args.force_limit,
         seed=args.seed,
@@ -106,6 +103,7 @@ def options_from_args(args: argparse.Namespace) -> TuningOptions:
 def run(args: argparse.Namespace) -> int:
     if not args.load_mass > 0:
         raise ParameterError(f"--load-mass must be positive, got {args.load_mass:g}")
+    check_step(args.step)
     opts = options_from_args(args)
     result = tune(args.design, options=opts, progress=False if args.no_progress else None)
     if args.json:

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..errors import DegenerateModelError, SymbolicLimitError
+from ..files.limits import MAX_MODEL_DEGREE, MAX_MODEL_TERMS
 from .expr import S, W, symbolic_size, symbolic_time_limit
 from .sea import SEA
 
@@ -75,12 +76,8 @@ def derive_stiffness(sea: SEA) -> StiffnessDerivation:
     return _derive(tuple(e[k] for k in ("D1", "D2", "CA", "CL", "m", "b")))
 
 
-MAX_MODEL_DEGREE = 16
-"""Budget of the derivation, checked on a structural bound of the closed form (see
-[`seapass.model.expr.symbolic_size`][seapass.model.expr.symbolic_size]) before sympy starts:
-symbolic models at the limit derive in a few seconds, beyond it sympy can take minutes.
-"""
-MAX_MODEL_TERMS = 4000
+# MAX_MODEL_DEGREE, MAX_MODEL_TERMS: the budget of the derivation, checked on a structural
+# bound of the closed form before sympy starts (seapass.files.limits, with every limit)
 
 
 @functools.lru_cache(maxsize=256)

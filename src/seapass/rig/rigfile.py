@@ -28,6 +28,14 @@ from importlib import resources
 from typing import Any
 
 from ..errors import FileFormatError
+from ..files.limits import (
+    MAX_DESCRIPTION_CHARS,
+    MAX_LIST_LENGTH,
+    MAX_NAME_CHARS,
+    MAX_RIG_INTEGRATOR_STEPS,
+    MAX_RIG_SAMPLES,
+    MAX_TITLE_CHARS,
+)
 from ..files.toml import load_toml_file
 
 __all__ = [
@@ -52,7 +60,7 @@ _INF = math.inf
 class _Field:
     kind: type  # float, int, str, bool or list (list of floats)
     lo: float = -_INF
-    hi: float = _INF
+    hi: float = _INF  # for str: the longest text; for list: the largest value
     lo_open: bool = False
     required: bool = True
     default: Any = None
@@ -162,7 +170,7 @@ _SCHEMA: dict[str, tuple[type, dict[str, _Field]]] = {
     "motor": (
         MotorSpec,
         {
-            "name": _Field(str, default="motor", required=False),
+            "name": _Field(str, hi=MAX_TITLE_CHARS, default="motor", required=False),
             "rotor_inertia": _f(0.0, 1.0, open_lo=True),
             "continuous_torque": _f(0.0, 100.0, open_lo=True),
             "peak_torque": _f(0.0, 1000.0, open_lo=True),
@@ -244,8 +252,8 @@ _SCHEMA: dict[str, tuple[type, dict[str, _Field]]] = {
 }
 
 _TOP = {
-    "name": _Field(str, required=False, default="rig"),
-    "description": _Field(str, required=False, default=""),
+    "name": _Field(str, hi=MAX_NAME_CHARS, required=False, default="rig"),
+    "description": _Field(str, hi=MAX_DESCRIPTION_CHARS, required=False, default=""),
 }
 
 
@@ -300,6 +308,22 @@ class Rig:
             raise FileFormatError("experiment.load_masses must list at least one mass")
         if abs(self.experiment.initial_position) >= self.load.travel:
             raise FileFormatError("experiment.initial_position must lie inside ±load.travel")
+        for key, duration in (
+            ("experiment.horizon", self.experiment.horizon),
+            ("impacts.duration", self.impacts.duration),
+        ):
+            samples = duration * self.control.rate
+            if samples > MAX_RIG_SAMPLES:
+                raise FileFormatError(
+                    f"{key} × control.rate = {samples:.3g} control periods per run; the limit "
+                    f"is {MAX_RIG_SAMPLES:,}: shorten {key} or lower control.rate"
+                )
+            if samples * self.control.substeps > MAX_RIG_INTEGRATOR_STEPS:
+                raise FileFormatError(
+                    f"{key} × control.rate × control.substeps = "
+                    f"{samples * self.control.substeps:.3g} integrator steps per run; the limit "
+                    f"is {MAX_RIG_INTEGRATOR_STEPS:,}: lower control.substeps"
+                )
 
     @property
     def actuator_mass(self) -> float:
@@ -398,10 +422,14 @@ def _check_value(key: str, spec: _Field, value: Any) -> Any:
     if spec.kind is str:
         if not isinstance(value, str):
             raise FileFormatError(f"{key}: expected a string, got {type(value).__name__}")
+        if len(value) > spec.hi:
+            raise FileFormatError(f"{key}: {len(value):,} characters; the limit is {spec.hi:g}")
         return value
     if spec.kind is list:
         if not isinstance(value, list):
             raise FileFormatError(f"{key}: expected a list of numbers, got {type(value).__name__}")
+        if len(value) > MAX_LIST_LENGTH:
+            raise FileFormatError(f"{key}: {len(value):,} entries; the limit is {MAX_LIST_LENGTH}")
         return tuple(_check_number(f"{key}[{i}]", spec, v, float) for i, v in enumerate(value))
     return _check_number(key, spec, value, spec.kind)
 
@@ -477,7 +505,7 @@ def load_rig(path: str | os.PathLike[str]) -> Rig:
     OSError
         When the file cannot be read.
     """
-    return load_toml_file(path, parse_rig)
+    return load_toml_file(path, parse_rig, what="rig file")
 
 
 def paper_rig() -> Rig:

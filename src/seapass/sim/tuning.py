@@ -52,7 +52,7 @@ from scipy.optimize import differential_evolution
 
 from ..analysis.passivity import is_passive
 from ..analysis.region import passive_intervals
-from ..errors import ParameterError
+from ..errors import ParameterError, did_you_mean
 from ..model.catalog import SIMULATION_DESIGNS, CatalogDesign
 from ..model.catalog import design as catalog_design
 from ..model.realization import closed_loop_factory
@@ -181,6 +181,14 @@ def _cost(met: TrackingMetrics, res: Any, opts: TuningOptions) -> float:
 def _search_bounds(
     spec: CatalogDesign, base: SEA, opts: TuningOptions
 ) -> list[tuple[float, float]]:
+    for name in opts.bounds:
+        if name not in spec.gains:
+            key = f"bounds[{name!r}]"
+            raise ParameterError(
+                f"{key}: {name!r} is not a gain of {spec.key}{did_you_mean(name, spec.gains)}; "
+                f"its gains: {', '.join(spec.gains)}",
+                argument=key,
+            )
     bounds = [opts.bounds.get(p, spec.ranges[p]) for p in spec.gains]
     if len(spec.gains) == 1:
         # one gain: search only inside the exact passive set (its largest piece)

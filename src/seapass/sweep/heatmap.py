@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import FileFormatError, ParameterError
+from ..errors import FileFormatError, ParameterError, did_you_mean
 from .store import iter_batches, schema_columns
 
 __all__ = [
@@ -84,7 +84,7 @@ def heatmap_data(path: str | os.PathLike[str], x: str, y: str, *, bins: int = 60
     """
     path = Path(path)
     if x == y:
-        raise ParameterError(f"--heatmap needs two different parameters, got {x},{y}")
+        raise ParameterError(f"heat map: x and y must be different parameters, got {x},{y}")
     schema_cols = set(schema_columns(path))
     for name in (x, y):
         if name not in schema_cols:
@@ -101,7 +101,8 @@ def heatmap_data(path: str | os.PathLike[str], x: str, y: str, *, bins: int = 60
                 }
             )
             raise ParameterError(
-                f"--heatmap: {name!r} is not a column of {path}; swept parameters: {', '.join(params)}"
+                f"heat map: {name!r} is not a column of {path}{did_you_mean(name, params)}; "
+                f"swept parameters: {', '.join(params)}"
             )
     has_metrics = "settling_time" in schema_cols
     xc, xb = _axis_bins(path, x, bins)

@@ -30,7 +30,13 @@ from ..sim.metrics import SETTLING_CODES, Settling
 from .spec import LOAD_MASS, SweepSpec, spec_from_state, spec_state
 from .store import consolidate, part_path, prepare_parts, write_part
 
-__all__ = ["DesignSweepResult", "evaluate_chunk", "run_design_sweep"]
+__all__ = [
+    "SCHEDULER_TIMEOUT",
+    "DesignSweepResult",
+    "evaluate_chunk",
+    "probe_scheduler",
+    "run_design_sweep",
+]
 
 
 # --------------------------------------------------------------------------- specification
@@ -141,6 +147,70 @@ def _local_results(spec: SweepSpec, todo: Sequence[int]) -> Iterator[tuple[int, 
         yield c, evaluate_chunk(spec, c)
 
 
+SCHEDULER_TIMEOUT = 10.0
+"""Seconds to reach a Dask scheduler, to hear its greeting and to find a worker."""
+
+
+def probe_scheduler(address: str, timeout: float = SCHEDULER_TIMEOUT) -> None:
+    """Raise `ConnectionError` unless a Dask scheduler answers at ``tcp://host:port``.
+
+    Dask's client waits without a deadline for the greeting of whatever
+    listens at the address, and reads any bytes it gets as a message length
+    (an HTTP server makes it allocate gigabytes).  So first, with a plain
+    socket and a deadline: connect, read the scheduler's handshake (a length
+    prefix, then a small msgpack map with ``python`` and ``pickle-protocol``)
+    and check it, reading at most 64 KiB.
+    """
+    import socket
+    import struct
+
+    import msgpack
+
+    hostport = address.removeprefix("tcp://")
+    host, _, port_text = hostport.rpartition(":")
+    host = host.strip("[]")
+    if not host or not port_text.isdigit() or not 0 < int(port_text) < 65536:
+        raise ParameterError(
+            f"scheduler: {address!r} is not a tcp://host:port address", argument="scheduler"
+        )
+    what = f"scheduler: nothing at {address} answers like a Dask scheduler"
+    deadline = time.monotonic() + timeout
+
+    def recv_exactly(sock: socket.socket, n: int) -> bytes:
+        data = b""
+        while len(data) < n:
+            sock.settimeout(max(deadline - time.monotonic(), 0.01))
+            chunk = sock.recv(n - len(data))
+            if not chunk:
+                raise ConnectionError(f"{what} (it closed the connection)")
+            data += chunk
+        return data
+
+    try:
+        with socket.create_connection((host, int(port_text)), timeout=timeout) as sock:
+            (size,) = struct.unpack("<Q", recv_exactly(sock, 8))
+            if not 16 <= size <= 65536:
+                raise ConnectionError(what)
+            body = recv_exactly(sock, size)
+            (frames,) = struct.unpack("<Q", body[:8])
+            if not 1 <= frames <= 16 or 8 + 8 * frames > size:
+                raise ConnectionError(what)
+            first = struct.unpack("<Q", body[8:16])[0]
+            start = 8 + 8 * frames
+            info = msgpack.unpackb(body[start : start + first], raw=False)
+            if not isinstance(info, dict) or "python" not in info:
+                raise ConnectionError(what)
+    except TimeoutError:
+        raise ConnectionError(f"{what} within {timeout:g} s") from None
+    except ConnectionError as exc:
+        if exc.errno is None:  # raised above, already says what is wrong
+            raise
+        raise ConnectionError(f"{what} ({exc.strerror})") from None
+    except (OSError, ValueError, struct.error, msgpack.UnpackException) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        raise ConnectionError(f"{what} ({reason})") from None
+
+
 def _dask_results(
     spec: SweepSpec, todo: Sequence[int], scheduler: str
 ) -> Iterator[tuple[int, pa.Table]]:
@@ -159,7 +229,16 @@ def _dask_results(
         )
         client = Client(cluster)
     else:
-        client = Client(scheduler, timeout=10)
+        probe_scheduler(scheduler)
+        client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+        try:
+            client.wait_for_workers(1, timeout=SCHEDULER_TIMEOUT)
+        except TimeoutError:
+            client.close()
+            raise ConnectionError(
+                f"scheduler: the Dask scheduler at {scheduler} has no workers "
+                f"(waited {SCHEDULER_TIMEOUT:g} s); start some with 'dask worker {scheduler}'"
+            ) from None
     state = spec_state(spec)
     window = max(2, 2 * len(client.scheduler_info().get("workers", {})) or 2)
     try:
@@ -222,7 +301,8 @@ def run_design_sweep(
     out = Path(out)
     if scheduler is not None and not (scheduler == "local" or scheduler.startswith("tcp://")):
         raise ParameterError(
-            f"--scheduler must be 'local' or a tcp://host:port address, got {scheduler!r}"
+            f"scheduler: must be 'local' or a tcp://host:port address, got {scheduler!r}",
+            argument="scheduler",
         )
     t0 = time.perf_counter()
     parts, done = prepare_parts(spec, out, resume)

@@ -23,6 +23,7 @@ import pyarrow.parquet as pq
 
 from ..errors import FileFormatError
 from ..files.atomic import atomic_save, atomic_write_text
+from ..files.textfile import read_text_file
 from .spec import SweepSpec
 
 __all__ = [
@@ -70,21 +71,24 @@ def prepare_parts(spec: SweepSpec, out: Path, resume: bool) -> tuple[Path, set[i
     if parts.exists() and any(parts.iterdir()):
         if not manifest.is_file():
             raise FileFormatError(
-                f"{parts} exists and is not a seapass sweep directory; choose another --out"
+                f"out: {parts} exists and is not a seapass sweep directory; choose another "
+                "output path",
+                argument="out",
             )
         try:
-            old = json.loads(manifest.read_text())
-        except (OSError, json.JSONDecodeError) as exc:
+            old = json.loads(read_text_file(manifest, what="sweep manifest"))
+        except (OSError, json.JSONDecodeError, FileFormatError) as exc:
             raise FileFormatError(f"{manifest}: unreadable manifest ({exc})") from None
         if old.get("fingerprint") != fp:
             raise FileFormatError(
                 f"{parts} holds a different sweep (fingerprint {old.get('fingerprint')}, this "
-                f"one {fp}); use another --out or delete it"
+                f"one {fp}); use another output path or delete it",
+                argument="out",
             )
         if not resume and done_chunks(parts):
             raise FileFormatError(
                 f"{parts} holds {len(done_chunks(parts))} finished chunk(s) of this sweep; "
-                "pass --resume to continue it, or delete the directory to start over"
+                "pass resume=True to continue it, or delete the directory to start over"
             )
     parts.mkdir(parents=True, exist_ok=True)
     atomic_write_text(
