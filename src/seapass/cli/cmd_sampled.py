@@ -134,9 +134,9 @@ def _check_scan(args: argparse.Namespace, lo: float, hi: float) -> None:
 def run_bound(args: argparse.Namespace) -> int:
     from ..sampled.bound import sampled_passive_bound
 
+    kw = _loop_kw(args)
     lo, hi = _range(args.range)
     _check_scan(args, lo, hi)
-    kw = _loop_kw(args)
     out = check_out_dir(args.out)
     sea = model_from_args(args, extra_free={args.param: f"sampled bound {args.param}"})
     warn_unrealizable(sea)

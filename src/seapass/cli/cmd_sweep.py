@@ -95,6 +95,15 @@ def run(args: argparse.Namespace) -> int:
         RangeAxis(name, *(parse_value(v, f"--range {name}") for v in parts))
         for name, parts in parse_named(args.range, "--range", 2, "NAME=LO:HI, e.g. kd=0:5000")
     ]
+    if bool(grid) == bool(ranges):
+        raise ParameterError(
+            "give grid axes (--grid NAME=LO:HI:STEP, repeatable) or random ranges "
+            "(--sample N --range NAME=LO:HI, repeatable), not both or neither"
+        )
+    if ranges and args.sample is None:
+        raise ParameterError("--range needs --sample N, the number of random designs")
+    if grid and args.sample is not None:
+        raise ParameterError("--sample is only for random ranges; a grid has its own size")
     figure = plot_path(deprecated_alias(args, "out_fig", "plot"))
     heat = None
     if args.heatmap is not None:

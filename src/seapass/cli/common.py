@@ -143,6 +143,7 @@ _FLAGS = {
     "CL": "--CL",
     "ranges": "--range",
     "samples": "--sample",
+    "grid": "--grid",
 }
 
 

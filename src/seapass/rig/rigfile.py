@@ -28,14 +28,7 @@ from importlib import resources
 from typing import Any
 
 from ..errors import FileFormatError
-from ..files.limits import (
-    MAX_DESCRIPTION_CHARS,
-    MAX_LIST_LENGTH,
-    MAX_NAME_CHARS,
-    MAX_RIG_INTEGRATOR_STEPS,
-    MAX_RIG_SAMPLES,
-    MAX_TITLE_CHARS,
-)
+from ..files import limits
 from ..files.toml import load_toml_file
 
 __all__ = [
@@ -170,7 +163,7 @@ _SCHEMA: dict[str, tuple[type, dict[str, _Field]]] = {
     "motor": (
         MotorSpec,
         {
-            "name": _Field(str, hi=MAX_TITLE_CHARS, default="motor", required=False),
+            "name": _Field(str, hi=limits.MAX_TITLE_CHARS, default="motor", required=False),
             "rotor_inertia": _f(0.0, 1.0, open_lo=True),
             "continuous_torque": _f(0.0, 100.0, open_lo=True),
             "peak_torque": _f(0.0, 1000.0, open_lo=True),
@@ -252,8 +245,8 @@ _SCHEMA: dict[str, tuple[type, dict[str, _Field]]] = {
 }
 
 _TOP = {
-    "name": _Field(str, hi=MAX_NAME_CHARS, required=False, default="rig"),
-    "description": _Field(str, hi=MAX_DESCRIPTION_CHARS, required=False, default=""),
+    "name": _Field(str, hi=limits.MAX_NAME_CHARS, required=False, default="rig"),
+    "description": _Field(str, hi=limits.MAX_DESCRIPTION_CHARS, required=False, default=""),
 }
 
 
@@ -308,21 +301,14 @@ class Rig:
             raise FileFormatError("experiment.load_masses must list at least one mass")
         if abs(self.experiment.initial_position) >= self.load.travel:
             raise FileFormatError("experiment.initial_position must lie inside ±load.travel")
-        for key, duration in (
-            ("experiment.horizon", self.experiment.horizon),
-            ("impacts.duration", self.impacts.duration),
-        ):
-            samples = duration * self.control.rate
-            if samples > MAX_RIG_SAMPLES:
+        c, n_max, steps_max = self.control, limits.MAX_RIG_SAMPLES, limits.MAX_RIG_INTEGRATOR_STEPS
+        for key, n in (("experiment.horizon", self.experiment.horizon * c.rate),
+                       ("impacts.duration", self.impacts.duration * c.rate)):  # fmt: skip
+            if n > n_max or n * c.substeps > steps_max:  # bounded before any run
                 raise FileFormatError(
-                    f"{key} × control.rate = {samples:.3g} control periods per run; the limit "
-                    f"is {MAX_RIG_SAMPLES:,}: shorten {key} or lower control.rate"
-                )
-            if samples * self.control.substeps > MAX_RIG_INTEGRATOR_STEPS:
-                raise FileFormatError(
-                    f"{key} × control.rate × control.substeps = "
-                    f"{samples * self.control.substeps:.3g} integrator steps per run; the limit "
-                    f"is {MAX_RIG_INTEGRATOR_STEPS:,}: lower control.substeps"
+                    f"{key} × control.rate = {n:.3g} control periods per run, {c.substeps} "
+                    f"substeps each; the limits are {n_max:,} periods and {steps_max:,} "
+                    f"substeps: shorten {key} or lower control.rate or control.substeps"
                 )
 
     @property
@@ -428,8 +414,8 @@ def _check_value(key: str, spec: _Field, value: Any) -> Any:
     if spec.kind is list:
         if not isinstance(value, list):
             raise FileFormatError(f"{key}: expected a list of numbers, got {type(value).__name__}")
-        if len(value) > MAX_LIST_LENGTH:
-            raise FileFormatError(f"{key}: {len(value):,} entries; the limit is {MAX_LIST_LENGTH}")
+        if len(value) > (most := limits.MAX_LIST_LENGTH):
+            raise FileFormatError(f"{key}: {len(value):,} entries; the limit is {most}")
         return tuple(_check_number(f"{key}[{i}]", spec, v, float) for i, v in enumerate(value))
     return _check_number(key, spec, value, spec.kind)
 

@@ -219,7 +219,7 @@ def _dask_results(
     except ImportError:
         raise MissingExtraError(
             "scheduler: running on Dask needs the dask extra; install it with "
-            "pip install 'seapass[dask]' (or run without --scheduler)"
+            "pip install 'seapass[dask]' (or run without a scheduler)"
         ) from None
 
     cluster = None
@@ -229,7 +229,7 @@ def _dask_results(
         )
         client = Client(cluster)
     else:
-        probe_scheduler(scheduler)
+        probe_scheduler(scheduler, SCHEDULER_TIMEOUT)
         client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
         try:
             client.wait_for_workers(1, timeout=SCHEDULER_TIMEOUT)

@@ -170,8 +170,8 @@ class SweepSpec:
         object.__setattr__(self, "ranges", tuple(self.ranges))
         if bool(self.grid) == bool(self.ranges):
             raise ParameterError(
-                "give either grid axes (grid=; --grid NAME=LO:HI:STEP) or random ranges "
-                "(ranges= and samples=; --range NAME=LO:HI --sample N), not both or neither"
+                "give either grid axes (grid: NAME=LO:HI:STEP) or random ranges and a number "
+                "of samples (ranges: NAME=LO:HI, samples: N), not both or neither"
             )
         if self.ranges and (self.samples is None or self.samples < 1):
             raise ParameterError(
