@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 __all__ = [
+    "CompilerError",
     "DegenerateModelError",
     "ExpressionError",
     "FileFormatError",
@@ -85,6 +86,10 @@ class SimulationError(SeapassError, RuntimeError):
 
 class NotPassiveError(SeapassError, ValueError):
     """Raised by ``throw=True`` entry points when a design is not passive."""
+
+
+class CompilerError(SeapassError, RuntimeError):
+    """The C compiler is missing or rejected generated code (``seapass export c --verify``)."""
 
 
 class MissingExtraError(SeapassError, ImportError):
