@@ -279,7 +279,7 @@ def _text(value: Any, key: str, limit: int) -> str:
     text = _string(value, key)
     if len(text) > limit:
         raise FileFormatError(f"{key}: {len(text):,} characters; the limit is {limit}")
-    bad = next((ch for ch in text if not ch.isprintable()), None)
+    bad = next((ch for ch in text if not (ch.isprintable() or ch == "\t")), None)
     if bad is not None:
         raise FileFormatError(
             f"{key}: contains the control character U+{ord(bad):04X}; use one line of plain text"
