@@ -7,7 +7,13 @@ import sys
 import time
 from pathlib import Path
 
-from .common import announce_report, print_section_problems
+from .common import (
+    add_json_option,
+    announce_report,
+    print_json,
+    print_section_problems,
+    report_summary,
+)
 
 EXAMPLE = """examples:
   seapass analyze examples/ours.toml --out results/ours
@@ -39,6 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="comma-separated stages (default: all; 'core' = passivity,stiffness,ranges)",
     )
     p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
+    add_json_option(p, "a summary (files, sections, verdict)")
     p.set_defaults(func=run)
 
 
@@ -66,8 +73,11 @@ def run(args: argparse.Namespace) -> int:
     written = write_report(report, out)
     announce_report(out, written)
     line = verdict_line(report.sections, design)
-    if line:
-        print(f"{design.name}: {line}")
-    print(f"report in {time.perf_counter() - t0:.1f} s")
+    if args.json:
+        print_json({**report_summary(report, out, written), "verdict": line or None})
+    else:
+        if line:
+            print(f"{design.name}: {line}")
+        print(f"report in {time.perf_counter() - t0:.1f} s")
     print_section_problems(report)
     return 1 if report.failed else 0

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
-from .common import add_out_dir_option, check_out_dir, save_plot, write_text
+from .common import add_json_option, add_out_dir_option, check_out_dir, save_plot, write_text
 
 EXAMPLE = """examples:
   seapass figure sims --out figures/
@@ -32,6 +33,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--horizon", type=float, default=10.0, help="evaluation horizon [s]")
     p.add_argument("--seed", type=int, default=0, help="optimiser seed")
     p.add_argument("--no-progress", action="store_true", help="never show progress bars")
+    add_json_option(p, "the table of the figure")
     p.set_defaults(func=run)
 
 
@@ -56,5 +58,8 @@ def run(args: argparse.Namespace) -> int:
     write_text(out / "sims.csv", study.timeseries_csv())
     write_text(out / "sims_table.csv", study.table_csv())
     write_text(out / "sims_table.json", study.table_json())
-    print(study.summary())
+    if args.json:
+        sys.stdout.write(study.table_json().rstrip("\n") + "\n")
+    else:
+        print(study.summary())
     return 0

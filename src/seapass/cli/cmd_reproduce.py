@@ -7,7 +7,13 @@ import sys
 import time
 from pathlib import Path
 
-from .common import announce_report, print_section_problems
+from .common import (
+    add_json_option,
+    announce_report,
+    print_json,
+    print_section_problems,
+    report_summary,
+)
 
 EXAMPLE = """examples:
   seapass reproduce --out results/
@@ -50,6 +56,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="worker processes for the independent stages (default 2; 1 = sequential)",
     )
     p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
+    add_json_option(p, "a summary (files, sections, findings)")
     p.set_defaults(func=run)
 
 
@@ -78,7 +85,14 @@ def run(args: argparse.Namespace) -> int:
     )
     written = write_report(report, out)
     announce_report(out, written)
-    _summary(report, time.perf_counter() - t0)
+    if args.json:
+        n = {
+            v: sum(1 for _s, f in report.findings if f.verdict == v) for v in ("agrees", "differs")
+        }
+        print_json({**report_summary(report, out, written), "findings": n})
+    else:
+        _summary(report, time.perf_counter() - t0)
+    print_section_problems(report)
     return 1 if report.failed else 0
 
 
@@ -91,4 +105,3 @@ def _summary(report: object, seconds: float) -> None:
         f"report in {seconds:.1f} s: {len(report.sections)} sections, {n['agrees']} findings "
         f"agree with the paper, {n['differs']} differ"
     )
-    print_section_problems(report)

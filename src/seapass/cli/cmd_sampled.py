@@ -80,7 +80,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     b.set_defaults(func=run_bound)
     c = ss.add_parser(
         "check",
-        help="decide passivity of one fully specified design",
+        help="decide passivity of one fully specified design (exit 0 passive, 1 not, 2 bad input)",
         epilog=EXAMPLE,
     )
     add_model_options(c)
@@ -195,4 +195,4 @@ def run_check(args: argparse.Namespace) -> int:
         print(f"{status} at T = {args.period:g} s (delay {args.delay}): {res.detail}")
         if res.omega is not None:
             print(f"witness: w = {res.omega:.6g} rad/s")
-    return 0
+    return 0 if res.passive else 1  # a check, like cmp: 1 = not passive

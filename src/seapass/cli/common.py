@@ -70,6 +70,7 @@ __all__ = [
     "plot_path",
     "print_json",
     "print_section_problems",
+    "report_summary",
     "save_plot",
     "system_from_args",
     "values_from_args",
@@ -368,6 +369,16 @@ def announce_report(out: Path, written: Sequence[Path]) -> None:
     data = sum(1 for n in names if n.startswith("data/"))
     figures = sum(1 for n in names if n.startswith("figures/"))
     print(f"wrote {data} data files and {figures} figures in {out}", file=sys.stderr)
+
+
+def report_summary(report: Any, out: Path, written: Sequence[Path]) -> dict[str, Any]:
+    """The ``--json`` summary of a report directory: files, sections and their status."""
+    return {
+        "out": str(out),
+        "files": [p.as_posix() for p in written],
+        "sections": [{"key": s.key, "title": s.title, "status": s.status} for s in report.sections],
+        "failed": list(report.failed),
+    }
 
 
 def print_section_problems(report: Any) -> None:
