@@ -55,6 +55,7 @@ def test_minimal_design_defaults() -> None:
 
 def test_control_and_rig_sections(tmp_path: Path) -> None:
     f = tmp_path / "d.toml"
+    (tmp_path / "rig.toml").write_text("# checked when the rig stage reads it\n")
     f.write_text(
         BASE + "[control]\nrate = 500\ndelay = 1\nvelocity_filter = 50\n"
         '[rig]\nfile = "rig.toml"\n[simulation]\nload_masses = [0.1, 0.6]\n'

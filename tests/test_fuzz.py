@@ -52,7 +52,23 @@ def watchdog(seconds: float = WATCHDOG_S) -> Iterator[None]:
         signal.signal(signal.SIGALRM, old)
 
 
-def run_cli(argv: list[str], codes: tuple[int, ...] = (0, 2)) -> tuple[int, str, str]:
+def check_stderr(e: str, context: object = None) -> None:
+    """The stderr contract: no traceback; ``warning:`` and ``wrote`` lines; at most one
+    ``error:`` line, and it comes last."""
+    assert "Traceback" not in e and "internal error" not in e, (context, e[-2000:])
+    lines = e.splitlines()
+    errors = [i for i, line in enumerate(lines) if line.startswith("error:")]
+    assert len(errors) <= 1 and (not errors or errors[0] == len(lines) - 1), (context, e[-2000:])
+    others = [line for line in lines if not line.startswith("error:")]
+    assert all(line.startswith(("warning: ", "wrote ")) for line in others), (context, e[-2000:])
+
+
+def is_check(argv: list[str]) -> bool:
+    """Commands whose exit code 1 is a verdict (not passive), like cmp."""
+    return argv[:1] == ["check"] or argv[:2] == ["sampled", "check"]
+
+
+def run_cli(argv: list[str], codes: tuple[int, ...] | None = None) -> tuple[int, str, str]:
     out, err = io.StringIO(), io.StringIO()
     with watchdog(), contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         try:
@@ -60,9 +76,10 @@ def run_cli(argv: list[str], codes: tuple[int, ...] = (0, 2)) -> tuple[int, str,
         except SystemExit as exc:  # argparse --help / --version
             code = int(exc.code or 0)
     e = err.getvalue()
+    if codes is None:
+        codes = (0, 1, 2) if is_check(argv) else (0, 2)
     assert code in codes, (argv, code, e[-2000:])
-    assert "Traceback" not in e, (argv, e[-2000:])
-    assert e.count("\n") <= 1, (argv, e[-2000:])
+    check_stderr(e, argv)
     assert not MARKER.exists(), argv
     return code, out.getvalue(), e
 

@@ -45,7 +45,7 @@ README_COMMANDS: dict[str, list[str]] = {
                    "--json"],
     "simulate.json": ["simulate", "--D1", "k1 + b1*s", "--CA", "kd + bd*s", "--set", "m=1",
                       "--set", "b=10", "--set", "k1=1000", "--set", "b1=20", "--set", "bd=25",
-                      "--set", "kd=1000", "--load-mass", "10", "--step", "0.5", "--json"],
+                      "--set", "kd=1000", "--load-mass", "10", "--json"],
     "sampled_bound.json": ["sampled", "bound", "kd", "--period", "0.002", "--D1", "k1 + b1*s",
                            "--CA", "kd + bd*s", "--set", "m=1", "--set", "b=10",
                            "--set", "k1=1005", "--set", "b1=30", "--set", "bd=25",

@@ -7,6 +7,8 @@ catch either the seapass class or the builtin.  The command line turns any
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 __all__ = [
     "CompilerError",
     "DegenerateModelError",
@@ -15,6 +17,7 @@ __all__ = [
     "MissingExtraError",
     "ModelError",
     "NotPassiveError",
+    "OutputPathError",
     "ParameterError",
     "SeapassError",
     "SeapassWarning",
@@ -22,11 +25,28 @@ __all__ = [
     "SymbolicLimitError",
     "TuningWarning",
     "UnrealizableError",
+    "did_you_mean",
 ]
 
 
 class SeapassError(Exception):
-    """Base class of every error seapass raises on purpose."""
+    """Base class of every error seapass raises on purpose.
+
+    Parameters
+    ----------
+    *args
+        The message, as for any exception.
+    argument : str, optional
+        The Python argument at fault, as the message names it (``"values['kd']"``,
+        ``"load_mass"``); the command line shows its own flag in its place.
+    """
+
+    argument: str | None = None
+
+    def __init__(self, *args: object, argument: str | None = None) -> None:
+        super().__init__(*args)
+        if argument is not None:
+            self.argument = argument
 
 
 class ExpressionError(SeapassError, ValueError):
@@ -51,6 +71,11 @@ class UnrealizableError(ModelError):
 
 class FileFormatError(SeapassError, ValueError):
     """A TOML design or rig file has an unknown key, wrong type or bad value."""
+
+
+class OutputPathError(SeapassError, OSError):
+    """An output path cannot be used: read-only, a dangling link, not a directory, or a
+    directory holding files that seapass did not write where seapass writes its own."""
 
 
 class SymbolicLimitError(SeapassError, RuntimeError):
@@ -79,3 +104,18 @@ class SeapassWarning(UserWarning):
 
 class TuningWarning(SeapassWarning):
     """A tuned result needs attention: a gain at the edge of its box, a limit not met."""
+
+
+def did_you_mean(name: str, choices: Iterable[str]) -> str:
+    """``" (did you mean 'kd'?)"`` for the closest of ``choices``, or ``""``.
+
+    >>> did_you_mean("kdd", ["kd", "bd", "k1"])
+    " (did you mean 'kd'?)"
+    """
+    import difflib  # light, and only on the error path
+
+    close = difflib.get_close_matches(name, list(choices), n=1, cutoff=0.6)
+    if not close:
+        lowered = {c.lower(): c for c in choices}
+        close = [lowered[name.lower()]] if name.lower() in lowered else []
+    return f" (did you mean {close[0]!r}?)" if close else ""

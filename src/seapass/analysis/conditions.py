@@ -206,7 +206,7 @@ def exact_passivity_condition(system: SEA | Impedance) -> ExactCondition:
     ------
     SymbolicLimitError
         If the expressions exceed the size budget (``MAX_OPS`` operations) or the
-        derivation runs longer than [`seapass.model.expr.SYMBOLIC_TIME_LIMIT`][seapass.model.expr.SYMBOLIC_TIME_LIMIT] seconds.
+        derivation runs longer than [`SYMBOLIC_TIME_LIMIT`][seapass.files.limits.SYMBOLIC_TIME_LIMIT] seconds.
     """
     with symbolic_time_limit(what="symbolic passivity condition"):
         return _exact_condition(system)

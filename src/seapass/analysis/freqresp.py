@@ -105,7 +105,9 @@ def stiffness_coefficients(
         model = sea.with_values(**values) if values else sea
     if model.free_parameters:
         names = ", ".join(model.free_parameters)
-        raise ParameterError(f"no value for parameter(s) {names}: give them with --set")
+        raise ParameterError(
+            f"no value for parameter(s) {names}: give them, e.g. values={{{names.split(', ')[0]!r}: 1.0}}"
+        )
     if isinstance(model, Impedance):
         expr = (model.expr * S).xreplace(model.substitutions())
     else:

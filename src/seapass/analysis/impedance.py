@@ -64,7 +64,8 @@ def evaluate_system(
     missing = system.free_parameters
     if missing:
         raise ParameterError(
-            f"no value for parameter(s) {', '.join(missing)}: give them, e.g. --set {missing[0]}=1"
+            f"no value for parameter(s) {', '.join(missing)}: give them, "
+            f"e.g. values={{{missing[0]!r}: 1.0}}"
         )
     names, num_terms, den_terms, support = _compiled(z)
     vals = {k: ep.rational(to_fraction(v, k)) for k, v in system.values.items() if v is not None}

@@ -244,7 +244,10 @@ def passive_intervals(
         )
     free = [n for n in system.parameters if n != param and merged.get(n) is None]
     if free:
-        raise ParameterError(f"no value for parameter(s) {', '.join(free)}: give them with --set")
+        raise ParameterError(
+            f"no value for parameter(s) {', '.join(free)}: give them, "
+            f"e.g. values={{{free[0]!r}: 1.0}}"
+        )
     p = symbol(param)
     base = _with(system, {**merged, param: None})
     z = load_impedance(base) if isinstance(base, SEA) else base.expr
@@ -288,9 +291,10 @@ def _with(system: SEA | Impedance, values: Mapping[str, Any]) -> SEA | Impedance
         subs = {symbol(k): sp.Rational(v.numerator, v.denominator) for k, v in exact.items()}
         expr = load_impedance(system) if isinstance(system, SEA) else system.expr
         rest = {k: v for k, v in vals.items() if k not in exact}
-        return Impedance(
-            expr=expr.xreplace(subs), values={**system.values, **rest, **dict.fromkeys(exact)}
-        )
+        z = expr.xreplace(subs)
+        left = {str(x) for x in z.free_symbols}  # the substituted names are gone from z
+        merged = {**system.values, **rest}
+        return Impedance(expr=z, values={k: v for k, v in merged.items() if k in left})
     if isinstance(system, SEA):
         return system.with_values(**vals)
     return Impedance(expr=system.expr, values={**system.values, **vals})

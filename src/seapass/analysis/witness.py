@@ -54,7 +54,7 @@ from .environment_box import (
     crossing_cells,
 )
 from .impedance import exact_rational_function
-from .passivity import PassivityResult, is_passive
+from .passivity import PassivityResult, Reason, is_passive
 from .witness_search import Candidate, bounded_candidates, refine, score, unbounded_candidates
 
 __all__ = [
@@ -266,7 +266,7 @@ def _not_found(
     if bounds is None:
         return WitnessResult(
             passive=False, reason=pr.reason, found=False, candidates=count, passivity=pr,
-            detail=f"not passive ({pr.reason}), but none of {count} mass-spring-damper "
+            detail=f"not passive ({Reason(pr.reason).description}), but none of {count} mass-spring-damper "
             "environments tried destabilizes it",
         )  # fmt: skip
     cert = certify_box(num, den, bounds, cells)
@@ -297,12 +297,12 @@ def _not_found(
 def _not_found_text(pr: PassivityResult, count: int, where: str, cert: BoxCertificate) -> str:
     if cert.certified:
         return (
-            f"not passive ({pr.reason}), but no passive environment{where} destabilizes it: "
+            f"not passive ({Reason(pr.reason).description}), but no passive environment{where} destabilizes it: "
             "proven exactly (no environment in these bounds puts a coupled pole on the "
             "imaginary axis, and one of them is stable)."
         )
     return (
-        f"not passive ({pr.reason}); none of {count} passive environments{where} tried "
+        f"not passive ({Reason(pr.reason).description}); none of {count} passive environments{where} tried "
         f"destabilizes it, but this is a search, not a proof ({cert.reason})."
     )
 
@@ -333,7 +333,7 @@ def _found(
     )
     within = "" if bounds is None else f" (within {bounds.describe()})"
     detail = (
-        f"not passive ({pr.reason}); the passive environment m_e = {env.mass:.6g} kg, "
+        f"not passive ({Reason(pr.reason).description}); the passive environment m_e = {env.mass:.6g} kg, "
         f"b_e = {env.damping:.6g} N*s/m, k_e = {env.stiffness:.6g} N/m{within} makes the "
         f"coupled system unstable: {kind}{note}"
     )

@@ -4,7 +4,8 @@ What lives here: `main` and one module per subcommand.  Each subcommand lives in
 ``register(subparsers)``; `COMMANDS` lists them in ``--help`` order (add a
 command by adding its module and one line there).  Every
 [`SeapassError`][seapass.errors.SeapassError] (and ``ValueError`` raised while
-validating input) becomes one line on stderr and exit code 2.
+validating input) becomes one line on stderr and exit code 2.  The shared
+conventions (options, output, messages) live in [`common`][seapass.cli.common].
 
 May import: everything in seapass (the CLI is the top layer).  The backend
 is never chosen here: figures are drawn on bare figures
@@ -15,10 +16,14 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 from collections.abc import Sequence
+from typing import Any
 
 from ..errors import SeapassError
+from ..version import __version__
+from .common import EXIT_CODES, HelpFormatter, error_text
 
 __all__ = ["COMMANDS", "main", "run"]
 
@@ -45,10 +50,34 @@ COMMANDS: tuple[str, ...] = (
 
 
 class _Parser(argparse.ArgumentParser):
-    """ArgumentParser whose usage errors are one line and exit code 2."""
+    """ArgumentParser for every seapass command.
+
+    Usage errors are one line and exit code 2; ``--help`` shows defaults
+    ([`HelpFormatter`][seapass.cli.common.HelpFormatter]); a value with a leading
+    minus is a value, not an unknown option (``--range -100:100``, ``--CL "-k1*x"``).
+    """
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        if kwargs.get("formatter_class") in (
+            None,
+            argparse.HelpFormatter,
+            argparse.RawDescriptionHelpFormatter,
+        ):
+            kwargs["formatter_class"] = HelpFormatter
+        super().__init__(*args, **kwargs)
 
     def error(self, message: str) -> None:  # type: ignore[override]
         raise _UsageError(f"{self.prog}: {message} (see '{self.prog} --help')")
+
+    def _parse_optional(self, arg_string: str) -> Any:
+        found = super()._parse_optional(arg_string)
+        if found is None or arg_string.startswith("--") or not arg_string.startswith("-"):
+            return found
+        # a single-dash word that names no option is a value: -100:100, -k1*x, -1e-3
+        tuples = found if isinstance(found, list) else [found]
+        if all(t[0] is None for t in tuples):
+            return None
+        return found
 
 
 class _UsageError(Exception):
@@ -60,9 +89,9 @@ def build_parser() -> argparse.ArgumentParser:
         prog="seapass",
         description="Design series elastic actuators that are passive (safe) and accurate.",
         epilog="Example: seapass check --D1 'k1 + b1*s' --CA 'kd + bd*s' --set m=1 --set b=10 "
-        "--set k1=1000 --set b1=20 --set bd=25 --set kd=5000",
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        "--set k1=1000 --set b1=20 --set bd=25 --set kd=5000\n\n" + EXIT_CODES,
     )
+    parser.add_argument("--version", action="version", version=f"seapass {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
     for name in COMMANDS:
@@ -71,7 +100,12 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line with ``argv`` (``sys.argv[1:]`` if None); return the exit code."""
+    """Run the command line with ``argv`` (``sys.argv[1:]`` if None); return the exit code.
+
+    Exit codes: 0 success, 1 a negative verdict of a check (``check``: not
+    passive), 2 bad input or another error (one ``error:`` line on stderr),
+    130 interrupted.
+    """
     parser = build_parser()
     try:
         args = parser.parse_args(list(argv) if argv is not None else None)
@@ -83,8 +117,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("error: interrupted; no partial output was written", file=sys.stderr)
         return 130
     except (SeapassError, ValueError, OSError) as exc:
-        msg = " ".join(str(exc).split()) or type(exc).__name__
-        print(f"error: {msg}", file=sys.stderr)
+        print(f"error: {error_text(exc)}", file=sys.stderr)
+        return 2
+    except (RecursionError, MemoryError) as exc:
+        print(f"error: the input is too large to process ({type(exc).__name__})", file=sys.stderr)
+        return 2
+    except Exception as exc:  # a bug: still one line, the traceback on request
+        if os.environ.get("SEAPASS_TRACEBACK"):
+            raise
+        print(
+            f"error: internal error ({type(exc).__name__}: {error_text(exc)}); please report "
+            "it with the command line (SEAPASS_TRACEBACK=1 shows the traceback)",
+            file=sys.stderr,
+        )
         return 2
 
 

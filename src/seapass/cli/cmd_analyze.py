@@ -7,7 +7,13 @@ import sys
 import time
 from pathlib import Path
 
-from .common import print_section_problems
+from .common import (
+    add_json_option,
+    announce_report,
+    print_json,
+    print_section_problems,
+    report_summary,
+)
 
 EXAMPLE = """examples:
   seapass analyze examples/ours.toml --out results/ours
@@ -29,7 +35,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "report, a Markdown report and all data (stages: passivity, stiffness, ranges, "
         "response, tuning, sampled).",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("design", metavar="DESIGN.toml", help="design file")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
@@ -40,6 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="comma-separated stages (default: all; 'core' = passivity,stiffness,ranges)",
     )
     p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
+    add_json_option(p, "a summary (files, sections, verdict)")
     p.set_defaults(func=run)
 
 
@@ -50,6 +56,10 @@ def run(args: argparse.Namespace) -> int:
     from .cmd_reproduce import parse_stages
 
     design = load_design(args.design)
+    if design.rig_file not in (None, "paper"):
+        from ..rig.rigfile import load_rig
+
+        load_rig(design.rig_file)  # a bad rig file fails now, not in the hardware stage
     check_output_dir(args.out)  # fail now, not after the work
     t0 = time.perf_counter()
     report = analyze(
@@ -60,12 +70,14 @@ def run(args: argparse.Namespace) -> int:
         log=lambda line: print(line, file=sys.stderr),
     )
     out = Path(args.out)
-    write_report(report, out)
+    written = write_report(report, out)
+    announce_report(out, written)
     line = verdict_line(report.sections, design)
-    if line:
-        print(f"{design.name}: {line}")
-    print(
-        f"wrote {out / 'report.html'} and {out / 'report.md'} in {time.perf_counter() - t0:.1f} s"
-    )
+    if args.json:
+        print_json({**report_summary(report, out, written), "verdict": line or None})
+    else:
+        if line:
+            print(f"{design.name}: {line}")
+        print(f"report in {time.perf_counter() - t0:.1f} s")
     print_section_problems(report)
     return 1 if report.failed else 0

@@ -5,47 +5,58 @@ from __future__ import annotations
 import argparse
 
 from ..analysis.indices import PassivityIndices, passivity_indices
-from ..analysis.passivity import is_passive
-from .common import add_model_options, print_json, system_from_args
+from ..analysis.passivity import Reason, is_passive
+from .common import (
+    add_json_option,
+    add_model_options,
+    print_json,
+    system_from_args,
+    warn_unrealizable,
+)
 
 EXAMPLE = """examples:
   seapass check --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
       --set b1=20 --set bd=25 --set kd=5000 --json
   seapass check --Z "(s + 1)/(s + 2)"
   seapass check --Z "k*s/(s**2 + k)" --set k=1e8
+
+exit codes (like cmp, so a CI job can gate on it):
+  0  passive
+  1  not passive
+  2  bad input or another error (one 'error:' line on stderr)
 """
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
     p = sub.add_parser(
         "check",
-        help="decide exactly whether a design (or an impedance Z(s)) is passive",
+        help="decide exactly whether a design (or an impedance Z(s)) is passive (exit 1 if not)",
         description="Exact positive-real test of the load impedance Z_L = F_L/(s X_L), "
         "or of a raw impedance given with --Z. Decided by exact rational arithmetic and "
         "certified root isolation, never by a frequency grid. Also the passivity indices of "
         "MATLAB's getPassiveIndex: input feedforward nu (N*s/m for an SEA port; nu < 0: "
-        "|nu| of parallel damping makes it passive) and output feedback rho, exact.",
+        "|nu| of parallel damping makes it passive) and output feedback rho, exact. Exit code 0: passive, 1: not passive, 2: bad input.",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_model_options(p)
     p.add_argument("--Z", help="raw impedance Z(s) instead of an SEA model, e.g. '(s + 1)/(s + 2)'")
-    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    add_json_option(p)
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     system = system_from_args(args)
+    realizable = warn_unrealizable(system)
     result = is_passive(system)
     indices = passivity_indices(system)
     if args.json:
-        print_json({**result.to_dict(), "indices": indices.to_dict()})
+        print_json({**result.to_dict(), "indices": indices.to_dict(), "realizable": realizable})
     else:
-        print(f"{result.status}: {result.detail}")
+        print(f"{result.status}: {result.detail or Reason(result.reason).description}")
         if result.omega is not None:
             print(f"witness: Re Z(jw) < 0 at w = {result.omega:.6g} rad/s")
         print(_indices_text(indices))
-    return 0
+    return 0 if result.passive else 1
 
 
 def _indices_text(ix: PassivityIndices) -> str:

@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from ..errors import MissingExtraError
+from .common import check_out_dir
 
 EXAMPLE = """examples:
   seapass explore                          # the paper's LP design
@@ -27,7 +28,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "passive region, the rendered stiffness and Re Z(jw), the step response and, for a "
         "design that is not passive, a passive environment that destabilizes it.",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument(
         "design",
@@ -90,9 +90,7 @@ def run(args: argparse.Namespace) -> int:
     if check.state is None:
         field, message = next(iter(check.errors.items()))
         raise ValueError(f"{args.design}: {field}: {message}")
-    reports = Path(args.reports) if args.reports else None
-    if reports is not None and reports.exists() and not reports.is_dir():
-        raise ValueError(f"--reports {reports}: not a directory")
+    reports = check_out_dir(args.reports, "--reports")  # writable, before the server starts
 
     from ..explore.server import graphical_session
 
@@ -112,5 +110,11 @@ def run(args: argparse.Namespace) -> int:
         )
     except KeyboardInterrupt:
         pass  # Ctrl-C is how the explorer is meant to stop
+    except OSError as exc:
+        msg = str(exc)
+        if msg.startswith("port: "):  # the library names its argument; say the option here
+            msg = msg[6:].replace("port=0", "--port 0").replace("another port", "another --port")
+            raise OSError(msg) from None
+        raise
     print("seapass explore: stopped", file=sys.stderr)
     return 0

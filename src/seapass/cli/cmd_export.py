@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from typing import Any
 
 from ..errors import CompilerError, ParameterError, SeapassError
-from .common import print_json
+from ..files.limits import MIN_RTOL
+from .common import add_json_option, announce, check_out_dir, print_json
 
 EXAMPLE = """examples:
   seapass export c examples/ours.toml --out firmware/
@@ -40,7 +40,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         description="Generate code that runs the design's deployed controller on hardware, "
         "with its passivity envelope built in.",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     targets = p.add_subparsers(dest="export_target", metavar="{c}")
     targets.required = True
@@ -54,7 +53,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "passive at its [control] rate, delay and velocity filter (decided at export time). "
         "See docs/deploy.md.",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     c.add_argument("design", help="design TOML file (needs a [control] rate)")
     c.add_argument("--out", required=True, metavar="DIR", help="directory for the two files")
@@ -100,7 +98,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="compile the files with the system C compiler and compare them with the Python "
         "controller on 10,000 steps",
     )
-    c.add_argument("--json", action="store_true", help="print the result as JSON")
+    add_json_option(c)
     c.set_defaults(func=run_c)
 
 
@@ -113,8 +111,9 @@ def run_c(args: argparse.Namespace) -> int:
         tunable = [t.strip() for t in args.tunable.split(",") if t.strip()]
         if not tunable:
             raise ParameterError("--tunable needs gain names, e.g. --tunable kd,bd")
-    if not 1e-12 <= args.rtol <= 1e-2:
-        raise ParameterError(f"--rtol must be in [1e-12, 1e-2], got {args.rtol:g}")
+    if not MIN_RTOL <= args.rtol <= 1e-2:  # 0 or a tolerance below float spacing never ends
+        raise ParameterError(f"--rtol must be in [{MIN_RTOL:g}, 1e-2], got {args.rtol:g}")
+    check_out_dir(args.out)
     if args.verify and find_c_compiler() is None:  # before anything is written
         raise CompilerError("--verify needs a C compiler: none found (set CC or install gcc)")
     try:
@@ -135,7 +134,7 @@ def run_c(args: argparse.Namespace) -> int:
             text = text.replace(python, option)
         raise type(exc)(text) from None
     for path in (res.header, res.source):
-        print(f"wrote {path}", file=sys.stderr)
+        announce(path)
     ver = verify_c(res) if args.verify else None
     ok = ver is None or ver.max_rel <= VERIFY_RTOL
     if args.json:

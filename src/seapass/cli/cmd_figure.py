@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
+import sys
 
-from ..files.atomic import atomic_write_text
-from .common import save_plot
+from .common import add_json_option, add_out_dir_option, check_out_dir, save_plot, write_text
 
 EXAMPLE = """examples:
   seapass figure sims --out figures/
@@ -27,14 +26,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Regenerate a figure of the paper from first principles, with the data "
         "behind it. Every file is written atomically.",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("target", choices=TARGETS, help="which figure")
-    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    add_out_dir_option(p, "the figure (PNG, PDF) and its data (CSV, JSON)", required=True)
     p.add_argument("--quick", action="store_true", help="small optimiser budget (preview)")
     p.add_argument("--horizon", type=float, default=10.0, help="evaluation horizon [s]")
     p.add_argument("--seed", type=int, default=0, help="optimiser seed")
     p.add_argument("--no-progress", action="store_true", help="never show progress bars")
+    add_json_option(p, "the table of the figure")
     p.set_defaults(func=run)
 
 
@@ -45,9 +44,8 @@ def run(args: argparse.Namespace) -> int:
     from ..plot.sim import plot_simulation_study
     from ..tuning.problem import TuningOptions
 
-    out = Path(args.out)
-    if out.exists() and not out.is_dir():
-        raise NotADirectoryError(f"--out {str(out)!r} exists and is not a directory")
+    out = check_out_dir(args.out)
+    assert out is not None  # --out is required
     opts = replace(TuningOptions(), seed=args.seed, horizon=args.horizon)
     study = run_simulation_study(
         options=opts,
@@ -57,9 +55,11 @@ def run(args: argparse.Namespace) -> int:
     )
     # compute everything first, then write each file atomically
     save_plot(lambda: plot_simulation_study(study), out / "sims", formats=("png", "pdf"))
-    atomic_write_text(out / "sims.csv", study.timeseries_csv())
-    atomic_write_text(out / "sims_table.csv", study.table_csv())
-    atomic_write_text(out / "sims_table.json", study.table_json())
-    print(study.summary())
-    print(f"wrote sims.png, sims.pdf, sims.csv, sims_table.csv, sims_table.json to {out}")
+    write_text(out / "sims.csv", study.timeseries_csv())
+    write_text(out / "sims_table.csv", study.table_csv())
+    write_text(out / "sims_table.json", study.table_json())
+    if args.json:
+        sys.stdout.write(study.table_json().rstrip("\n") + "\n")
+    else:
+        print(study.summary())
     return 0

@@ -7,7 +7,13 @@ import sys
 import time
 from pathlib import Path
 
-from .common import print_section_problems
+from .common import (
+    add_json_option,
+    announce_report,
+    print_json,
+    print_section_problems,
+    report_summary,
+)
 
 EXAMPLE = """examples:
   seapass reproduce --out results/
@@ -32,7 +38,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "simulation study, rig experiment on the digital twin, sampled-data limits) and "
         "write a self-contained HTML report, a Markdown report and all data.",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     p.add_argument(
@@ -51,6 +56,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="worker processes for the independent stages (default 2; 1 = sequential)",
     )
     p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
+    add_json_option(p, "a summary (files, sections, findings)")
     p.set_defaults(func=run)
 
 
@@ -77,19 +83,25 @@ def run(args: argparse.Namespace) -> int:
         log=lambda line: print(line, file=sys.stderr),
         jobs=args.jobs,
     )
-    write_report(report, out)
-    _summary(report, out, time.perf_counter() - t0)
+    written = write_report(report, out)
+    announce_report(out, written)
+    if args.json:
+        n = {
+            v: sum(1 for _s, f in report.findings if f.verdict == v) for v in ("agrees", "differs")
+        }
+        print_json({**report_summary(report, out, written), "findings": n})
+    else:
+        _summary(report, time.perf_counter() - t0)
+    print_section_problems(report)
     return 1 if report.failed else 0
 
 
-def _summary(report: object, out: Path, seconds: float) -> None:
+def _summary(report: object, seconds: float) -> None:
     from ..report.document import Report
 
     assert isinstance(report, Report)
     n = {v: sum(1 for _s, f in report.findings if f.verdict == v) for v in ("agrees", "differs")}
     print(
-        f"wrote {out / 'report.html'} and {out / 'report.md'} in {seconds:.1f} s: "
-        f"{len(report.sections)} sections, {n['agrees']} findings agree with the paper, "
-        f"{n['differs']} differ"
+        f"report in {seconds:.1f} s: {len(report.sections)} sections, {n['agrees']} findings "
+        f"agree with the paper, {n['differs']} differ"
     )
-    print_section_problems(report)

@@ -12,12 +12,20 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ParameterError
-from ..files.atomic import atomic_write_text
+from ..files.limits import MAX_KD_GAINS_CLI
 from ..rig.experiment import run_experiment
 from ..rig.impacts import run_impacts
 from ..rig.packaged import rig_template
 from ..rig.rigfile import Rig, load_rig, paper_rig
-from .common import print_json, save_plot, write_figure
+from .common import (
+    add_json_option,
+    add_out_dir_option,
+    check_out_dir,
+    print_json,
+    save_plot,
+    write_figure,
+    write_text,
+)
 
 _SWEEP_EPILOG = """\
 examples:
@@ -74,8 +82,8 @@ def _nonneg(text: str) -> float:
 
 def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--rig", metavar="FILE", help="rig TOML file (default: packaged paper rig)")
-    p.add_argument("--json", action="store_true", help="print the full result as JSON")
-    p.add_argument("--out", metavar="DIR", help="write figures (PNG+PDF) and CSV into DIR")
+    add_json_option(p, "the full result")
+    add_out_dir_option(p, "figures (PNG and PDF) and CSV")
 
 
 def register(subparsers: Any) -> None:
@@ -85,7 +93,6 @@ def register(subparsers: Any) -> None:
         description="Run the paper's Section VI experiment on the digital twin of a rig, "
         "write and check rig files, and fit a rig's actuator to a logged run.",
         epilog=_SWEEP_EPILOG + _IMPACT_EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     sub = rig.add_subparsers(dest="rig_command", metavar="ACTION")
     sub.required = True
@@ -96,7 +103,6 @@ def register(subparsers: Any) -> None:
         description="Closed-loop kd sweep: load from 20 mm to 0, settling time (2 %% band, "
         "2 s cap) and steady-state error; LP instability gain from twin and linear models.",
         epilog=_SWEEP_EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     _common(sw)
     sw.add_argument(
@@ -120,7 +126,6 @@ def register(subparsers: Any) -> None:
         description="Steps in load force on Ours; k_out mean ± std, dependence on b1 and "
         "on the impact time scale, Eq. (10) frequency response.",
         epilog=_IMPACT_EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     _common(im)
     im.set_defaults(func=_impacts)
@@ -129,7 +134,6 @@ def register(subparsers: Any) -> None:
         "show",
         help="validate a rig file and print it with its derived values",
         epilog=_SHOW_EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     sh.add_argument("--rig", metavar="FILE", help="rig TOML file (default: packaged paper rig)")
     sh.add_argument("--json", action="store_true", help="print the rig and derived values as JSON")
@@ -192,11 +196,14 @@ def _csv(rows: list[dict[str, Any]]) -> str:
 
 def _sweep(args: argparse.Namespace) -> int:
     rig = _rig(args)
+    out = check_out_dir(args.out)
     designs = ["LP", "ours"] if args.design == "both" else [args.design]
     kd_max = args.kd_max if args.kd_max is not None else rig.experiment.kd_max
     kd_step = args.kd_step if args.kd_step is not None else rig.experiment.kd_step
-    if kd_max / kd_step > 2000:
-        raise ParameterError(f"--kd-step {kd_step:g} gives more than 2000 gains; use a larger step")
+    if kd_max / kd_step > MAX_KD_GAINS_CLI:
+        raise ParameterError(
+            f"--kd-step {kd_step:g} gives more than {MAX_KD_GAINS_CLI} gains; use a larger step"
+        )
     result = run_experiment(
         rig,
         designs=designs,
@@ -205,12 +212,11 @@ def _sweep(args: argparse.Namespace) -> int:
         kd_step=kd_step,
         progress=not args.no_progress and not args.json,
     )
-    if args.out:
+    if out is not None:
         from ..plot.rig import plot_rig_sweep, plot_traces
 
-        out = Path(args.out)
         rows = [r for s in result.sweeps for r in s.rows()]
-        atomic_write_text(out / "sweep.csv", _csv(rows))
+        write_text(out / "sweep.csv", _csv(rows))
         save_plot(lambda: plot_rig_sweep(result), out / "sweep", formats=("png", "pdf"))
         for s in result.sweeps:
             stem = out / f"traces_{s.design}_{s.load_mass:g}kg"
@@ -224,9 +230,15 @@ def _sweep(args: argparse.Namespace) -> int:
         print(
             f"{s.design:>4} m_L={s.load_mass:g} kg: settled {len(settled)}/{s.kd.size} gains"
             + (f", fastest {best[1]:.3f} s at kd={best[0]:g}" if best else "")
-            + f"; unstable from kd={_f(s.unstable_gain_twin)} (twin), "
-            f"{_f(s.unstable_gain_sampled)} (sampled linear), "
-            f"{_f(s.unstable_gain_continuous)} (continuous)"
+            + "; unstable from "
+            + ", ".join(
+                _gain(v, label)
+                for v, label in (
+                    (s.unstable_gain_twin, "twin"),
+                    (s.unstable_gain_sampled, "sampled linear"),
+                    (s.unstable_gain_continuous, "continuous"),
+                )
+            )
         )
     for f in result.findings:
         tag = {True: "match", False: "MISMATCH", None: "n/a"}[f.match]
@@ -234,22 +246,22 @@ def _sweep(args: argparse.Namespace) -> int:
     return 0
 
 
-def _f(x: float | None) -> str:
-    return "none" if x is None else f"{x:.0f}"
+def _gain(x: float | None, label: str) -> str:
+    return f"no kd ({label})" if x is None else f"kd = {x:.0f} ({label})"
 
 
 def _impacts(args: argparse.Namespace) -> int:
     rig = _rig(args)
+    out = check_out_dir(args.out)
     result = run_impacts(rig)
-    if args.out:
+    if out is not None:
         from ..plot.rig import plot_impacts
 
-        out = Path(args.out)
         rows = [
             {"impact": i, "force": float(f), "k_out": float(k)}
             for i, (f, k) in enumerate(zip(result.forces, result.k_out, strict=True))
         ]
-        atomic_write_text(out / "impacts.csv", _csv(rows))
+        write_text(out / "impacts.csv", _csv(rows))
         save_plot(lambda: plot_impacts(result), out / "impacts", formats=("png", "pdf"))
     if args.json:
         print_json(result.to_dict())

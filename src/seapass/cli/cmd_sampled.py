@@ -6,18 +6,23 @@ import argparse
 import io
 import math
 import sys
-from pathlib import Path
 from typing import Any
 
 from ..errors import ParameterError
-from ..model.expr import parse_value
+from ..files.limits import MAX_DELAY_SAMPLES, MIN_RTOL
 from .common import (
+    add_json_option,
     add_model_options,
-    atomic_write_text,
+    add_out_dir_option,
+    check_out_dir,
+    check_period,
     json_text,
     model_from_args,
+    parse_range,
     print_json,
     save_plot,
+    warn_unrealizable,
+    write_text,
 )
 
 EXAMPLE = """examples:
@@ -33,33 +38,33 @@ EXAMPLE = """examples:
       --delay 1 --velocity-filter 50 --out results/
 """
 
-_FORMATTER = argparse.RawDescriptionHelpFormatter
+_FORMATTER = argparse.RawDescriptionHelpFormatter  # the CLI shows every default
 
 
 def _loop_options(
     p: argparse.ArgumentParser, *, delay: int = 0, velocity_filter: float | None = None
 ) -> None:
     g = p.add_argument_group("sampled loop")
+    g.add_argument("--period", type=float, default=0.002, help="control period T in s")
     g.add_argument(
-        "--period", type=float, default=0.002, help="control period T in s (default 0.002)"
-    )
-    g.add_argument(
-        "--delay", type=int, default=delay, help=f"computational delay in samples (default {delay})"
+        "--delay",
+        type=int,
+        default=delay,
+        help=f"computational delay in samples, 0 to {MAX_DELAY_SAMPLES}",
     )
     g.add_argument(
         "--velocity-filter",
         type=float,
         default=velocity_filter,
         metavar="HZ",
-        help="first-order low-pass on the finite-difference velocity, cutoff in Hz "
-        f"(default {velocity_filter or 'none'})",
+        help="first-order low-pass on the finite-difference velocity, cutoff in Hz",
     )
     g.add_argument(
         "--method",
         choices=("tustin", "zoh", "backward"),
         default="tustin",
         help="discretization of strictly proper controller parts; derivatives always use "
-        "backward differences (default tustin)",
+        "backward differences",
     )
     g.add_argument(
         "--max-precision",
@@ -67,10 +72,10 @@ def _loop_options(
         default=4096,
         metavar="BITS",
         help="cap of the ball arithmetic's working precision; beyond it the answer is "
-        "'undecided' (default 4096)",
+        "'undecided'",
     )
-    p.add_argument("--json", action="store_true", help="print the result as JSON")
-    p.add_argument("--out", metavar="DIR", help="write figures, CSV and JSON into DIR (atomically)")
+    add_json_option(p)
+    add_out_dir_option(p, "figures, CSV and JSON")
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
@@ -88,7 +93,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     ss.required = True
     c = ss.add_parser(
         "check",
-        help="decide passivity of one fully specified design (exit 1 if not passive)",
+        help="decide passivity of one fully specified design (exit 0 passive, 1 not, 2 bad input)",
         epilog=EXAMPLE,
         formatter_class=_FORMATTER,
     )
@@ -109,7 +114,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "--rtol",
         type=float,
         default=1e-9,
-        help="relative width of every edge enclosure, in [1e-12, 1e-2] (default 1e-9)",
+        help=f"relative width of every edge enclosure, in [{MIN_RTOL:g}, 1e-2]",
     )
     add_model_options(b)
     _loop_options(b)
@@ -127,10 +132,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     r.add_argument("p2", help="parameter of the rows, e.g. bd (damping)")
     r.add_argument("--range", required=True, metavar="LO:HI", help="range of P1, e.g. 0:1e5")
     r.add_argument("--range2", required=True, metavar="LO:HI", help="range of P2, e.g. 0:100")
-    r.add_argument("--rows", type=int, default=25, help="number of P2 rows, 2..200 (default 25)")
+    r.add_argument("--rows", type=int, default=25, help="number of P2 rows, 2..200")
     r.add_argument("--log", action="store_true", help="space the P2 rows logarithmically")
     r.add_argument(
-        "--rtol", type=float, default=1e-6, help="relative width of edge enclosures (default 1e-6)"
+        "--rtol",
+        type=float,
+        default=1e-6,
+        help=f"relative width of edge enclosures, in [{MIN_RTOL:g}, 1e-2]",
     )
     add_model_options(r)
     _loop_options(r, delay=1, velocity_filter=50.0)
@@ -138,20 +146,26 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def _range(text: str, flag: str = "--range") -> tuple[float, float]:
-    parts = text.split(":")
-    if len(parts) != 2:
-        raise ParameterError(f"{flag} must look like LO:HI (e.g. 0:5000), got {text!r}")
-    lo, hi = (parse_value(x, flag) for x in parts)
-    if not lo < hi:
-        raise ParameterError(f"{flag} needs LO < HI, got {text!r}")
-    return lo, hi
+    return parse_range(text, flag, strict=True)
+
+
+def _check_rtol(rtol: float) -> None:
+    if not (math.isfinite(rtol) and MIN_RTOL <= rtol <= 1e-2):
+        raise ParameterError(f"--rtol {rtol:g}: give a relative width from {MIN_RTOL:g} to 1e-2")
 
 
 def _loop_kw(args: argparse.Namespace) -> dict[str, Any]:
+    """The loop options, checked before any work starts."""
     if not (math.isfinite(args.period) and args.period > 0):
         raise ParameterError(f"--period must be a positive number of seconds, got {args.period}")
-    if args.delay < 0:
-        raise ParameterError(f"--delay must be >= 0 samples, got {args.delay}")
+    check_period(args.period)
+    if not 0 <= args.delay <= MAX_DELAY_SAMPLES:
+        raise ParameterError(
+            f"--delay {args.delay}: give 0 to {MAX_DELAY_SAMPLES} samples of computational delay"
+        )
+    vf = args.velocity_filter
+    if vf is not None and not (math.isfinite(vf) and vf > 0):
+        raise ParameterError(f"--velocity-filter must be a positive cut-off in Hz, got {vf}")
     if not 64 <= args.max_precision <= 65536:
         raise ParameterError(
             f"--max-precision must be in [64, 65536] bits, got {args.max_precision}"
@@ -165,33 +179,24 @@ def _loop_kw(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
-def _write(path: Path, text: str) -> None:
-    atomic_write_text(path, text)
-    print(f"wrote {path}", file=sys.stderr)
-
-
-def _plot(draw: Any, path: Path) -> None:
-    for written in save_plot(draw, path):
-        print(f"wrote {written}", file=sys.stderr)
-
-
 def run_check(args: argparse.Namespace) -> int:
     from ..sampled.passivity import sampled_passivity, sampled_power_curve
 
-    sea = model_from_args(args)
     kw = _loop_kw(args)
+    d = check_out_dir(args.out)
+    sea = model_from_args(args)
+    warn_unrealizable(sea)
     res = sampled_passivity(sea, **kw)
-    if args.out:
+    if d is not None:
         from ..plot.sampled import plot_power_curve
 
-        d = Path(args.out)
-        _write(d / "sampled_check.json", json_text(res.to_dict()))
+        write_text(d / "sampled_check.json", json_text(res.to_dict()))
         if res.reason in ("", "negative_power", "low_frequency", "undecided"):
             curve = {k: v for k, v in kw.items() if k != "max_precision"}
             w, n = sampled_power_curve(sea, **curve)
             rows = "".join(f"{a!r},{b!r}\n" for a, b in zip(w, n, strict=True))
-            _write(d / "sampled_power.csv", "omega_rad_s,N\n" + rows)
-            _plot(lambda: plot_power_curve(w, n, period=args.period), d / "sampled_power.png")
+            write_text(d / "sampled_power.csv", "omega_rad_s,N\n" + rows)
+            save_plot(lambda: plot_power_curve(w, n, period=args.period), d / "sampled_power.png")
     if args.json:
         print_json(res.to_dict())
     else:
@@ -216,24 +221,19 @@ def run_bound(args: argparse.Namespace) -> int:
     from ..sampled.bound import sampled_passive_bound
 
     lo, hi = _range(args.range)
-    sea = model_from_args(args, extra_free=(args.param,))
-    if args.param not in sea.parameters:
-        raise ParameterError(
-            f"parameter {args.param!r} does not appear in the model; it uses: "
-            + ", ".join(sea.parameters)
-        )
-    sea = sea.with_values(**{args.param: None})
-    res = sampled_passive_bound(
-        sea, args.param, lo=lo, hi=hi, rtol=args.rtol, progress=True, **_loop_kw(args)
-    )
+    _check_rtol(args.rtol)
+    kw = _loop_kw(args)
+    d = check_out_dir(args.out)
+    sea = model_from_args(args, extra_free={args.param: f"sampled bound {args.param}"})
+    warn_unrealizable(sea)
+    res = sampled_passive_bound(sea, args.param, lo=lo, hi=hi, rtol=args.rtol, progress=True, **kw)
     out = res.to_dict()
-    if args.out:
+    if d is not None:
         from ..plot.sampled import plot_bound
 
-        d = Path(args.out)
-        _write(d / f"sampled_bound_{args.param}.csv", _partition_csv(args.param, res))
-        _write(d / f"sampled_bound_{args.param}.json", json_text(out))
-        _plot(lambda: plot_bound(res), d / f"sampled_bound_{args.param}.png")
+        write_text(d / f"sampled_bound_{args.param}.csv", _partition_csv(args.param, res))
+        write_text(d / f"sampled_bound_{args.param}.json", json_text(out))
+        save_plot(lambda: plot_bound(res), d / f"sampled_bound_{args.param}.png")
     if args.json:
         print_json(out)
         return 0
@@ -253,14 +253,15 @@ def run_region(args: argparse.Namespace) -> int:
 
     lo1, hi1 = _range(args.range)
     lo2, hi2 = _range(args.range2, "--range2")
+    _check_rtol(args.rtol)
     kw = _loop_kw(args)
-    sea = model_from_args(args, extra_free=(args.p1, args.p2))
-    for name in (args.p1, args.p2):
-        if name not in sea.parameters:
-            raise ParameterError(
-                f"parameter {name!r} does not appear in the model; it uses: "
-                + ", ".join(sea.parameters)
-            )
+    out = check_out_dir(args.out)
+    if args.p1 == args.p2:
+        raise ParameterError(f"sampled region: give two different parameters, got {args.p1} twice")
+    sea = model_from_args(
+        args, extra_free={args.p1: f"sampled region {args.p1}", args.p2: f"sampled region {args.p2}"}
+    )
+    warn_unrealizable(sea)
     d = max(int(args.delay), 1)
     setups = [LoopSetup("ideal ZOH"), LoopSetup(f"{d}-sample delay", d)]
     if args.velocity_filter is not None:
@@ -275,14 +276,13 @@ def run_region(args: argparse.Namespace) -> int:
             n=args.rows, setups=setups, method=kw["method"], rtol=args.rtol, log_p2=args.log,
             progress=progress,
         )  # fmt: skip
-    if args.out:
+    if out is not None:
         from ..plot.sampled import plot_zwidth
 
-        out = Path(args.out)
         stem = f"sampled_region_{args.p1}_{args.p2}"
-        _write(out / f"{stem}.csv", zmap.to_csv())
-        _write(out / f"{stem}.json", json_text(zmap.to_dict()))
-        _plot(lambda: plot_zwidth(zmap), out / f"{stem}.png")
+        write_text(out / f"{stem}.csv", zmap.to_csv())
+        write_text(out / f"{stem}.json", json_text(zmap.to_dict()))
+        save_plot(lambda: plot_zwidth(zmap), out / f"{stem}.png")
     if args.json:
         print_json(zmap.to_dict())
         return 0

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import argparse
 import math
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..analysis.passivity import is_passive
 from ..errors import FileFormatError, SeapassError
+from ..files.limits import MAX_TRAJECTORY_BYTES, MAX_TRAJECTORY_SAMPLES
+from ..files.textfile import read_text_file
 from ..sim.metrics import tracking_metrics
 from ..sim.simulate import (
     ForceImpulse,
@@ -21,7 +22,17 @@ from ..sim.simulate import (
     Trajectory,
     simulate,
 )
-from .common import add_model_options, model_from_args, print_json, save_plot
+from .common import (
+    add_json_option,
+    add_model_options,
+    add_plot_option,
+    check_step,
+    error_text,
+    model_from_args,
+    plot_path,
+    print_json,
+    save_plot,
+)
 
 EXAMPLE = """examples:
   seapass simulate --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
@@ -46,12 +57,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         "actuator force and actuator energy. An unstable closed loop is reported as a "
         "result (stable: false), not an error.",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_model_options(p)
     p.add_argument("--load-mass", type=float, required=True, help="load mass m_L [kg], > 0")
     g = p.add_mutually_exclusive_group()
-    g.add_argument("--step", type=float, help="reference step size [m] (default 0.5)")
+    g.add_argument(
+        "--step", type=float, metavar="M", help="reference step size [m] (the default: 0.5)"
+    )
     g.add_argument(
         "--load-displaced", type=float, metavar="X0", help="load starts at X0 [m], reference 0"
     )
@@ -69,17 +81,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--horizon", type=float, default=10.0, help="simulated time [s]")
     p.add_argument("--dt", type=float, default=1e-3, help="time step [s]")
-    p.add_argument("--tolerance", type=float, default=0.02, help="settling band (fraction)")
-    p.add_argument("--json", action="store_true", help="print the metrics as JSON")
-    p.add_argument("--plot", metavar="FILE", help="write a figure (png/pdf/svg)")
+    p.add_argument(
+        "--tolerance", type=float, default=0.02, help="settling band (fraction of the step)"
+    )
+    add_json_option(p, "the metrics")
+    add_plot_option(p, "the response")
     p.set_defaults(func=run)
 
 
 def _load_trajectory(path: str, interp: str, reference: str) -> Trajectory:
-    try:
-        text = Path(path).read_text()
-    except OSError as exc:
-        raise FileFormatError(f"cannot read trajectory {path!r}: {exc.strerror}") from None
+    text = read_text_file(path, max_bytes=MAX_TRAJECTORY_BYTES, what="trajectory file")
     rows: list[tuple[float, float]] = []
     for n, line in enumerate(text.splitlines(), 1):
         line = line.strip()
@@ -95,6 +106,10 @@ def _load_trajectory(path: str, interp: str, reference: str) -> Trajectory:
         if len(vals) != 2 or not all(math.isfinite(v) for v in vals):
             raise FileFormatError(f"{path}:{n}: expected two finite numbers, got {line!r}")
         rows.append((vals[0], vals[1]))
+        if len(rows) > MAX_TRAJECTORY_SAMPLES:
+            raise FileFormatError(
+                f"{path}: more than {MAX_TRAJECTORY_SAMPLES:,} samples; resample the trajectory"
+            )
     if not rows:
         raise FileFormatError(f"{path}: no samples found")
     arr = np.array(rows)
@@ -114,6 +129,8 @@ def scenario_from_args(args: argparse.Namespace) -> Scenario:
 
 
 def run(args: argparse.Namespace) -> int:
+    figure = plot_path(args.plot)
+    check_step(args.step)
     sea = model_from_args(args)
     scenario = scenario_from_args(args)
     result = simulate(
@@ -130,7 +147,7 @@ def run(args: argparse.Namespace) -> int:
         out["passive"] = is_passive(sea).passive
     except SeapassError as exc:  # passivity is informative here; the simulation stands
         out["passive"] = None
-        out["passive_error"] = str(exc)
+        out["passive_error"] = error_text(exc)
     out.update(
         {
             "stable": result.stable,
@@ -148,19 +165,21 @@ def run(args: argparse.Namespace) -> int:
             "poles": [[float(p.real), float(p.imag)] for p in result.poles],
         }
     )
-    if args.plot:
+    if figure is not None:
         from ..plot.sim import plot_simulation
 
-        plot_path = args.plot if Path(args.plot).suffix else f"{args.plot}.png"
-        save_plot(lambda: plot_simulation(result, met), plot_path)
+        save_plot(lambda: plot_simulation(result, met), figure)
     if args.json:
         print_json(out)
     else:
         ts = out["settling_time"]
-        print(f"status: {met.status} (closed loop {result.status}, passive: {out['passive']})")
+        passive = {True: "passive", False: "not passive", None: "passivity not decided"}
+        print(f"status: {met.status} (closed loop {result.status}; {passive[out['passive']]})")
+        if out["passive"] is None:
+            print(f"passivity: {out['passive_error']}")
         print(f"settling time: {'-' if ts is None else f'{ts:.6g} s'}")
         print(f"final error: {met.final_error:.3e} m")
-        if met.overshoot is not None:
-            print(f"overshoot: {100 * met.overshoot:.2f} %")
+        if met.overshoot is not None:  # the same unit as in --json: a fraction of the step
+            print(f"overshoot: {met.overshoot:.4g} of the step")
         print(f"peak actuator force: {met.peak_force:.6g} N, energy: {met.energy:.6g} J")
     return 0

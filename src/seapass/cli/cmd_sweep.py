@@ -5,15 +5,30 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..errors import ParameterError
-from ..sweep import SweepSpec, heatmap_data, parse_grid, parse_range, run_design_sweep
+from ..errors import ParameterError, did_you_mean
+from ..files.atomic import check_writable
+from ..sweep import GridAxis, RangeAxis, SweepSpec, heatmap_data, run_design_sweep
 from ..sweep.cluster import available_cores
-from .common import add_model_options, model_from_args, print_json, save_plot
+from ..sweep.spec import LOAD_MASS
+from .common import (
+    add_json_option,
+    add_model_options,
+    add_plot_option,
+    announce,
+    check_step,
+    deprecated_alias,
+    model_from_args,
+    parse_named,
+    plot_path,
+    print_json,
+    save_plot,
+    warn,
+)
 
 EXAMPLE = """examples:
   seapass sweep --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
       --set b1=20 --grid kd=0:5000:200 --grid bd=0:100:5 --load-mass 10 \\
-      --out sweep.parquet --heatmap kd,bd --out-fig sweep.png
+      --out sweep.parquet --heatmap kd,bd --plot sweep.png
   seapass sweep --D1 k1 --CL kd --set m=1 --set b=10 --sample 100000 \\
       --range k1=100:5000 --range kd=0:5000 --seed 1 --no-metrics --out lp.csv
   seapass sweep ... --out big.parquet --resume            # continue an interrupted sweep
@@ -39,9 +54,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="exact passivity and step metrics over a grid or random sample of designs",
         description="Evaluate many designs of one configuration: exact passivity verdict and "
         "margin, and settling time / final error / overshoot of a reference step with a load "
-        "mass. Streams chunks to disk (resumable) and can run on a Dask cluster.",
+        "mass. Streams chunks to disk (resumable) and can run on a Dask cluster. Swept "
+        "parameters are free: do not also give them with --set.",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_model_options(p)
     g = p.add_argument_group("designs")
@@ -50,11 +65,11 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     g.add_argument("--sample", type=int, metavar="N", help="number of random designs")
     g.add_argument("--range", action="append", default=[], metavar="NAME=LO:HI",
                    help="uniform random range, repeatable, e.g. kd=0:5000")  # fmt: skip
-    g.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    g.add_argument("--seed", type=int, default=0, help="random seed")
     m = p.add_argument_group("metrics")
-    m.add_argument("--load-mass", type=float, default=10.0, help="load mass m_L [kg] (default 10)")
-    m.add_argument("--step", type=float, default=0.5, help="reference step [m] (default 0.5)")
-    m.add_argument("--horizon", type=float, default=5.0, help="simulated time [s] (default 5)")
+    m.add_argument("--load-mass", type=float, default=10.0, help="load mass m_L [kg]")
+    m.add_argument("--step", type=float, metavar="M", help="reference step [m] (the default: 0.5)")
+    m.add_argument("--horizon", type=float, default=5.0, help="simulated time [s]")
     m.add_argument("--no-metrics", action="store_true", help="passivity only")
     m.add_argument(
         "--no-margin", action="store_true", help="skip the passivity margin (3x faster verdicts)"
@@ -82,35 +97,64 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         f"{available_cores()} here)",
     )
     o.add_argument("--no-progress", action="store_true", help="no progress bar")
-    o.add_argument("--heatmap", metavar="X,Y", help="two parameters for the heat maps")
-    o.add_argument("--out-fig", help="heat-map figure file (PNG, PDF or SVG)")
+    o.add_argument(
+        "--heatmap", metavar="X,Y", help="two parameters for the heat maps (needs --plot)"
+    )
+    add_plot_option(o, "the heat maps")
+    o.add_argument("--out-fig", help=argparse.SUPPRESS)  # before 0.3; now --plot
+    add_json_option(o, "the summary")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    grid = [parse_grid(t) for t in args.grid]
-    ranges = [parse_range(t) for t in args.range]
+    from ..model.expr import parse_value
+
+    grid = [
+        GridAxis(name, *(parse_value(v, f"--grid {name}") for v in parts))
+        for name, parts in parse_named(
+            args.grid, "--grid", 3, "NAME=LO:HI:STEP, e.g. kd=0:5000:200"
+        )
+    ]
+    ranges = [
+        RangeAxis(name, *(parse_value(v, f"--range {name}") for v in parts))
+        for name, parts in parse_named(args.range, "--range", 2, "NAME=LO:HI, e.g. kd=0:5000")
+    ]
+    if bool(grid) == bool(ranges):
+        raise ParameterError(
+            "give grid axes (--grid NAME=LO:HI:STEP, repeatable) or random ranges "
+            "(--sample N --range NAME=LO:HI, repeatable), not both or neither"
+        )
+    if ranges and args.sample is None:
+        raise ParameterError("--range needs --sample N, the number of random designs")
+    if grid and args.sample is not None:
+        raise ParameterError("--sample is only for random ranges; a grid has its own size")
+    figure = plot_path(deprecated_alias(args, "out_fig", "plot"))
     heat = None
     if args.heatmap is not None:
         heat = [s.strip() for s in args.heatmap.split(",")]
         if len(heat) != 2 or not all(heat):
             raise ParameterError(f"--heatmap expects two names X,Y, got {args.heatmap!r}")
-        if not args.out_fig:
-            raise ParameterError("--heatmap needs --out-fig FILE.png")
-    elif args.out_fig:
-        raise ParameterError("--out-fig needs --heatmap X,Y")
+        if figure is None:
+            raise ParameterError("--heatmap needs --plot FILE.png")
+    elif figure is not None:
+        raise ParameterError("--plot needs --heatmap X,Y (the two parameters of the maps)")
     if args.workers is not None and args.scheduler != "local":
         raise ParameterError(
             "--workers N needs --scheduler local (a running scheduler has its own)"
         )
     if args.workers is not None and args.workers > available_cores():
-        print(
-            f"warning: --workers {args.workers} is more than this machine's "
-            f"{available_cores()} cores; the workers will share them",
-            file=sys.stderr,
+        warn(
+            f"--workers {args.workers} is more than this machine's {available_cores()} cores; "
+            "the workers will share them"
         )
-    names = tuple(n for n in [a.name for a in grid] + [a.name for a in ranges] if n != "m_L")
-    sea = model_from_args(args, extra_free=names)
+    check_step(args.step)
+    swept = {a.name: f"--grid {a.name}" for a in grid} | {
+        a.name: f"--range {a.name}" for a in ranges
+    }
+    both = sorted(set(a.name for a in grid) & set(a.name for a in ranges))
+    if both:
+        raise ParameterError(f"{both[0]} is given with both --grid and --range; give it once")
+    sea = model_from_args(args, extra_free={k: v for k, v in swept.items() if k != LOAD_MASS})
     spec = SweepSpec(
         sea=sea,
         grid=tuple(grid),
@@ -118,7 +162,7 @@ def run(args: argparse.Namespace) -> int:
         samples=args.sample,
         seed=args.seed,
         load_mass=args.load_mass,
-        step=args.step,
+        step=0.5 if args.step is None else args.step,
         horizon=args.horizon,
         metrics=not args.no_metrics,
         margin=not args.no_margin,
@@ -128,8 +172,12 @@ def run(args: argparse.Namespace) -> int:
         for h in heat:
             if h not in spec.names:
                 raise ParameterError(
-                    f"--heatmap: {h!r} is not swept; swept parameters: {', '.join(spec.names)}"
+                    f"--heatmap: {h!r} is not swept{did_you_mean(h, spec.names)}; swept "
+                    f"parameters: {', '.join(spec.names)}"
                 )
+    if "://" not in args.out and "::" not in args.out:  # a URL is checked by fsspec
+        out = Path(args.out)
+        check_writable(out, directory=out.suffix.lower() not in (".parquet", ".csv"))
     try:
         result = run_design_sweep(
             spec,
@@ -146,17 +194,24 @@ def run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return 130
-    print(f"wrote {result.path}", file=sys.stderr)
+    announce(result.path)
     summary = result.to_dict()
-    if heat is not None:
+    if heat is not None and figure is not None:
         from ..plot.sweep import plot_sweep_heatmap
 
         data = heatmap_data(result.path, heat[0], heat[1])
-        written = save_plot(
-            lambda: plot_sweep_heatmap(data, title=f"{spec.n_designs} designs"), args.out_fig
+        save_plot(lambda: plot_sweep_heatmap(data, title=f"{spec.n_designs} designs"), figure)
+        summary["figure"] = str(figure)
+    if args.json:
+        print_json(summary)
+    else:
+        print(
+            f"{result.n_designs:,} designs in {result.n_chunks} chunk(s) "
+            f"({result.chunks_resumed} resumed), {result.seconds:.1f} s"
         )
-        for path in written:
-            print(f"wrote {path}", file=sys.stderr)
-        summary["figure"] = args.out_fig
-    print_json(summary)
+        frac = summary["passive_fraction"]
+        print(f"passive: {result.n_passive:,}" + ("" if frac is None else f" ({100 * frac:.1f} %)"))
+        if result.n_settled is not None:
+            print(f"settled within {args.horizon:g} s: {result.n_settled:,}")
+        print(f"results: {result.path} (columns: {', '.join(result.columns)})")
     return 0

@@ -10,12 +10,19 @@ from ..analysis.freqresp import stiffness_response
 from ..model.catalog import REFERENCE_VALUES
 from ..paper.tablefmt import format_latex, format_markdown, format_text
 from ..paper.tables import TableRow, build_tables
-from .common import print_json, save_plot
+from .common import (
+    add_json_option,
+    add_out_dir_option,
+    check_out_dir,
+    deprecated_alias,
+    print_json,
+    save_plot,
+)
 
 EXAMPLE = """examples:
   seapass tables
   seapass tables --json
-  seapass tables --format markdown --plots figures/
+  seapass tables --format markdown --out figures/
 """
 
 
@@ -25,20 +32,21 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="derive Tables I and II and the proposed design; compare with the paper",
         description="Derive every row from first principles and compare it with the paper's printed row.",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--json", action="store_true", help="print a JSON list of rows")
-    p.add_argument("--format", choices=("text", "markdown", "latex"), default="text")
+    add_json_option(p, "a list of rows")
     p.add_argument(
-        "--plots", metavar="DIR", help="write each row's stiffness frequency response to DIR"
+        "--format", choices=("text", "markdown", "latex"), default="text", help="text layout"
     )
+    add_out_dir_option(p, "each row's stiffness frequency response (PNG)")
+    p.add_argument("--plots", help=argparse.SUPPRESS)  # before 0.3; now --out
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
+    out = check_out_dir(deprecated_alias(args, "plots", "out"))
     rows = build_tables()
-    if args.plots:
-        write_row_plots(rows, Path(args.plots))
+    if out is not None:
+        write_row_plots(rows, out)
     if args.json:
         print_json([r.to_dict() for r in rows])
     elif args.format == "markdown":

@@ -9,14 +9,14 @@ import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from ..errors import ParameterError, TuningWarning
+from ..errors import ParameterError, TuningWarning, did_you_mean
 from ..model.catalog import CATALOG
 from ..model.design_file import Design, load_design
 from ..model.expr import parse_assignment, parse_value
 from ..model.sea import SEA
 from ..tuning.optimize import TuningResult, tune
 from ..tuning.problem import QUICK_OPTIONS, DesignLike, TuningOptions, design_parts
-from .common import add_model_options, print_json
+from .common import add_json_option, add_model_options, check_period, check_step, print_json, warn
 
 EXAMPLE = """examples:
   seapass tune examples/ours.toml --json
@@ -46,7 +46,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "force limit and an overshoot limit. A progress bar is shown on stderr when it "
         "is a terminal; Ctrl-C stops cleanly (exit 130).",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("design", nargs="?", metavar="DESIGN", help="design file or LP, APD, ours")
     p.add_argument("--design", dest="design_option", help=argparse.SUPPRESS)  # old spelling
@@ -78,16 +77,11 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     b.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
     b.add_argument("--quick", action="store_true", help="small budget (for previews and tests)")
     b.add_argument("--no-progress", action="store_true", help="never show a progress bar")
-    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    add_json_option(p)
     p.set_defaults(func=run)
 
 
 # ----------------------------------------------------------------- arguments
-
-
-def _did_you_mean(name: str, choices: Sequence[str]) -> str:
-    close = difflib.get_close_matches(name, list(choices), n=1)
-    return f"; did you mean {close[0]!r}?" if close else ""
 
 
 def parse_tune(items: Sequence[str], flag: str = "--tune") -> dict[str, tuple[float, float] | None]:
@@ -158,7 +152,7 @@ def _check_names(values: Mapping[str, object], parameters: Sequence[str], flag: 
         if name not in parameters:
             raise ParameterError(
                 f"{flag} {name}: not a parameter of the design ({', '.join(parameters)})"
-                f"{_did_you_mean(name, parameters)}"
+                f"{did_you_mean(name, parameters)}"
             )
 
 
@@ -169,7 +163,7 @@ def options_from_args(args: argparse.Namespace, file: Design | None) -> TuningOp
         max_overshoot=None if args.max_overshoot is None else args.max_overshoot / 100.0,
         force_limit=None if args.no_force_limit else args.force_limit,
         load_mass=args.load_mass,
-        step=args.step,
+        step=0.5 if args.step is None else args.step,
         horizon=args.horizon,
         period=args.period,
         delay=args.delay,
@@ -196,12 +190,10 @@ def run(args: argparse.Namespace) -> int:
     design, file, values = _design(args)
     boxes = parse_tune([*args.tune, *args.bound])
     opts = options_from_args(args, file)
-    if opts.period is not None and opts.period >= 0.1:
-        print(
-            f"warning: --period {opts.period:g} s is a {1 / opts.period:.3g} Hz controller; "
-            "the period is in seconds (500 Hz is --period 0.002)",
-            file=sys.stderr,
-        )
+    check_period(opts.period)
+    check_step(args.step)
+    if args.load_mass is not None and not args.load_mass > 0:
+        raise ParameterError(f"--load-mass must be positive, got {args.load_mass:g}")
     _name, sea, default_gains, _boxes = design_parts(design)
     _check_names(values, sea.parameters, "--set")
     _check_names(boxes, sea.parameters, "--tune")
@@ -223,7 +215,7 @@ def run(args: argparse.Namespace) -> int:
             progress=False if args.no_progress else None,
         )
     for message in result.warnings:
-        print(f"warning: {message}", file=sys.stderr)
+        warn(message)
     if args.json:
         print_json(result.to_dict())
     else:

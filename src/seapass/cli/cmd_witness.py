@@ -3,19 +3,22 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from ..analysis.environment_box import HUMAN_LIMB, EnvironmentBounds
 from ..analysis.witness import WitnessResult, find_destabilizing_environment
 from ..errors import ParameterError
 from ..model.expr import parse_value
 from .common import (
+    add_json_option,
     add_model_options,
-    atomic_write_text,
+    add_out_dir_option,
+    check_out_dir,
     json_text,
     print_json,
     save_plot,
     system_from_args,
+    warn_unrealizable,
+    write_text,
 )
 
 EXAMPLE = """examples:
@@ -43,7 +46,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "unstable, verified exactly; print it with the coupled poles and optionally plot "
         "the growing oscillation. A passive design has no such environment.",
         epilog=EXAMPLE,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_model_options(p)
     p.add_argument("--Z", help="raw impedance Z(s) instead of an SEA model, e.g. '(s - 1)/(s + 1)'")
@@ -54,8 +56,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
                        help=f"range of the environment's {name} [{unit}] (default: {lo:g}:{hi:g})")  # fmt: skip
     g.add_argument("--unbounded", action="store_true",
                    help="any passive mass-spring-damper (may find physically meaningless ones)")  # fmt: skip
-    p.add_argument("--json", action="store_true", help="print the result as JSON")
-    p.add_argument("--out", metavar="DIR", help="write witness.png and witness.json into DIR")
+    add_json_option(p)
+    add_out_dir_option(p, "witness.png and witness.json")
     p.set_defaults(func=run)
 
 
@@ -85,21 +87,20 @@ def bounds_from_args(args: argparse.Namespace) -> EnvironmentBounds | None:
 
 
 def run(args: argparse.Namespace) -> int:
+    out = check_out_dir(args.out)
     system = system_from_args(args)
+    warn_unrealizable(system)
     bounds = bounds_from_args(args)
     result = find_destabilizing_environment(system, bounds=bounds, simulate=True)
     data = result.to_dict()
-    if args.out:
-        out = Path(args.out)
-        if out.exists() and not out.is_dir():
-            raise ValueError(f"--out {args.out}: not a directory; give a directory for the files")
+    if out is not None:
         data["figure"] = None
         if result.found and result.simulation is not None:
             from ..plot.witness import plot_witness
 
             save_plot(lambda: plot_witness(result), out / "witness.png")
             data["figure"] = str(out / "witness.png")
-        atomic_write_text(out / "witness.json", json_text(data))
+        write_text(out / "witness.json", json_text(data))
     if args.json:
         print_json(data)
     elif result.found:

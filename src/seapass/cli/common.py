@@ -1,34 +1,272 @@
-"""Helpers shared by the subcommands: model options, ``--set`` parsing, JSON and atomic output."""
+"""Conventions shared by every subcommand: options, strict names, messages.
+
+Every command, old or new, uses these helpers (see ``notes/cli-conventions.md``
+in the project notes and the README's command-line section):
+
+* model options: `add_model_options`, then `model_from_args` / `system_from_args`
+  (strict ``--set``: unknown, unused or repeated names are errors with a
+  did-you-mean);
+* other named options (``--grid``, ``--range NAME=LO:HI``, ``--bound``, ``--tune``):
+  `parse_named` + `check_names`; a plain range ``LO:HI``: `parse_range`;
+* output: `add_json_option`, `add_plot_option` / `plot_path`,
+  `add_out_dir_option` / `check_out_dir`; files are written and announced
+  (``wrote PATH`` on stderr) by `save_plot`, `write_text`, `write_bytes` in
+  [`seapass.cli.output`][seapass.cli.output];
+* messages: `warn` (``warning: ...`` on stderr), the unit-slip checks
+  `check_period` and `check_step`, and `error_text` (one line, CLI flags in place
+  of Python argument names).
+"""
 
 from __future__ import annotations
 
 import argparse
-import json
-import math
 import os
+import re
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from ..files.atomic import atomic_save, atomic_write, atomic_write_text
-from ..model.expr import parse_assignment
-from ..model.sea import SEA, Impedance
+from ..errors import ParameterError, SeapassError, did_you_mean
+from .output import (
+    add_json_option,
+    add_out_dir_option,
+    add_plot_option,
+    announce,
+    atomic_save,
+    atomic_write,
+    atomic_write_text,
+    check_out_dir,
+    json_text,
+    plot_path,
+    print_json,
+    save_plot,
+    write_bytes,
+    write_text,
+)
 
 __all__ = [
+    "EXIT_CODES",
+    "HelpFormatter",
+    "add_json_option",
     "add_model_options",
+    "add_out_dir_option",
+    "add_plot_option",
+    "announce",
+    "announce_report",
     "atomic_save",
     "atomic_write",
     "atomic_write_text",
+    "check_names",
+    "check_out_dir",
+    "check_period",
+    "check_step",
+    "cli_flag",
+    "deprecated_alias",
+    "error_text",
     "json_text",
     "model_from_args",
+    "parse_named",
+    "parse_range",
+    "plot_path",
     "print_json",
     "print_section_problems",
+    "report_summary",
     "save_plot",
     "system_from_args",
     "values_from_args",
+    "warn",
+    "warn_unrealizable",
+    "write_bytes",
+    "write_text",
     "write_figure",
 ]
+
+EXIT_CODES = """exit codes:
+  0    success (check: passive)
+  1    a negative verdict of a check (check: not passive), like cmp
+  2    bad input or another error: one 'error:' line on stderr
+  130  interrupted"""
+
+
+class HelpFormatter(argparse.RawDescriptionHelpFormatter):
+    """Keeps the epilog's layout and shows every meaningful default in ``--help``."""
+
+    def _get_help_string(self, action: argparse.Action) -> str | None:
+        text = action.help or ""
+        default = action.default
+        if (
+            "default" in text.lower()
+            or not action.option_strings
+            or default in (None, False, [], argparse.SUPPRESS)
+        ):
+            return text
+        return f"{text} (default: %(default)s)"
+
+
+# --------------------------------------------------------------------------- messages
+
+
+def warn(message: str) -> None:
+    """One ``warning: ...`` line on stderr (stdout stays clean for ``--json``)."""
+    print(f"warning: {' '.join(message.split())}", file=sys.stderr)
+
+
+PERIOD_SLIP = 0.1
+"""Control periods from this many seconds up look like a rate in Hz typed as seconds."""
+
+STEP_SLIP = 0.2
+"""Steps from this many metres up look like millimetres typed as metres."""
+
+
+def check_period(period: float | None, flag: str = "--period") -> None:
+    """Warn when a control period looks like a rate in Hz (``--period 500``)."""
+    if period is not None and period >= PERIOD_SLIP:
+        warn(
+            f"{flag} {period:g} s is a very slow controller ({1 / period:.3g} Hz); if you meant "
+            f"{period:g} Hz, give {flag} {1 / period:.6g}"
+        )
+
+
+def check_step(step: float | None, flag: str = "--step") -> None:
+    """Warn when a reference step looks like millimetres typed as metres (``--step 500``)."""
+    if step is not None and abs(step) >= STEP_SLIP:
+        warn(
+            f"{flag} {step:g} m is a large step for an SEA; if you meant {step:g} mm, "
+            f"give {flag} {step / 1000:g}"
+        )
+
+
+_FLAGS = {
+    "values": "--set",
+    "Z": "--Z",
+    "D1": "--D1",
+    "D2": "--D2",
+    "CA": "--CA",
+    "CL": "--CL",
+    "ranges": "--range",
+    "samples": "--sample",
+    "grid": "--grid",
+}
+
+
+def cli_flag(argument: str) -> str:
+    """The command-line spelling of a Python argument: ``values['kd']`` → ``--set kd``.
+
+    >>> cli_flag("values['kd']"), cli_flag("load_mass"), cli_flag("CA")
+    ('--set kd', '--load-mass', '--CA')
+    """
+    m = re.fullmatch(r"(values|bounds)\['([^']*)'\]", argument)
+    if m:
+        return f"{'--set' if m.group(1) == 'values' else '--bound'} {m.group(2)}"
+    if argument in _FLAGS:
+        return _FLAGS[argument]
+    if re.fullmatch(r"[a-z][a-z0-9_]*", argument):
+        return "--" + argument.replace("_", "-")
+    return argument
+
+
+def error_text(exc: BaseException) -> str:
+    """One line for ``exc``, in the words of the command line.
+
+    An `OSError` shows the path and the reason (no ``[Errno 2]``); a
+    [`SeapassError`][seapass.errors.SeapassError] naming a Python argument
+    (``values['kd']``) names the flag instead (``--set kd``).
+    """
+    if isinstance(exc, OSError) and not isinstance(exc, SeapassError) and exc.strerror:
+        where = f"{exc.filename}: " if exc.filename is not None else ""
+        msg = f"{where}{exc.strerror}"
+    else:
+        msg = str(exc)
+        if isinstance(exc, KeyError) and exc.args:
+            msg = str(exc.args[0])
+        arg = getattr(exc, "argument", None)
+        if arg and msg.startswith(f"{arg}: "):
+            msg = f"{cli_flag(arg)}: {msg[len(arg) + 2 :]}"
+        msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"e.g. --set \1=VALUE", msg)
+        msg = re.sub(r"values\['(\w+)'\]", r"--set \1", msg)
+        msg = re.sub(r"\b([a-z][a-z_]*)=True\b", lambda m: "--" + m.group(1).replace("_", "-"), msg)
+    return " ".join(msg.split()) or type(exc).__name__
+
+
+def deprecated_alias(args: argparse.Namespace, old: str, new: str) -> Any:
+    """The value of option ``new``, or of its deprecated spelling ``old`` with a warning.
+
+    Register the old spelling with ``help=argparse.SUPPRESS``; giving both is an error.
+    """
+    old_value, new_value = getattr(args, old), getattr(args, new)
+    flag_old, flag_new = "--" + old.replace("_", "-"), "--" + new.replace("_", "-")
+    if old_value is None:
+        return new_value
+    if new_value is not None:
+        raise ParameterError(f"give {flag_new} only ({flag_old} is its old spelling)")
+    warn(f"{flag_old} is deprecated here; use {flag_new} {old_value}")
+    return old_value
+
+
+# --------------------------------------------------------------------------- names
+
+
+def parse_named(
+    items: Sequence[str], flag: str, fields: int, example: str
+) -> list[tuple[str, list[str]]]:
+    """Split repeatable ``NAME=A:B[:C]`` options; a repeated NAME is an error.
+
+    Values may start with a minus (``kd=-100:100``).  Returns ``[(name, [A, B, ...])]``
+    in the order given; the parts are raw text (parse them with
+    [`parse_value`][seapass.model.expr.parse_value]).
+    """
+    out: list[tuple[str, list[str]]] = []
+    seen: set[str] = set()
+    for item in items:
+        name, sep, rest = item.partition("=")
+        name = name.strip()
+        parts = rest.split(":")
+        if not sep or not name or len(parts) != fields or not all(p.strip() for p in parts):
+            raise ParameterError(f"{flag} {item!r}: expected {example}")
+        if name in seen:
+            raise ParameterError(f"{flag} {name} is given twice; give each name once")
+        seen.add(name)
+        out.append((name, [p.strip() for p in parts]))
+    return out
+
+
+def check_names(
+    names: Iterable[str], known: Iterable[str], flag: str, what: str = "the model"
+) -> None:
+    """Raise for a name that is not in ``known``, with the closest known name.
+
+    >>> check_names(["kdd"], ["kd", "bd"], "--bound")
+    Traceback (most recent call last):
+    ...
+    seapass.errors.ParameterError: --bound kdd: not a parameter of the model (did you mean 'kd'?); known: bd, kd
+    """
+    known = sorted(set(known))
+    for name in names:
+        if name not in known:
+            raise ParameterError(
+                f"{flag} {name}: not a parameter of {what}{did_you_mean(name, known)}; "
+                f"known: {', '.join(known) or 'none'}"
+            )
+
+
+def parse_range(text: str, flag: str = "--range", *, strict: bool = False) -> tuple[float, float]:
+    """``LO:HI`` as two finite numbers with ``LO <= HI`` (``LO < HI`` if ``strict``)."""
+    from ..model.expr import parse_value
+
+    parts = text.split(":")
+    if len(parts) != 2:
+        raise ParameterError(f"{flag} {text!r}: expected LO:HI, e.g. {flag} 0:1e5")
+    lo = parse_value(parts[0].strip(), f"{flag} start")
+    hi = parse_value(parts[1].strip(), f"{flag} end")
+    if lo > hi or (strict and lo == hi):
+        raise ParameterError(
+            f"{flag} {text!r}: LO must {'be below' if strict else 'not exceed'} HI"
+        )
+    return lo, hi
+
+
+# --------------------------------------------------------------------------- models
 
 
 def add_model_options(p: argparse.ArgumentParser) -> None:
@@ -43,90 +281,117 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
         action="append",
         default=[],
         metavar="NAME=VALUE",
-        help="parameter value, repeatable, e.g. --set m=1 --set kd=5000",
+        help="parameter value, repeatable, e.g. --set m=1 --set kd=5000; every name must be "
+        "used by the model and given once",
     )
 
 
 def values_from_args(args: argparse.Namespace) -> dict[str, float]:
+    """The ``--set`` values; a name given twice is an error."""
+    from ..model.expr import parse_assignment
+
     out: dict[str, float] = {}
     for item in args.set:
         name, val = parse_assignment(item)
+        if name in out:
+            raise ParameterError(
+                f"--set {name} is given twice ({out[name]:g} and {val:g}); give each name once"
+            )
         out[name] = val
     return out
 
 
-def model_from_args(args: argparse.Namespace, extra_free: tuple[str, ...] = ()) -> SEA:
+def model_from_args(
+    args: argparse.Namespace, extra_free: Sequence[str] | Mapping[str, str] = ()
+) -> Any:
+    """The [`SEA`][seapass.model.sea.SEA] of ``--D1 --D2 --CA --CL --set``.
+
+    ``extra_free`` names parameters left free (the swept or bounded ones), as
+    names or as ``{name: how it was given}`` (``{"kd": "--grid kd"}``); each must
+    appear in the model and must not also be given with ``--set``.
+    """
+    from ..model.sea import SEA
+
+    labels = dict(extra_free) if isinstance(extra_free, Mapping) else {n: n for n in extra_free}
     values: dict[str, float | None] = dict(values_from_args(args))
-    for name in extra_free:
-        values.setdefault(name, None)
-    return SEA(D1=args.D1, D2=args.D2, CA=args.CA, CL=args.CL, values=values)
+    for name, label in labels.items():
+        if name in values:
+            raise ParameterError(
+                f"--set {name}: {name} is a free parameter here ({label}); do not also give "
+                "it a value"
+            )
+        values[name] = None
+    try:
+        return SEA(D1=args.D1, D2=args.D2, CA=args.CA, CL=args.CL, values=values)
+    except ParameterError as exc:
+        free = {f"values[{n!r}]": label for n, label in labels.items()}
+        if exc.argument in free:  # a free name the model does not use
+            msg = str(exc)[len(exc.argument) + 2 :]
+            raise ParameterError(f"{free[exc.argument]}: {msg}") from None
+        raise
 
 
-def system_from_args(args: argparse.Namespace) -> SEA | Impedance:
+def warn_unrealizable(system: Any) -> bool:
+    """Warn for each controller that needs more than one derivative; True if realizable."""
+    from ..model.realization import unrealizable_controllers
+    from ..model.sea import SEA
+
+    if not isinstance(system, SEA):
+        return True
+    bad = unrealizable_controllers(system)
+    for name, excess in bad.items():
+        warn(
+            f"--{name} '{getattr(system, name)}' has {excess} more zeros than poles: not "
+            "realizable (the controller measures positions and velocities, so at most one "
+            "derivative); the answer is for the ideal model only. Add filter poles, e.g. "
+            "'kd*s**2/(1 + s/500)**2'"
+        )
+    return not bad
+
+
+def system_from_args(args: argparse.Namespace) -> Any:
     """The raw impedance given with ``--Z``, or else the SEA model of the element options."""
+    from ..model.sea import Impedance
+
     if getattr(args, "Z", None) is None:
         return model_from_args(args)
     if any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL")):
-        raise ValueError("give either --Z or the model elements --D1/--D2/--CA/--CL, not both")
+        raise ParameterError("give either --Z or the model elements --D1/--D2/--CA/--CL, not both")
     return Impedance(expr=args.Z, values=values_from_args(args))
 
 
-def json_text(obj: Any) -> str:
-    """Strict JSON text (non-finite floats become null), with a final newline."""
-    return json.dumps(_clean(obj), indent=2, allow_nan=False) + "\n"
+def announce_report(out: Path, written: Sequence[Path]) -> None:
+    """``wrote`` lines for a report directory: the two reports, then a count of the rest."""
+    from .output import announce
+
+    names = {p.as_posix() for p in written}
+    for main in ("report.html", "report.md"):
+        if main in names:
+            announce(out / main)
+    data = sum(1 for n in names if n.startswith("data/"))
+    figures = sum(1 for n in names if n.startswith("figures/"))
+    print(f"wrote {data} data files and {figures} figures in {out}", file=sys.stderr)
 
 
-def _clean(obj: Any) -> Any:
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    if isinstance(obj, dict):
-        return {k: _clean(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [_clean(v) for v in obj]
-    return obj
-
-
-def print_json(obj: Any) -> None:
-    """Print strict JSON (non-finite floats become null)."""
-    sys.stdout.write(json_text(obj))
-
-
-def save_plot(
-    draw: Callable[[], Any], path: str | os.PathLike[str], *, formats: Sequence[str] | None = None
-) -> list[Path]:
-    """Draw a figure in the seapass style on a bare figure and save it atomically.
-
-    ``draw()`` calls a [`seapass.plot`][seapass.plot] function without Axes and returns
-    its Axes.  ``path`` with a suffix writes that format; without one, every
-    format in ``formats`` (default PNG, SVG and PDF).
-    """
-    from ..plot.style import bare_figures, figure_style, save_figure
-
-    with figure_style(), bare_figures():
-        axes = draw()
-        return save_figure(axes, path, formats=formats)
+def report_summary(report: Any, out: Path, written: Sequence[Path]) -> dict[str, Any]:
+    """The ``--json`` summary of a report directory: files, sections and their status."""
+    return {
+        "out": str(out),
+        "files": [p.as_posix() for p in written],
+        "sections": [{"key": s.key, "title": s.title, "status": s.status} for s in report.sections],
+        "failed": list(report.failed),
+    }
 
 
 def write_figure(draw: Callable[[], Any], path: str | os.PathLike[str]) -> Path:
-    """`save_plot` for a ``--plot FILE`` option: one file, announced on stderr.
+    """`save_plot` for a ``--plot FILE`` option: one file, checked by `plot_path`, announced.
 
     The suffix picks the format (``.png``, ``.svg`` or ``.pdf``); a path without
-    one gets ``.png``.  Prints ``wrote PATH`` on stderr (stdout stays clean for
-    ``--json``).
+    one gets ``.png``.
     """
-    from ..errors import ParameterError
-    from ..plot.style import FIGURE_FORMATS
-
-    p = Path(path)
-    suffix = p.suffix.lower().lstrip(".")
-    if not suffix:
-        p = p.with_name(p.name + ".png")
-    elif suffix not in FIGURE_FORMATS:
-        raise ParameterError(
-            f"--plot {str(path)!r}: unknown figure format .{suffix}; use .png, .svg or .pdf"
-        )
+    p = plot_path(os.fspath(path))
+    assert p is not None
     (written,) = save_plot(draw, p)
-    print(f"wrote {written}", file=sys.stderr)
     return written
 
 

@@ -265,8 +265,8 @@ def bind(port: int) -> socket.socket:
     except OSError as exc:
         sock.close()
         raise OSError(
-            f"cannot listen on 127.0.0.1:{port} ({exc.strerror}); "
-            "choose another port with --port, or --port 0 for a free one"
+            f"port: cannot listen on 127.0.0.1:{port} ({exc.strerror}); "
+            "choose another port, or port=0 for a free one"
         ) from None
     sock.listen(64)
     return sock

@@ -1,9 +1,12 @@
 """Files in and out: atomic writes and the strict TOML loader.
 
-What lives here: [`atomic`][seapass.files.atomic] (write a file or a directory so
-that an interrupted run never leaves a half-written one) and
-[`toml`][seapass.files.toml] (read design and rig files; every error names the
-file; write the flat tables seapass writes back).
+What lives here: [`limits`][seapass.files.limits] (every size limit of seapass:
+files, arrays, step counts, expressions, text), [`textfile`][seapass.files.textfile]
+(read a user's file with a size cap: devices, FIFOs and huge files fail fast),
+[`atomic`][seapass.files.atomic] (write a file or a directory so that an
+interrupted run never leaves a half-written one) and [`toml`][seapass.files.toml]
+(read design and rig files; every error names the file; write the flat tables
+seapass writes back).
 
 May import: [`seapass.errors`][seapass.errors] only.
 """

@@ -15,7 +15,16 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-__all__ = ["atomic_save", "atomic_write", "atomic_write_text", "sibling_dir", "sibling_file"]
+from ..errors import OutputPathError
+
+__all__ = [
+    "atomic_save",
+    "atomic_write",
+    "atomic_write_text",
+    "check_writable",
+    "sibling_dir",
+    "sibling_file",
+]
 
 
 def sibling_file(target: Path, suffix: str = ".part") -> tuple[int, Path]:
@@ -83,3 +92,61 @@ def atomic_save(path: str | os.PathLike[str], save: Callable[[str], None]) -> No
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
+
+
+def _dangling(p: Path) -> Path | None:
+    """The first of ``p`` and its ancestors that is a symbolic link to nothing."""
+    for q in (p, *p.parents):
+        if q.is_symlink() and not q.exists():
+            return q
+    return None
+
+
+def check_writable(path: str | os.PathLike[str], *, directory: bool, argument: str = "out") -> Path:
+    """Raise `OutputPathError` unless seapass can create ``path`` (a file or a directory).
+
+    Call it before long work, so that a read-only directory or a dangling
+    symbolic link is reported at once, not after the results are computed.
+    The test is real: a probe file is created and removed in the nearest
+    existing directory (permission bits alone mislead for root, ACLs and
+    read-only mounts).  ``argument`` names the option in the message.
+
+    Returns
+    -------
+    Path
+        ``path``, unchanged.
+    """
+    p = Path(path)
+    link = _dangling(p)
+    if link is not None:
+        raise OutputPathError(
+            f"{argument}: {link} is a symbolic link to {os.readlink(link)}, which does not "
+            "exist; create the target or remove the link",
+            argument=argument,
+        )
+    if p.exists():
+        if directory and not p.is_dir():
+            raise OutputPathError(
+                f"{argument}: {p} exists and is not a directory", argument=argument
+            )
+        if not directory and p.is_dir():
+            raise OutputPathError(
+                f"{argument}: {p} is a directory; give a file name", argument=argument
+            )
+    where = p if directory and p.is_dir() else p.parent
+    while not where.exists():
+        where = where.parent
+    if not where.is_dir():
+        raise OutputPathError(
+            f"{argument}: {where} is not a directory, so {p} cannot be created",
+            argument=argument,
+        )
+    try:
+        fd, probe = sibling_file(where / ".seapass-probe", suffix=".tmp")
+    except OSError as exc:
+        raise OutputPathError(
+            f"{argument}: cannot write in {where}: {exc.strerror or exc}", argument=argument
+        ) from None
+    os.close(fd)
+    probe.unlink(missing_ok=True)
+    return p

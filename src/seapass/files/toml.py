@@ -1,40 +1,134 @@
-"""Strict TOML in and out: one loader for design and rig files (every error names the file)
-and a writer for the flat tables seapass writes back (a fitted rig, ``rig show``)."""
+"""Strict TOML in and out: one loader for design and rig files, every error naming the
+file, and a writer for the flat tables seapass writes back (a fitted rig, ``rig show``).
+
+The file is read with a size cap (`seapass.files.textfile.read_text_file`),
+deep nesting is refused in one line (the standard parser is recursive), and a
+number that underflows to zero (``1e-400``) is an error instead of a silent 0.
+"""
 
 from __future__ import annotations
 
 import math
 import os
+import re
 import tomllib
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
 
 from ..errors import FileFormatError
+from .limits import MAX_TEXT_FILE_BYTES, MAX_TOML_DEPTH
+from .textfile import read_text_file
 
-__all__ = ["dump_toml", "load_toml_file"]
+__all__ = ["dump_toml", "load_toml_file", "loads_strict", "nesting_depth"]
 
 T = TypeVar("T")
 
+_NONZERO_MANTISSA = re.compile(r"^[+-]?[0_.]*[1-9]")
 
-def load_toml_file(path: str | os.PathLike[str], parse: Callable[[dict[str, Any]], T]) -> T:
-    """Read a TOML file and ``parse`` its table; every error names the file.
+
+class _Underflow(ValueError):
+    pass
+
+
+def _parse_float(text: str) -> float:
+    """``float(text)``, refusing a nonzero literal that underflows to 0."""
+    value = float(text.replace("_", ""))
+    if value == 0.0 and _NONZERO_MANTISSA.match(text.split("e")[0].split("E")[0]):
+        raise _Underflow(text)
+    return value
+
+
+def nesting_depth(obj: Any, limit: int = MAX_TOML_DEPTH) -> int:
+    """Depth of nested dicts and lists (a scalar is 0); stops counting beyond ``limit``.
+
+    >>> nesting_depth({"a": [[1]]})
+    3
+    """
+    depth = 0
+    level: list[Any] = [obj]
+    while level and depth <= limit:
+        nxt: list[Any] = []
+        for item in level:
+            if isinstance(item, dict):
+                nxt.extend(item.values())
+            elif isinstance(item, list):
+                nxt.extend(item)
+        if not any(isinstance(x, dict | list) for x in level):
+            break
+        depth += 1
+        level = nxt
+    return depth
+
+
+def _open_brackets(text: str) -> int:
+    """Upper bound of the bracket nesting of ``text`` (strings are not skipped)."""
+    depth = best = 0
+    for ch in text:
+        if ch in "[{":
+            depth += 1
+            best = max(best, depth)
+        elif ch in "]}" and depth:
+            depth -= 1
+    return best
+
+
+def loads_strict(text: str) -> dict[str, Any]:
+    """Parse TOML text like `tomllib.loads`, within the nesting limit.
 
     Raises
     ------
     FileFormatError
-        For invalid TOML, non-UTF-8 text, or content ``parse`` rejects.
+        For invalid TOML, nesting deeper than `MAX_TOML_DEPTH`, or a number
+        that underflows to zero.
+    """
+    try:
+        data = tomllib.loads(text, parse_float=_parse_float)
+    except tomllib.TOMLDecodeError as exc:
+        raise FileFormatError(f"invalid TOML: {exc}") from None
+    except _Underflow as exc:
+        raise FileFormatError(
+            f"the number {exc} is too small for a float (it would become 0); write 0 "
+            "or a value above 1e-308"
+        ) from None
+    except RecursionError:
+        raise FileFormatError(
+            f"nested too deeply (about {_open_brackets(text)} levels of arrays or tables; "
+            f"the limit is {MAX_TOML_DEPTH})"
+        ) from None
+    except ValueError as exc:  # e.g. an integer with more than 4300 digits
+        raise FileFormatError(f"invalid TOML value: {exc}") from None
+    depth = nesting_depth(data)
+    if depth > MAX_TOML_DEPTH:
+        raise FileFormatError(
+            f"nested too deeply ({depth} or more levels of arrays or tables; "
+            f"the limit is {MAX_TOML_DEPTH})"
+        )
+    return data
+
+
+def load_toml_file(
+    path: str | os.PathLike[str],
+    parse: Callable[[dict[str, Any]], T],
+    *,
+    what: str = "TOML file",
+) -> T:
+    """Read a TOML file and ``parse`` its table; every error names the file.
+
+    The file must be a regular file of at most `MAX_TEXT_FILE_BYTES`.
+
+    Raises
+    ------
+    FileFormatError
+        For a file that is too large or not a regular file, invalid TOML,
+        non-UTF-8 text, nesting beyond `MAX_TOML_DEPTH`, or content ``parse`` rejects.
     OSError
-        If the file cannot be read.
+        If the file does not exist or cannot be read.
     """
     p = Path(path)
+    text = read_text_file(p, max_bytes=MAX_TEXT_FILE_BYTES, what=what)
     try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise FileFormatError(f"{p}: invalid TOML: {exc}") from None
-    except UnicodeDecodeError:
-        raise FileFormatError(f"{p}: not a UTF-8 text file") from None
-    try:
+        data = loads_strict(text)
         return parse(data)
     except FileFormatError as exc:
         raise FileFormatError(f"{p}: {exc}") from None

@@ -43,7 +43,10 @@ Format (every section but ``[model]`` and ``[parameters]`` is optional)::
 
 Validation is strict: an unknown key, a wrong type, a missing field or a
 value out of range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the
-key (e.g. ``parameters.kd``), so a typo never falls back to a default.
+key (e.g. ``parameters.kd``), so a typo never falls back to a default.  Sizes are
+capped at load time (file size, nesting, list lengths, text lengths, delay and
+horizon: see [`seapass.files.limits`][seapass.files.limits]); the sampling rate
+is 1 Hz to 1 MHz.
 Expressions go through the safe parser of [`seapass.model.expr`][seapass.model.expr].
 """
 
@@ -59,6 +62,15 @@ from types import MappingProxyType
 from typing import Any
 
 from ..errors import FileFormatError, SeapassError
+from ..files.limits import (
+    MAX_DELAY_SAMPLES,
+    MAX_HORIZON,
+    MAX_LIST_LENGTH,
+    MAX_NAME_CHARS,
+    MAX_TEXT_FILE_BYTES,
+    MAX_TITLE_CHARS,
+)
+from ..files.textfile import check_input_file
 from ..files.toml import load_toml_file
 from .display import html_card, short_repr
 from .sea import SEA
@@ -72,8 +84,11 @@ _MODEL = ("D1", "D2", "CA", "CL")
 _SIM = ("load_masses", "step", "horizon", "tune_mass")
 _CONTROL = ("rate", "delay", "velocity_filter")
 _RIG = ("file", "preset")
-_NAME = re.compile(r"^[A-Za-z0-9_.-]{1,64}$")
+_NAME = re.compile(rf"^[A-Za-z0-9_.-]{{1,{MAX_NAME_CHARS}}}$")
 _PARAM = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,31}$")
+_RATE = (1.0, 1e6)  # Hz: sampling rate and velocity-filter cut-off
+_MAX_MASS = 1e6  # kg
+_MAX_STEP = 100.0  # m
 
 
 @dataclass(frozen=True, repr=False)
@@ -133,6 +148,7 @@ class Design:
             raise FileFormatError(
                 f"name: {self.name!r} must be 1-64 letters, digits, '-', '_' or '.'"
             )
+        _text(self.title, "title", MAX_TITLE_CHARS)
         object.__setattr__(self, "values", MappingProxyType(dict(self.values)))
         object.__setattr__(
             self, "ranges", MappingProxyType({k: tuple(v) for k, v in self.ranges.items()})
@@ -147,7 +163,7 @@ class Design:
         try:
             sea = self.sea()
         except SeapassError as exc:
-            raise FileFormatError(f"model: {exc}") from None
+            raise FileFormatError(_in_file_terms(exc)) from None
         missing = [p for p in sea.parameters if p not in self.values]
         if missing:
             raise FileFormatError(
@@ -245,6 +261,19 @@ class Design:
         }
 
 
+def _in_file_terms(exc: SeapassError) -> str:
+    """An `SEA` error in the words of the file: ``parameters.kd``, not ``values['kd']``."""
+    msg = str(exc)
+    arg = exc.argument or ""
+    m = re.fullmatch(r"values\['(\w+)'\]", arg)
+    if m and msg.startswith(f"{arg}: "):
+        return f"parameters.{m.group(1)}: {msg[len(arg) + 2 :]}"
+    msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"add \1 to [parameters]", msg)
+    if arg in _MODEL and msg.startswith(f"{arg}: "):
+        return f"model.{msg}"
+    return f"model: {msg}"
+
+
 def _table(data: Any, key: str) -> dict[str, Any]:
     if not isinstance(data, dict):
         raise FileFormatError(f"[{key}] must be a table, got {type(data).__name__}")
@@ -277,6 +306,28 @@ def _string(value: Any, key: str) -> str:
     return value
 
 
+def _text(value: Any, key: str, limit: int) -> str:
+    """A one-line human-readable text of at most ``limit`` characters."""
+    text = _string(value, key)
+    if len(text) > limit:
+        raise FileFormatError(f"{key}: {len(text):,} characters; the limit is {limit}")
+    bad = next((ch for ch in text if not (ch.isprintable() or ch == "\t")), None)
+    if bad is not None:
+        raise FileFormatError(
+            f"{key}: contains the control character U+{ord(bad):04X}; use one line of plain text"
+        )
+    return text
+
+
+def _bounded(value: Any, key: str, lo: float, hi: float, *, open_lo: bool = True) -> float:
+    """A number in ``(lo, hi]`` (or ``[lo, hi]`` with ``open_lo=False``)."""
+    v = _number(value, key)
+    if (v <= lo if open_lo else v < lo) or v > hi:
+        bracket = "(" if open_lo else "["
+        raise FileFormatError(f"{key}: {value!r} is out of range {bracket}{lo:g}, {hi:g}]")
+    return v
+
+
 def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = ".") -> Design:
     """Validate a parsed TOML document and build a `Design`.
 
@@ -299,7 +350,7 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
             raise FileFormatError(f"missing required key {key}")
     kw: dict[str, Any] = {"name": _string(data["name"], "name")}
     if "title" in data:
-        kw["title"] = _string(data["title"], "title")
+        kw["title"] = _text(data["title"], "title", MAX_TITLE_CHARS)
     model = _table(data["model"], "model")
     _unknown(model, _MODEL, "model")
     if "D1" not in model and "D2" not in model:
@@ -335,18 +386,26 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
             masses = sim["load_masses"]
             if not isinstance(masses, list) or not masses:
                 raise FileFormatError("simulation.load_masses: expected a non-empty list of kg")
+            if len(masses) > MAX_LIST_LENGTH:
+                raise FileFormatError(
+                    f"simulation.load_masses: {len(masses):,} masses; the limit is "
+                    f"{MAX_LIST_LENGTH}"
+                )
             kw["load_masses"] = tuple(
-                _number(m, f"simulation.load_masses[{i}]", positive=True)
+                _bounded(m, f"simulation.load_masses[{i}]", 0.0, _MAX_MASS)
                 for i, m in enumerate(masses)
             )
         if "step" in sim:
             kw["step"] = _number(sim["step"], "simulation.step")
-            if kw["step"] == 0:
-                raise FileFormatError("simulation.step: must be nonzero")
+            if kw["step"] == 0 or abs(kw["step"]) > _MAX_STEP:
+                raise FileFormatError(
+                    f"simulation.step: {sim['step']!r} m must be nonzero and at most "
+                    f"{_MAX_STEP:g} m in size"
+                )
         if "horizon" in sim:
-            kw["horizon"] = _number(sim["horizon"], "simulation.horizon", positive=True)
+            kw["horizon"] = _bounded(sim["horizon"], "simulation.horizon", 0.0, MAX_HORIZON)
         if "tune_mass" in sim:
-            kw["tune_mass"] = _number(sim["tune_mass"], "simulation.tune_mass", positive=True)
+            kw["tune_mass"] = _bounded(sim["tune_mass"], "simulation.tune_mass", 0.0, _MAX_MASS)
     if "environment" in data:
         kw["environment"] = _environment(_table(data["environment"], "environment"))
     if "control" in data:
@@ -354,15 +413,18 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
         _unknown(ctl, _CONTROL, "control")
         if "rate" not in ctl:
             raise FileFormatError("missing control.rate (the sampling rate in Hz)")
-        kw["control_rate"] = _number(ctl["rate"], "control.rate", positive=True)
+        kw["control_rate"] = _bounded(ctl["rate"], "control.rate", *_RATE, open_lo=False)
         if "delay" in ctl:
             d = ctl["delay"]
-            if isinstance(d, bool) or not isinstance(d, int) or d < 0:
-                raise FileFormatError(f"control.delay: expected an integer >= 0, got {d!r}")
+            if isinstance(d, bool) or not isinstance(d, int) or not 0 <= d <= MAX_DELAY_SAMPLES:
+                raise FileFormatError(
+                    f"control.delay: expected an integer from 0 to {MAX_DELAY_SAMPLES} "
+                    f"samples, got {d!r}"
+                )
             kw["control_delay"] = d
         if "velocity_filter" in ctl:
-            kw["velocity_filter"] = _number(
-                ctl["velocity_filter"], "control.velocity_filter", positive=True
+            kw["velocity_filter"] = _bounded(
+                ctl["velocity_filter"], "control.velocity_filter", 0.0, _RATE[1]
             )
     if "rig" in data:
         rig = _table(data["rig"], "rig")
@@ -376,7 +438,14 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
             kw["rig_file"] = "paper"
         else:
             path = Path(_string(rig["file"], "rig.file"))
-            kw["rig_file"] = str(path if path.is_absolute() else Path(base_dir) / path)
+            full = path if path.is_absolute() else Path(base_dir) / path
+            try:  # a rig file is read later: refuse a device, a FIFO or a huge file now
+                check_input_file(full, max_bytes=MAX_TEXT_FILE_BYTES, what="rig file")
+            except OSError as exc:
+                raise FileFormatError(f"rig.file: {full}: {exc.strerror}") from None
+            except FileFormatError as exc:
+                raise FileFormatError(f"rig.file: {exc}") from None
+            kw["rig_file"] = str(full)
     return Design(**kw)
 
 
@@ -405,4 +474,4 @@ def load_design(path: str | os.PathLike[str]) -> Design:
         If the file cannot be read.
     """
     p = Path(path)
-    return load_toml_file(p, lambda data: parse_design(data, base_dir=p.parent))
+    return load_toml_file(p, lambda data: parse_design(data, base_dir=p.parent), what="design file")

@@ -11,8 +11,11 @@ from __future__ import annotations
 
 import ast
 import math
+import re
 import signal
 import threading
+import unicodedata
+import warnings
 from collections.abc import Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from fractions import Fraction
@@ -21,7 +24,15 @@ from typing import NamedTuple
 
 import sympy as sp
 
-from ..errors import ExpressionError, ParameterError, SymbolicLimitError
+from ..errors import ExpressionError, ParameterError, SymbolicLimitError, did_you_mean
+from ..files.limits import (
+    MAX_EXPONENT,
+    MAX_EXPRESSION_LENGTH,
+    MAX_NODES,
+    MAX_S_DEGREE,
+    MAX_TERMS,
+    SYMBOLIC_TIME_LIMIT,
+)
 
 __all__ = [
     "STANDARD_SYMBOLS",
@@ -29,6 +40,8 @@ __all__ = [
     "FractionSize",
     "S",
     "W",
+    "check_ascii",
+    "check_name",
     "check_rational_in_s",
     "check_symbolic_size",
     "finite_number",
@@ -39,6 +52,7 @@ __all__ = [
     "symbol",
     "symbolic_time_limit",
     "to_fraction",
+    "underflows",
 ]
 
 S = sp.Symbol("s")
@@ -54,17 +68,7 @@ UNITS: Mapping[str, str] = MappingProxyType(
 )  # fmt: skip
 """SI units of the standard parameters (and of the load mass ``m_L``), for labels."""
 
-MAX_EXPRESSION_LENGTH = 2000
-MAX_NODES = 400
-MAX_EXPONENT = 12
-MAX_S_DEGREE = 24
-"""Size budget of one expression once brought to a single fraction N/D (an upper bound computed
-from the tree without expanding, see `symbolic_size`): keeps every later sympy step (together,
-cancel, solve) well under a second.
-"""
-MAX_TERMS = 4000
-SYMBOLIC_TIME_LIMIT = 20.0
-"""Wall-clock budget [s] of one symbolic derivation (`symbolic_time_limit`)."""
+# the size budgets live with every other limit, in seapass.files.limits
 _RESERVED = {"s", "w", "I", "E", "pi", "oo", "nan", "zoo"}
 
 
@@ -73,7 +77,37 @@ def symbol(name: str) -> sp.Symbol:
     return sp.Symbol(name, positive=True)
 
 
-def _check_name(name: str) -> None:
+def check_ascii(text: str, what: str) -> None:
+    """Refuse non-ASCII input, saying what a lookalike character would have become.
+
+    Python folds ``ｓ`` and ``𝑠`` into ``s`` and reads ``٣`` as 3; seapass does not
+    guess: it names the character and its ASCII look-alike.
+
+    >>> check_ascii("ｓ + 1", "CA")
+    Traceback (most recent call last):
+    ...
+    seapass.errors.ExpressionError: CA: non-ASCII character 'ｓ' (U+FF53 FULLWIDTH LATIN SMALL LETTER S) in 'ｓ + 1'; write 's' instead
+    """
+    bad = next((ch for ch in text if ord(ch) > 127), None)
+    if bad is None:
+        return
+    name = unicodedata.name(bad, "unnamed character")
+    digit = unicodedata.digit(bad, None)
+    folded = str(digit) if digit is not None else unicodedata.normalize("NFKC", bad)
+    hint = (
+        f"; write {folded!r} instead"
+        if folded.isascii() and folded.strip()
+        else "; use plain ASCII letters, digits and operators"
+    )
+    shown = bad if bad.isprintable() else ""
+    where = f"{what}: " if what else ""
+    raise ExpressionError(
+        f"{where}non-ASCII character {shown!r} (U+{ord(bad):04X} {name}) in {text!r}{hint}"
+    )
+
+
+def check_name(name: str) -> None:
+    check_ascii(name, "parameter name")
     if not name.isidentifier() or name.startswith("_") or name in _RESERVED:
         raise ExpressionError(
             f"invalid parameter name {name!r}: use a plain identifier other than "
@@ -111,9 +145,13 @@ def parse_expression(text: str, allowed: Iterable[str] = STANDARD_SYMBOLS) -> sp
         raise ExpressionError(
             f"expression is {len(src)} characters long; the limit is {MAX_EXPRESSION_LENGTH}"
         )
+    check_ascii(src, "")
     allowed_set = set(allowed)
     try:
-        tree = ast.parse(src.replace("^", "**"), mode="eval")
+        with warnings.catch_warnings():
+            # e.g. '1inf': a SyntaxWarning would be a second line on stderr; it is an error
+            warnings.simplefilter("error", SyntaxWarning)
+            tree = ast.parse(src.replace("^", "**"), mode="eval")
     except SyntaxError as exc:
         raise ExpressionError(f"cannot parse expression {src!r}: {exc.msg}") from None
     nodes = sum(1 for _ in ast.walk(tree))
@@ -131,6 +169,13 @@ def _build(node: ast.AST, allowed: set[str], src: str) -> sp.Expr:
             raise ExpressionError(f"only numbers are allowed as literals in {src!r}")
         if isinstance(val, float) and not math.isfinite(val):
             raise ExpressionError(f"non-finite number in {src!r}")
+        if val == 0 and isinstance(val, float):
+            literal = ast.get_source_segment(src.replace("^", "**"), node) or ""
+            if underflows(literal):
+                raise ExpressionError(
+                    f"the number {literal} in {src!r} is too small for a float (it would "
+                    "become 0); write 0 or a value above 1e-308"
+                )
         return sp.Rational(Fraction(val)) if isinstance(val, float) else sp.Integer(val)
     if isinstance(node, ast.Name):
         if node.id == "s":
@@ -139,8 +184,9 @@ def _build(node: ast.AST, allowed: set[str], src: str) -> sp.Expr:
             return symbol(node.id)
         known = ", ".join(sorted(allowed)) or "none"
         raise ExpressionError(
-            f"unknown symbol {node.id!r} in {src!r}: known symbols are s, {known} "
-            "(declare new parameters with --set NAME=VALUE)"
+            f"unknown symbol {node.id!r} in {src!r}{did_you_mean(node.id, allowed)}: known "
+            f"symbols are s, {known}; a new parameter needs a value, "
+            f"e.g. values={{{node.id!r}: 1.0}}"
         )
     if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.UAdd | ast.USub):
         inner = _build(node.operand, allowed, src)
@@ -362,14 +408,41 @@ def check_rational_in_s(expr: sp.Expr, allowed: Iterable[str], what: str) -> sp.
     return expr
 
 
+_NONZERO_MANTISSA = re.compile(r"^\s*[+-]?[0_.]*[1-9]")
+
+
+def underflows(literal: str) -> bool:
+    """True if the decimal ``literal`` is nonzero but rounds to 0.0 as a float.
+
+    >>> underflows("1e-400"), underflows("0.0e5"), underflows("4.9e-324")
+    (True, False, False)
+    """
+    mantissa = re.split("[eE]", literal, maxsplit=1)[0]
+    try:
+        zero = float(literal) == 0.0
+    except ValueError:
+        return False
+    return zero and bool(_NONZERO_MANTISSA.match(mantissa))
+
+
 def parse_value(text: str, name: str = "value") -> float:
-    """Parse a finite real number, rejecting NaN and infinities."""
+    """Parse a finite real number, rejecting NaN, infinities, non-ASCII digits and underflow."""
+    if isinstance(text, str):
+        try:
+            check_ascii(text, name)
+        except ExpressionError as exc:
+            raise ParameterError(str(exc)) from None
     try:
         val = float(text)
     except (TypeError, ValueError):
         raise ParameterError(f"{name}: {text!r} is not a number") from None
     if not math.isfinite(val):
         raise ParameterError(f"{name}: {text!r} is not finite; give a finite number")
+    if isinstance(text, str) and underflows(text):
+        raise ParameterError(
+            f"{name}: {text.strip()} is too small for a float (it would become 0); "
+            "give 0 or a value above 1e-308"
+        )
     return val
 
 
@@ -382,7 +455,7 @@ def parse_assignment(text: str) -> tuple[str, float]:
     if not raw.strip():
         raise ParameterError(f"--set {text!r}: missing value after '=', e.g. --set {name}=1.5")
     try:
-        _check_name(name)
+        check_name(name)
     except ExpressionError as exc:
         raise ParameterError(f"--set {text!r}: {exc}") from None
     return name, parse_value(raw.strip(), name)
@@ -413,7 +486,7 @@ def validate_values(values: Mapping[str, object]) -> dict[str, float]:
     """Check parameter names and values; return a plain ``{name: float}`` dict."""
     out: dict[str, float] = {}
     for name, val in values.items():
-        _check_name(name)
+        check_name(name)
         out[name] = float(to_fraction(val, name))  # type: ignore[arg-type,unused-ignore]
     return out
 

@@ -20,7 +20,14 @@ from .display import html_card, short_repr
 from .expr import S, finite_number, symbol
 from .sea import SEA
 
-__all__ = ["INPUTS", "OUTPUTS", "ClosedLoop", "closed_loop", "closed_loop_factory"]
+__all__ = [
+    "INPUTS",
+    "OUTPUTS",
+    "ClosedLoop",
+    "closed_loop",
+    "closed_loop_factory",
+    "unrealizable_controllers",
+]
 
 INPUTS = ("theta_A", "theta_L", "f_ext")
 OUTPUTS = ("x_A", "v_A", "x_L", "v_L", "f_A", "f_D1", "a_L")
@@ -213,6 +220,29 @@ def _assemble(
     )
 
 
+def unrealizable_controllers(sea: SEA) -> dict[str, int]:
+    """Controllers that need more than one derivative: ``{name: zeros minus poles}``.
+
+    The controllers see measured positions and velocities, so ``C(s)`` may have
+    at most one more zero than poles (``kd + bd*s``).  ``kd*s**3`` needs the
+    third derivative of a measurement: it is not realizable, and a verdict on it
+    describes an ideal model only.  Degrees are those for generic parameter values.
+
+    >>> unrealizable_controllers(SEA(D1="k1", CA="kd*s**3"))
+    {'CA': 3}
+    """
+    out: dict[str, int] = {}
+    for name in ("CA", "CL"):
+        expr = getattr(sea, name)
+        if expr == 0:
+            continue
+        num, den = sp.fraction(sp.together(expr))
+        excess = int(sp.degree(num, S)) - int(sp.degree(den, S))
+        if excess > 1:
+            out[name] = excess
+    return out
+
+
 def _coeffs(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
     num, den = sp.fraction(sp.cancel(sp.together(expr)))
     return sp.Poly(num, S), sp.Poly(den, S)
@@ -224,9 +254,10 @@ def _plant_values(sea: SEA, values: Mapping[str, float] | None) -> tuple[dict, f
     for attr in ("m", "b"):
         v = sp.sympify(getattr(sea, attr)).xreplace(subs)
         if v.free_symbols:
+            names = sorted(map(str, v.free_symbols))
             raise ParameterError(
-                f"{attr} needs values for {', '.join(sorted(map(str, v.free_symbols)))}; "
-                f"give them with --set NAME=VALUE"
+                f"{attr} needs values for {', '.join(names)}; "
+                f"give them, e.g. values={{{names[0]!r}: 1.0}}"
             )
         mb.append(float(v))
     return subs, mb[0], mb[1]
@@ -263,7 +294,8 @@ def closed_loop(
         missing = sorted(str(x) for x in expr.free_symbols if x != S)
         if missing:
             raise ParameterError(
-                f"{key} needs values for {', '.join(missing)}; give them with --set NAME=VALUE"
+                f"{key} needs values for {', '.join(missing)}; give them, "
+                f"e.g. values={{{missing[0]!r}: 1.0}}"
             )
         if expr == 0:
             elems[key] = None

@@ -15,11 +15,12 @@ from typing import Any
 
 import sympy as sp
 
-from ..errors import DegenerateModelError, ExpressionError, ParameterError
+from ..errors import DegenerateModelError, ExpressionError, ParameterError, did_you_mean
 from .display import html_card, short_repr
 from .expr import (
     STANDARD_SYMBOLS,
     S,
+    check_name,
     check_rational_in_s,
     parse_expression,
     symbol,
@@ -27,7 +28,7 @@ from .expr import (
     validate_values,
 )
 
-__all__ = ["SEA", "ExprLike", "Impedance"]
+__all__ = ["SEA", "ExprLike", "Impedance", "check_used"]
 
 from typing import TypeAlias
 
@@ -43,7 +44,7 @@ def _as_expr(value: ExprLike, allowed: Iterable[str], what: str) -> sp.Expr:
         try:
             return parse_expression(value, allowed)
         except ExpressionError as exc:
-            raise ExpressionError(f"{what}: {exc}") from None
+            raise ExpressionError(f"{what}: {exc}", argument=what) from None
     if isinstance(value, bool):
         raise ExpressionError(f"{what}: expected an expression, got a boolean")
     if isinstance(value, int | float):
@@ -63,10 +64,41 @@ def _denominator(expr: sp.Expr) -> sp.Expr:
 
 
 def _freeze_values(values: Mapping[str, Any] | None) -> Mapping[str, float | None]:
+    if values is not None and not isinstance(values, Mapping):
+        raise ParameterError(
+            f"values: expected a mapping of names to numbers, got {type(values).__name__}",
+            argument="values",
+        )
     out: dict[str, float | None] = {}
     for name, val in (values or {}).items():
-        out[name] = None if val is None else validate_values({name: val})[name]
+        if not isinstance(name, str):
+            raise ParameterError(
+                f"values: parameter names must be strings, got {name!r}", argument="values"
+            )
+        key = f"values[{name!r}]"
+        try:
+            check_name(name)
+        except ExpressionError as exc:
+            raise ParameterError(f"{key}: {exc}", argument=key) from None
+        out[name] = None if val is None else float(to_fraction(val, key))
     return MappingProxyType(out)
+
+
+def check_used(values: Mapping[str, Any], used: Iterable[str], what: str = "the model") -> None:
+    """Raise if a name in ``values`` is not a parameter of the model (a typo, usually).
+
+    The message names the Python argument (``values['kdd']``) and the closest
+    parameter the model does use.
+    """
+    used = sorted(used)
+    for name in values:
+        if name not in used:
+            key = f"values[{name!r}]"
+            raise ParameterError(
+                f"{key}: {name!r} is not a parameter of {what}{did_you_mean(name, used)}; "
+                f"it uses {', '.join(used) or 'no parameters'}",
+                argument=key,
+            )
 
 
 @dataclass(frozen=True, repr=False)
@@ -94,7 +126,9 @@ class SEA:
     ExpressionError
         For unknown symbols or expressions that are not rational in ``s``.
     ParameterError
-        For non-finite values or a mass that is not positive.
+        For non-finite values, a name in ``values`` that the model does not use
+        (``values['kdd']``, with the closest name it does use), or a mass that is
+        not positive.
     DegenerateModelError
         When the load port is connected to nothing (``D1 = D2 = 0``).
     """
@@ -122,6 +156,7 @@ class SEA:
                 "degenerate model: D1 = D2 = 0 leaves the load port connected to nothing; "
                 "give a transmission, e.g. --D1 'k1'"
             )
+        check_used(vals, self.parameters)
         mass = self.numeric(self.m) if not (self.m.free_symbols - self.known) else None
         if mass is not None and mass <= 0:
             raise ParameterError(f"actuator mass m must be positive, got {float(mass):g}")
@@ -240,9 +275,16 @@ class Impedance:
             if self.num is None or self.den is None:
                 raise ExpressionError("give Z as an expression or as both num and den")
             z = _poly_expr(self.num, allowed, "num") / _poly_expr(self.den, allowed, "den")
+        # before cancelling: a parameter that cancels out was still used
+        check_used(vals, (str(x) for x in z.free_symbols if x != S), "Z")
         num, den = sp.fraction(sp.cancel(sp.together(z)))
         if sp.expand(den) == 0:
             raise DegenerateModelError("Z has a zero denominator")
+        left = {str(x) for x in (num / den).free_symbols}
+        if set(vals) - left:  # a parameter that cancelled out no longer matters
+            object.__setattr__(
+                self, "values", MappingProxyType({k: v for k, v in vals.items() if k in left})
+            )
         object.__setattr__(self, "expr", num / den)
         object.__setattr__(self, "num", None)
         object.__setattr__(self, "den", None)

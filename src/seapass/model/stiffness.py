@@ -28,6 +28,7 @@ from typing import NamedTuple
 import sympy as sp
 
 from ..errors import DegenerateModelError, SymbolicLimitError
+from ..files.limits import MAX_MODEL_DEGREE, MAX_MODEL_TERMS
 from .expr import TERM_CAP, S, W, fraction_size, symbolic_time_limit
 from .sea import SEA
 
@@ -75,21 +76,6 @@ def derive_stiffness(sea: SEA) -> StiffnessDerivation:
     """
     e = sea.elements()
     return _derive(tuple(e[k] for k in ("D1", "D2", "CA", "CL", "m", "b")))
-
-
-MAX_MODEL_DEGREE = 16
-"""Budget of the derivation: ``deg N + deg D`` of ``F_L/X_L`` (see `model_size`), checked before
-sympy starts.
-"""
-MAX_MODEL_TERMS = 200
-"""Budget of ``terms(N) + terms(D)`` of ``F_L/X_L`` (see `model_size`).  The cost of sympy's
-multivariate cancellation grows with the terms, not with the degree in ``s``: models at the limit
-derive and compile in about ten seconds, twice the limit can take minutes.  Every standard
-structure is far below it (the 72 of D1 ∈ {k1, k1 + b1 s}, D2 ∈ {0, k2, b2 s},
-C_A ∈ {0, kd, kd + bd s, kd + ki/s}, C_L ∈ {0, kd, kd + bd s}: at most 24 terms; a cascaded
-torque/velocity-loop impedance controller on a damped spring: 36; filtered PD and PID on both
-sides with a spring-damper to ground: 96).
-"""
 
 
 class _PolySize(NamedTuple):

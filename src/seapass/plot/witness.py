@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from ..analysis.passivity import Reason
 from ..analysis.witness import WitnessResult
 from .style import axes_grid
 
@@ -77,7 +78,8 @@ def plot_witness(result: WitnessResult, *, title: str = "", axes: Any = None) ->
     ax1.figure.suptitle(
         title
         or (
-            f"not passive ({result.reason}): destabilized by m_e = {env.mass:.3g} kg, "
+            f"not passive ({Reason(result.reason).description}): destabilized by "
+            f"m_e = {env.mass:.3g} kg, "
             f"b_e = {env.damping:.3g} N·s/m, k_e = {env.stiffness:.3g} N/m"
         ),
         fontsize=11,

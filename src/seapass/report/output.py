@@ -3,53 +3,163 @@
 `write_report` writes the whole directory into a temporary sibling
 directory and swaps it in only when complete: an interrupted run leaves the
 previous directory untouched.
+
+Files seapass did not write are never deleted.  The marker file
+``.seapass-report`` holds the manifest of what seapass wrote; a file the user
+added elsewhere in the directory (``notes.txt``, ``my-plots/``) is carried over
+into the new report, and a file the user put where seapass writes its own
+(``report.html``, ``report.md``, ``data/``, ``figures/``) stops the run before any
+work, naming the file.  A symbolic link given as the directory is kept: the
+directory it points to is updated.
 """
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 from pathlib import Path
 
-from ..files.atomic import atomic_write, atomic_write_text, sibling_dir
+from ..errors import OutputPathError
+from ..files.atomic import atomic_write, atomic_write_text, check_writable, sibling_dir
+from ..version import __version__
 from .document import Report
 from .render import render_html, render_markdown
 
-__all__ = ["MARKER", "check_output_dir", "write_report"]
+__all__ = ["MARKER", "OWNED", "check_output_dir", "foreign_files", "write_report"]
 
 
 MARKER = ".seapass-report"
-"""File that marks a directory as written by seapass (safe to replace)."""
+"""File that marks a directory as written by seapass, with the manifest of its files."""
+
+OWNED = ("report.html", "report.md", "data", "figures", MARKER)
+"""Top-level names seapass writes in a report directory; everything else is the user's."""
+
+
+def _target(out: Path) -> Path:
+    """The directory to update: ``out``, or the directory a symbolic link ``out`` points to."""
+    return Path(os.path.realpath(out)) if out.is_symlink() else out
+
+
+def _manifest(target: Path) -> set[str] | None:
+    """Relative paths seapass wrote in ``target``; None for a marker without a manifest."""
+    try:
+        data = json.loads((target / MARKER).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError):
+        return None
+    files = data.get("files") if isinstance(data, dict) else None
+    if not isinstance(files, list) or not all(isinstance(f, str) for f in files):
+        return None
+    return set(files)
+
+
+def _entries(target: Path) -> list[str]:
+    """Relative paths of every file, link and empty directory below ``target``."""
+    out: list[str] = []
+    for root, dirs, files in os.walk(target):
+        rel = Path(root).relative_to(target)
+        for name in files + [d for d in dirs if os.path.islink(os.path.join(root, d))]:
+            out.append((rel / name).as_posix())
+        if not dirs and not files and root != str(target):
+            out.append(rel.as_posix() + "/")
+    return sorted(out)
+
+
+def foreign_files(target: str | os.PathLike[str]) -> list[str]:
+    """Files (relative paths) in a previous report directory that seapass did not write."""
+    target = Path(target)
+    if not (target / MARKER).is_file():
+        return _entries(target) if target.is_dir() else []
+    written = _manifest(target)
+    out = []
+    for rel in _entries(target):
+        top = rel.split("/", 1)[0]
+        if rel == MARKER:
+            continue
+        # an old marker has no manifest: everything in the owned names was seapass's
+        ours = rel in written if written is not None else top in OWNED
+        if not ours:
+            out.append(rel)
+    return out
 
 
 def check_output_dir(out: str | os.PathLike[str]) -> None:
-    """Raise unless ``out`` is new, empty or a previous seapass output (call before long work)."""
+    """Raise unless ``out`` can take a report (call it before long work).
+
+    ``out`` must be new, empty, or a previous seapass report whose added files
+    lie outside ``report.html``, ``report.md``, ``data/`` and ``figures/``; its
+    parent must be writable.  A symbolic link is followed (its target is updated).
+
+    Raises
+    ------
+    OutputPathError
+        Naming the problem: a file in the way, a dangling link, a read-only
+        parent, or a directory seapass did not write.
+    """
     out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise NotADirectoryError(f"--out {str(out)!r} exists and is not a directory")
-    if out.is_dir() and any(out.iterdir()) and not (out / MARKER).exists():
-        raise FileExistsError(
-            f"--out {str(out)!r} is a non-empty directory that seapass did not write; "
-            "choose a new or empty directory (seapass replaces its own output directories only)"
-        )
+    check_writable(out, directory=True)
+    target = _target(out)
+    if target.is_dir() and any(target.iterdir()):
+        if not (target / MARKER).is_file():
+            raise OutputPathError(
+                f"out: {out} is a non-empty directory that seapass did not write; choose a "
+                "new or empty directory (seapass updates its own report directories only)",
+                argument="out",
+            )
+        clash = [f for f in foreign_files(target) if f.split("/", 1)[0] in OWNED]
+        if clash:
+            raise OutputPathError(
+                f"out: {target / clash[0]} was not written by seapass but lies where seapass "
+                f"writes its report ({', '.join(OWNED[:4])}/); move it elsewhere (files you "
+                "add outside those names are kept)",
+                argument="out",
+            )
+    check_writable(target.parent, directory=True)  # the new report is built beside it
+
+
+def _carry_over(old: Path, new: Path, rels: list[str]) -> None:
+    """Hard-link (or copy) the user's files from the old directory into the new one."""
+    for rel in rels:
+        src, dst = old / rel.rstrip("/"), new / rel.rstrip("/")
+        if rel.endswith("/"):
+            dst.mkdir(parents=True, exist_ok=True)
+            continue
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            os.link(src, dst, follow_symlinks=False)
+        except OSError:
+            if src.is_symlink():
+                os.symlink(os.readlink(src), dst)
+            else:
+                shutil.copy2(src, dst)
 
 
 def write_report(report: Report, out: str | os.PathLike[str]) -> list[Path]:
     """Write ``report.html``, ``report.md``, ``data/`` and ``figures/`` into ``out``.
 
     Everything is written into a temporary sibling directory first; only when
-    it is complete does it replace ``out`` (which must be new, empty, or a
-    previous seapass output).  Returns the written paths, relative to ``out``.
+    it is complete does it replace the previous directory.  Files the user
+    added outside the names seapass owns are carried over; a symbolic link
+    ``out`` stays a link to the updated directory.  Returns the written paths,
+    relative to ``out``.
     """
-    target = Path(out)
-    check_output_dir(target)
+    out = Path(out)
+    check_output_dir(out)
+    target = _target(out)
     target.parent.mkdir(parents=True, exist_ok=True)
     files: dict[str, str | bytes] = {
         "report.html": render_html(report),
         "report.md": render_markdown(report),
         **report.files(),
-        MARKER: "written by seapass; this directory is replaced as a whole on the next run\n",
     }
+    manifest = {
+        "written_by": "seapass",
+        "version": __version__,
+        "note": "seapass replaces the files listed here on the next run and keeps all others",
+        "files": sorted(files),
+    }
+    files[MARKER] = json.dumps(manifest, indent=1) + "\n"
+    keep = foreign_files(target) if target.is_dir() else []
     tmp = sibling_dir(target)
     old: Path | None = None
     try:
@@ -60,6 +170,7 @@ def write_report(report: Report, out: str | os.PathLike[str]) -> list[Path]:
                     fh.write(content)
             else:
                 atomic_write_text(path, content)
+        _carry_over(target, tmp, keep)
         if target.exists():
             old = sibling_dir(target, suffix=".old")
             os.replace(target, old / "previous")

@@ -41,9 +41,22 @@ def _inline_html(text: str, *, emphasis: bool = True) -> str:
     return "".join(out)
 
 
+_TAG = re.compile(r"<(?=[A-Za-z/!?])")
+
+
+def _md_safe(text: str) -> str:
+    """Neutralize HTML tags outside code spans: user text (a design title) is shown, never run.
+
+    ``<script>`` becomes ``&lt;script>``, which every Markdown viewer shows as
+    typed; ``x < 0`` is left alone.
+    """
+    parts = re.split(r"(`[^`]*`)", text)
+    return "".join(p if i % 2 else _TAG.sub("&lt;", p) for i, p in enumerate(parts))
+
+
 def _md_plain(text: str) -> str:
     """Markdown-escape ``*`` outside code spans (data such as ``w**2`` is not emphasis)."""
-    parts = re.split(r"(`[^`]*`)", text)
+    parts = re.split(r"(`[^`]*`)", _md_safe(text))
     return "".join(p if i % 2 else p.replace("*", "\\*") for i, p in enumerate(parts))
 
 
@@ -221,9 +234,9 @@ def _md_cell(value: Any) -> str:
 
 
 def _table_md(t: Table) -> list[str]:
-    lines = [f"### {t.title}", ""]
+    lines = [f"### {_md_safe(t.title)}", ""]
     if t.note:
-        lines += [t.note, ""]
+        lines += [_md_safe(t.note), ""]
     for sub, cols in _views(t):
         if sub:
             lines += [f"**{sub}**", ""]
@@ -242,13 +255,13 @@ def _table_md(t: Table) -> list[str]:
 
 def render_markdown(report: Report) -> str:
     """The report as Markdown; figures are linked from ``figures/``."""
-    lines = [f"# {report.title}", "", report.intro.strip(), ""]
+    lines = [f"# {_md_safe(report.title)}", "", _md_safe(report.intro.strip()), ""]
     for s in report.sections:
-        lines += [f"## {s.title}", ""]
+        lines += [f"## {_md_safe(s.title)}", ""]
         if s.status != "ok":
             lines += [f"*{s.status}*", ""]
         if s.text.strip():
-            lines += [s.text.strip(), ""]
+            lines += [_md_safe(s.text.strip()), ""]
         if s.findings:
             lines += ["| claim | verdict | detail |", "|---|---|---|"]
             for f in s.findings:
@@ -260,7 +273,8 @@ def render_markdown(report: Report) -> str:
         for t in s.tables:
             lines += _table_md(t)
         for fig in s.figures:
-            lines += [f"![{fig.caption}](figures/{fig.name}.png)", "", f"*{fig.caption}*", ""]
+            cap = _md_safe(fig.caption)
+            lines += [f"![{cap}](figures/{fig.name}.png)", "", f"*{cap}*", ""]
         if s.files:
             lines += ["more data: " + ", ".join(f"`data/{n}`" for n in s.files), ""]
     return "\n".join(lines).rstrip() + "\n"

@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ParameterError
+from ..files.limits import MAX_KD_GAINS
 from ..model.display import html_card, short_repr
 from ..sim.metrics import Settling
 from .findings import ExperimentFinding, sweep_findings
@@ -183,12 +184,14 @@ def _kd_grid(
             raise ParameterError(
                 f"kd must be a non-empty 1-D array of gains >= 0, got shape {arr.shape}"
             )
+        if arr.size > MAX_KD_GAINS:
+            raise ParameterError(f"kd: {arr.size:,} gains; the limit is {MAX_KD_GAINS:,}")
         return arr
     top = rig.experiment.kd_max if kd_max is None else float(kd_max)
     step = rig.experiment.kd_step if kd_step is None else float(kd_step)
     if not (top > 0 and step > 0 and math.isfinite(top) and math.isfinite(step)):
         raise ParameterError("kd_max and kd_step must be positive")
-    if top / step > 10_000:
+    if top / step > MAX_KD_GAINS:
         raise ParameterError(f"kd grid too fine: {top / step:.0f} gains; raise kd_step")
     return np.arange(0.0, top + 0.5 * step, step)
 

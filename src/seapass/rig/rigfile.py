@@ -28,6 +28,7 @@ from importlib import resources
 from typing import Any
 
 from ..errors import FileFormatError
+from ..files import limits
 from ..files.toml import dump_toml, load_toml_file
 
 __all__ = [
@@ -52,7 +53,7 @@ _INF = math.inf
 class _Field:
     kind: type  # float, int, str, bool or list (list of floats)
     lo: float = -_INF
-    hi: float = _INF
+    hi: float = _INF  # for str: the longest text; for list: the largest value
     lo_open: bool = False
     required: bool = True
     default: Any = None
@@ -162,7 +163,7 @@ _SCHEMA: dict[str, tuple[type, dict[str, _Field]]] = {
     "motor": (
         MotorSpec,
         {
-            "name": _Field(str, default="motor", required=False),
+            "name": _Field(str, hi=limits.MAX_TITLE_CHARS, default="motor", required=False),
             "rotor_inertia": _f(0.0, 1.0, open_lo=True),
             "continuous_torque": _f(0.0, 100.0, open_lo=True),
             "peak_torque": _f(0.0, 1000.0, open_lo=True),
@@ -244,8 +245,8 @@ _SCHEMA: dict[str, tuple[type, dict[str, _Field]]] = {
 }
 
 _TOP = {
-    "name": _Field(str, required=False, default="rig"),
-    "description": _Field(str, required=False, default=""),
+    "name": _Field(str, hi=limits.MAX_NAME_CHARS, required=False, default="rig"),
+    "description": _Field(str, hi=limits.MAX_DESCRIPTION_CHARS, required=False, default=""),
 }
 
 
@@ -300,6 +301,15 @@ class Rig:
             raise FileFormatError("experiment.load_masses must list at least one mass")
         if abs(self.experiment.initial_position) >= self.load.travel:
             raise FileFormatError("experiment.initial_position must lie inside ±load.travel")
+        c, n_max, steps_max = self.control, limits.MAX_RIG_SAMPLES, limits.MAX_RIG_INTEGRATOR_STEPS
+        for key, n in (("experiment.horizon", self.experiment.horizon * c.rate),
+                       ("impacts.duration", self.impacts.duration * c.rate)):  # fmt: skip
+            if n > n_max or n * c.substeps > steps_max:  # bounded before any run
+                raise FileFormatError(
+                    f"{key} × control.rate = {n:.3g} control periods per run, {c.substeps} "
+                    f"substeps each; the limits are {n_max:,} periods and {steps_max:,} "
+                    f"substeps: shorten {key} or lower control.rate or control.substeps"
+                )
 
     @property
     def actuator_mass(self) -> float:
@@ -406,10 +416,14 @@ def _check_value(key: str, spec: _Field, value: Any) -> Any:
     if spec.kind is str:
         if not isinstance(value, str):
             raise FileFormatError(f"{key}: expected a string, got {type(value).__name__}")
+        if len(value) > spec.hi:
+            raise FileFormatError(f"{key}: {len(value):,} characters; the limit is {spec.hi:g}")
         return value
     if spec.kind is list:
         if not isinstance(value, list):
             raise FileFormatError(f"{key}: expected a list of numbers, got {type(value).__name__}")
+        if len(value) > (most := limits.MAX_LIST_LENGTH):
+            raise FileFormatError(f"{key}: {len(value):,} entries; the limit is {most}")
         return tuple(_check_number(f"{key}[{i}]", spec, v, float) for i, v in enumerate(value))
     return _check_number(key, spec, value, spec.kind)
 
@@ -485,7 +499,7 @@ def load_rig(path: str | os.PathLike[str]) -> Rig:
     OSError
         When the file cannot be read.
     """
-    return load_toml_file(path, parse_rig)
+    return load_toml_file(path, parse_rig, what="rig file")
 
 
 def paper_rig() -> Rig:

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ParameterError
+from ..files.limits import MAX_RIG_INTEGRATOR_STEPS, MAX_TWIN_VALUES
 from .plant import Encoders, PlantKernel, as_batch
 from .rigfile import Rig
 
@@ -128,6 +129,13 @@ def simulate_loop(
         raise ParameterError("velocity_filter_hz must be >= 0")
     T = rig.period
     steps = round(duration / T)
+    if n * (steps + 1) > MAX_TWIN_VALUES or steps * rig.control.substeps > MAX_RIG_INTEGRATOR_STEPS:
+        raise ParameterError(
+            f"{n} run(s) of {steps + 1:,} control periods ({rig.control.substeps} substeps "
+            f"each) exceed the limits of {MAX_TWIN_VALUES:,} recorded samples and "
+            f"{MAX_RIG_INTEGRATOR_STEPS:,} integrator steps per run: run fewer gains or "
+            "shorten the duration"
+        )
 
     kern = PlantKernel(
         rig, n, load_mass=arr["load_mass"], b1=arr.get("b1"), friction=friction, saturate=saturate

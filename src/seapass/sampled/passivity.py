@@ -52,6 +52,7 @@ from typing import Any
 
 import numpy as np
 
+from ..files.limits import MAX_DELAY_SAMPLES
 from ..errors import ModelError, NotPassiveError, ParameterError
 from ..model.sea import SEA
 from .controllers import DiscreteController, Method, controller_tfs
@@ -171,7 +172,7 @@ class SampledPassivityResult:
 
 
 #: Most whole samples of computational delay accepted (each adds 2 to the polynomial degree).
-MAX_DELAY = 100
+MAX_DELAY = MAX_DELAY_SAMPLES
 
 
 def check_delay(delay: object) -> int:

@@ -45,7 +45,8 @@ import numpy as np
 import scipy.linalg
 
 from ..analysis.coupled import Stability
-from ..errors import ParameterError
+from ..errors import ParameterError, SimulationError
+from ..files.limits import MAX_SIM_STEPS
 from ..model.display import html_card, short_repr
 from ..model.expr import finite_number
 from ..model.realization import ClosedLoop, closed_loop
@@ -67,7 +68,7 @@ __all__ = [
     "simulate_closed_loop",
 ]
 
-MAX_STEPS = 5_000_000
+
 _DIVERGENCE = 1e8  # |state| above this multiple of the problem scale counts as diverged
 
 
@@ -239,6 +240,25 @@ def _scenario_setup(
     raise ParameterError(f"unknown scenario {scenario!r}")
 
 
+def _expm(m: np.ndarray, dt: float) -> np.ndarray:
+    """``expm(m dt)``, or `SimulationError` when it is not finite in double precision.
+
+    A load mass that is tiny next to the other masses makes a mode so fast that
+    the matrix exponential over one step overflows; without this check the run
+    would "diverge" and a passive design would be called unstable.
+    """
+    with np.errstate(all="ignore"):
+        e = scipy.linalg.expm(m * dt)
+    if not np.all(np.isfinite(e)):
+        rate = float(np.max(np.abs(m))) if np.all(np.isfinite(m)) else math.inf
+        raise SimulationError(
+            f"the closed loop is too stiff to simulate in double precision: a rate of "
+            f"{rate:.3g} 1/s over a time step of {dt:.3g} s; use a smaller dt, or a load mass "
+            "that is not tiny next to the other masses"
+        )
+    return e
+
+
 def _propagate_constant(
     sys: ClosedLoop, x0: np.ndarray, u0: np.ndarray, dt: float, N: int, limit: float
 ) -> np.ndarray:
@@ -246,7 +266,7 @@ def _propagate_constant(
     n = x0.size
     aug = np.zeros((n + 3, n + 3))
     aug[:n, :n], aug[:n, n:] = sys.A, sys.B
-    phi = scipy.linalg.expm(aug * dt)
+    phi = _expm(aug, dt)
     block = min(64, N)
     powers = np.empty((block, n + 3, n + 3))
     powers[0] = np.eye(n + 3)
@@ -275,7 +295,7 @@ def _propagate_general(
     sys: ClosedLoop, x0: np.ndarray, u: np.ndarray, slopes: np.ndarray, dt: float, limit: float
 ) -> np.ndarray:
     n = x0.size
-    e = scipy.linalg.expm(_foh_matrix(sys) * dt)
+    e = _expm(_foh_matrix(sys), dt)
     phi, g0, g1 = e[:n, :n], e[:n, n : n + 3], e[:n, n + 3 :]
     out = np.empty((u.shape[0], n))
     out[0] = x = x0
@@ -304,9 +324,9 @@ def simulate_closed_loop(
             f"give a longer horizon or a smaller dt"
         )
     N = math.ceil(horizon / dt - 1e-9)
-    if N > MAX_STEPS:
+    if N > MAX_SIM_STEPS:
         raise ParameterError(
-            f"horizon/dt = {N} steps exceeds the limit of {MAX_STEPS}; increase dt"
+            f"horizon/dt = {N} steps exceeds the limit of {MAX_SIM_STEPS}; increase dt"
         )
     t = np.linspace(0.0, horizon, N + 1)
     h = horizon / N
@@ -314,10 +334,11 @@ def simulate_closed_loop(
     slopes = np.diff(u, axis=0) / h if linear else np.zeros((N, 3))
     mag = max(1.0, float(np.max(np.abs(u), initial=0.0)), float(np.max(np.abs(x0), initial=0.0)))
     limit = _DIVERGENCE * mag * max(1.0, float(np.max(np.abs(sys.B), initial=0.0)))
-    if not linear and np.all(u == u[0]):
-        x = _propagate_constant(sys, x0, u[0], h, N, limit)
-    else:
-        x = _propagate_general(sys, x0, u, slopes, h, limit)
+    with np.errstate(all="ignore"):  # overflow is caught as divergence, never printed
+        if not linear and np.all(u == u[0]):
+            x = _propagate_constant(sys, x0, u[0], h, N, limit)
+        else:
+            x = _propagate_general(sys, x0, u, slopes, h, limit)
     diverged = x.shape[0] < N + 1
     K = x.shape[0]
     t, u, slopes = t[:K], u[:K], slopes[: max(K - 1, 0)]
@@ -378,7 +399,7 @@ def _exact_work(
     N = M.shape[0]
     big = np.zeros((2 * N, 2 * N))
     big[:N, :N], big[:N, N:], big[N:, N:] = -M.T, Q, M
-    E = scipy.linalg.expm(big * h)
+    E = _expm(big, h)
     W = E[N:, N:].T @ E[:N, N:]
     W = 0.5 * (W + W.T)
     w = np.hstack([x[:-1], u[: x.shape[0] - 1], slopes[: x.shape[0] - 1]])

@@ -10,6 +10,7 @@ extra ``seapass[dask]``; without it these functions raise
 from __future__ import annotations
 
 import os
+import time
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import Any
@@ -19,7 +20,9 @@ from ..errors import MissingExtraError, ParameterError
 __all__ = [
     "MALLOC_TRIM",
     "MAX_LOCAL_WORKERS",
+    "SCHEDULER_TIMEOUT",
     "available_cores",
+    "probe_scheduler",
     "check_scheduler",
     "dask_client",
     "local_cluster",
@@ -94,6 +97,70 @@ def local_cluster(workers: int | None = None) -> Iterator[Any]:
         yield cluster
 
 
+SCHEDULER_TIMEOUT = 10.0
+"""Seconds to reach a Dask scheduler, to hear its greeting and to find a worker."""
+
+
+def probe_scheduler(address: str, timeout: float = SCHEDULER_TIMEOUT) -> None:
+    """Raise `ConnectionError` unless a Dask scheduler answers at ``tcp://host:port``.
+
+    Dask's client waits without a deadline for the greeting of whatever
+    listens at the address, and reads any bytes it gets as a message length
+    (an HTTP server makes it allocate gigabytes).  So first, with a plain
+    socket and a deadline: connect, read the scheduler's handshake (a length
+    prefix, then a small msgpack map with ``python`` and ``pickle-protocol``)
+    and check it, reading at most 64 KiB.
+    """
+    import socket
+    import struct
+
+    import msgpack
+
+    hostport = address.removeprefix("tcp://")
+    host, _, port_text = hostport.rpartition(":")
+    host = host.strip("[]")
+    if not host or not port_text.isdigit() or not 0 < int(port_text) < 65536:
+        raise ParameterError(
+            f"scheduler: {address!r} is not a tcp://host:port address", argument="scheduler"
+        )
+    what = f"scheduler: nothing at {address} answers like a Dask scheduler"
+    deadline = time.monotonic() + timeout
+
+    def recv_exactly(sock: socket.socket, n: int) -> bytes:
+        data = b""
+        while len(data) < n:
+            sock.settimeout(max(deadline - time.monotonic(), 0.01))
+            chunk = sock.recv(n - len(data))
+            if not chunk:
+                raise ConnectionError(f"{what} (it closed the connection)")
+            data += chunk
+        return data
+
+    try:
+        with socket.create_connection((host, int(port_text)), timeout=timeout) as sock:
+            (size,) = struct.unpack("<Q", recv_exactly(sock, 8))
+            if not 16 <= size <= 65536:
+                raise ConnectionError(what)
+            body = recv_exactly(sock, size)
+            (frames,) = struct.unpack("<Q", body[:8])
+            if not 1 <= frames <= 16 or 8 + 8 * frames > size:
+                raise ConnectionError(what)
+            first = struct.unpack("<Q", body[8:16])[0]
+            start = 8 + 8 * frames
+            info = msgpack.unpackb(body[start : start + first], raw=False)
+            if not isinstance(info, dict) or "python" not in info:
+                raise ConnectionError(what)
+    except TimeoutError:
+        raise ConnectionError(f"{what} within {timeout:g} s") from None
+    except ConnectionError as exc:
+        if exc.errno is None:  # raised above, already says what is wrong
+            raise
+        raise ConnectionError(f"{what} ({exc.strerror})") from None
+    except (OSError, ValueError, struct.error, msgpack.UnpackException) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        raise ConnectionError(f"{what} ({reason})") from None
+
+
 @contextmanager
 def dask_client(scheduler: str, workers: int | None = None) -> Iterator[Any]:
     """A ``dask.distributed.Client`` on a new LocalCluster (``"local"``) or at an address.
@@ -107,7 +174,15 @@ def dask_client(scheduler: str, workers: int | None = None) -> Iterator[Any]:
         with local_cluster(workers) as cluster, distributed.Client(cluster) as client:
             yield client
     else:
-        with distributed.Client(scheduler, timeout=10) as client:
+        probe_scheduler(scheduler, SCHEDULER_TIMEOUT)
+        with distributed.Client(scheduler, timeout=SCHEDULER_TIMEOUT) as client:
+            try:
+                client.wait_for_workers(1, timeout=SCHEDULER_TIMEOUT)
+            except TimeoutError:
+                raise ConnectionError(
+                    f"scheduler: the Dask scheduler at {scheduler} has no workers "
+                    f"(waited {SCHEDULER_TIMEOUT:g} s); start some with 'dask worker {scheduler}'"
+                ) from None
             yield client
 
 

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FileFormatError, ParameterError
+from ..errors import FileFormatError, ParameterError, did_you_mean
 from .location import Location, open_location
 from .store import iter_batches, schema_columns
 
@@ -93,7 +93,7 @@ def heatmap_data(
     """
     where = open_location(path, storage_options)
     if x == y:
-        raise ParameterError(f"--heatmap needs two different parameters, got {x},{y}")
+        raise ParameterError(f"heat map: x and y must be different parameters, got {x},{y}")
     schema_cols = set(schema_columns(where))
     for name in (x, y):
         if name not in schema_cols:
@@ -110,7 +110,8 @@ def heatmap_data(
                 }
             )
             raise ParameterError(
-                f"--heatmap: {name!r} is not a column of {where.url}; swept parameters: {', '.join(params)}"
+                f"heat map: {name!r} is not a column of {where.url}{did_you_mean(name, params)}; "
+                f"swept parameters: {', '.join(params)}"
             )
     has_metrics = "settling_time" in schema_cols
     xc, xb = _axis_bins(where, x, bins)

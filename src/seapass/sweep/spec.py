@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError
+from ..files.limits import MAX_DESIGNS
 from ..model.expr import parse_value
 from ..model.sea import SEA
 
@@ -39,9 +40,6 @@ __all__ = [
 LOAD_MASS = "m_L"
 
 
-MAX_DESIGNS = 10**12
-
-
 @dataclass(frozen=True)
 class GridAxis:
     """Values ``lo, lo + step, …`` up to ``hi`` inclusive (within 1e-9 steps)."""
@@ -55,12 +53,14 @@ class GridAxis:
         for attr in ("lo", "hi", "step"):
             v = float(getattr(self, attr))
             if not math.isfinite(v):
-                raise ParameterError(f"--grid {self.name}: {attr} must be finite")
+                raise ParameterError(f"grid axis {self.name}: {attr} must be finite")
             object.__setattr__(self, attr, v)
         if self.step <= 0:
-            raise ParameterError(f"--grid {self.name}: step must be positive, got {self.step:g}")
+            raise ParameterError(f"grid axis {self.name}: step must be positive, got {self.step:g}")
         if self.hi < self.lo:
-            raise ParameterError(f"--grid {self.name}: hi ({self.hi:g}) is below lo ({self.lo:g})")
+            raise ParameterError(
+                f"grid axis {self.name}: hi ({self.hi:g}) is below lo ({self.lo:g})"
+            )
 
     @property
     def size(self) -> int:
@@ -82,10 +82,10 @@ class RangeAxis:
         for attr in ("lo", "hi"):
             v = float(getattr(self, attr))
             if not math.isfinite(v):
-                raise ParameterError(f"--range {self.name}: {attr} must be finite")
+                raise ParameterError(f"range {self.name}: {attr} must be finite")
             object.__setattr__(self, attr, v)
         if self.hi < self.lo:
-            raise ParameterError(f"--range {self.name}: hi ({self.hi:g}) is below lo ({self.lo:g})")
+            raise ParameterError(f"range {self.name}: hi ({self.hi:g}) is below lo ({self.lo:g})")
 
 
 def _split_spec(text: str, flag: str, parts: int) -> tuple[str, list[float]]:
@@ -170,13 +170,17 @@ class SweepSpec:
         object.__setattr__(self, "ranges", tuple(self.ranges))
         if bool(self.grid) == bool(self.ranges):
             raise ParameterError(
-                "give either grid axes (--grid NAME=LO:HI:STEP) or random ranges "
-                "(--sample N --range NAME=LO:HI), not both or neither"
+                "give either grid axes (grid: NAME=LO:HI:STEP) or random ranges and a number "
+                "of samples (ranges: NAME=LO:HI, samples: N), not both or neither"
             )
         if self.ranges and (self.samples is None or self.samples < 1):
-            raise ParameterError("random sampling needs --sample N with N >= 1")
+            raise ParameterError(
+                "samples: random sampling needs a number of samples N >= 1", argument="samples"
+            )
         if self.grid and self.samples is not None:
-            raise ParameterError("--sample is only for random ranges; a grid has its own size")
+            raise ParameterError(
+                "samples: only for random ranges; a grid has its own size", argument="samples"
+            )
         names = self.names
         dup = sorted({n for n in names if names.count(n) > 1})
         if dup:
@@ -192,7 +196,7 @@ class SweepSpec:
         if missing:
             raise ParameterError(
                 f"parameter(s) {', '.join(missing)} have no value: sweep them or give "
-                f"--set {missing[0]}=VALUE"
+                f"them a value, e.g. values={{{missing[0]!r}: 1.0}}"
             )
         if not 1 <= self.chunk_size <= 10**7:
             raise ParameterError(f"chunk size must be in [1, 1e7], got {self.chunk_size}")
@@ -203,11 +207,15 @@ class SweepSpec:
             )
         if self.metrics:
             if not (math.isfinite(self.load_mass) and self.load_mass > 0):
-                raise ParameterError(f"--load-mass must be positive, got {self.load_mass}")
+                raise ParameterError(
+                    f"load_mass: must be positive, got {self.load_mass}", argument="load_mass"
+                )
             if not (math.isfinite(self.horizon) and self.horizon > 0):
-                raise ParameterError(f"--horizon must be positive, got {self.horizon}")
+                raise ParameterError(
+                    f"horizon: must be positive, got {self.horizon}", argument="horizon"
+                )
             if not (math.isfinite(self.step) and self.step != 0):
-                raise ParameterError(f"--step must be nonzero, got {self.step}")
+                raise ParameterError(f"step: must be nonzero, got {self.step}", argument="step")
 
     @property
     def names(self) -> list[str]:

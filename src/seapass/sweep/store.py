@@ -308,7 +308,7 @@ def _read_existing_manifest(parts: Location, names: list[str], spec: SweepSpec) 
     if doc["fingerprint"] != fp:
         raise FileFormatError(
             f"{parts.url} holds a different sweep (fingerprint {doc['fingerprint']}, this "
-            f"one {fp}); use another out (--out) or delete it"
+            f"one {fp}); use another output path or delete it"
         )
     if int(doc.get("format", 1)) > MANIFEST_FORMAT:
         raise FileFormatError(

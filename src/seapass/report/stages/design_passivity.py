@@ -11,7 +11,7 @@ import sympy as sp
 
 from ...analysis.conditions import exact_passivity_condition
 from ...analysis.environment_box import bounds_from_mapping
-from ...analysis.passivity import is_passive
+from ...analysis.passivity import Reason, is_passive
 from ...analysis.region import passive_intervals
 from ...analysis.witness import find_destabilizing_environment
 from ...errors import SeapassError
@@ -84,7 +84,7 @@ def stage_passivity(design: Design, quick: bool) -> Section:
             else ""
         )
         verdict = (
-            f"**The design is NOT passive** at the given values: {res.detail or res.reason}.{w} "
+            f"**The design is NOT passive** at the given values: {res.detail or Reason(res.reason).description}.{w} "
             "Coupled to some passive environment (a person, a spring, a mass) it can become "
             "unstable. See the passive ranges below for values that are safe."
         )
