@@ -8,7 +8,6 @@ import functools
 import io
 import math
 import sys
-from pathlib import Path
 from typing import Any
 
 from ..errors import ParameterError
@@ -317,8 +316,7 @@ def _fit(args: argparse.Namespace) -> int:
     if args.plot:
         write_figure(fit.plot, args.plot)
     if updated is not None:
-        atomic_write_text(Path(args.rig_out), updated.to_toml())
-        print(f"wrote {args.rig_out}", file=sys.stderr)
+        write_text(args.rig_out, updated.to_toml())
     for name in fit.poorly_determined:
         others = fit.confounded(name)
         why = (

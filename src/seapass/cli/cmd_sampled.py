@@ -71,8 +71,7 @@ def _loop_options(
         type=int,
         default=4096,
         metavar="BITS",
-        help="cap of the ball arithmetic's working precision; beyond it the answer is "
-        "'undecided'",
+        help="cap of the ball arithmetic's working precision; beyond it the answer is 'undecided'",
     )
     add_json_option(p)
     add_out_dir_option(p, "figures, CSV and JSON")
@@ -259,7 +258,8 @@ def run_region(args: argparse.Namespace) -> int:
     if args.p1 == args.p2:
         raise ParameterError(f"sampled region: give two different parameters, got {args.p1} twice")
     sea = model_from_args(
-        args, extra_free={args.p1: f"sampled region {args.p1}", args.p2: f"sampled region {args.p2}"}
+        args,
+        extra_free={args.p1: f"sampled region {args.p1}", args.p2: f"sampled region {args.p2}"},
     )
     warn_unrealizable(sea)
     d = max(int(args.delay), 1)

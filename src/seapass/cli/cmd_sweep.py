@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import pathlib
 import sys
 
 from ..errors import ParameterError, did_you_mean
@@ -176,7 +177,7 @@ def run(args: argparse.Namespace) -> int:
                     f"parameters: {', '.join(spec.names)}"
                 )
     if "://" not in args.out and "::" not in args.out:  # a URL is checked by fsspec
-        out = Path(args.out)
+        out = pathlib.Path(args.out)
         check_writable(out, directory=out.suffix.lower() not in (".parquet", ".csv"))
     try:
         result = run_design_sweep(

@@ -78,8 +78,8 @@ __all__ = [
     "warn",
     "warn_unrealizable",
     "write_bytes",
-    "write_text",
     "write_figure",
+    "write_text",
 ]
 
 EXIT_CODES = """exit codes:

@@ -52,8 +52,8 @@ from typing import Any
 
 import numpy as np
 
-from ..files.limits import MAX_DELAY_SAMPLES
 from ..errors import ModelError, NotPassiveError, ParameterError
+from ..files.limits import MAX_DELAY_SAMPLES
 from ..model.sea import SEA
 from .controllers import DiscreteController, Method, controller_tfs
 from .lowfreq import LowFrequency, low_frequency_of

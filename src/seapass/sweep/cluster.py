@@ -22,10 +22,10 @@ __all__ = [
     "MAX_LOCAL_WORKERS",
     "SCHEDULER_TIMEOUT",
     "available_cores",
-    "probe_scheduler",
     "check_scheduler",
     "dask_client",
     "local_cluster",
+    "probe_scheduler",
     "run_bounded",
     "total_threads",
 ]
