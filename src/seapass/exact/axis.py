@@ -150,8 +150,7 @@ def sign_regions(px: fmpq_poly) -> tuple[list[ep.Interval], list[fmpq]]:
     tight: list[ep.Interval] = []
     prev = fmpq(0)
     for a, b in ep.isolate_real_roots(px, 0):
-        while a <= prev:
-            a, b = ep.refine(px, (a, b), (b - a) / 2)
+        a, b = ep.refine_past(px, (a, b), prev)
         tight.append((a, b))
         prev = b
     points: list[fmpq] = []

@@ -107,8 +107,7 @@ def half_line_cells(polys: Sequence[ep.PolyLike]) -> list[HalfLinePoint]:
     for a, b in ep.isolate_real_roots(sf, 0):
         if sf(b) == 0:
             a = b  # the root is the rational b
-        while a <= prev and a != b:  # make room for a sample after the previous root
-            a, b = ep.refine(sf, (a, b), (b - a) / 2)
+        a, b = ep.refine_past(sf, (a, b), prev)  # room for a sample after the previous root
         # a rational root a == b: no root in (prev, a); else prev < a < root
         out.append(HalfLinePoint((prev + a) / 2, (prev + a) / 2))
         out.append(HalfLinePoint(a, b, sf) if a != b else HalfLinePoint(a, a))

@@ -72,6 +72,7 @@ __all__ = [
     "positive_roots_odd_multiplicity",
     "rational",
     "refine",
+    "refine_past",
     "root_value",
     "sign",
     "sign_at",
@@ -244,11 +245,10 @@ def _complex_roots(z: fmpz_poly) -> list[tuple[acb, int]]:
     return cast("list[tuple[acb, int]]", z.complex_roots())
 
 
-def _certified_real_roots(sf: fmpq_poly) -> list[_Root]:
-    """Real roots of a squarefree ``sf`` (degree >= 1), ascending, exactly isolated."""
-    z = sf.numer()  # same roots and same signs (positive denominator)
-    found = _complex_roots(z)
-    if len(found) != z.degree() or any(m != 1 for _, m in found):
+def _factor_roots(f: fmpz_poly) -> list[_Root]:
+    """The real roots of an irreducible (or squarefree) integer polynomial ``f``, certified."""
+    found = _complex_roots(f)
+    if len(found) != f.degree() or any(m != 1 for _, m in found):
         raise ArithmeticError("root isolation did not return every simple root")
     out: list[_Root] = []
     for c, _ in found:
@@ -256,17 +256,64 @@ def _certified_real_roots(sf: fmpq_poly) -> list[_Root]:
             continue  # certified non-real (FLINT zeroes the imaginary part of real roots only)
         mid, rad = _dyadic(c.real.mid()), _dyadic(c.real.rad())
         a, b = mid - rad, mid + rad
-        sa, sb = sign(z(a)), sign(z(b))
+        sa, sb = sign(f(a)), sign(f(b))
         if sa == 0 or rad == 0:
-            out.append(_Root(z, a, a, 0) if sa == 0 else _Root(z, b, b, 0))
+            out.append(_Root(f, a, a, 0) if sa == 0 else _Root(f, b, b, 0))
         elif sb == 0:
-            out.append(_Root(z, b, b, 0))
+            out.append(_Root(f, b, b, 0))
         elif sa == -sb:
-            out.append(_Root(z, a, b, sa))
+            out.append(_Root(f, a, b, sa))
         else:
             raise ArithmeticError(
                 "certified root enclosure failed the exact sign check; refusing to guess"
             )
+    return out
+
+
+def _separate(roots: list[_Root]) -> list[_Root]:
+    """Sort roots of pairwise coprime factors and narrow them (exactly) until disjoint."""
+    roots = sorted(roots, key=lambda r: r.lo)
+    i, steps = 0, 0
+    while i < len(roots) - 1:
+        r, s = roots[i], roots[i + 1]
+        if r.hi < s.lo:
+            i += 1
+            continue
+        wider = r if r.hi - r.lo >= s.hi - s.lo else s
+        if wider.lo == wider.hi:  # two exact roots at one point: the factors were not coprime
+            raise ArithmeticError("roots of coprime factors coincide; refusing to guess")
+        wider.cmp((wider.lo + wider.hi) / 2)
+        steps += 1
+        if steps > MAX_BISECTIONS:
+            raise ArithmeticError("could not separate the real roots within the bisection bound")
+        roots.sort(key=lambda r: r.lo)
+        i = max(i - 1, 0)
+    return roots
+
+
+def _certified_real_roots(sf: fmpq_poly) -> list[_Root]:
+    """Real roots of a squarefree ``sf`` (degree >= 1), ascending, exactly isolated.
+
+    ``sf`` is split into irreducible factors over the integers first: FLINT's
+    root finder is fast on each, but can take very long on a product whose
+    factors share near-equal roots (clusters hundreds of decades away, from
+    extreme parameter values).  The factors' roots are separated exactly and
+    re-checked on ``sf`` itself.
+    """
+    z = sf.numer()  # same roots and same signs (positive denominator)
+    _content, factors = z.factor()
+    if any(e != 1 for _, e in factors) or sum(f.degree() for f, _ in factors) != z.degree():
+        raise ArithmeticError("a squarefree polynomial factored with a repeated factor")
+    roots = _separate([r for f, _ in factors for r in _factor_roots(f)])
+    out: list[_Root] = []
+    for r in roots:
+        if r.lo == r.hi:
+            out.append(_Root(z, r.lo, r.lo, 0))
+            continue
+        sa, sb = sign(z(r.lo)), sign(z(r.hi))
+        if sa == 0 or sa != -sb:
+            raise ArithmeticError("a separated root failed the exact sign check; refusing to guess")
+        out.append(_Root(z, r.lo, r.hi, sa))
     if any(r.hi >= s.lo for r, s in itertools.pairwise(out)):
         raise ArithmeticError("real root enclosures overlap; refusing to guess")
     return out
@@ -352,10 +399,53 @@ def _bisect_once(sf: Poly, a: fmpq, b: fmpq) -> Interval:
 
 def _refine_sf(sf: Poly, iv: Interval, width: fmpq) -> Interval:
     a, b = iv
-    if a == b or sf(b) == 0:
+    if a == b:
         return b, b
-    while b - a > width and a != b:
-        a, b = _bisect_once(sf, a, b)
+    sb = sign(sf(b))
+    if sb == 0:
+        return b, b
+    while b - a > width:
+        mid = (a + b) / 2
+        sm = sign(sf(mid))
+        if sm == 0:
+            return mid, mid
+        if sm == sb:
+            b = mid
+        else:
+            a = mid
+    return a, b
+
+
+def refine_past(p: Poly, iv: Interval, x: RationalLike) -> Interval:
+    """Bisect an isolating interval ``(a, b]`` of a root of ``p`` until ``a > x`` (or ``a == b``).
+
+    The same intervals as halving the width with `refine` step by step, with
+    the squarefree part computed once.  The root must lie above ``x``.
+
+    >>> refine_past(fmpq_poly([-2, 0, 1]), (fmpq(0), fmpq(2)), 1)   # √2 in (5/4, 3/2]
+    (5/4, 3/2)
+    """
+    a, b = iv
+    xq = rational(x)
+    if a == b or a > xq:
+        return a, b
+    sf = squarefree_part(p)
+    sb = sign(sf(b))
+    if sb == 0:
+        return b, b
+    steps = 0
+    while a <= xq:
+        mid = (a + b) / 2
+        sm = sign(sf(mid))
+        if sm == 0:
+            return mid, mid
+        if sm == sb:
+            b = mid
+        else:
+            a = mid
+        steps += 1
+        if steps > MAX_BISECTIONS:
+            raise ArithmeticError(f"the root is not above {xq} after {MAX_BISECTIONS} bisections")
     return a, b
 
 
