@@ -91,11 +91,12 @@ def test_repeated_set_name_is_an_error() -> None:
 
 
 def test_tune_bound_typo_is_an_error_before_tuning(monkeypatch: pytest.MonkeyPatch) -> None:
-    forbid(monkeypatch, "seapass.sim.tuning._run_de")
-    one_error(["tune", "--design", "APD", "--bound", "kx=0:5"], "--bound kx", "not a gain of APD")
-    one_error(["tune", "--design", "APD", "--bound", "bdd=0:5"], "did you mean 'bd'?")
+    forbid(monkeypatch, "seapass.tuning.search.differential_search")
+    one_error(["tune", "APD", "--tune", "kx=0:5"], "--tune kx", "not a parameter of the design")
+    one_error(["tune", "APD", "--tune", "bdd=0:5"], "did you mean 'bd'?")
+    one_error(["tune", "APD", "--tune", "kd=0:5", "--tune", "kd=0:6"], "twice")
     one_error(["tune", "--design", "APD", "--bound", "kd=0:5", "--bound", "kd=0:6"], "twice")
-    one_error(["tune", "--design", "LP", "--set", "kk1=5"], "--set kk1", "did you mean 'k1'?")
+    one_error(["tune", "LP", "--set", "kk1=5"], "--set kk1", "did you mean 'k1'?")
 
 
 def test_sweep_grid_and_range_names_are_checked(tmp_path: Path) -> None:

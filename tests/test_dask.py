@@ -48,7 +48,7 @@ def test_cli_local_cluster_with_workers(
     args = ["sweep", "--D1", "k1 + b1*s", "--CL", "kd", "--set", "m=1", "--set", "b=10",
             "--set", "k1=1000", "--grid", "b1=0:40:20", "--grid", "kd=500:1500:250",
             "--horizon", "1", "--chunk-size", "4", "--no-progress",
-            "--scheduler", "local", "--workers", "1", "--out", str(out)]  # fmt: skip
+            "--scheduler", "local", "--workers", "1", "--out", str(out), "--json"]  # fmt: skip
     assert main(args) == 0
     captured = capsys.readouterr()
     summary = json.loads(captured.out)

@@ -231,7 +231,13 @@ def test_bound_agrees_with_coupled_stability(make, inside: float, outside: float
 
 def test_structure_outside_the_supported_class_is_refused() -> None:
     with pytest.raises(ModelError, match="static stiffness"):
-        plant_of(SEA(D1="b1*s", CL="kd", values={**RIG, "kd": 1.0}))
+        plant_of(
+            SEA(
+                D1="b1*s",
+                CL="kd",
+                values={**{k: v for k, v in RIG.items() if k != "k1"}, "kd": 1.0},
+            )
+        )
     with pytest.raises(ModelError, match="dissipative"):
         sampled_passivity(lp(kd=100.0, b=0.0), period=T)
     with pytest.raises(ParameterError):
@@ -261,7 +267,7 @@ def test_bound_edges_are_enclosures() -> None:
 def test_range_from_zero_on_the_textbook_spring() -> None:
     """Issue 11, defect 2: the plain virtual spring from kd = 0; the limit is 2b/T."""
     r = sampled_passive_bound(
-        SEA(D1="k1", CA="kd", values={**RIG, "kd": None}), "kd", period=T, lo=0, hi=2e4
+        SEA(D1="k1", CA="kd", values={**RIG_K1, "kd": None}), "kd", period=T, lo=0, hi=2e4
     )
     assert r.intervals[0][0] == 0.0
     assert r.max_passive == pytest.approx(2 * RIG["b"] / T, rel=1e-9)

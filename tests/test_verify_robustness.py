@@ -17,14 +17,9 @@ from seapass.analysis.passivity import MARGINAL_RTOL, TOLERANCE_POLICY, is_passi
 from seapass.analysis.region import passive_intervals
 from seapass.cli import main
 from seapass.errors import ExpressionError, SymbolicLimitError
-from seapass.model.expr import (
-    MAX_S_DEGREE,
-    S,
-    parse_expression,
-    symbol,
-    symbolic_size,
-    symbolic_time_limit,
-)
+from seapass.files.limits import MAX_S_DEGREE
+from seapass.model.budget import symbolic_size, symbolic_time_limit
+from seapass.model.expr import S, parse_expression, symbol
 from seapass.model.sea import SEA, Impedance
 from seapass.model.stiffness import load_impedance
 

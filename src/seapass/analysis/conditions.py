@@ -27,7 +27,8 @@ import sympy as sp
 from sympy.logic.boolalg import Boolean
 
 from ..errors import SymbolicLimitError
-from ..model.expr import S, W, symbolic_time_limit
+from ..model.budget import symbolic_time_limit
+from ..model.expr import S, W
 from ..model.sea import SEA, Impedance
 from ..model.stiffness import load_impedance, num_den, real_part_polynomial
 

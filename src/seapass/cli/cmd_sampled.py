@@ -220,8 +220,8 @@ def run_bound(args: argparse.Namespace) -> int:
     from ..sampled.bound import sampled_passive_bound
 
     lo, hi = _range(args.range)
-    _check_rtol(args.rtol)
     kw = _loop_kw(args)
+    _check_rtol(args.rtol)
     d = check_out_dir(args.out)
     sea = model_from_args(args, extra_free={args.param: f"sampled bound {args.param}"})
     warn_unrealizable(sea)
@@ -252,8 +252,8 @@ def run_region(args: argparse.Namespace) -> int:
 
     lo1, hi1 = _range(args.range)
     lo2, hi2 = _range(args.range2, "--range2")
-    _check_rtol(args.rtol)
     kw = _loop_kw(args)
+    _check_rtol(args.rtol)
     out = check_out_dir(args.out)
     if args.p1 == args.p2:
         raise ParameterError(f"sampled region: give two different parameters, got {args.p1} twice")

@@ -257,16 +257,13 @@ def _factor_roots(f: fmpz_poly) -> list[_Root]:
         mid, rad = _dyadic(c.real.mid()), _dyadic(c.real.rad())
         a, b = mid - rad, mid + rad
         sa, sb = sign(f(a)), sign(f(b))
-        if sa == 0 or rad == 0:
-            out.append(_Root(f, a, a, 0) if sa == 0 else _Root(f, b, b, 0))
-        elif sb == 0:
-            out.append(_Root(f, b, b, 0))
+        if sa == 0 or sb == 0 or rad == 0:  # an exact rational root
+            x = a if sa == 0 else b
+            out.append(_Root(f, x, x, 0))
         elif sa == -sb:
             out.append(_Root(f, a, b, sa))
         else:
-            raise ArithmeticError(
-                "certified root enclosure failed the exact sign check; refusing to guess"
-            )
+            raise ArithmeticError("enclosure fails the exact sign check; refusing to guess")
     return out
 
 
@@ -294,11 +291,9 @@ def _separate(roots: list[_Root]) -> list[_Root]:
 def _certified_real_roots(sf: fmpq_poly) -> list[_Root]:
     """Real roots of a squarefree ``sf`` (degree >= 1), ascending, exactly isolated.
 
-    ``sf`` is split into irreducible factors over the integers first: FLINT's
-    root finder is fast on each, but can take very long on a product whose
-    factors share near-equal roots (clusters hundreds of decades away, from
-    extreme parameter values).  The factors' roots are separated exactly and
-    re-checked on ``sf`` itself.
+    Per irreducible factor: FLINT's root finder can take minutes on a product
+    whose factors share near-equal roots (from extreme values); the factors'
+    roots are separated exactly and re-checked on ``sf``.
     """
     z = sf.numer()  # same roots and same signs (positive denominator)
     _content, factors = z.factor()
@@ -307,12 +302,9 @@ def _certified_real_roots(sf: fmpq_poly) -> list[_Root]:
     roots = _separate([r for f, _ in factors for r in _factor_roots(f)])
     out: list[_Root] = []
     for r in roots:
-        if r.lo == r.hi:
-            out.append(_Root(z, r.lo, r.lo, 0))
-            continue
-        sa, sb = sign(z(r.lo)), sign(z(r.hi))
-        if sa == 0 or sa != -sb:
-            raise ArithmeticError("a separated root failed the exact sign check; refusing to guess")
+        sa = sign(z(r.lo)) if r.lo != r.hi else 0
+        if r.lo != r.hi and (sa == 0 or sa != -sign(z(r.hi))):
+            raise ArithmeticError("a separated root failed the exact sign check")
         out.append(_Root(z, r.lo, r.hi, sa))
     if any(r.hi >= s.lo for r, s in itertools.pairwise(out)):
         raise ArithmeticError("real root enclosures overlap; refusing to guess")

@@ -1,7 +1,8 @@
 """The model: safe expressions, the immutable SEA, its stiffness, its realization, the catalog.
 
 What lives here: [`expr`][seapass.model.expr] (the safe parser and value
-checks), [`sea`][seapass.model.sea] (`SEA`, `Impedance`),
+checks), [`budget`][seapass.model.budget] (size bounds and a time limit for the
+symbolic work), [`sea`][seapass.model.sea] (`SEA`, `Impedance`),
 [`stiffness`][seapass.model.stiffness] (the rendered stiffness ``F_L/X_L`` derived
 from first principles), [`realization`][seapass.model.realization] (the closed loop as
 a state-space system), [`catalog`][seapass.model.catalog] (the one catalog of named

@@ -29,7 +29,8 @@ import sympy as sp
 
 from ..errors import DegenerateModelError, SymbolicLimitError
 from ..files.limits import MAX_MODEL_DEGREE, MAX_MODEL_TERMS
-from .expr import TERM_CAP, S, W, fraction_size, symbolic_time_limit
+from .budget import TERM_CAP, fraction_size, symbolic_time_limit
+from .expr import S, W
 from .sea import SEA
 
 __all__ = [
@@ -97,7 +98,7 @@ def model_size(sea: SEA) -> tuple[int, int]:
     """Upper bounds ``(deg N + deg D, terms(N) + terms(D))`` of ``F_L/X_L = N/D`` of ``sea``.
 
     Each element ``E = n_E/d_E`` is bounded by
-    [`fraction_size`][seapass.model.expr.fraction_size]; the stiffness is then
+    [`fraction_size`][seapass.model.budget.fraction_size]; the stiffness is then
     bounded on its structure after the common denominators ``d_D1 d_CA`` (and
     that of ``m, b``) cancel, which they always do:
 

@@ -1,7 +1,8 @@
 """The hardware rig: its file, the digital twin, the paper's experiment on it, and your own rig.
 
 What lives here: [`rigfile`][seapass.rig.rigfile] (`Rig` and its strict TOML
-loader and writer), [`packaged`][seapass.rig.packaged] (the template for your
+loader and writer), [`schema`][seapass.rig.schema] (its sections, every key typed
+and range-checked), [`packaged`][seapass.rig.packaged] (the template for your
 rig; whether a rig is the paper's bench), [`plant`][seapass.rig.plant] (the
 nonlinear plant: friction, saturation, encoders), [`twin`][seapass.rig.twin]
 (batches of sampled closed loops on it), [`experiment`][seapass.rig.experiment],

@@ -117,7 +117,7 @@ def _discretize(
     if method == "zoh" and lam in proper.free_symbols:
         raise ParameterError(
             f"{lam} sits in a strictly proper controller part discretized by ZOH; "
-            "bounds need --method tustin or backward there"
+            "bounds need method='tustin' or 'backward' there"
         )
     err, deriv = discrete_paths(
         coeffs, proper, period, method=method, velocity_filter=velocity_filter

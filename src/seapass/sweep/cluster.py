@@ -64,7 +64,7 @@ def _import_distributed() -> Any:
     except ImportError:
         raise MissingExtraError(
             "scheduler: running on Dask needs the dask extra; install it with "
-            "pip install 'seapass[dask]' (or run without --scheduler)"
+            "pip install 'seapass[dask]' (or run without a scheduler)"
         ) from None
     return distributed
 

@@ -187,13 +187,13 @@ class SweepStore:
             old, new = (f"{self.parts.url}/{name}" for name in (LEGACY_MANIFEST, MANIFEST))
             hint = (
                 f"; it has an old-style {LEGACY_MANIFEST}, which dataset readers take for a "
-                f"part: rerun with resume (--resume) to migrate it to {MANIFEST}, or rename it "
+                f"part: rerun with resume=True to migrate it to {MANIFEST}, or rename it "
                 f"yourself (mv {old} {new})"
                 if legacy
                 else ""
             )
             raise FileFormatError(
-                f"{self.parts.url} holds {what} of this sweep; pass resume (--resume) to continue it, "
+                f"{self.parts.url} holds {what} of this sweep; pass resume=True to continue it, "
                 f"or delete the directory to start over{hint}"
             )
         for n in names:  # temporary files of writes that a hard kill interrupted
@@ -240,7 +240,7 @@ class SweepStore:
             raise FileFormatError(
                 f"a worker wrote {where.name} ({s.nbytes} bytes) but this client sees "
                 f"{'no such file' if where.size() is None else f'{where.size()} bytes'} at "
-                f"{self.parts.url}: out (--out) must be on a file system shared by the client and "
+                f"{self.parts.url}: out must be on a file system shared by the client and "
                 "every worker, or an object store URL such as s3://bucket/sweep/"
             )
         self._checked_visible = True
@@ -279,7 +279,7 @@ class SweepStore:
             self.flush()
             raise FileFormatError(
                 f"{len(missing)} of {self.spec.n_chunks} parts are missing from "
-                f"{self.parts.url} (first: chunk {missing[0]}); rerun with resume (--resume)"
+                f"{self.parts.url} (first: chunk {missing[0]}); rerun with resume=True"
             )
         if not self.columns and self.spec.n_chunks:
             self.columns = tuple(schema_columns(self.parts))
@@ -295,7 +295,7 @@ def _read_existing_manifest(parts: Location, names: list[str], spec: SweepSpec) 
     if name is None:
         raise FileFormatError(
             f"{parts.url} exists and is not a seapass sweep directory (no {MANIFEST}); "
-            "choose another out (--out)"
+            "choose another out"
         )
     where = parts.child(name)
     try:
