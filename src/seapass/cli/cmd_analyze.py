@@ -39,6 +39,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         metavar="LIST",
         help="comma-separated stages (default: all; 'core' = passivity,stiffness,ranges)",
     )
+    p.add_argument(
+        "--jobs",
+        type=int,
+        default=2,
+        metavar="N",
+        help="worker processes for the independent stages (default 2; 1 = sequential)",
+    )
     p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
     p.set_defaults(func=run)
 
@@ -58,6 +65,7 @@ def run(args: argparse.Namespace) -> int:
         stages=parse_stages(args.stages),
         progress=False if args.no_progress else None,
         log=lambda line: print(line, file=sys.stderr),
+        jobs=args.jobs,
     )
     out = Path(args.out)
     write_report(report, out)

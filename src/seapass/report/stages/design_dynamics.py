@@ -16,9 +16,8 @@ from ...model.catalog import SIMULATION_DESIGNS
 from ...model.design_file import Design
 from ...model.expr import STANDARD_SYMBOLS, parse_expression
 from ...paper.simstudy import QUICK_OPTIONS
-from ...plot.response import plot_stiffness_response
+from ...plot.response import plot_stiffness_bode
 from ...plot.sim import plot_step_responses
-from ...plot.style import figure_bytes
 from ...sim.metrics import tracking_metrics
 from ...sim.simulate import Step, simulate
 from ...sim.tuning import TuningOptions, tune
@@ -35,11 +34,14 @@ __all__ = [
 
 
 def stage_stiffness(design: Design, quick: bool) -> Section:
-
+    """Magnitude and phase of the rendered stiffness ``F_L/X_L(jω)``."""
     sea = design.sea()
     r = stiffness_response(sea, np.logspace(-1, 4, 200 if quick else 400), label=design.name)
     k1 = design.values.get("k1")
-    fig = plot_stiffness_response(r, title=f"{design.name}: rendered stiffness", reference=k1)
+    fig = plot_stiffness_bode(
+        r, title=f"{design.name}: rendered stiffness"
+        + (" (dashed: spring stiffness k1)" if k1 is not None else ""), reference=k1,
+    )  # fmt: skip
     table = Table(
         name="stiffness_summary",
         title="Rendered stiffness",
@@ -57,9 +59,16 @@ def stage_stiffness(design: Design, quick: bool) -> Section:
     return Section(
         key="stiffness",
         title="Stiffness frequency response",
-        text="`|F_L/X_L(jω)|`: the stiffness a person feels when moving the load at frequency ω.",
+        text=(
+            "`F_L/X_L(jω)`: the stiffness a person feels when moving the load at frequency ω "
+            "(magnitude), and how far the force leads the motion (phase)."
+        ),
         tables=(table,),
-        figures=(FigureData("stiffness", "Rendered stiffness of the design.", figure_bytes(fig)),),
+        figures=(
+            FigureData.of(
+                "stiffness", "Rendered stiffness of the design: magnitude and phase.", fig
+            ),
+        ),
         files={"stiffness_response.csv": "\n".join(lines) + "\n"},
     )
 
@@ -96,11 +105,12 @@ def metrics_table(name: str, title: str, runs: list[tuple[float, Any, Any]]) -> 
 
 def stage_response(design: Design, quick: bool) -> Section:
     runs = step_responses(design.sea(), design, 2e-3 if quick else 1e-3)
-    fig = figure_bytes(
+    fig = FigureData.of(
+        "step_response", "Load position after the step.",
         plot_step_responses(
             runs, step=design.step, title=f"{design.name}: {design.step:g} m reference step"
-        )
-    )
+        ),
+    )  # fmt: skip
     return Section(
         key="response",
         title="Step response at the given gains",
@@ -110,7 +120,7 @@ def stage_response(design: Design, quick: bool) -> Section:
             "Settling: within 2 % of the step for the rest of the horizon."
         ),
         tables=(metrics_table("step_metrics", "Step-response metrics", runs),),
-        figures=(FigureData("step_response", "Load position after the step.", fig),),
+        figures=(fig,),
     )
 
 
@@ -165,11 +175,12 @@ def stage_tuning(design: Design, quick: bool) -> Section:
             for g in tr.gains
         ),
     )
-    fig = figure_bytes(
+    fig = FigureData.of(
+        "tuned_response", "Step response with the tuned gains.",
         plot_step_responses(
             runs, step=design.step, title=f"{design.name} with tuned gains ({gains})"
-        )
-    )
+        ),
+    )  # fmt: skip
     return Section(
         key="tuning",
         title="Tuned gains (fastest passive step response)",
@@ -182,7 +193,7 @@ def stage_tuning(design: Design, quick: bool) -> Section:
             + f". Result: {gains} (passive: {'yes' if tr.passive else 'NO'})."
         ),
         tables=(table, metrics_table("tuned_metrics", "Step response with the tuned gains", runs)),
-        figures=(FigureData("tuned_response", "Step response with the tuned gains.", fig),),
+        figures=(fig,),
         findings=(
             Finding(
                 "The tuned gains are passive",

@@ -14,7 +14,6 @@ from ...errors import ModelError
 from ...model.design_file import Design
 from ...model.expr import S, symbol
 from ...plot.rig import plot_rig_sweep
-from ...plot.style import figure_bytes
 from ...rig.experiment import ExperimentResult, run_rig_sweep
 from ...rig.rigfile import load_rig, paper_rig
 from ...sampled.bound import sampled_passive_bound
@@ -181,6 +180,6 @@ def stage_rig(design: Design, quick: bool) -> Section:
                 rows=tuple(rows),
             ),
         ),
-        figures=(FigureData("rig_sweep", "kd sweep on the twin.", figure_bytes(fig)),),
+        figures=(FigureData.of("rig_sweep", "kd sweep on the twin.", fig),),
         files={"rig_sweeps.json": to_json([s.to_dict() for s in sweeps])},
     )
