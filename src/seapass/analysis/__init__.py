@@ -3,7 +3,8 @@
 What lives here: [`passivity`][seapass.analysis.passivity] (the exact positive-real
 test), [`conditions`][seapass.analysis.conditions] (symbolic necessary-and-sufficient
 conditions), [`region`][seapass.analysis.region] (exact passive intervals and 2-D
-maps), [`freqresp`][seapass.analysis.freqresp] (the stiffness frequency response),
+maps), [`boundary`][seapass.analysis.boundary] (the exact 2-D passive region and its
+boundary curves), [`freqresp`][seapass.analysis.freqresp] (the stiffness frequency response),
 [`coupled`][seapass.analysis.coupled] (coupled stability with an environment) and
 [`witness`][seapass.analysis.witness] (a passive environment that destabilizes a
 design that is not passive).
@@ -11,6 +12,7 @@ design that is not passive).
 May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model].
 """
 
+from .boundary import PassiveRegion, passive_region
 from .conditions import ExactCondition, exact_passivity_condition
 from .coupled import CoupledResult, Environment, Stability, coupled_stability
 from .coupled_response import CoupledSimulation, simulate_coupled
@@ -27,6 +29,7 @@ __all__ = [
     "FrequencyResponse",
     "PassiveIntervals",
     "PassiveMap",
+    "PassiveRegion",
     "PassivityResult",
     "Stability",
     "WitnessResult",
@@ -36,6 +39,7 @@ __all__ = [
     "is_passive",
     "passive_intervals",
     "passive_map",
+    "passive_region",
     "simulate_coupled",
     "stiffness_response",
 ]

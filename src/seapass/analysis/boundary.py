@@ -20,9 +20,9 @@ gap at the middle of the x-interval labels every cell.
 What is exact: the curves, the x-critical values (isolated over QQ), the
 number and order of the branches, and the label of every cell.  What is
 floating point: the points on the curves drawn between (roots of
-``f_k(x_i, y)`` in double precision, at most ``points`` values of ``x``); a
-column where floating point does not find the exact number of branches is
-dropped, never guessed.
+``f_k(x_i, y)`` in double precision at about ``points`` values of ``x``; where
+double precision does not find the exact number of roots, they are isolated
+exactly).
 """
 
 from __future__ import annotations
@@ -303,11 +303,17 @@ def _cell(
     # cosine spacing: dense near the ends, where branches may turn or meet
     t = (1 - np.cos(np.pi * np.linspace(1e-6, 1 - 1e-6, n))) / 2
     xs = x_iv[0] + (x_iv[1] - x_iv[0]) * t
-    parts = [
-        _numeric_roots(tab, xs, y_range[0], y_range[1], c)
-        for tab, c in zip(tables, counts, strict=True)
-        if c
-    ]
+    parts = []
+    for f, tab, c in zip(fy, tables, counts, strict=True):
+        if not c:
+            continue
+        ys = _numeric_roots(tab, xs, y_range[0], y_range[1], c)
+        # where double precision misses a root (close roots near a critical x): exactly
+        for i in np.flatnonzero(np.isnan(ys).any(axis=0)):
+            exact = _real_roots(sp.Poly(f.subs(x, sp.Rational(xs[i])), y, domain="QQ"), *yq)
+            if len(exact) == c:
+                ys[:, i] = exact
+        parts.append(ys)
     branches = np.vstack(parts) if parts else np.zeros((0, xs.size))
     keep = ~np.isnan(branches).any(axis=0)
     branches = np.sort(branches[:, keep], axis=0)

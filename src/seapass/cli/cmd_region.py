@@ -46,9 +46,12 @@ def run(args: argparse.Namespace) -> int:
     sea = model_from_args(args, extra_free=(args.x, args.y))
     pmap = passive_map(sea, args.x, np.linspace(x_lo, x_hi, args.nx), args.y, y_range)
     if args.out:
-        from ..plot.region import plot_passive_map
+        from ..analysis.boundary import passive_region
+        from ..plot.region import plot_passive_region
 
-        save_plot(lambda: plot_passive_map(pmap, title="exact passive region"), args.out)
+        # the figure: the exact boundary curves between the columns, not a raster edge
+        region = passive_region(sea, args.x, (x_lo, x_hi), args.y, y_range)
+        save_plot(lambda: plot_passive_region(region, title="exact passive region"), args.out)
     if args.json:
         print_json(pmap.to_dict())
     elif not args.out:

@@ -83,15 +83,15 @@ class Discrepancy(StrEnum):
 
     @property
     def label(self) -> str:
-        """The plural heading the report's summary uses."""
+        """The heading the report's summary uses for this kind."""
         return _KIND_LABELS[self]
 
 
 _KIND_LABELS = {
-    Discrepancy.PAPER_TYPO: "typos in the paper",
-    Discrepancy.CONSERVATIVE: "bounds that are only conservative",
-    Discrepancy.UNSAFE: "unsafe bounds",
-    Discrepancy.CHECK_FAILED: "checks of seapass's own that failed",
+    Discrepancy.PAPER_TYPO: "Typos in the paper's printed formulas",
+    Discrepancy.CONSERVATIVE: "Bounds that are only conservative (safe, but reject passive designs)",
+    Discrepancy.UNSAFE: "Unsafe bounds (admit designs that are not passive)",
+    Discrepancy.CHECK_FAILED: "Checks of seapass's own that failed",
 }
 
 

@@ -147,6 +147,48 @@ def _run_in_worker(index: int, quick: bool) -> tuple[Section, float]:
     return _run_one(_WORKER_STAGES[index], quick, send if queue is not None else None)
 
 
+class _Tracker:
+    """The progress bar over the stages, the results, and the per-stage log lines."""
+
+    def __init__(
+        self,
+        stages: Sequence[Stage],
+        bar: Any,
+        show: bool,
+        log: Callable[[str], None] | None,
+        on_progress: Callable[[str, float, str], None] | None,
+    ) -> None:
+        self.stages, self.bar, self.show = stages, bar, show
+        self.log, self.on_progress = log, on_progress
+        self.task = bar.add_task("starting", total=len(stages))
+        self.fractions = [0.0] * len(stages)
+        self.results: dict[int, tuple[Section, float]] = {}
+
+    def moved(self, i: int, fraction: float, text: str) -> None:
+        """Stage ``i`` reports ``fraction`` done (from this process or a worker's queue)."""
+        if self.on_progress is not None:
+            self.on_progress(self.stages[i].key, fraction, text)
+        self.fractions[i] = fraction
+        where = f"{self.stages[i].title}: {text}" if text else self.stages[i].title
+        self.bar.update(self.task, completed=sum(self.fractions), description=where)
+
+    def done(self, i: int, res: tuple[Section, float]) -> None:
+        self.results[i] = res
+        self.fractions[i] = 1.0
+        left = len(self.stages) - len(self.results)
+        self.bar.update(
+            self.task, completed=sum(self.fractions),
+            description=f"finished {self.stages[i].title} ({left} to go)",
+        )  # fmt: skip
+        if self.log is not None:
+            line = f"{self.stages[i].key}: {res[0].status} in {res[1]:.1f} s"
+            # above a live bar, print through it so the lines do not tear it
+            if self.show:
+                self.bar.console.print(line, highlight=False)
+            else:
+                self.log(line)
+
+
 def run_stages(
     stages: Sequence[Stage],
     *,
@@ -154,6 +196,7 @@ def run_stages(
     progress: bool | None = None,
     log: Callable[[str], None] | None = None,
     jobs: int = 1,
+    on_progress: Callable[[str, float, str], None] | None = None,
 ) -> tuple[Section, ...]:
     """Run ``stages`` under a progress bar; failures become sections.
 
@@ -163,75 +206,44 @@ def run_stages(
     ``KeyboardInterrupt`` propagates (workers are terminated).  ``log``
     receives one line per stage with its wall time (never written to the
     report, which stays deterministic).  With ``jobs > 1`` the stages run in
-    that many forked worker processes (stages are independent); the sections
-    are returned in stage order and are identical to a sequential run.
+    that many forked worker processes (stages are independent), the costliest
+    first; the sections are returned in stage order and are identical to a
+    sequential run.  ``on_progress`` receives ``(stage key, fraction done,
+    text)`` whenever a stage reports progress with `stage_progress` (also
+    from the workers, at most ten times a second per stage).
     """
     from rich.console import Console
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-    global _WORKER_STAGES
     if jobs < 1:
         raise ParameterError(f"jobs must be at least 1, got {jobs}")
     show = sys.stderr.isatty() if progress is None else progress
     jobs = min(jobs, len(stages))
+    # fork before the progress bar starts its refresh thread
     pool: Any = None
     queue: Any = None
     if jobs > 1:
-        import multiprocessing
-
-        _WORKER_STAGES = tuple(stages)
-        ctx = multiprocessing.get_context("fork")
-        queue = ctx.SimpleQueue()
-        # fork before the progress bar starts its refresh thread
-        pool = ctx.Pool(jobs, initializer=_init_worker, initargs=(queue,))
-    results: dict[int, tuple[Section, float]] = {}
-    fractions = [0.0] * len(stages)
+        pool, queue = _start_workers(stages, jobs)
     listener: threading.Thread | None = None
+    columns = (TextColumn("[bold]{task.description}"), BarColumn(),
+               TextColumn("{task.percentage:>3.0f}%"), TimeElapsedColumn())  # fmt: skip
     try:
         with Progress(
-            TextColumn("[bold]{task.description}"),
-            BarColumn(),
-            TextColumn("{task.percentage:>3.0f}%"),
-            TimeElapsedColumn(),
-            console=Console(file=sys.stderr),
-            disable=not show,
-            transient=True,
+            *columns, console=Console(file=sys.stderr), disable=not show, transient=True
         ) as bar:
-            task = bar.add_task("starting", total=len(stages))
-
-            def moved(i: int, fraction: float, text: str) -> None:
-                fractions[i] = fraction
-                where = f"{stages[i].title}: {text}" if text else stages[i].title
-                bar.update(task, completed=sum(fractions), description=where)
-
-            def done(i: int, res: tuple[Section, float]) -> None:
-                results[i] = res
-                fractions[i] = 1.0
-                left = len(stages) - len(results)
-                bar.update(
-                    task, completed=sum(fractions),
-                    description=f"finished {stages[i].title} ({left} to go)",
-                )  # fmt: skip
-                if log is not None:
-                    line = f"{stages[i].key}: {res[0].status} in {res[1]:.1f} s"
-                    # above a live bar, print through it so the lines do not tear it
-                    if show:
-                        bar.console.print(line, highlight=False)
-                    else:
-                        log(line)
-
+            track = _Tracker(stages, bar, show, log, on_progress)
             if pool is None:
                 for i, st in enumerate(stages):
-                    bar.update(task, description=st.title)
-                    done(i, _run_one(st, quick, functools.partial(moved, i)))
+                    bar.update(track.task, description=st.title)
+                    track.done(i, _run_one(st, quick, functools.partial(track.moved, i)))
             else:
-                listener = threading.Thread(target=_listen, args=(queue, moved), daemon=True)
+                listener = threading.Thread(target=_listen, args=(queue, track.moved), daemon=True)
                 listener.start()
-                bar.update(task, description=f"{len(stages)} stages on {jobs} processes")
+                bar.update(track.task, description=f"{len(stages)} stages on {jobs} processes")
                 order = sorted(range(len(stages)), key=lambda i: -stages[i].cost)
                 pending = [
                     pool.apply_async(
-                        _run_in_worker, (i, quick), callback=functools.partial(done, i)
+                        _run_in_worker, (i, quick), callback=functools.partial(track.done, i)
                     )
                     for i in order
                 ]
@@ -239,13 +251,29 @@ def run_stages(
                     p.get()
     finally:
         if pool is not None:
-            pool.terminate()
-            pool.join()
+            _stop_workers(pool)
         if listener is not None:
             queue.put(None)
             listener.join(timeout=2.0)  # daemon: never blocks an interrupted run
-        _WORKER_STAGES = ()
-    return tuple(results[i][0] for i in range(len(stages)))
+    return tuple(track.results[i][0] for i in range(len(stages)))
+
+
+def _start_workers(stages: Sequence[Stage], jobs: int) -> tuple[Any, Any]:
+    """A pool of ``jobs`` forked workers that inherit ``stages``, and their progress queue."""
+    import multiprocessing
+
+    global _WORKER_STAGES
+    _WORKER_STAGES = tuple(stages)
+    ctx = multiprocessing.get_context("fork")
+    queue = ctx.SimpleQueue()
+    return ctx.Pool(jobs, initializer=_init_worker, initargs=(queue,)), queue
+
+
+def _stop_workers(pool: Any) -> None:
+    global _WORKER_STAGES
+    pool.terminate()
+    pool.join()
+    _WORKER_STAGES = ()
 
 
 def _listen(queue: Any, moved: Callable[[int, float, str], None]) -> None:

@@ -9,7 +9,8 @@ of a report (a design name from a user's file included) can inject markup.
 base64 ``data:`` URI, CSS and script are inline, formulas are MathML (rendered
 by the browser, no font or script download), and a Content-Security-Policy
 forbids any network access.  Links to ``data/`` and ``figures/`` (PNG and
-SVG) are relative.  A tiny inline script records, on load, how many images
+SVG) are relative; a link with a scheme or a host in section text is shown as
+text, never as a link.  A tiny inline script records, on load, how many images
 decoded and how many formulas were laid out (``data-*`` attributes on
 ``<body>``), so a headless browser can check the page.
 
@@ -66,6 +67,13 @@ def _math_html(text: str, *, display: bool) -> str:
     return f"<pre>{code}</pre>" if display else code
 
 
+_ABSOLUTE = re.compile(r"^\s*([a-z][a-z0-9+.-]*:|//|\\\\)", re.I)
+
+
+def _relative_link(url: str) -> bool:
+    return not _ABSOLUTE.match(url)
+
+
 @cache
 def _markdown(inline_only: bool) -> Any:
     """CommonMark without raw HTML (block text), or code spans and formulas only (cells)."""
@@ -75,6 +83,8 @@ def _markdown(inline_only: bool) -> Any:
         md = MarkdownIt("zero", {"html": False}).enable(["backticks", "escape"])
     else:
         md = MarkdownIt("commonmark", {"html": False})
+    # links stay inside the report directory: a URL with a scheme or host is shown as text
+    setattr(md, "validateLink", _relative_link)  # noqa: B010 (an instance attribute by design)
     md.inline.ruler.before("escape", "math_inline", _math_inline)
     md.add_render_rule("math_inline", _render_math_inline)
     if not inline_only:

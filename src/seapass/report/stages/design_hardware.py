@@ -14,7 +14,7 @@ from ...errors import ModelError
 from ...model.design_file import Design
 from ...model.expr import S, symbol
 from ...plot.rig import plot_rig_sweep
-from ...rig.experiment import ExperimentResult, run_rig_sweep
+from ...rig.experiment import ExperimentResult, run_rig_sweeps
 from ...rig.rigfile import load_rig, paper_rig
 from ...sampled.bound import sampled_passive_bound
 from ...sampled.passivity import sampled_passivity
@@ -140,10 +140,7 @@ def stage_rig(design: Design, quick: bool) -> Section:
     ex = rig.experiment
     bd = design.values.get("bd") if key == "ours" else None
     step = ex.kd_step * (4 if quick else 1)
-    sweeps = tuple(
-        run_rig_sweep(rig, design=key, load_mass=float(ml), kd_step=step, bd=bd)
-        for ml in ex.load_masses
-    )
+    sweeps = run_rig_sweeps(rig, designs=(key,), load_masses=ex.load_masses, kd_step=step, bd=bd)
     kd = design.values["kd"]
     rows = []
     for s in sweeps:

@@ -14,7 +14,7 @@ from ...analysis.region import passive_intervals
 from ...errors import NotPassiveError
 from ...plot.rig import plot_deploy, plot_impacts, plot_rig_sweep
 from ...plot.sampled import plot_sampled_limits
-from ...rig.experiment import ExperimentResult, run_rig_sweep
+from ...rig.experiment import ExperimentResult, run_rig_sweeps
 from ...rig.findings import sweep_findings
 from ...rig.impacts import run_impacts
 from ...rig.plant import TwinPlant
@@ -51,16 +51,12 @@ def _finding(f: Any) -> Finding:
 
 
 def _rig_sweeps(rig: Any, step: float) -> ExperimentResult:
-    """The kd sweep of every design and load mass (as `run_experiment`), with progress."""
+    """The kd sweep of every design and load mass, as one batch on the twin."""
     masses = rig.experiment.load_masses
-    total = len(RIG_DESIGNS) * len(masses) + 1
-    sweeps: list[Any] = []
-    for design in RIG_DESIGNS:
-        for ml in masses:
-            stage_progress(len(sweeps), total, f"{design} sweep, m_L = {ml:g} kg")
-            sweeps.append(run_rig_sweep(rig, design=design, load_mass=float(ml), kd_step=step))
-    stage_progress(len(sweeps), total, "impacts")
-    return ExperimentResult(rig.name, tuple(sweeps), tuple(sweep_findings(sweeps)))
+    stage_progress(0, 4, f"{len(RIG_DESIGNS) * len(masses)} kd sweeps on the twin")
+    sweeps = run_rig_sweeps(rig, designs=RIG_DESIGNS, load_masses=masses, kd_step=step)
+    stage_progress(2, 4, "impacts")
+    return ExperimentResult(rig.name, sweeps, tuple(sweep_findings(sweeps)))
 
 
 def _sweep_summary(ex: ExperimentResult) -> Table:
@@ -139,6 +135,7 @@ def stage_rig(quick: bool) -> Section:
     step = rig.experiment.kd_step * (4 if quick else 1)
     ex = _rig_sweeps(rig, step)
     im = run_impacts(rig)
+    stage_progress(3, 4, "figures")
     return Section(
         key="rig",
         title="Hardware experiment on the digital twin (paper Sec. VI, Fig. 3)",

@@ -160,12 +160,23 @@ def _best_lp_finding(
     )  # fmt: skip
 
 
-def stage_tradeoff(quick: bool) -> Section:
-    """Exact passivity and settling time over whole 2-D gain grids (batch engine)."""
-    n = 21 if quick else 41
-    stage_progress(0, 4, "tuning LP as in the simulation study")
-    kd_lp, t_lp = _tuned_lp(quick)
-    cases = [
+def _grid_csv(label: str, x: tuple[str, np.ndarray], y: tuple[str, np.ndarray],
+              pas: np.ndarray, ts: np.ndarray) -> list[str]:  # fmt: skip
+    """One CSV line per grid point."""
+    (xn, xs), (yn, ys) = x, y
+    return [
+        f"{label},{xn},{xv!r},{yn},{yv!r},{bool(pas[i, j])},"
+        f"{'' if np.isnan(ts[i, j]) else repr(float(ts[i, j]))}"
+        for i, yv in enumerate(ys.tolist())
+        for j, xv in enumerate(xs.tolist())
+    ]
+
+
+def _tradeoff_cases(
+    n: int, kd_lp: float
+) -> list[tuple[str, Any, tuple[str, Any], tuple[str, Any]]]:
+    """The two grids: Ours over (kd, bd) at b1 = 100, LP on the damped spring over (kd, b1)."""
+    return [
         ("Ours (b1 = 100)", catalog_design("ours").sea(PAPER_VALUES, b1=100.0),
          ("kd", np.linspace(0.0, 5000.0, n)), ("bd", np.linspace(0.0, 300.0, n))),
         # LP on the damped spring (the paper's Table I row 3); b1 = 0 is the study's LP, and
@@ -174,28 +185,29 @@ def stage_tradeoff(quick: bool) -> Section:
          ("kd", np.union1d(np.linspace(0.0, 1500.0, n), [kd_lp])),
          ("b1", np.linspace(0.0, 300.0, n))),
     ]  # fmt: skip
+
+
+def stage_tradeoff(quick: bool) -> Section:
+    """Exact passivity and settling time over whole 2-D gain grids (batch engine)."""
+    n = 21 if quick else 41
+    stage_progress(0, 4, "tuning LP as in the simulation study")
+    kd_lp, t_lp = _tuned_lp(quick)
     rows, maps, lines = [], [], ["design,x_name,x,y_name,y,passive,settling_time_s"]
     best_lp, at_tuned = None, float("nan")
-    for k, (label, sea, (xn, xs), (yn, ys)) in enumerate(cases):
+    for k, (label, sea, (xn, xs), (yn, ys)) in enumerate(_tradeoff_cases(n, kd_lp)):
         stage_progress(1 + k, 4, f"{label}: {xs.size * ys.size} designs")
         pas, ts, best = _grid(sea, (xn, xs), (yn, ys))
+        marks = []
         if label == "LP":
-            best_lp = best
-            at_tuned = float(ts[0, int(np.searchsorted(xs, kd_lp))])
+            best_lp, at_tuned = best, float(ts[0, int(np.searchsorted(xs, kd_lp))])
+            marks = [(kd_lp, 0.0, f"study's tuned LP: {t_lp:.3g} s" if t_lp else "study's LP")]
         rows.append(
             (label, f"{xn} ∈ [{xs[0]:g}, {xs[-1]:g}], {yn} ∈ [{ys[0]:g}, {ys[-1]:g}]",
              xs.size * ys.size, float(np.mean(pas)), None if best is None else best[0],
              None if best is None else f"{xn} = {best[1]:.4g}, {yn} = {best[2]:.4g}")
         )  # fmt: skip
-        marks = [(kd_lp, 0.0, f"study's tuned LP: {t_lp:.3g} s" if t_lp else "study's LP")]
-        maps.append((label, xn, yn, xs, ys, pas, ts, best, marks if label == "LP" else []))
-        for i, yv in enumerate(ys.tolist()):
-            for j, xv in enumerate(xs.tolist()):
-                t = ts[i, j]
-                lines.append(
-                    f"{label},{xn},{xv!r},{yn},{yv!r},{bool(pas[i, j])},"
-                    f"{'' if np.isnan(t) else repr(float(t))}"
-                )
+        maps.append((label, xn, yn, xs, ys, pas, ts, best, marks))
+        lines += _grid_csv(label, (xn, xs), (yn, ys), pas, ts)
     stage_progress(3, 4, "figure")
     table = Table(
         name="tradeoff",
