@@ -83,7 +83,7 @@ def _typos(r: TableRow) -> list[str]:
         extra = sp.factor(sp.expand(r.condition - r.paper_condition))
         out.append(
             "the printed passivity polynomial differs from the derived one "
-            f"(derived − printed = {formula(extra)})"
+            f"(derived - printed = {formula(extra)})"
         )
     return out
 
