@@ -22,6 +22,7 @@ from ...sim.metrics import tracking_metrics
 from ...sim.simulate import Step, simulate
 from ...sim.tuning import TuningOptions, tune
 from ..document import FigureData, Finding, Section, SectionStatus, Table, Verdict, to_json
+from ..pipeline import stage_progress
 
 __all__ = [
     "matching_tunable_design",
@@ -76,7 +77,8 @@ def stage_stiffness(design: Design, quick: bool) -> Section:
 def step_responses(sea: Any, design: Design, dt: float) -> list[tuple[float, Any, Any]]:
 
     out = []
-    for mass in design.load_masses:
+    for i, mass in enumerate(design.load_masses):
+        stage_progress(i, len(design.load_masses), f"step response, m_L = {mass:g} kg")
         res = simulate(
             sea, load_mass=mass, scenario=Step(design.step), horizon=design.horizon, dt=dt
         )

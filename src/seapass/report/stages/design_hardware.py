@@ -28,6 +28,7 @@ from ..document import (
     format_intervals,
     to_json,
 )
+from ..pipeline import stage_progress
 
 __all__ = [
     "matching_experiment_design",
@@ -46,6 +47,7 @@ def stage_sampled(design: Design, quick: bool) -> Section:
             "analysed in continuous time only.",
         )  # fmt: skip
     sea = design.sea()
+    steps = iter(range(len(design.analysis_ranges())))
     kw: dict[str, Any] = {
         "period": period,
         "delay": design.control_delay,
@@ -61,6 +63,7 @@ def stage_sampled(design: Design, quick: bool) -> Section:
     samples, rtol = (9, 1e-3) if quick else (17, 1e-5)
     rows, bounds = [], {}
     for name, (lo, hi) in design.analysis_ranges().items():
+        stage_progress(next(steps), len(design.analysis_ranges()), f"largest passive {name}")
         if name not in design.gains:
             continue
         b = sampled_passive_bound(
@@ -140,7 +143,9 @@ def stage_rig(design: Design, quick: bool) -> Section:
     ex = rig.experiment
     bd = design.values.get("bd") if key == "ours" else None
     step = ex.kd_step * (4 if quick else 1)
+    stage_progress(0, 2, f"kd sweeps on the twin of {rig.name}")
     sweeps = run_rig_sweeps(rig, designs=(key,), load_masses=ex.load_masses, kd_step=step, bd=bd)
+    stage_progress(1, 2, "figure")
     kd = design.values["kd"]
     rows = []
     for s in sweeps:

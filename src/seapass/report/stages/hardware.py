@@ -173,6 +173,7 @@ def stage_sampled(quick: bool) -> Section:
         ("rig", rig.control.delay_samples, rig.control.velocity_filter_hz),
     ]
     designs = [("LP", rig_sea(rig, "LP"), 2000.0), ("Ours", rig_sea(rig, "ours", bd=bd), 1e5)]
+    steps = iter(range(len(designs) * len(setups)))
     samples, rtol = (5, 1e-2) if quick else (17, 1e-5)
     rows, results, findings = [], {}, []
     for name, sea, hi in designs:
@@ -180,6 +181,7 @@ def stage_sampled(quick: bool) -> Section:
         cont_max = cont.intervals[-1][1] if cont.intervals else None
         per = []
         for label, delay, filt in setups:
+            stage_progress(next(steps), len(designs) * len(setups), f"{name}, {label}")
             r = sampled_passive_bound(
                 sea, "kd", period=period, lo=0.0, hi=hi, delay=delay, velocity_filter=filt,
                 samples=samples, rtol=rtol,
@@ -253,6 +255,7 @@ def stage_deploy(quick: bool) -> Section:
     runs: list[tuple[str, Any]] = []
     findings: list[Finding] = []
     for label, ctrl, sea in cases:
+        stage_progress(len(rows), len(cases), label)
         plant = TwinPlant(rig, load_mass=0.1)
         plant.reset(x_A=0.02, x_L=0.02)
         hw = SimulatedHardware(plant, delay_samples=delay)
