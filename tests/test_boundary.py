@@ -67,3 +67,22 @@ def test_errors_name_the_problem():
         passive_region(sea, "kd", (0, 1), "bd", (0, 1))
     with pytest.raises(ParameterError, match="no value"):
         passive_region(SEA(D1="k1 + b1*s", CL="kd"), "kd", (0, 1), "b1", (0, 1))
+
+
+def test_region_figures_draw_on_given_axes_with_units():
+    from matplotlib.figure import Figure
+
+    from seapass.analysis.region import passive_map
+    from seapass.plot.region import plot_passive_map, plot_passive_region
+
+    sea = SEA(D1="k1 + b1*s", CL="kd", values=PAPER_VALUES)
+    region = passive_region(sea, "kd", (0.0, 1200.0), "b1", (0.0, 100.0), points=30)
+    pmap = passive_map(sea, "kd", [0.0, 600.0, 1200.0], "b1", (0.0, 100.0), y_points=5)
+    ax1, ax2 = Figure().subplots(1, 2)
+    assert plot_passive_region(region, ax=ax1) is ax1
+    assert plot_passive_map(pmap, ax=ax2) is ax2
+    for ax in (ax1, ax2):
+        assert ax.get_xlabel() == "kd [N/m]" and ax.get_ylabel() == "b1 [N·s/m]"
+    # the exact boundary is drawn as curves: a vertical part at kd = 1000 for b1 >= 90
+    xs = np.concatenate([line.get_xdata() for line in ax1.get_lines()])
+    assert np.isclose(xs, 1000.0).sum() >= 2

@@ -7,6 +7,7 @@ import sys
 import time
 from pathlib import Path
 
+from .cmd_reproduce import add_jobs_argument
 from .common import print_section_problems
 
 EXAMPLE = """examples:
@@ -39,13 +40,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         metavar="LIST",
         help="comma-separated stages (default: all; 'core' = passivity,stiffness,ranges)",
     )
-    p.add_argument(
-        "--jobs",
-        type=int,
-        default=2,
-        metavar="N",
-        help="worker processes for the independent stages (default 2; 1 = sequential)",
-    )
+    add_jobs_argument(p)
     p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
     p.set_defaults(func=run)
 

@@ -43,6 +43,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         metavar="LIST",
         help="comma-separated stages to run (default: all; 'core' = tables,stiffness,regions)",
     )
+    add_jobs_argument(p)
+    p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
+    p.set_defaults(func=run)
+
+
+def add_jobs_argument(p: argparse.ArgumentParser) -> None:
+    """``--jobs N``: worker processes for a report's independent stages."""
     p.add_argument(
         "--jobs",
         type=int,
@@ -50,8 +57,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         metavar="N",
         help="worker processes for the independent stages (default 2; 1 = sequential)",
     )
-    p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
-    p.set_defaults(func=run)
 
 
 def parse_stages(text: str | None) -> list[str] | None:

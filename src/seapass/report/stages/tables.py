@@ -218,13 +218,14 @@ def stage_stiffness(quick: bool) -> Section:
     omega = np.logspace(-1, 4, 200 if quick else 400)
     results = []
     for k, row in enumerate(PAPER_ROWS):
-        stage_progress(k, len(PAPER_ROWS), row.name)
+        stage_progress(k, len(PAPER_ROWS) + len(_GROUPS), row.name)
         sea = row.design.sea()
         vals = {n: REFERENCE_VALUES[n] for n in sea.parameters}
         results.append((row, vals, stiffness_response(sea, omega, values=vals, label=row.title)))
     figures = []
-    for key, name, _title in _GROUPS:
+    for g, (key, name, _title) in enumerate(_GROUPS):
         title = {"I": "Table I", "II": "Table II"}.get(key, "Proposed design")
+        stage_progress(len(PAPER_ROWS) + g, len(PAPER_ROWS) + len(_GROUPS), f"{title} figure")
         group = [r for r in results if r[0].table == key]
         figures.append(
             FigureData.of(
