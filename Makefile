@@ -11,7 +11,7 @@ $(STAMP): pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else "seapass needs Python >= 3.11")'
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install --quiet --upgrade pip
-	$(BIN)/pip install --quiet -e ".[test,dask,mujoco,docs]"
+	$(BIN)/pip install --quiet -e ".[test,dask,mujoco,docs,explore]"
 	@touch $(STAMP)
 
 install: $(STAMP)

@@ -26,6 +26,8 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+import bench_explore  # noqa: E402
+import bench_export  # noqa: E402
 import bench_metrics  # noqa: E402
 import bench_passivity  # noqa: E402
 import bench_sweep  # noqa: E402
@@ -84,7 +86,7 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     rows: list[Row] = []
     notes: list[str] = []
-    for mod in (bench_passivity, bench_metrics, bench_sweep):
+    for mod in (bench_passivity, bench_metrics, bench_sweep, bench_export):
         print(f"running {mod.__name__} ...", file=sys.stderr, flush=True)
         r, n = mod.run(args.quick)
         rows += r
@@ -96,6 +98,12 @@ def main(argv: list[str] | None = None) -> int:
                 file=sys.stderr,
             )
     verdicts = bench_passivity.verdict_table()
+    print("running bench_explore (headless Chromium) ...", file=sys.stderr, flush=True)
+    try:
+        explore = bench_explore.markdown(bench_explore.run(5 if args.quick else 20))
+    except (ImportError, RuntimeError) as exc:
+        explore = f"Not measured in this run: {exc}."
+    print(explore, file=sys.stderr)
     elapsed = time.perf_counter() - t0
     import numpy as np
 
@@ -116,6 +124,16 @@ def main(argv: list[str] | None = None) -> int:
         *_table(rows),
         "",
         *[f"* {n}" for n in notes],
+        "",
+        "## Explorer latency (`seapass explore`)",
+        "",
+        "Wall-clock time in headless Chromium from a click on the `kd` slider to the frame "
+        "after all seven panels were redrawn, measured by the page itself "
+        "(`benchmarks/bench_explore.py`); the peer is one `seapass check` process on the "
+        "same design, which answers one of the seven panels.  Unlike the rows above this "
+        "is wall-clock time of several processes, so a busy machine slows it down.",
+        "",
+        explore,
         "",
         "## Where python-control's passivity verdict differs from ours",
         "",

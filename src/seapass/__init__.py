@@ -13,6 +13,7 @@ subpackage          what lives there
 ``seapass.batch``   vectorized verdicts and step metrics
 ``seapass.sampled``  discrete controllers, sampled-data passivity, runtime
 ``seapass.rig``     rig files, the digital twin, the paper's experiment
+``seapass.export``  C code of the deployed controller, envelope built in
 ``seapass.sweep``   resumable design-space sweeps (local or Dask)
 ``seapass.paper``   Tables I and II, the simulation study
 ``seapass.plot``    every figure
@@ -60,14 +61,15 @@ _LAZY: dict[str, str] = {
     "sampled_passive_bound": "sampled.bound",
     "load_rig": "rig.rigfile",
     "paper_rig": "rig.rigfile",
+    "export_c": "export.c_code",
     "analyze": "report.analyze",
     "reproduce": "report.reproduce",
     "write_report": "report.output",
 }
 
 _SUBPACKAGES = frozenset(
-    {"analysis", "batch", "cli", "errors", "exact", "files", "model", "paper", "plot",
-     "report", "rig", "sampled", "sim", "sweep"}
+    {"analysis", "batch", "cli", "errors", "exact", "export", "files", "model", "paper",
+     "plot", "report", "rig", "sampled", "sim", "sweep"}
 )  # fmt: skip
 
 __all__ = [
@@ -81,6 +83,7 @@ __all__ = [
     "analyze",
     "derive_stiffness",
     "exact_passivity_condition",
+    "export_c",
     "find_destabilizing_environment",
     "is_passive",
     "load_design",
@@ -119,6 +122,7 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
     from .analysis.passivity import PassivityResult, is_passive
     from .analysis.region import passive_intervals, passive_map
     from .analysis.witness import find_destabilizing_environment
+    from .export.c_code import export_c
     from .model.design_file import Design, load_design
     from .model.sea import SEA, Impedance
     from .model.stiffness import derive_stiffness

@@ -8,6 +8,7 @@ catch either the seapass class or the builtin.  The command line turns any
 from __future__ import annotations
 
 __all__ = [
+    "CompilerError",
     "DegenerateModelError",
     "ExpressionError",
     "FileFormatError",
@@ -60,6 +61,10 @@ class SimulationError(SeapassError, RuntimeError):
 
 class NotPassiveError(SeapassError, ValueError):
     """Raised by ``throw=True`` entry points when a design is not passive."""
+
+
+class CompilerError(SeapassError, RuntimeError):
+    """The C compiler is missing or rejected generated code (``seapass export c --verify``)."""
 
 
 class MissingExtraError(SeapassError, ImportError):

@@ -34,9 +34,11 @@ COMMANDS: tuple[str, ...] = (
     "sampled",
     "sweep",
     "rig",
+    "export",
     "analyze",
     "reproduce",
     "figure",
+    "explore",
 )
 """The subcommand modules (``seapass.cli.cmd_<name>``), in ``--help`` order."""
 

@@ -378,8 +378,8 @@ class ControlLoop:
                 ):
                     rec[key].append(v)
                 k += 1
-                if over:  # drop the ticks that are already late
-                    late = math.floor((end - t0) / self.period) + 1
+                if over:  # drop the ticks that are already late (only those within the run)
+                    late = min(math.floor((end - t0) / self.period) + 1, n_ticks)
                     skipped += max(0, late - k)
                     k = max(k, late)
         except KeyboardInterrupt:

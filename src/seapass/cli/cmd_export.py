@@ -1,0 +1,188 @@
+"""``seapass export c``: the design's deployed controller as dependency-free C99."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+from ..errors import CompilerError, ParameterError, SeapassError
+from .common import print_json
+
+EXAMPLE = """examples:
+  seapass export c examples/ours.toml --out firmware/
+  seapass export c examples/ours.toml --out firmware/ --hardware-delay 1 --verify
+  seapass export c design.toml --out firmware/ --force-limit 120 --set-gains --tunable kd
+
+exit status: 0 written (and verified); 1 --verify found the compiled C and the Python
+controller more than 1e-12 apart; 2 bad input, a design that is not passive, or no
+working C compiler for --verify (nothing is written then).
+"""
+
+#: Largest relative difference ``--verify`` accepts between the C and the Python commands.
+VERIFY_RTOL = 1e-12
+
+# the Python API's errors name its arguments; say the options here instead
+_OPTIONS = {
+    "force_limit=...": "--force-limit N",
+    "allow_nonpassive=True": "--allow-nonpassive",
+    "set_gains=True": "--set-gains",
+    "tunable=[...]": "--tunable G1,G2",
+    "hardware_delay": "--hardware-delay",
+    "see sampled_passive_bound": "see 'seapass sampled bound'",
+}
+
+
+def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
+    p = sub.add_parser(
+        "export",
+        help="generate code for the deployed controller (C99 for microcontrollers)",
+        description="Generate code that runs the design's deployed controller on hardware, "
+        "with its passivity envelope built in.",
+        epilog=EXAMPLE,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    targets = p.add_subparsers(dest="export_target", metavar="{c}")
+    targets.required = True
+    c = targets.add_parser(
+        "c",
+        help="seapass_ctrl.h / seapass_ctrl.c: dependency-free C99",
+        description="Write seapass_ctrl.h and seapass_ctrl.c: the design's discrete controller "
+        "(actuator and load side, velocity filter), force saturation and delay line, with "
+        "the certified period, delay, filter and gains. init refuses another period; the "
+        "optional set_gains refuses gains outside the certified set. The design must be "
+        "passive at its [control] rate, delay and velocity filter (decided at export time). "
+        "See docs/deploy.md.",
+        epilog=EXAMPLE,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    c.add_argument("design", help="design TOML file (needs a [control] rate)")
+    c.add_argument("--out", required=True, metavar="DIR", help="directory for the two files")
+    c.add_argument(
+        "--force-limit",
+        type=float,
+        metavar="N",
+        help="saturation of the command in N (default: the peak force of the design's [rig])",
+    )
+    c.add_argument(
+        "--hardware-delay",
+        type=int,
+        default=0,
+        metavar="SAMPLES",
+        help="delay the platform adds by itself; the code's delay line supplies the rest of "
+        "the design's [control] delay (default: 0)",
+    )
+    c.add_argument(
+        "--set-gains",
+        action="store_true",
+        help="generate seapass_ctrl_set_gains: runtime gain changes inside the certified set",
+    )
+    c.add_argument(
+        "--tunable",
+        metavar="G1,G2",
+        help="gains set_gains may change (default: every controller gain)",
+    )
+    c.add_argument(
+        "--allow-nonpassive",
+        action="store_true",
+        help="export a design that fails the sampled-data check (marked NOT CERTIFIED)",
+    )
+    c.add_argument(
+        "--samples",
+        type=int,
+        default=17,
+        help="scan points of each tunable gain's interval (default: 17)",
+    )
+    c.add_argument(
+        "--rtol",
+        type=float,
+        default=1e-6,
+        help="edge tolerance of the intervals, relative to the range (default: 1e-6)",
+    )
+    c.add_argument(
+        "--verify",
+        action="store_true",
+        help="compile the files with the system C compiler and compare them with the Python "
+        "controller on 10,000 steps",
+    )
+    c.add_argument("--json", action="store_true", help="print the result as JSON")
+    c.set_defaults(func=run_c)
+
+
+def run_c(args: argparse.Namespace) -> int:
+    from ..export.c_code import export_c
+    from ..export.compiled import find_c_compiler, verify_c
+
+    tunable = None
+    if args.tunable is not None:
+        tunable = [t.strip() for t in args.tunable.split(",") if t.strip()]
+        if not tunable:
+            raise ParameterError("--tunable needs gain names, e.g. --tunable kd,bd")
+    if not 2 <= args.samples <= 1000:
+        raise ParameterError(f"--samples must be in [2, 1000], got {args.samples}")
+    if not 0 < args.rtol < 1:
+        raise ParameterError(f"--rtol must be in (0, 1), got {args.rtol:g}")
+    if args.verify and find_c_compiler() is None:  # before anything is written
+        raise CompilerError("--verify needs a C compiler: none found (set CC or install gcc)")
+    try:
+        res = export_c(
+            args.design,
+            args.out,
+            force_limit=args.force_limit,
+            hardware_delay=args.hardware_delay,
+            set_gains=args.set_gains,
+            tunable=tunable,
+            allow_nonpassive=args.allow_nonpassive,
+            samples=args.samples,
+            rtol=args.rtol,
+            progress=True,
+        )
+    except SeapassError as exc:
+        text = str(exc)
+        for python, option in _OPTIONS.items():
+            text = text.replace(python, option)
+        raise type(exc)(text) from None
+    for path in (res.header, res.source):
+        print(f"wrote {path}", file=sys.stderr)
+    ver = verify_c(res) if args.verify else None
+    ok = ver is None or ver.max_rel <= VERIFY_RTOL
+    if args.json:
+        out: dict[str, Any] = {
+            "files": [str(res.header), str(res.source)],
+            "deployment": res.deployment.to_dict(),
+        }
+        if ver is not None:
+            out["verify"] = {**ver.to_dict(), "rtol": VERIFY_RTOL, "ok": ok}
+        print_json(out)
+    else:
+        _print_summary(res, ver, ok)
+    return 0 if ok else 1
+
+
+def _print_summary(res: Any, ver: Any, ok: bool) -> None:
+    dep = res.deployment
+    vf = f"{dep.velocity_filter:g} Hz" if dep.velocity_filter else "none"
+    print(f"design {dep.design.name!r}: seapass_ctrl.h and seapass_ctrl.c in {res.header.parent}")
+    print(
+        f"  period {float(dep.period):g} s ({float(1 / dep.period):g} Hz), delay {dep.delay} "
+        f"sample(s) ({dep.code_delay} in the code + {dep.hardware_delay} on the platform), "
+        f"velocity filter {vf}, force limit ±{dep.force_limit:g} N"
+    )
+    if dep.certified:
+        print(f"  certified: {dep.verdict}")
+    else:
+        print(f"  NOT CERTIFIED (exported on request): {dep.verdict}")
+    for g in dep.gains:
+        if g.tunable:
+            print(f"  {g.name} = {g.nominal:g}, tunable in [{g.low:.10g}, {g.high:.10g}]")
+        else:
+            print(f"  {g.name} = {g.nominal:g}")
+    for note in dep.notes:
+        print(f"  note: {note}")
+    if ver is not None:
+        how = "identical to" if ver.identical else f"within {ver.max_rel:.3g} (relative) of"
+        verdict = "ok" if ok else f"FAILED (more than {VERIFY_RTOL:g} apart)"
+        print(
+            f"  verify: {ver.steps} steps of the compiled C are {how} the Python controller "
+            f"({ver.saturated} saturated): {verdict}"
+        )
