@@ -128,6 +128,11 @@ _CODE_SPAN = re.compile(r"(`+)(.+?)(?<!`)\1(?!`)", re.S)
 _MATH_SPAN = re.compile(r"(?<![\\$])\$([^$\n]+)\$")
 
 
+# an HTML tag opener outside code: user text (a design title) is shown, never run;
+# ``<script>`` becomes ``&lt;script>``, which every Markdown viewer shows as typed
+_TAG = re.compile(r"<(?=[A-Za-z/!?])")
+
+
 def _code_span(text: str) -> str:
     from .document import code
 
@@ -157,7 +162,9 @@ def _md_text(text: str) -> str:
             parts = _split_code(line)
             lines.append(
                 "".join(
-                    p if is_code else _MATH_SPAN.sub(lambda m: _code_span(m.group(1)), p)
+                    p
+                    if is_code
+                    else _MATH_SPAN.sub(lambda m: _code_span(m.group(1)), _TAG.sub("&lt;", p))
                     for is_code, p in parts
                 )
             )
@@ -180,7 +187,7 @@ def _md_inline_text(text: Any) -> str:
             if k % 2:
                 out.append(_code_span(piece))
             else:
-                out.append(_LITERAL.sub(r"\\\g<0>", piece))
+                out.append(_LITERAL.sub(r"\\\g<0>", _TAG.sub("&lt;", piece)))
     return "".join(out).replace("|", "\\|")
 
 
