@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -45,6 +46,23 @@ def test_not_passive_design_report(tmp_path: Path, capsys: pytest.CaptureFixture
     assert (out / "figures/step_response.png").is_file()
     design = json.loads((out / "data/design.json").read_text())
     assert design["model"]["CL"] == "kd + bd*s"
+    # the design file as validated: one row per key, defaults filled in
+    rows = {r["key"]: r for r in _csv(out / "data/design_file.csv")}
+    assert rows["model.CL"]["value"] == "kd + bd*s" and rows["parameters.kd"]["unit"] == "N/m"
+    assert rows["control.rate"]["value"] == "none" and "simulation.horizon" in rows
+    html = (out / "report.html").read_text()
+    sec = html[html.index('id="sec-design-file"') :]
+    assert "<table>" in sec[: sec.index("</section>")] and "parameters.kd" in sec
+    # the stiffness at the values: decimal coefficients, not exact-rational noise
+    stiffness = {r["element"]: r["expression"] for r in _csv(out / "data/design.csv")}
+    at_values = stiffness["F_L/X_L at the values (6 digits)"]
+    assert not re.search(r"\d{8}", at_values), at_values
+    assert json.loads((out / "data/stiffness.json").read_text())["at_values_decimal"] == at_values
+    # the summary names the failed check first, the condition is MathML
+    summary = html[html.index('id="summary"') :]
+    assert summary.index("NOT passive") < summary.index("</section>")
+    assert "Checks of seapass" in summary[: summary.index("</section>")]
+    assert '<div class="math-block"><math' in html
 
 
 def test_ours_with_sampled_control() -> None:

@@ -11,7 +11,12 @@ import pytest
 
 from seapass.cli import main
 from seapass.errors import ParameterError
-from seapass.rig.experiment import run_experiment, run_rig_sweep, settling_metrics
+from seapass.rig.experiment import (
+    run_experiment,
+    run_rig_sweep,
+    run_rig_sweeps,
+    settling_metrics,
+)
 from seapass.rig.impacts import rig_stiffness_response, run_impacts
 from seapass.rig.predictions import critical_gain, sampled_loop_matrix
 from seapass.rig.rigfile import paper_rig
@@ -94,6 +99,23 @@ def test_coarse_sweep_lp_and_ours():
         run_rig_sweep(RIG, design="PD", load_mass=0.1, kd=kd)
     with pytest.raises(ParameterError, match="kd"):
         run_rig_sweep(RIG, design="LP", load_mass=0.1, kd=[[1.0]])
+
+
+def test_one_batch_of_sweeps_equals_separate_sweeps():
+    kd = [0.0, 300.0, 2000.0]
+    batch = run_rig_sweeps(RIG, designs=("LP", "ours"), load_masses=(0.1, 0.6), kd=kd,
+                           predictions=False)  # fmt: skip
+    assert [(s.design, s.load_mass) for s in batch] == [
+        ("LP", 0.1), ("LP", 0.6), ("ours", 0.1), ("ours", 0.6)
+    ]  # fmt: skip
+    for s in batch[1:3]:
+        alone = run_rig_sweep(RIG, design=s.design, load_mass=s.load_mass, kd=kd,
+                              predictions=False)  # fmt: skip
+        # the twin's runs are independent element by element: bit for bit the same
+        assert np.array_equal(s.x_L, alone.x_L)
+        assert s.status == alone.status and s.unstable_gain_twin == alone.unstable_gain_twin
+    with pytest.raises(ParameterError, match="load_mass"):
+        run_rig_sweeps(RIG, designs=("LP",), load_masses=(-1.0,), kd=kd)
 
 
 def test_experiment_findings_on_coarse_grid():

@@ -121,3 +121,10 @@ def test_readme_examples_print_the_stored_json(name: str) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(out.getvalue())
     _same(json.loads(out.getvalue()), json.loads(path.read_text()), name)
+
+
+def test_every_figure_is_also_svg(report: Path) -> None:
+    # build figures with FigureData.of (PNG and SVG), never from PNG bytes alone
+    pngs = sorted((report.parent / "figures").glob("*.png"))
+    assert pngs
+    assert [p.name for p in pngs if not p.with_suffix(".svg").is_file()] == []

@@ -1,7 +1,8 @@
 """The report as a person sees it: headless Chromium loads report.html offline.
 
-Every embedded image must decode, no console message (script error, CSP
-violation from an attempted network access) may appear.  Skipped only when
+Every embedded image must decode, every formula (MathML) must be laid out, no
+console message (script error, CSP violation from an attempted network
+access) may appear.  Skipped only when
 Debian's ``chromium`` is not installed (``make test`` installs it).
 """
 
@@ -63,6 +64,18 @@ def test_every_image_loads(rendered: tuple[str, str, Path, Path]) -> None:
     assert int(total.group(1)) == n_figures >= 4
     assert loaded.group(1) == total.group(1)
     assert "data-script-errors" not in body.group(0)
+
+
+def test_formulas_are_laid_out_as_math(rendered: tuple[str, str, Path, Path]) -> None:
+    dom, _log, _shot, _out = rendered
+    body = re.search(r"<body[^>]*>", dom)
+    assert body is not None
+    total = re.search(r'data-math-total="(\d+)"', body.group(0))
+    laid = re.search(r'data-math-laid-out="(\d+)"', body.group(0))
+    assert total and laid, f"the on-load check did not run: {body.group(0)}"
+    # MathML, rendered by the browser itself: every formula has a box
+    assert int(total.group(1)) >= 5
+    assert laid.group(1) == total.group(1)
 
 
 def test_no_console_messages(rendered: tuple[str, str, Path, Path]) -> None:

@@ -13,7 +13,7 @@ from seapass.errors import MissingExtraError, OutputPathError
 from seapass.plot.style import figure_bytes
 from seapass.report.document import FigureData, Finding, Report, Section, Table
 from seapass.report.output import write_report
-from seapass.report.pipeline import Stage, run_stages, select_stages
+from seapass.report.pipeline import Stage, run_stages, select_stages, stage_progress
 from seapass.report.reproduce import STAGES, reproduce, stage_keys
 
 
@@ -38,8 +38,35 @@ def test_core_outputs_exist(core: Path) -> None:
         assert (core / rel).is_file(), rel
     assert not [p for p in core.parent.iterdir() if p.name.startswith(".out.")]
     md = (core / "report.md").read_text()
+    html = (core / "report.html").read_text()
     for fig in (core / "figures").glob("*.png"):
         assert f"figures/{fig.name}" in md
+        # every figure also as SVG, linked from both reports
+        assert fig.with_suffix(".svg").read_bytes().lstrip().startswith(b"<?xml")
+        assert f'href="figures/{fig.stem}.svg"' in html and f"(figures/{fig.stem}.svg)" in md
+    for data in (core / "data").iterdir():
+        assert f'href="data/{data.name}"' in html, data.name
+
+
+def test_summary_classifies_every_difference(core: Path) -> None:
+    html = (core / "report.html").read_text()
+    summary = html.index('<section id="summary">')
+    assert summary < html.index("<table")
+    block = html[summary : html.index("</section>", summary)]
+    for label in ("Typos in the paper", "only conservative", "Unsafe bounds"):
+        assert label in block
+    findings = json.loads((core / "data/findings.json").read_text())
+    kinds = {f["kind"] for f in findings if f["verdict"] == "differs"}
+    assert kinds == {"paper typo", "conservative bound", "unsafe bound"}
+    assert all(f["kind"] is None for f in findings if f["verdict"] != "differs")
+    # the rows' findings: spring-spring has a typo and an unsafe bound, pure spring agrees
+    rows = {(f["claim"].split(":")[0], f["kind"]) for f in findings if f["section"] == "tables"}
+    assert ("Disjointed spring-spring (mech/spring-spring)", "paper typo") in rows
+    assert ("Disjointed spring-spring (mech/spring-spring)", "unsafe bound") in rows
+    assert ("Pure spring (mech/pure-spring)", None) in rows
+    # formulas are MathML in the page and plain text in data/
+    assert html.count("<math") > 100
+    assert "`" not in (core / "data/table1.csv").read_text()
 
 
 def test_tables_flag_the_papers_discrepancies(core: Path) -> None:
@@ -192,6 +219,21 @@ def _stage_ok(quick: bool) -> Section:
 
 def _stage_bad(quick: bool) -> Section:
     raise RuntimeError("stage exploded")
+
+
+def _stage_with_progress(quick: bool) -> Section:
+    stage_progress(0, 2, "first half")
+    stage_progress(2, 2, "done")
+    return _tiny("g")
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_progress_within_stages_reaches_the_caller(jobs: int) -> None:
+    seen: list[tuple[str, float, str]] = []
+    stages = [Stage("g", "G", _stage_with_progress), Stage("p", "P", _stage_ok)]
+    run_stages(stages, progress=False, jobs=jobs, on_progress=lambda *a: seen.append(a))
+    assert seen == [("g", 0.0, "first half"), ("g", 1.0, "done")]
+    stage_progress(1, 2, "outside a run: nothing happens")
 
 
 def test_parallel_stages_match_sequential() -> None:

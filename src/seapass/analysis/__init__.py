@@ -3,7 +3,8 @@
 What lives here: [`passivity`][seapass.analysis.passivity] (the exact positive-real
 test), [`conditions`][seapass.analysis.conditions] (symbolic necessary-and-sufficient
 conditions), [`region`][seapass.analysis.region] (exact passive intervals and 2-D
-maps), [`freqresp`][seapass.analysis.freqresp] (the stiffness frequency response),
+maps), [`boundary`][seapass.analysis.boundary] (the exact 2-D passive region and its
+boundary curves), [`freqresp`][seapass.analysis.freqresp] (the stiffness frequency response),
 [`coupled`][seapass.analysis.coupled] (coupled stability with an environment),
 [`indices`][seapass.analysis.indices] (the passivity indices ν and ρ, exact),
 [`environment_box`][seapass.analysis.environment_box] (environments within physical
@@ -14,6 +15,7 @@ bounds, and the exact proof that none of them destabilizes a design) and
 May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model].
 """
 
+from .boundary import PassiveRegion, passive_region
 from .conditions import ExactCondition, exact_passivity_condition
 from .coupled import CoupledResult, Environment, Stability, coupled_stability
 from .coupled_response import CoupledSimulation, simulate_coupled
@@ -34,6 +36,7 @@ __all__ = [
     "FrequencyResponse",
     "PassiveIntervals",
     "PassiveMap",
+    "PassiveRegion",
     "PassivityIndices",
     "PassivityResult",
     "Stability",
@@ -44,6 +47,7 @@ __all__ = [
     "is_passive",
     "passive_intervals",
     "passive_map",
+    "passive_region",
     "passivity_indices",
     "simulate_coupled",
     "stiffness_response",

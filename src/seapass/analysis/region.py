@@ -39,7 +39,13 @@ from ..model.sea import SEA, Impedance
 from ..model.stiffness import load_impedance
 from .passivity import is_passive
 
-__all__ = ["PassiveIntervals", "PassiveMap", "passive_intervals", "passive_map"]
+__all__ = [
+    "PassiveIntervals",
+    "PassiveMap",
+    "critical_polynomials",
+    "passive_intervals",
+    "passive_map",
+]
 
 _X = sp.Symbol("x")
 _OM = sp.Symbol("omega")
@@ -178,6 +184,31 @@ def _critical_polys(z: sp.Expr, p: sp.Symbol) -> list[sp.Expr]:
         # each coefficient of P matters where P may vanish identically
         out += [c for c in poly.all_coeffs() if c.has(p)]
     return [sp.expand(e) for e in out if sp.expand(e) != 0]
+
+
+def critical_polynomials(
+    system: SEA | Impedance,
+    params: Sequence[str],
+    *,
+    values: Mapping[str, float | None] | None = None,
+) -> list[sp.Expr]:
+    """Polynomials in ``params`` on whose real zero set the verdict of ``system`` may change.
+
+    Every parameter of ``system`` not in ``params`` must have a value (in
+    ``system`` or ``values``); the result holds the critical polynomials
+    described in the module docstring, with all of ``params`` symbolic (used
+    for 2-D regions by [`seapass.analysis.boundary`][seapass.analysis.boundary]).
+    """
+    base = _with(system, {**(values or {}), **dict.fromkeys(params)})
+    free = [n for n in base.parameters if n not in params and base.values.get(n) is None]
+    if free:
+        raise ParameterError(f"no value for parameter(s) {', '.join(free)}")
+    z = load_impedance(base) if isinstance(base, SEA) else base.expr
+    z = z.xreplace(base.substitutions())
+    out: dict[sp.Expr, None] = {}
+    for name in params:
+        out.update(dict.fromkeys(_critical_polys(z, symbol(name))))
+    return list(out)
 
 
 def _critical_values(

@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from .common import (
+    add_jobs_argument,
     add_json_option,
     announce_report,
     print_json,
@@ -44,6 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         metavar="LIST",
         help="comma-separated stages (default: all; 'core' = passivity,stiffness,ranges)",
     )
+    add_jobs_argument(p)
     p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
     add_json_option(p, "a summary (files, sections, verdict)")
     p.set_defaults(func=run)
@@ -68,6 +70,7 @@ def run(args: argparse.Namespace) -> int:
         stages=parse_stages(args.stages),
         progress=False if args.no_progress else None,
         log=lambda line: print(line, file=sys.stderr),
+        jobs=args.jobs,
     )
     out = Path(args.out)
     written = write_report(report, out)

@@ -66,9 +66,12 @@ def run(args: argparse.Namespace) -> int:
     warn_unrealizable(sea)
     pmap = passive_map(sea, args.x, np.linspace(x_lo, x_hi, args.nx), args.y, y_range)
     if figure is not None:
-        from ..plot.region import plot_passive_map
+        from ..analysis.boundary import passive_region
+        from ..plot.region import plot_passive_region
 
-        save_plot(lambda: plot_passive_map(pmap, title="exact passive region"), figure)
+        # the figure: the exact boundary curves between the columns, not a raster edge
+        region = passive_region(sea, args.x, (x_lo, x_hi), args.y, y_range)
+        save_plot(lambda: plot_passive_region(region, title="exact passive region"), figure)
     if args.json:
         print_json(pmap.to_dict())
     else:

@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from .common import (
+    add_jobs_argument,
     add_json_option,
     announce_report,
     print_json,
@@ -48,13 +49,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         metavar="LIST",
         help="comma-separated stages to run (default: all; 'core' = tables,stiffness,regions)",
     )
-    p.add_argument(
-        "--jobs",
-        type=int,
-        default=2,
-        metavar="N",
-        help="worker processes for the independent stages (default 2; 1 = sequential)",
-    )
+    add_jobs_argument(p)
     p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
     add_json_option(p, "a summary (files, sections, findings)")
     p.set_defaults(func=run)

@@ -48,6 +48,7 @@ from .output import (
 __all__ = [
     "EXIT_CODES",
     "HelpFormatter",
+    "add_jobs_argument",
     "add_json_option",
     "add_model_options",
     "add_out_dir_option",
@@ -267,6 +268,17 @@ def parse_range(text: str, flag: str = "--range", *, strict: bool = False) -> tu
 
 
 # --------------------------------------------------------------------------- models
+
+
+def add_jobs_argument(p: argparse.ArgumentParser) -> None:
+    """``--jobs N``: worker processes for a report's independent stages."""
+    p.add_argument(
+        "--jobs",
+        type=int,
+        default=2,
+        metavar="N",
+        help="worker processes for the independent stages (1 = sequential)",
+    )
 
 
 def add_model_options(p: argparse.ArgumentParser) -> None:

@@ -1,8 +1,8 @@
 """Figures of the rig experiment; they only consume result objects of [`seapass.rig`][seapass.rig].
 
 `plot_rig_sweep` follows the bottom row of the paper's Fig. 3 (settling
-time and steady-state error against ``kd``, LP/Ours × load masses, dotted line
-at LP's instability gain); `plot_impacts` shows the perceived stiffness
+time and steady-state error against ``kd``, LP and Ours, one column per load
+mass, LP's unstable gains shaded); `plot_impacts` shows the perceived stiffness
 (Eq. (10) frequency response, ``k_out`` against the impact time scale and
 against ``b1``; the paper's value only for the paper's rig); `plot_deploy` shows runs
 of the deployed controller; `plot_rig_fit` shows a fit of the actuator to a log.
@@ -23,60 +23,50 @@ from .style import axes_grid
 __all__ = ["plot_deploy", "plot_impacts", "plot_rig_fit", "plot_rig_sweep", "plot_traces"]
 
 _COLORS = {"LP": "tab:red", "ours": "tab:blue"}
-_STYLES = ("-", "--", "-.", ":")
 _LABEL = {"LP": "LP", "ours": "Ours"}
 
 
-def _style(sweeps: tuple[RigSweepResult, ...], s: RigSweepResult) -> str:
-    masses = sorted({x.load_mass for x in sweeps})
-    return _STYLES[masses.index(s.load_mass) % len(_STYLES)]
-
-
 def plot_rig_sweep(result: ExperimentResult, *, axes: Any = None) -> Any:
-    """Settling time and steady-state error against ``kd`` (paper Fig. 3, bottom row).
+    """Settling time (top) and steady-state error (bottom) against ``kd``, one column per load mass.
 
-    Returns the two Axes.
+    Paper Fig. 3, bottom row, with the load masses side by side so each panel
+    holds two lines (LP, Ours).  Gains where LP is unstable on the twin are
+    shaded; the error is on a log scale in mm, each gain a marker.
+
+    Returns
+    -------
+    numpy.ndarray of Axes, shape (2, number of load masses)
     """
-    ax_t, ax_e = axes_grid(axes, 1, 2, figsize=(10, 4))[0]
-    for s in result.sweeps:
-        kw = {"color": _COLORS[s.design], "linestyle": _style(result.sweeps, s)}
-        label = f"{_LABEL[s.design]}, $m_L$ = {s.load_mass:g} kg"
-        ax_t.plot(s.kd, s.settling_time, marker=".", ms=3, label=label, **kw)
-        ax_e.plot(s.kd, s.steady_state_error * 1e3, marker=".", ms=3, label=label, **kw)
-        if s.design == "LP" and s.unstable_gain_twin is not None:
-            for ax in (ax_t, ax_e):
-                ax.axvline(
-                    s.unstable_gain_twin, color="k", linestyle=":", linewidth=1.2, **{"alpha": 0.8}
-                )
-            ax_t.annotate(
-                f"LP unstable\n$m_L$={s.load_mass:g}",
-                (s.unstable_gain_twin, 0.95),
-                xycoords=("data", "axes fraction"),
-                fontsize=8,
-                ha="right",
-                va="top",
-            )
-    cap = max(
-        (
-            float(np.nanmax(s.settling_time))
-            for s in result.sweeps
-            if np.isfinite(s.settling_time).any()
-        ),
-        default=2.0,
-    )
-    ax_t.set_ylim(0, max(2.0, cap) * 1.05)
-    ax_t.set_xlabel("controller stiffness $k_d$ (N/m)")
-    ax_t.set_ylabel("settling time (s)  [gaps: did not settle in 2 s]")
-    ax_t.set_title("Settling time")
-    ax_e.set_xlabel("controller stiffness $k_d$ (N/m)")
-    ax_e.set_ylabel("steady-state error of $x_L$ (mm)")
-    ax_e.set_yscale("symlog", linthresh=0.1)
-    ax_e.set_title("Steady-state error")
-    for ax in (ax_t, ax_e):
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8)
-    ax_t.figure.suptitle(f"Digital twin of {result.rig_name}: load from 20 mm to 0")
-    return np.array([ax_t, ax_e])
+    from matplotlib.ticker import FuncFormatter
+
+    masses = sorted({s.load_mass for s in result.sweeps})
+    n = max(len(masses), 1)
+    grid = axes_grid(axes, 2, n, figsize=(5.2 * n + 0.6, 6.4), sharex=True)
+    for col, mass in enumerate(masses):
+        ax_t, ax_e = grid[0, col], grid[1, col]
+        sweeps = [s for s in result.sweeps if s.load_mass == mass]
+        for s in sweeps:
+            kw = {"color": _COLORS[s.design], "label": _LABEL[s.design]}
+            ax_t.plot(s.kd, s.settling_time, marker="o", ms=3.5, lw=1.3, **kw)
+            err = np.where(s.steady_state_error > 0, s.steady_state_error * 1e3, np.nan)
+            ax_e.plot(s.kd, err, marker="o", ms=3.5, lw=0.8, alpha=0.9, **kw)
+            if s.design == "LP" and s.unstable_gain_twin is not None:
+                for ax in (ax_t, ax_e):
+                    ax.axvspan(s.unstable_gain_twin, float(np.max(s.kd)) * 1.02,
+                               color="tab:red", alpha=0.1, lw=0,
+                               label="LP unstable (twin)" if ax is ax_t else None)  # fmt: skip
+        ax_t.set_title(f"load mass $m_L$ = {mass:g} kg")
+        ax_t.set_ylim(bottom=0)
+        ax_e.set_yscale("log")
+        ax_e.yaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
+        ax_e.set_xlabel("controller stiffness $k_d$ (N/m)")
+        for ax in (ax_t, ax_e):
+            ax.grid(True, alpha=0.3)
+    grid[0, 0].set_ylabel("2 % settling time (s)\n[gaps: did not settle in 2 s]")
+    grid[1, 0].set_ylabel("steady-state error of $x_L$ (mm)")
+    grid[0, 0].legend(fontsize=8, loc="upper left")
+    grid[0, 0].figure.suptitle(f"Digital twin of {result.rig_name}: load from 20 mm to 0")
+    return grid
 
 
 def plot_traces(

@@ -105,27 +105,65 @@ def plot_simulation_study(study: SimulationStudy, *, axes: Any = None) -> Any:
     return grid[0]
 
 
-def plot_tradeoff(maps: Sequence[tuple[Any, ...]], *, axes: Any = None) -> Any:
-    """Settling time over 2-D gain grids; grey where not passive, blank where it did not settle.
+def plot_tradeoff(
+    maps: Sequence[tuple[Any, ...]], *, horizon: float | None = None, axes: Any = None
+) -> Any:
+    """Settling time over 2-D gain grids; grey where not passive.
 
     ``maps`` holds ``(label, x name, y name, xs, ys, passive mask, settling times,
-    best)`` per panel, with ``best = (time, x, y)`` of the fastest passive design or
-    None.  Returns the Axes, one per map.
+    best[, marks])`` per panel: ``ts`` has axes ``(len(ys), len(xs))`` and NaN
+    where the design did not settle, ``best = (time, x, y)`` of the fastest
+    passive design or None, and ``marks`` optional ``(x, y, label)`` points to
+    circle.  The colour scale is logarithmic up to ``horizon`` (default: the
+    slowest settled design); a passive design that did not settle within it
+    takes the scale's darkest colour, so the region reads continuous instead
+    of speckled.  Axes may be non-uniform.  Returns the Axes, one per map.
     """
-    grid = axes_grid(axes, 1, len(maps), figsize=(5.6 * len(maps), 4.4))[0]
-    for ax, (label, xn, yn, xs, ys, pas, ts, best) in zip(grid, maps, strict=True):
+    from matplotlib.colors import LogNorm
+    from matplotlib.patches import Patch
+    from matplotlib.ticker import FuncFormatter
+
+    grid = axes_grid(axes, 1, len(maps), figsize=(5.8 * len(maps), 4.6))[0]
+    for ax, entry in zip(grid, maps, strict=True):
+        label, xn, yn, xs, ys, pas, ts, best = entry[:8]
+        marks = entry[8] if len(entry) > 8 else []
+        settled = np.isfinite(ts) & pas
+        top = horizon or (float(np.nanmax(ts[settled])) if settled.any() else 1.0)
+        low = float(np.nanmin(ts[settled])) if settled.any() else top / 10
+        cmap = _colormap("viridis_r").with_extremes(over="#2b0b3f")
+        # not settled: above the scale (a finite value, so it takes the "over" colour)
+        shown = np.where(pas, np.where(np.isfinite(ts), ts, 10.0 * top), np.nan)
         ax.pcolormesh(xs, ys, np.where(pas, np.nan, 1.0), cmap="Greys", vmin=0, vmax=2,
                       shading="nearest")  # fmt: skip
-        mesh = ax.pcolormesh(xs, ys, np.where(pas, ts, np.nan), cmap="viridis_r",
-                             shading="nearest")  # fmt: skip
-        ax.figure.colorbar(mesh, ax=ax, label="2 % settling time [s]")
+        mesh = ax.pcolormesh(xs, ys, shown, cmap=cmap, shading="nearest",
+                             norm=LogNorm(vmin=max(low * 0.9, 1e-3), vmax=top))  # fmt: skip
+        bar = ax.figure.colorbar(
+            mesh,
+            ax=ax,
+            extend="max",
+            label=f"2 % settling time [s] (darkest: not within {top:g} s)",
+        )
+        bar.ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
+        bar.ax.yaxis.set_minor_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))  # fmt: skip
+        handles = [Patch(color="0.5", label="not passive")]
         if best is not None:
-            ax.plot(best[1], best[2], "r*", ms=14, label=f"fastest passive: {best[0]:.3g} s")
-            ax.legend(loc="upper right", fontsize=9)
+            (h,) = ax.plot(best[1], best[2], "r*", ms=14, label=f"fastest passive: {best[0]:.3g} s")
+            handles.append(h)
+        for mx, my, mlabel in marks:
+            (h,) = ax.plot(mx, my, "o", ms=11, mfc="none", mec="w", mew=2, label=mlabel)
+            handles.append(h)
+        ax.legend(handles=handles, loc="upper right", fontsize=8)
         ax.set_xlabel(f"{xn} [{UNITS.get(xn, 'SI')}]")
         ax.set_ylabel(f"{yn} [{UNITS.get(yn, 'SI')}]")
-        ax.set_title(f"{label}: grey = not passive, blank = did not settle", fontsize=10)
+        ax.set_title(label, fontsize=11)
     return grid
+
+
+def _colormap(name: str) -> Any:
+    """A registered colormap by name, without pyplot."""
+    import matplotlib
+
+    return matplotlib.colormaps[name]
 
 
 def plot_step_responses(

@@ -30,6 +30,7 @@ __all__ = [
     "bare_figures",
     "figure_bytes",
     "figure_of",
+    "figure_renders",
     "figure_style",
     "save_figure",
 ]
@@ -120,6 +121,25 @@ def figure_bytes(fig: Any, fmt: str = "png", *, dpi: int = 110) -> bytes:
         fig = figure_of(fig)
     try:
         return _render(fig, fmt, dpi)
+    finally:
+        _close(fig)
+
+
+def figure_renders(fig: Any, formats: Sequence[str], *, dpi: int = 110) -> dict[str, bytes]:
+    """Render ``fig`` once per format (byte-stable, as `figure_bytes`); close it.
+
+    Returns ``{format: bytes}``; ``fig`` is a figure or Axes of it.
+    """
+    if not hasattr(fig, "savefig"):
+        fig = figure_of(fig)
+    try:
+        out = {}
+        for i, f in enumerate(formats):
+            out[f] = _render(fig, f, dpi)
+            if i == 0:
+                # the layout is done: keep it for the other formats instead of redoing it
+                fig.set_layout_engine("none")
+        return out
     finally:
         _close(fig)
 

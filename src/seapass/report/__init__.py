@@ -1,7 +1,9 @@
 """Reports: the document model, its renderings, the stage pipeline, ``reproduce`` and ``analyze``.
 
 What lives here: [`document`][seapass.report.document] (sections, tables, figures,
-findings), [`render`][seapass.report.render] (``report.html`` and ``report.md``),
+findings and their kinds), [`render`][seapass.report.render] (``report.html`` and
+``report.md`` from the jinja2 templates in ``templates/``), [`formula`][seapass.report.formula]
+(formulas in plain text shown as MathML, decimal transfer functions),
 [`output`][seapass.report.output] (writing the report directory),
 [`pipeline`][seapass.report.pipeline] (the stage runner shared by both reports),
 [`reproduce`][seapass.report.reproduce] (the paper), [`analyze`][seapass.report.analyze]

@@ -41,12 +41,23 @@ from collections.abc import Callable, Sequence
 from functools import partial
 
 from ..model.design_file import Design
-from .document import Report, Section, SectionStatus, Verdict, to_json
+from ..model.expr import UNITS
+from .document import (
+    Math,
+    Report,
+    Section,
+    SectionStatus,
+    Table,
+    Verdict,
+    formula,
+    literal,
+    to_json,
+)
 from .pipeline import Stage, run_stages, select_stages
 from .stages import design_dynamics, design_frequency, design_hardware, design_passivity, zwidth
 from .stages.design_passivity import values_text
 
-__all__ = ["ANALYSIS_STAGES", "analyze", "verdict_line"]
+__all__ = ["ANALYSIS_STAGES", "analyze", "design_file_section", "verdict_line"]
 
 
 # ----------------------------------------------------------------- entry point
@@ -64,6 +75,9 @@ _STAGE_FUNCS: tuple[tuple[str, str, Callable[[Design, bool], Section]], ...] = (
     ("rig", "Digital twin of the rig", design_hardware.stage_rig),
 )
 
+_COSTS = {"tuning": 8.0, "sampled": 10.0, "rig": 4.0, "ranges": 1.5, "witness": 1.5}
+"""Relative run times of the costly stages (the pool starts them first); others count 1."""
+
 ANALYSIS_STAGES: tuple[str, ...] = tuple(k for k, _t, _f in _STAGE_FUNCS)
 """Stage keys of `analyze`, in order."""
 
@@ -75,6 +89,7 @@ def analyze(
     stages: Sequence[str] | None = None,
     progress: bool | None = None,
     log: Callable[[str], None] | None = None,
+    jobs: int = 1,
 ) -> Report:
     """The analysis report of one design.
 
@@ -91,6 +106,8 @@ def analyze(
         Progress bar over the stages (default: when stderr is a TTY).
     log : callable, optional
         Receives one line per finished stage.
+    jobs : int
+        Worker processes for the independent stages; the report is the same for every ``jobs``.
 
     Returns
     -------
@@ -98,30 +115,70 @@ def analyze(
         Write it with [`seapass.report.output.write_report`][seapass.report.output.write_report].
     """
     core = {"passivity", "stiffness", "ranges"}
-    all_stages = [Stage(k, t, partial(f, design), core=k in core) for k, t, f in _STAGE_FUNCS]
+    all_stages = [
+        Stage(k, t, partial(f, design), core=k in core, cost=_COSTS.get(k, 1.0))
+        for k, t, f in _STAGE_FUNCS
+    ]
     chosen = select_stages(stages, all_stages)
-    sections = run_stages(chosen, quick=quick, progress=progress, log=log)
-    head = verdict_line(sections, design)
-    head = f"**Verdict: {head}.** " if head else ""
+    sections = run_stages(chosen, quick=quick, progress=progress, log=log, jobs=jobs)
+    verdict = verdict_line(sections, design)
     title = design.title or design.name
     intro = (
-        f"{head}Analysis of the design `{design.name}`"
-        + (f" ({design.title})" if design.title else "")
-        + f": D1 = `{design.D1}`, D2 = `{design.D2}`, C_A = `{design.CA}`, C_L = `{design.CL}`; "
-        f"{values_text(dict(design.values))} (SI units). Every number is in `data/`, every "
-        "figure in `figures/`; verdicts are exact."
+        f"Analysis of the design `{design.name}`"
+        + (f" ({literal(design.title)})" if design.title else "")
+        + f": D1 = {formula(design.D1)}, D2 = {formula(design.D2)}, "
+        f"C_A = {formula(design.CA)}, C_L = {formula(design.CL)}; "
+        f"{values_text(dict(design.values))} (SI units). Every number is in [`data/`](data/), "
+        "every figure in [`figures/`](figures/) (PNG and SVG); verdicts are exact."
         + (" Reduced budgets (`--quick`)." if quick else "")
     )
-    extra = Section(
-        key="design-file",
-        title="Design file (as validated)",
-        text="The design as read and validated; the same content is in `data/design.json`.",
-        files={"design.json": to_json(design.to_dict())},
-    )
+    ok = sum(1 for s in sections if s.status == SectionStatus.OK)
+    headline = (
+        f"**Verdict: {verdict}.** " if verdict else ""
+    ) + f"{len(sections)} analyses run, {ok} completed."
     return Report(
         title=f"seapass analysis: {title}",
         intro=intro,
-        sections=(*sections, extra),
+        sections=(*sections, design_file_section(design)),
+        headline=headline,
+    )
+
+
+def design_file_section(design: Design) -> Section:
+    """The design as read and validated, defaults filled in, one row per key."""
+    d = design.to_dict()
+    rows: list[tuple[str, object, str]] = [("name", d["name"], ""), ("title", d["title"], "")]
+    rows += [(f"model.{k}", Math(v), "") for k, v in d["model"].items()]
+    rows += [(f"parameters.{k}", v, UNITS.get(k, "")) for k, v in d["parameters"].items()]
+    searched = design.analysis_ranges()
+    for k, (lo, hi) in searched.items():
+        given = "" if k in d["ranges"] else " (default: [0, max(10·value, 1000)])"
+        rows.append((f"ranges.{k}", f"[{lo:g}, {hi:g}]{given}", UNITS.get(k, "")))
+    sim_units = {"load_masses": "kg", "step": "m", "horizon": "s", "tune_mass": "kg"}
+    for k, v in d["simulation"].items():
+        shown = ", ".join(f"{x:g}" for x in v) if isinstance(v, list) else v
+        rows.append((f"simulation.{k}", shown, sim_units.get(k, "")))
+    control_units = {"rate": "Hz", "delay": "samples", "velocity_filter": "Hz"}
+    for k, v in d["control"].items():
+        rows.append((f"control.{k}", "none" if v is None else v, control_units.get(k, "")))
+    rows.append(("rig", d["rig"] or "none", ""))
+    return Section(
+        key="design-file",
+        title="Design file (as validated)",
+        text=(
+            "The design as seapass read and validated it, defaults filled in; every analysis "
+            "above used exactly these values. The same content is in "
+            "[`data/design.json`](data/design.json)."
+        ),
+        tables=(
+            Table(
+                name="design_file",
+                title="Validated design",
+                columns=("key", "value", "unit"),
+                rows=tuple(rows),
+            ),
+        ),
+        files={"design.json": to_json(d)},
     )
 
 

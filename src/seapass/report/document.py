@@ -1,12 +1,17 @@
 """The report's document model: sections of text, tables, figures and findings.
 
 A `Report` is a sequence of `Section` objects, each holding
-short text (a small Markdown subset: paragraphs, ``- `` lists, fenced code,
-```code``` and ``**bold**``), `Table` objects, `FigureData`
-(PNG bytes) and `Finding` objects (a claim of the paper checked
-against seapass).  The stages of [`seapass.report.reproduce`][seapass.report.reproduce] and
+short text (CommonMark, rendered by markdown-it-py: paragraphs, lists, fenced
+code, ```code```, emphasis, links; plus ``$formula$`` and ```` ```math ````
+blocks for formulas in plain text, shown as MathML), `Table` objects (cells may
+be `Math`), `FigureData` (PNG and SVG bytes) and `Finding` objects (a claim,
+usually the paper's, checked by seapass; a difference carries its
+`Discrepancy` kind).  The stages of [`seapass.report.reproduce`][seapass.report.reproduce] and
 [`seapass.report.analyze`][seapass.report.analyze] build them; [`seapass.report.render`][seapass.report.render] renders
 them and [`seapass.report.output`][seapass.report.output] writes them.
+
+Text from users (design names, file names) goes into Markdown through `code`,
+so it is shown literally.
 """
 
 from __future__ import annotations
@@ -25,15 +30,22 @@ from typing import Any
 from ..errors import ParameterError
 
 __all__ = [
+    "Discrepancy",
     "FigureData",
     "Finding",
+    "Math",
     "Report",
     "Section",
     "SectionStatus",
+    "Summary",
     "Table",
     "Verdict",
+    "code",
     "format_cell",
     "format_intervals",
+    "formula",
+    "literal",
+    "plain_text",
     "to_json",
 ]
 
@@ -57,6 +69,95 @@ class Verdict(StrEnum):
     """A number or observation, not a comparison."""
 
 
+class Discrepancy(StrEnum):
+    """What kind of difference a finding with verdict ``differs`` records."""
+
+    PAPER_TYPO = "paper typo"
+    """A printed formula differs from the derivation; the conclusion it supports holds."""
+    CONSERVATIVE = "conservative bound"
+    """The paper's bound is sufficient only: it rejects designs that are passive."""
+    UNSAFE = "unsafe bound"
+    """The paper's bound admits designs that are not passive."""
+    CHECK_FAILED = "check failed"
+    """A check of seapass's own (twin, sampled data, a design's verdict) does not hold."""
+
+    @property
+    def label(self) -> str:
+        """The heading the report's summary uses for this kind."""
+        return _KIND_LABELS[self]
+
+
+_KIND_LABELS = {
+    Discrepancy.PAPER_TYPO: "Typos in the paper's printed formulas",
+    Discrepancy.CONSERVATIVE: "Bounds that are only conservative (safe, but reject passive designs)",
+    Discrepancy.UNSAFE: "Unsafe bounds (admit designs that are not passive)",
+    Discrepancy.CHECK_FAILED: "Checks of seapass's own that failed",
+}
+
+
+@dataclass(frozen=True)
+class Math:
+    """A formula as plain text in Python syntax (``b*k1**2*(w - 1)``).
+
+    ``data/`` and ``report.md`` get the text; ``report.html`` shows it as
+    MathML ([`seapass.report.formula.formula_mathml`][seapass.report.formula.formula_mathml]).
+    """
+
+    text: str
+
+    def __str__(self) -> str:
+        return self.text
+
+
+def formula(text: Any) -> str:
+    """Inline formula markup for section text: ``$text$`` (shown as MathML).
+
+    >>> formula("kd <= k1")
+    '$kd <= k1$'
+    """
+    t = str(text)
+    if "$" in t or "\n" in t:
+        return code(t)
+    return f"${t}$"
+
+
+def code(text: Any) -> str:
+    """``text`` as a Markdown code span, shown literally whatever it contains.
+
+    >>> code("a`b")
+    '``a`b``'
+    """
+    t = " ".join(str(text).split()) or " "
+    longest = max((len(r) for r in re.findall(r"`+", t)), default=0)
+    fence = "`" * (longest + 1)
+    pad = " " if t.startswith("`") or t.endswith("`") else ""
+    return f"{fence}{pad}{t}{pad}{fence}"
+
+
+def literal(text: Any) -> str:
+    r"""``text`` as Markdown that shows it as is, on one line (for text from users).
+
+    Every character that can open inline markup (emphasis, code, links,
+    images, raw HTML, entities, formulas) is backslash-escaped.
+
+    >>> print(literal("[x](http://a) *b*, it's 5 $"))
+    \[x\](http://a) \*b\*, it's 5 \$
+    """
+    return re.sub(r"([\\`*_\[\]<>!&$])", r"\\\1", " ".join(str(text).split()))
+
+
+_INLINE_MATH = re.compile(r"(?<![\\$])\$([^$\n]+)\$")
+
+
+def plain_text(text: str) -> str:
+    """``text`` without formula markup (``$x$`` becomes ``x``), for ``data/``.
+
+    >>> plain_text("derived - printed = $b*w**2$")
+    'derived - printed = b*w**2'
+    """
+    return _INLINE_MATH.sub(lambda m: m.group(1), text)
+
+
 _FILE = re.compile(r"^[A-Za-z0-9_.-]+$")
 
 
@@ -64,6 +165,8 @@ def format_cell(value: Any) -> str:
     """Human-readable cell: floats to 4 significant digits, booleans as yes/NO."""
     if value is None:
         return "–"
+    if isinstance(value, Math):
+        return value.text
     if isinstance(value, bool):
         return "yes" if value else "NO"
     if isinstance(value, float):
@@ -106,6 +209,8 @@ def to_json(obj: Any) -> str:
 def _csv_cell(value: Any) -> str:
     if value is None:
         return ""
+    if isinstance(value, Math):
+        return value.text
     if isinstance(value, float):
         return repr(value) if math.isfinite(value) else ("" if math.isnan(value) else str(value))
     return str(value)
@@ -158,26 +263,56 @@ class Table:
 
 @dataclass(frozen=True)
 class FigureData:
-    """A rendered figure: PNG bytes, written as ``figures/<name>.png``."""
+    """A rendered figure: ``figures/<name>.png`` and, when given, ``figures/<name>.svg``.
+
+    Build it from a matplotlib figure (or its Axes) with `FigureData.of`,
+    which renders both formats.
+    """
 
     name: str
     caption: str
     png: bytes = field(repr=False)
+    svg: bytes | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         if not _FILE.match(self.name):
             raise ParameterError(f"figure name {self.name!r} is not a plain file stem")
         if not self.png.startswith(b"\x89PNG"):
             raise ParameterError(f"figure {self.name!r}: not PNG data")
+        if self.svg is not None and b"<svg" not in self.svg[:2000]:
+            raise ParameterError(f"figure {self.name!r}: not SVG data")
+
+    @classmethod
+    def of(cls, name: str, caption: str, fig: Any) -> FigureData:
+        """Render ``fig`` (a figure, or Axes of it) as PNG and SVG, and close it."""
+        from ..plot.style import figure_renders
+
+        out = figure_renders(fig, ("png", "svg"))
+        return cls(name, caption, out["png"], out["svg"])
+
+    @property
+    def files(self) -> dict[str, bytes]:
+        """Relative path to content of every file of this figure."""
+        out = {f"figures/{self.name}.png": self.png}
+        if self.svg is not None:
+            out[f"figures/{self.name}.svg"] = self.svg
+        return out
 
 
 @dataclass(frozen=True)
 class Finding:
-    """A claim (usually the paper's) and what seapass finds: ``agrees``, ``differs`` or ``info``."""
+    """A claim (usually the paper's) and what seapass finds: ``agrees``, ``differs`` or ``info``.
+
+    ``claim`` and ``detail`` are inline text (``$formula$`` allowed).  A
+    difference has a ``kind`` (`Discrepancy`); given none it is
+    ``check failed`` (a check of seapass's own), since the paper stages name
+    their kinds explicitly.
+    """
 
     claim: str
     verdict: Verdict
     detail: str = ""
+    kind: Discrepancy | None = None
 
     def __post_init__(self) -> None:
         try:
@@ -187,9 +322,25 @@ class Finding:
             raise ParameterError(
                 f"verdict must be one of {choices}, got {self.verdict!r}"
             ) from None
+        if self.verdict != Verdict.DIFFERS:
+            if self.kind is not None:
+                raise ParameterError(f"only a finding that differs has a kind, got {self.kind!r}")
+            return
+        try:
+            kind = Discrepancy(self.kind or Discrepancy.CHECK_FAILED)
+        except ValueError:
+            choices = ", ".join(k.value for k in Discrepancy)
+            raise ParameterError(f"kind must be one of {choices}, got {self.kind!r}") from None
+        object.__setattr__(self, "kind", kind)
 
-    def to_dict(self) -> dict[str, str]:
-        return {"claim": self.claim, "verdict": self.verdict, "detail": self.detail}
+    def to_dict(self) -> dict[str, str | None]:
+        """Plain text (formula markup removed) for ``data/findings.json``."""
+        return {
+            "claim": plain_text(self.claim),
+            "verdict": self.verdict,
+            "kind": self.kind,
+            "detail": plain_text(self.detail),
+        }
 
 
 @dataclass(frozen=True)
@@ -234,12 +385,31 @@ class Section:
 
 
 @dataclass(frozen=True)
+class Summary:
+    """The headline numbers of a report (`Report.summary`).
+
+    ``counts`` has every `Verdict`; ``differences`` maps every
+    `Discrepancy` to its findings as ``(section key, finding index, finding)``;
+    ``problems`` are the sections that were skipped or failed.
+    """
+
+    counts: Mapping[Verdict, int]
+    differences: Mapping[Discrepancy, tuple[tuple[str, int, Finding], ...]]
+    problems: tuple[Section, ...]
+
+
+@dataclass(frozen=True)
 class Report:
-    """A titled sequence of sections."""
+    """A titled sequence of sections.
+
+    ``headline`` is the first line of the summary block (what was checked);
+    the renderers add the counts and every difference by kind after it.
+    """
 
     title: str
     intro: str
     sections: tuple[Section, ...]
+    headline: str = ""
 
     @property
     def findings(self) -> list[tuple[str, Finding]]:
@@ -248,6 +418,21 @@ class Report:
     @property
     def failed(self) -> list[str]:
         return [s.key for s in self.sections if s.status == SectionStatus.FAILED]
+
+    def summary(self) -> Summary:
+        """Counts of findings by verdict, the differences by kind, the sections with problems."""
+        counts = dict.fromkeys(Verdict, 0)
+        diffs: dict[Discrepancy, list[tuple[str, int, Finding]]] = {k: [] for k in Discrepancy}
+        for s in self.sections:
+            for i, f in enumerate(s.findings):
+                counts[f.verdict] += 1
+                if f.kind is not None:
+                    diffs[f.kind].append((s.key, i, f))
+        return Summary(
+            counts=MappingProxyType(counts),
+            differences=MappingProxyType({k: tuple(v) for k, v in diffs.items()}),
+            problems=tuple(s for s in self.sections if s.status != SectionStatus.OK),
+        )
 
     def files(self) -> dict[str, str | bytes]:
         """Every output file, relative path to content (without the two reports)."""
@@ -265,5 +450,5 @@ class Report:
             for name, text in s.files.items():
                 out[f"data/{name}"] = text
             for fig in s.figures:
-                out[f"figures/{fig.name}.png"] = fig.png
+                out.update(fig.files)
         return out

@@ -1,9 +1,22 @@
 """Renderings of a [`Report`][seapass.report.document.Report]: ``report.html`` and ``report.md``.
 
-``report.html`` embeds every figure as a base64 ``data:`` URI, has inline CSS
-only, and a Content-Security-Policy that forbids any network access.  A tiny
-inline script records, on load, how many images decoded (``data-images-*``
-attributes on ``<body>``) so a headless browser can check the page.
+Both come from jinja2 templates shipped with the package
+(``seapass/report/templates/``); ``report.html`` is autoescaped, and section
+text is Markdown rendered by markdown-it-py with raw HTML disabled, so no text
+of a report (a design name from a user's file included) can inject markup.
+
+``report.html`` is one self-contained file: every figure is embedded as a
+base64 ``data:`` URI, CSS and script are inline, formulas are MathML (rendered
+by the browser, no font or script download), and a Content-Security-Policy
+forbids any network access.  Links to ``data/`` and ``figures/`` (PNG and
+SVG) are relative; a link with a scheme or a host in section text is shown as
+text, never as a link.  A tiny inline script records, on load, how many images
+decoded and how many formulas were laid out (``data-*`` attributes on
+``<body>``), so a headless browser can check the page.
+
+Text markup, beyond CommonMark: ``$formula$`` inline and a fenced block with
+the info string ``math`` hold formulas as plain text; ``report.html`` shows
+them as MathML ([`seapass.report.formula`][seapass.report.formula]), ``report.md`` as code.
 """
 
 from __future__ import annotations
@@ -11,270 +24,247 @@ from __future__ import annotations
 import base64
 import html
 import re
-from collections.abc import Sequence
-from typing import Any
+from functools import cache
+from importlib import resources
+from typing import Any, cast
 
-from .document import Finding, Report, Table, format_cell
+from .document import Finding, Math, Report, Section, Table, format_cell, plain_text
+from .formula import formula_mathml
 
-__all__ = ["render_html", "render_markdown"]
+__all__ = ["CSP", "render_html", "render_markdown"]
 
-
-# emphasis only at word boundaries, so "w**2*(k1**2" (sympy output) stays as it is
-_BOLD = re.compile(r"(?<![\w*])\*\*(?=\S)(.+?)(?<=\S)\*\*(?![\w*])")
-
-
-_ITALIC = re.compile(r"(?<![\w*])\*(?=[^\s*])([^*]+?)(?<=\S)\*(?![\w*])")
+CSP = "default-src 'none'; img-src data:; style-src 'unsafe-inline'; script-src 'unsafe-inline'"
+"""The Content-Security-Policy of ``report.html``: no network access of any kind."""
 
 
-def _inline_html(text: str, *, emphasis: bool = True) -> str:
-    """Escape ``text``; ```code``` spans always, ``**bold**``/``*italic*`` if ``emphasis``."""
-    out = []
-    for i, part in enumerate(re.split(r"(`[^`]*`)", text)):
-        if i % 2:
-            out.append(f"<code>{html.escape(part[1:-1])}</code>")
-        else:
-            esc = html.escape(part)
-            if emphasis:
-                esc = _BOLD.sub(r"<strong>\1</strong>", esc)
-                esc = _ITALIC.sub(r"<em>\1</em>", esc)
-            out.append(esc)
-    return "".join(out)
+# ------------------------------------------------------------------ markdown-it
 
 
+def _math_inline(state: Any, silent: bool) -> bool:
+    """``$...$`` on one line: a formula token (``$`` is a markdown-it terminator character)."""
+    src, pos = state.src, state.pos
+    if src[pos] != "$":
+        return False
+    end = src.find("$", pos + 1)
+    if end <= pos + 1 or "\n" in src[pos + 1 : end]:
+        return False
+    if not silent:
+        token = state.push("math_inline", "math", 0)
+        token.content = src[pos + 1 : end]
+    state.pos = end + 1
+    return True
+
+
+def _render_math_inline(self: Any, tokens: Any, idx: int, options: Any, env: Any) -> str:
+    return _math_html(tokens[idx].content, display=False)
+
+
+def _math_html(text: str, *, display: bool) -> str:
+    ml = formula_mathml(text, display=display)
+    if ml is not None:
+        return ml
+    code = f"<code>{html.escape(text)}</code>"
+    return f"<pre>{code}</pre>" if display else code
+
+
+_ABSOLUTE = re.compile(r"^\s*([a-z][a-z0-9+.-]*:|//|\\\\)", re.I)
+
+
+def _relative_link(url: str) -> bool:
+    return not _ABSOLUTE.match(url)
+
+
+@cache
+def _markdown(inline_only: bool) -> Any:
+    """CommonMark without raw HTML (block text), or code spans and formulas only (cells)."""
+    from markdown_it import MarkdownIt
+
+    if inline_only:
+        md = MarkdownIt("zero", {"html": False}).enable(["backticks", "escape"])
+    else:
+        md = MarkdownIt("commonmark", {"html": False})
+    # links stay inside the report directory: a URL with a scheme or host is shown as text
+    setattr(md, "validateLink", _relative_link)  # noqa: B010 (an instance attribute by design)
+    md.inline.ruler.before("escape", "math_inline", _math_inline)
+    md.add_render_rule("math_inline", _render_math_inline)
+    if not inline_only:
+        fence = cast(Any, md.renderer).rules["fence"]
+
+        def render_fence(self: Any, tokens: Any, idx: int, options: Any, env: Any) -> str:
+            tok = tokens[idx]
+            if tok.info.strip() == "math":
+                block = _math_html(" ".join(tok.content.split()), display=True)
+                return f'<div class="math-block">{block}</div>\n'
+
+            return str(fence(tokens, idx, options, env))
+
+        md.add_render_rule("fence", render_fence)
+    return md
+
+
+def _md_block(text: str) -> Any:
+    from markupsafe import Markup
+
+    return Markup(_markdown(False).render(text.strip("\n")))
+
+
+def _md_inline(text: Any) -> Any:
+    from markupsafe import Markup
+
+    return Markup(_markdown(True).renderInline(str(text)))
+
+
+def _cell_html(value: Any) -> Any:
+    from markupsafe import Markup
+
+    if isinstance(value, Math):
+        return Markup(_math_html(value.text, display=False))
+    return _md_inline(format_cell(value))
+
+
+# -------------------------------------------------------------- markdown output
+
+_CODE_SPAN = re.compile(r"(`+)(.+?)(?<!`)\1(?!`)", re.S)
+_MATH_SPAN = re.compile(r"(?<![\\$])\$([^$\n]+)\$")
+
+
+# an HTML tag opener outside code: user text (a design title) is shown, never run;
+# ``<script>`` becomes ``&lt;script>``, which every Markdown viewer shows as typed
 _TAG = re.compile(r"<(?=[A-Za-z/!?])")
 
 
-def _md_safe(text: str) -> str:
-    """Neutralize HTML tags outside code spans: user text (a design title) is shown, never run.
+def _code_span(text: str) -> str:
+    from .document import code
 
-    ``<script>`` becomes ``&lt;script>``, which every Markdown viewer shows as
-    typed; ``x < 0`` is left alone.
-    """
-    parts = re.split(r"(`[^`]*`)", text)
-    return "".join(p if i % 2 else _TAG.sub("&lt;", p) for i, p in enumerate(parts))
+    return code(text)
 
 
-def _md_plain(text: str) -> str:
-    """Markdown-escape ``*`` outside code spans (data such as ``w**2`` is not emphasis)."""
-    parts = re.split(r"(`[^`]*`)", _md_safe(text))
-    return "".join(p if i % 2 else p.replace("*", "\\*") for i, p in enumerate(parts))
+def _split_code(text: str) -> list[tuple[bool, str]]:
+    """``text`` in (is code span, part) pieces."""
+    out, pos = [], 0
+    for m in _CODE_SPAN.finditer(text):
+        out += [(False, text[pos : m.start()]), (True, m.group(0))]
+        pos = m.end()
+    out.append((False, text[pos:]))
+    return out
 
 
-def _blocks(text: str) -> list[tuple[str, list[str]]]:
-    """Split the Markdown subset into ("p" | "ul" | "pre", lines) blocks."""
-    blocks: list[tuple[str, list[str]]] = []
-    lines = text.strip("\n").splitlines()
-    i = 0
-    while i < len(lines):
-        line = lines[i]
+def _md_text(text: str) -> str:
+    """Section text for ``report.md``: formulas as code (```math`` fences as plain fences)."""
+    lines, fenced = [], False
+    for line in str(text).strip("\n").splitlines():
         if line.startswith("```"):
-            j = i + 1
-            while j < len(lines) and not lines[j].startswith("```"):
-                j += 1
-            blocks.append(("pre", lines[i + 1 : j]))
-            i = j + 1
-        elif not line.strip():
-            i += 1
-        elif line.startswith("- "):
-            items: list[str] = []
-            while i < len(lines) and (lines[i].startswith("- ") or lines[i].startswith("  ")):
-                if lines[i].startswith("- "):
-                    items.append(lines[i][2:])
-                else:
-                    items[-1] += " " + lines[i].strip()
-                i += 1
-            blocks.append(("ul", items))
+            fenced = not fenced
+            lines.append("```" if line.strip() == "```math" else line)
+        elif fenced:
+            lines.append(line)
         else:
-            para = []
-            while i < len(lines) and lines[i].strip() and not lines[i].startswith(("- ", "```")):
-                para.append(lines[i].strip())
-                i += 1
-            blocks.append(("p", [" ".join(para)]))
-    return blocks
+            parts = _split_code(line)
+            lines.append(
+                "".join(
+                    p
+                    if is_code
+                    else _MATH_SPAN.sub(lambda m: _code_span(m.group(1)), _TAG.sub("&lt;", p))
+                    for is_code, p in parts
+                )
+            )
+    return "\n".join(lines)
 
 
-def _text_html(text: str) -> str:
+# ``*`` always, ``_`` unless inside a word (where CommonMark never reads it as emphasis)
+_LITERAL = re.compile(r"\*|(?<![A-Za-z0-9])_|_(?![A-Za-z0-9])")
+
+
+def _md_inline_text(text: Any) -> str:
+    """One line of inline Markdown for a table cell: formulas as code, ``* _ |`` literal."""
     out = []
-    for kind, lines in _blocks(text):
-        if kind == "pre":
-            out.append(f"<pre>{html.escape(chr(10).join(lines))}</pre>")
-        elif kind == "ul":
-            out.append("<ul>" + "".join(f"<li>{_inline_html(x)}</li>" for x in lines) + "</ul>")
-        else:
-            out.append(f"<p>{_inline_html(lines[0])}</p>")
-    return "\n".join(out)
+    for is_code, part in _split_code(" ".join(str(text).split())):
+        if is_code:
+            out.append(part)
+            continue
+        pieces = _MATH_SPAN.split(part)
+        for k, piece in enumerate(pieces):
+            if k % 2:
+                out.append(_code_span(piece))
+            else:
+                out.append(_LITERAL.sub(r"\\\g<0>", _TAG.sub("&lt;", piece)))
+    return "".join(out).replace("|", "\\|")
 
 
-_CSS = """
-body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,"DejaVu Sans",sans-serif;
-margin:0 auto;max-width:1100px;padding:1.5em;color:#1f2328;line-height:1.45;font-size:15px}
-h1{font-size:1.7em;margin-bottom:.2em}h2{border-bottom:2px solid #d0d7de;padding-bottom:.2em;
-margin-top:2em}h3{font-size:1.05em;margin-top:1.4em}
-table{border-collapse:collapse;margin:.6em 0 1.2em;font-size:13px;display:block;overflow-x:auto}
-th,td{border:1px solid #d0d7de;padding:3px 7px;text-align:left;vertical-align:top}
-th{background:#f6f8fa}td.flag{background:#ffebe9;color:#82071e;font-weight:600}
-code,pre{font-family:"DejaVu Sans Mono",Menlo,Consolas,monospace;font-size:12.5px}
-pre{background:#f6f8fa;padding:.6em;overflow-x:auto}
-figure{margin:1em 0}figure img{max-width:100%;height:auto;border:1px solid #eaeef2}
-figcaption{font-size:13px;color:#57606a}
-.badge{display:inline-block;padding:0 .5em;border-radius:1em;font-size:12px;font-weight:600}
-.agrees{background:#dafbe1;color:#116329}.differs{background:#ffebe9;color:#82071e}
-.info{background:#ddf4ff;color:#0550ae}.skipped{background:#fff8c5;color:#7d4e00}
-.failed{background:#ffebe9;color:#82071e}.ok{background:#dafbe1;color:#116329}
-nav ul{columns:2}
-"""
+def _md_cell(value: Any, flagged: bool) -> str:
+    if isinstance(value, Math):
+        return _code_span(value.text).replace("|", "\\|")
+    text = _md_inline_text(format_cell(value))
+    return f"**{text}**" if flagged and "`" not in text and text else text
 
 
-_SCRIPT = """
-window.addEventListener("error",function(){var b=document.body;
-b.dataset.scriptErrors=String(Number(b.dataset.scriptErrors||0)+1);});
-window.addEventListener("load",function(){var imgs=document.images,ok=0;
-for(var i=0;i<imgs.length;i++){if(imgs[i].complete&&imgs[i].naturalWidth>0){ok++;}}
-document.body.dataset.imagesTotal=String(imgs.length);
-document.body.dataset.imagesLoaded=String(ok);});
-"""
-
-
-_CSP = "default-src 'none'; img-src data:; style-src 'unsafe-inline'; script-src 'unsafe-inline'"
+# -------------------------------------------------------------------- templates
 
 
 def _views(t: Table) -> list[tuple[str, tuple[int, ...]]]:
     return list(t.views) or [("", tuple(range(len(t.columns))))]
 
 
-def _table_html(t: Table) -> str:
-    parts = []
-    for sub, cols in _views(t):
-        head = "".join(f"<th>{html.escape(t.columns[j])}</th>" for j in cols)
-        body = []
-        for i, r in enumerate(t.rows):
-            cells = []
-            for j in cols:
-                cls = ' class="flag"' if t.flagged(i, j) else ""
-                cells.append(f"<td{cls}>{_inline_html(format_cell(r[j]), emphasis=False)}</td>")
-            body.append("<tr>" + "".join(cells) + "</tr>")
-        if sub:
-            parts.append(f"<p><strong>{html.escape(sub)}</strong></p>")
-        parts.append(f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>")
-    note = f"<p>{_inline_html(t.note)}</p>" if t.note else ""
-    return (
-        f'<h3 id="table-{t.name}">{html.escape(t.title)}</h3>{note}{"".join(parts)}'
-        f"<p><small>data: <code>data/{t.name}.csv</code></small></p>"
+def _indexed(section: Section) -> list[tuple[Section, int, Finding]]:
+    return [(section, i, f) for i, f in enumerate(section.findings)]
+
+
+def _all_findings(report: Report) -> list[tuple[Section, int, Finding]]:
+    return [item for s in report.sections for item in _indexed(s)]
+
+
+def _resource(name: str) -> str:
+    return resources.files("seapass.report").joinpath("templates", name).read_text("utf-8")
+
+
+@cache
+def _environment(as_html: bool) -> Any:
+    import jinja2
+
+    env = jinja2.Environment(
+        loader=jinja2.PackageLoader("seapass.report", "templates"),
+        autoescape=as_html,
+        undefined=jinja2.StrictUndefined,
+        keep_trailing_newline=True,
     )
-
-
-def _findings_html(findings: Sequence[tuple[str, Finding]], with_section: bool) -> str:
-    if not findings:
-        return ""
-    head = "<th>section</th>" if with_section else ""
-    rows = []
-    for sec, f in findings:
-        s = f"<td>{html.escape(sec)}</td>" if with_section else ""
-        rows.append(
-            f"<tr>{s}<td>{_inline_html(f.claim, emphasis=False)}</td>"
-            f'<td><span class="badge {f.verdict}">{f.verdict}</span></td>'
-            f"<td>{_inline_html(f.detail, emphasis=False)}</td></tr>"
+    env.filters.update(
+        plain=plain_text,
+        slug=lambda v: re.sub(r"[^a-z0-9]+", "-", str(v).lower()).strip("-"),
+    )
+    env.globals.update(views=_views)
+    if as_html:
+        env.filters.update(
+            md=_md_block,
+            inline=_md_inline,
+            cell=_cell_html,
+            b64=lambda b: base64.b64encode(b).decode("ascii"),
         )
-    return (
-        f"<table><thead><tr>{head}<th>claim</th><th>verdict</th><th>detail</th></tr></thead>"
-        f"<tbody>{''.join(rows)}</tbody></table>"
-    )
+        env.globals.update(indexed=_indexed, all_findings=_all_findings)
+    else:
+        env.filters.update(md_text=_md_text, md_inline=_md_inline_text)
+        env.globals.update(md_cell=_md_cell)
+    return env
 
 
 def render_html(report: Report) -> str:
     """The whole report as one self-contained HTML page (figures as data URIs)."""
-    parts = [
-        "<!DOCTYPE html>",
-        '<html lang="en"><head><meta charset="utf-8">',
-        f'<meta http-equiv="Content-Security-Policy" content="{_CSP}">',
-        '<meta name="viewport" content="width=device-width, initial-scale=1">',
-        f"<title>{html.escape(report.title)}</title>",
-        f"<style>{_CSS}</style>",
-        f"<script>{_SCRIPT}</script>",
-        "</head><body>",
-        f"<h1>{html.escape(report.title)}</h1>",
-        _text_html(report.intro),
-        "<nav><h2>Contents</h2><ul>",
-    ]
-    for s in report.sections:
-        parts.append(
-            f'<li><a href="#sec-{s.key}">{html.escape(s.title)}</a> '
-            f'<span class="badge {s.status}">{s.status}</span></li>'
-        )
-    parts.append('<li><a href="#findings">All findings</a></li></ul></nav>')
-    for s in report.sections:
-        parts.append(f'<section id="sec-{s.key}"><h2>{html.escape(s.title)}</h2>')
-        if s.status != "ok":
-            parts.append(f'<p><span class="badge {s.status}">{s.status}</span></p>')
-        parts.append(_text_html(s.text))
-        if s.findings:
-            parts.append("<h3>Findings</h3>")
-            parts.append(_findings_html([("", f) for f in s.findings], with_section=False))
-        for t in s.tables:
-            parts.append(_table_html(t))
-        for fig in s.figures:
-            b64 = base64.b64encode(fig.png).decode("ascii")
-            parts.append(
-                f'<figure id="fig-{fig.name}"><img src="data:image/png;base64,{b64}" '
-                f'alt="{html.escape(fig.caption)}"><figcaption>{_inline_html(fig.caption)} '
-                f"(<code>figures/{fig.name}.png</code>)</figcaption></figure>"
-            )
-        if s.files:
-            names = ", ".join(f"<code>data/{html.escape(n)}</code>" for n in s.files)
-            parts.append(f"<p><small>more data: {names}</small></p>")
-        parts.append("</section>")
-    parts.append('<section id="findings"><h2>All findings</h2>')
-    parts.append(_findings_html(report.findings, with_section=True) or "<p>none</p>")
-    parts.append("</section></body></html>")
-    return "\n".join(parts) + "\n"
+    from markupsafe import Markup
 
-
-def _md_cell(value: Any) -> str:
-    return _md_plain(format_cell(value)).replace("|", "\\|").replace("\n", " ")
-
-
-def _table_md(t: Table) -> list[str]:
-    lines = [f"### {_md_safe(t.title)}", ""]
-    if t.note:
-        lines += [_md_safe(t.note), ""]
-    for sub, cols in _views(t):
-        if sub:
-            lines += [f"**{sub}**", ""]
-        lines.append("| " + " | ".join(t.columns[j].replace("|", "\\|") for j in cols) + " |")
-        lines.append("|" + "---|" * len(cols))
-        for i, r in enumerate(t.rows):
-            cells = []
-            for j in cols:
-                c = _md_cell(r[j])
-                cells.append(f"**{c}**" if t.flagged(i, j) and "`" not in c else c)
-            lines.append("| " + " | ".join(cells) + " |")
-        lines.append("")
-    lines += [f"data: `data/{t.name}.csv`", ""]
-    return lines
+    template = _environment(True).get_template("report.html.j2")
+    page = template.render(
+        report=report,
+        summary=report.summary(),
+        csp=CSP,
+        css=Markup(_resource("report.css")),
+        script=Markup(_resource("report.js")),
+    )
+    return page.rstrip("\n") + "\n"
 
 
 def render_markdown(report: Report) -> str:
-    """The report as Markdown; figures are linked from ``figures/``."""
-    lines = [f"# {_md_safe(report.title)}", "", _md_safe(report.intro.strip()), ""]
-    for s in report.sections:
-        lines += [f"## {_md_safe(s.title)}", ""]
-        if s.status != "ok":
-            lines += [f"*{s.status}*", ""]
-        if s.text.strip():
-            lines += [_md_safe(s.text.strip()), ""]
-        if s.findings:
-            lines += ["| claim | verdict | detail |", "|---|---|---|"]
-            for f in s.findings:
-                lines.append(
-                    f"| {_md_plain(f.claim).replace('|', '/')} | **{f.verdict}** | "
-                    f"{_md_plain(f.detail).replace('|', '/')} |"
-                )
-            lines.append("")
-        for t in s.tables:
-            lines += _table_md(t)
-        for fig in s.figures:
-            cap = _md_safe(fig.caption)
-            lines += [f"![{cap}](figures/{fig.name}.png)", "", f"*{cap}*", ""]
-        if s.files:
-            lines += ["more data: " + ", ".join(f"`data/{n}`" for n in s.files), ""]
-    return "\n".join(lines).rstrip() + "\n"
+    """The report as Markdown; figures and data files are linked."""
+    template = _environment(False).get_template("report.md.j2")
+    titles = {s.key: s.title for s in report.sections}
+    text = template.render(report=report, summary=report.summary(), titles=titles)
+    # at most one blank line between blocks, whatever the template's branches left
+    return re.sub(r"\n{3,}", "\n\n", text).strip() + "\n"

@@ -13,15 +13,15 @@ import numpy as np
 from ...analysis.freqresp import stiffness_response
 from ...errors import ParameterError, TuningWarning
 from ...model.design_file import Design
-from ...plot.response import plot_stiffness_response
+from ...plot.response import plot_stiffness_bode
 from ...plot.sim import plot_step_responses
-from ...plot.style import figure_bytes
 from ...sampled.passivity import sampled_passivity
 from ...sim.metrics import tracking_metrics
 from ...sim.simulate import Step, simulate
 from ...tuning.optimize import tune
 from ...tuning.problem import QUICK_OPTIONS, TuningOptions
 from ..document import FigureData, Finding, Section, Table, Verdict, to_json
+from ..pipeline import stage_progress
 
 __all__ = [
     "metrics_table",
@@ -37,7 +37,10 @@ def stage_stiffness(design: Design, quick: bool) -> Section:
     sea = design.sea()
     r = stiffness_response(sea, np.logspace(-1, 4, 200 if quick else 400), label=design.name)
     k1 = design.values.get("k1")
-    fig = plot_stiffness_response(r, title=f"{design.name}: rendered stiffness", reference=k1)
+    fig = plot_stiffness_bode(
+        r, title=f"{design.name}: rendered stiffness"
+        + (" (dashed: spring stiffness k1)" if k1 is not None else ""), reference=k1,
+    )  # fmt: skip
     table = Table(
         name="stiffness_summary",
         title="Rendered stiffness",
@@ -55,9 +58,16 @@ def stage_stiffness(design: Design, quick: bool) -> Section:
     return Section(
         key="stiffness",
         title="Stiffness frequency response",
-        text="`|F_L/X_L(jω)|`: the stiffness a person feels when moving the load at frequency ω.",
+        text=(
+            "`F_L/X_L(jω)`: the stiffness a person feels when moving the load at frequency ω "
+            "(magnitude), and how far the force leads the motion (phase)."
+        ),
         tables=(table,),
-        figures=(FigureData("stiffness", "Rendered stiffness of the design.", figure_bytes(fig)),),
+        figures=(
+            FigureData.of(
+                "stiffness", "Rendered stiffness of the design: magnitude and phase.", fig
+            ),
+        ),
         files={"stiffness_response.csv": "\n".join(lines) + "\n"},
     )
 
@@ -65,7 +75,8 @@ def stage_stiffness(design: Design, quick: bool) -> Section:
 def step_responses(sea: Any, design: Design, dt: float) -> list[tuple[float, Any, Any]]:
 
     out = []
-    for mass in design.load_masses:
+    for i, mass in enumerate(design.load_masses):
+        stage_progress(i, len(design.load_masses), f"step response, m_L = {mass:g} kg")
         res = simulate(
             sea, load_mass=mass, scenario=Step(design.step), horizon=design.horizon, dt=dt
         )
@@ -94,11 +105,12 @@ def metrics_table(name: str, title: str, runs: list[tuple[float, Any, Any]]) -> 
 
 def stage_response(design: Design, quick: bool) -> Section:
     runs = step_responses(design.sea(), design, 2e-3 if quick else 1e-3)
-    fig = figure_bytes(
+    fig = FigureData.of(
+        "step_response", "Load position after the step.",
         plot_step_responses(
             runs, step=design.step, title=f"{design.name}: {design.step:g} m reference step"
-        )
-    )
+        ),
+    )  # fmt: skip
     return Section(
         key="response",
         title="Step response at the given gains",
@@ -108,7 +120,7 @@ def stage_response(design: Design, quick: bool) -> Section:
             "Settling: within 2 % of the step for the rest of the horizon."
         ),
         tables=(metrics_table("step_metrics", "Step-response metrics", runs),),
-        figures=(FigureData("step_response", "Load position after the step.", fig),),
+        figures=(fig,),
     )
 
 
@@ -142,11 +154,12 @@ def stage_tuning(design: Design, quick: bool) -> Section:
             for g in tr.gains
         ),
     )
-    fig = figure_bytes(
+    fig = FigureData.of(
+        "tuned_response", "Step response with the tuned gains.",
         plot_step_responses(
             runs, step=design.step, title=f"{design.name} with tuned gains ({gains})"
-        )
-    )
+        ),
+    )  # fmt: skip
     findings = [Finding("The tuned gains are passive", _verdict(tr.passive), gains)]
     text = (
         f"The controller gains {', '.join(tr.gains)} were tuned by differential evolution "
@@ -179,7 +192,7 @@ def stage_tuning(design: Design, quick: bool) -> Section:
         title=title,
         text=text,
         tables=(table, metrics_table("tuned_metrics", "Step response with the tuned gains", runs)),
-        figures=(FigureData("tuned_response", "Step response with the tuned gains.", fig),),
+        figures=(fig,),
         findings=tuple(findings),
         files={"tuning.json": to_json(tr.to_dict())},
     )

@@ -14,8 +14,7 @@ from ...errors import ModelError
 from ...model.design_file import Design
 from ...model.expr import S, symbol
 from ...plot.rig import plot_rig_sweep
-from ...plot.style import figure_bytes
-from ...rig.experiment import ExperimentResult, run_rig_sweep
+from ...rig.experiment import ExperimentResult, run_rig_sweeps
 from ...rig.rigfile import load_rig, paper_rig
 from ...sampled.bound import sampled_passive_bound
 from ...sampled.passivity import sampled_passivity
@@ -29,6 +28,7 @@ from ..document import (
     format_intervals,
     to_json,
 )
+from ..pipeline import stage_progress
 
 __all__ = [
     "matching_experiment_design",
@@ -47,6 +47,7 @@ def stage_sampled(design: Design, quick: bool) -> Section:
             "analysed in continuous time only.",
         )  # fmt: skip
     sea = design.sea()
+    steps = iter(range(len(design.analysis_ranges())))
     kw: dict[str, Any] = {
         "period": period,
         "delay": design.control_delay,
@@ -62,6 +63,7 @@ def stage_sampled(design: Design, quick: bool) -> Section:
     rtol = 1e-6 if quick else 1e-9
     rows, bounds = [], {}
     for name, (lo, hi) in design.analysis_ranges().items():
+        stage_progress(next(steps), len(design.analysis_ranges()), f"largest passive {name}")
         if name not in design.gains:
             continue
         value = design.values[name]
@@ -156,10 +158,9 @@ def stage_rig(design: Design, quick: bool) -> Section:
     ex = rig.experiment
     bd = design.values.get("bd") if key == "ours" else None
     step = ex.kd_step * (4 if quick else 1)
-    sweeps = tuple(
-        run_rig_sweep(rig, design=key, load_mass=float(ml), kd_step=step, bd=bd)
-        for ml in ex.load_masses
-    )
+    stage_progress(0, 2, f"kd sweeps on the twin of {rig.name}")
+    sweeps = run_rig_sweeps(rig, designs=(key,), load_masses=ex.load_masses, kd_step=step, bd=bd)
+    stage_progress(1, 2, "figure")
     kd = design.values["kd"]
     rows = []
     for s in sweeps:
@@ -196,6 +197,6 @@ def stage_rig(design: Design, quick: bool) -> Section:
                 rows=tuple(rows),
             ),
         ),
-        figures=(FigureData("rig_sweep", "kd sweep on the twin.", figure_bytes(fig)),),
+        figures=(FigureData.of("rig_sweep", "kd sweep on the twin.", fig),),
         files={"rig_sweeps.json": to_json([s.to_dict() for s in sweeps])},
     )

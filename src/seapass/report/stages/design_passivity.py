@@ -6,6 +6,7 @@ Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import sympy as sp
 
@@ -19,11 +20,12 @@ from ...model.design_file import Design
 from ...model.expr import UNITS
 from ...model.stiffness import derive_stiffness
 from ...plot.region import plot_passive_intervals
-from ...plot.style import axes_grid, figure_bytes
+from ...plot.style import axes_grid
 from ...plot.witness import plot_witness
 from ..document import (
     FigureData,
     Finding,
+    Math,
     Section,
     SectionStatus,
     Table,
@@ -31,6 +33,8 @@ from ..document import (
     format_intervals,
     to_json,
 )
+from ..formula import decimal_rational
+from ..pipeline import stage_progress
 
 __all__ = [
     "stage_passivity",
@@ -44,71 +48,102 @@ def values_text(values: dict[str, float]) -> str:
     return ", ".join(f"{k} = {v:g}" for k, v in sorted(values.items()))
 
 
-def stage_passivity(design: Design, quick: bool) -> Section:
-
-    sea = design.sea()
-    res = is_passive(sea)
-    k = derive_stiffness(sea).stiffness
-    k_num = sp.factor(sp.cancel(sea.numeric(k)))
-    elements = Table(
+def _elements_table(design: Design, k: sp.Expr, k_values: sp.Expr) -> Table:
+    """The design's elements and its stiffness, symbolic and at the values (decimals)."""
+    return Table(
         name="design",
         title="Design",
         columns=("element", "expression"),
         rows=(
-            ("D1 (transmission)", f"`{design.D1}`"),
-            ("D2 (load to ground)", f"`{design.D2}`"),
-            ("C_A (actuator-side controller)", f"`{design.CA}`"),
-            ("C_L (load-side controller)", f"`{design.CL}`"),
+            ("D1 (transmission)", Math(design.D1)),
+            ("D2 (load to ground)", Math(design.D2)),
+            ("C_A (actuator-side controller)", Math(design.CA)),
+            ("C_L (load-side controller)", Math(design.CL)),
             ("parameter values", values_text(dict(design.values))),
-            ("F_L/X_L (derived, symbolic)", f"`{sp.factor(k)}`"),
-            ("F_L/X_L at the values", f"`{k_num}`"),
+            ("F_L/X_L (derived, symbolic)", Math(str(sp.factor(k)))),
+            ("F_L/X_L at the values (6 digits)", Math(decimal_rational(k_values))),
         ),
     )
+
+
+def _condition_text(sea: Any) -> tuple[str, dict[str, str]]:
+    """The exact symbolic condition as math blocks, and its data file."""
     try:
         cond = exact_passivity_condition(sea)
-        cond_text = (
-            f"Exact passivity condition for positive parameters (symbolic):\n\n"
-            f"```\n{cond.condition}\n```\n\n"
-            f"Real-part polynomial `Re N(jω) D(−jω)`:\n\n```\n{cond.real_part}\n```"
-        )
-        files = {"condition.json": to_json(cond.to_dict())}
     except SeapassError as exc:
-        cond_text = f"The symbolic condition is not available: {exc}"
-        files = {}
-    if res.passive:
-        verdict = f"**The design is passive** at the given values ({res.status})."
+        return f"The symbolic condition is not available: {exc}", {}
+    if str(cond.condition) in ("True", "False"):
+        always = str(cond.condition) == "True"
+        head = (
+            "The exact passivity condition is **always "
+            + ("satisfied**: passive for every positive value of every parameter.\n\n"
+               if always else "violated**: not passive for any positive parameter values.\n\n")
+        )  # fmt: skip
     else:
-        w = (
-            f" A witness: `Re Z(jω) < 0` at ω = {res.omega:.6g} rad/s."
-            if res.omega and "w =" not in res.detail
-            else ""
+        head = (
+            "Exact passivity condition for positive parameters (symbolic):\n\n"
+            f"```math\n{cond.condition}\n```\n\n"
         )
-        verdict = (
-            f"**The design is NOT passive** at the given values: {res.detail or Reason(res.reason).description}.{w} "
-            "Coupled to some passive environment (a person, a spring, a mass) it can become "
-            "unstable. See the passive ranges below for values that are safe."
-        )
+    text = head + (
+        "Real-part polynomial `Re N(jω) D(−jω)`, which must be nonnegative for all ω:\n\n"
+        f"```math\n{cond.real_part}\n```"
+    )
+    return text, {"condition.json": to_json(cond.to_dict())}
+
+
+def _verdict_text(res: Any) -> str:
+    if res.passive:
+        return f"**The design is passive** at the given values ({res.status})."
+    w = (
+        f" A witness: `Re Z(jω) < 0` at ω = {res.omega:.6g} rad/s."
+        if res.omega and "w =" not in res.detail
+        else ""
+    )
+    return (
+        f"**The design is NOT passive** at the given values: {res.detail or Reason(res.reason).description}.{w} "
+        "Coupled to some passive environment (a person, a spring, a mass) it can become "
+        "unstable. See the passive ranges below for values that are safe."
+    )
+
+
+def stage_passivity(design: Design, quick: bool) -> Section:
+    """The exact verdict at the file's values, the stiffness and the symbolic condition."""
+    sea = design.sea()
+    res = is_passive(sea)
+    k = derive_stiffness(sea).stiffness
+    k_values = sp.factor(sp.cancel(sea.numeric(k)))
+    cond_text, files = _condition_text(sea)
     finding = Finding(
         f"{design.name} is passive at {values_text(dict(design.values))}",
         Verdict.AGREES if res.passive else Verdict.DIFFERS,
         res.status + (f": {res.detail}" if res.detail else ""),
     )
+    stiffness = {
+        "symbolic": str(sp.factor(k)),
+        "at_values_exact": str(k_values),
+        "at_values_decimal": decimal_rational(k_values),
+    }
     return Section(
         key="passivity",
         title="Passivity verdict",
-        text=verdict + "\n\n" + cond_text,
-        tables=(elements,),
+        text=_verdict_text(res) + "\n\n" + cond_text,
+        tables=(_elements_table(design, k, k_values),),
         findings=(finding,),
-        files={"passivity.json": to_json(res.to_dict()), **files},
+        files={
+            "passivity.json": to_json(res.to_dict()),
+            "stiffness.json": to_json(stiffness),
+            **files,
+        },
     )
 
 
 def stage_ranges(design: Design, quick: bool) -> Section:
-
+    """The exact passive set of every gain (and ranged parameter), the others at their values."""
     sea = design.sea()
     ranges = design.analysis_ranges()
     results = []
-    for name, (lo, hi) in ranges.items():
+    for i, (name, (lo, hi)) in enumerate(ranges.items()):
+        stage_progress(i, len(ranges), f"passive {name}")
         others = {k: v for k, v in design.values.items() if k != name}
         results.append((name, passive_intervals(sea, name, lo, hi, values=others)))
     rows, flags, findings = [], set(), []
@@ -159,9 +194,7 @@ def stage_ranges(design: Design, quick: bool) -> Section:
             ax.set_xlabel(f"{name} [{unit}]")
             ax.legend(loc="upper right", ncol=3, fontsize=8)
         fig.suptitle(f"{design.name}: exact passive sets")
-        figures.append(
-            FigureData("passive_ranges", "Exact passive set of every gain.", figure_bytes(fig))
-        )
+        figures.append(FigureData.of("passive_ranges", "Exact passive set of every gain.", fig))
     return Section(
         key="ranges",
         title="Exact passive ranges",
@@ -178,7 +211,7 @@ def stage_ranges(design: Design, quick: bool) -> Section:
 
 
 def stage_witness(design: Design, quick: bool) -> Section:
-
+    """For a design that is not passive: a passive environment that destabilizes it."""
     title = "What can go wrong: a destabilizing passive environment"
     bounds = bounds_from_mapping(dict(design.environment))
     res = find_destabilizing_environment(design.sea(), bounds=bounds)
@@ -220,9 +253,9 @@ def stage_witness(design: Design, quick: bool) -> Section:
     figures: tuple[FigureData, ...] = ()
     if res.simulation is not None:
         figures = (
-            FigureData(
+            FigureData.of(
                 "witness", "Growing response of the design coupled to the environment.",
-                figure_bytes(plot_witness(res)),
+                plot_witness(res),
             ),
         )  # fmt: skip
     return Section(

@@ -14,11 +14,11 @@ from ...analysis.region import passive_intervals
 from ...errors import NotPassiveError
 from ...plot.rig import plot_deploy, plot_impacts, plot_rig_sweep
 from ...plot.sampled import plot_sampled_limits
-from ...plot.style import figure_bytes
-from ...rig.experiment import run_experiment
+from ...rig.experiment import ExperimentResult, run_rig_sweeps
+from ...rig.findings import sweep_findings
 from ...rig.impacts import PAPER_K_OUT, run_impacts
 from ...rig.plant import TwinPlant
-from ...rig.predictions import rig_sea
+from ...rig.predictions import RIG_DESIGNS, rig_sea
 from ...rig.rigfile import paper_rig
 from ...sampled.bound import sampled_passive_bound
 from ...sampled.controllers import LPController, OursController
@@ -32,6 +32,7 @@ from ..document import (
     format_intervals,
     to_json,
 )
+from ..pipeline import stage_progress
 
 __all__ = [
     "stage_deploy",
@@ -54,26 +55,27 @@ def _finding(f: Any) -> Finding:
     return Finding(f.claim, verdict, f.detail)
 
 
-def stage_rig(quick: bool) -> Section:
-    """The hardware experiment (Sec. VI, Fig. 3) on the digital twin."""
-    rig = paper_rig()
-    # quick: 100 N/m steps still put two gains below 200 N/m (the low-gain finding)
-    step = rig.experiment.kd_step * (4 if quick else 1)
-    ex = run_experiment(rig, kd_step=step, progress=False)
-    im = run_impacts(rig)
-    summary = []
+def _rig_sweeps(rig: Any, step: float) -> ExperimentResult:
+    """The kd sweep of every design and load mass, as one batch on the twin."""
+    masses = rig.experiment.load_masses
+    stage_progress(0, 4, f"{len(RIG_DESIGNS) * len(masses)} kd sweeps on the twin")
+    sweeps = run_rig_sweeps(rig, designs=RIG_DESIGNS, load_masses=masses, kd_step=step)
+    stage_progress(2, 4, "impacts")
+    return ExperimentResult(rig.name, sweeps, tuple(sweep_findings(sweeps)))
+
+
+def _sweep_summary(ex: ExperimentResult) -> Table:
+    rows = []
     for s in ex.sweeps:
         ok = np.isfinite(s.settling_time)
         best = int(np.nanargmin(s.settling_time)) if ok.any() else None
-        summary.append(
-            (
-                "Ours" if s.design == "ours" else s.design, s.load_mass, len(s.kd),
-                None if best is None else float(s.kd[best]),
-                None if best is None else float(s.settling_time[best]),
-                s.unstable_gain_twin, s.unstable_gain_continuous, s.unstable_gain_sampled,
-            )
+        rows.append(
+            ("Ours" if s.design == "ours" else s.design, s.load_mass, len(s.kd),
+             None if best is None else float(s.kd[best]),
+             None if best is None else float(s.settling_time[best]),
+             s.unstable_gain_twin, s.unstable_gain_continuous, s.unstable_gain_sampled)
         )  # fmt: skip
-    sweep_table = Table(
+    return Table(
         name="rig_sweep_summary",
         title="kd sweeps on the digital twin (load from 20 mm to 0)",
         columns=(
@@ -86,9 +88,12 @@ def stage_rig(quick: bool) -> Section:
             "unstable (continuous model)",
             "unstable (sampled model)",
         ),
-        rows=tuple(summary),
+        rows=tuple(rows),
     )
-    impact_table = Table(
+
+
+def _impact_table(im: Any) -> Table:
+    return Table(
         name="rig_impacts",
         title="Perceived stiffness under impacts (Ours)",
         columns=("quantity", "twin", "paper"),
@@ -100,44 +105,62 @@ def stage_rig(quick: bool) -> Section:
             ("impacts", int(im.forces.size), None),
         ),
     )
-    sweep_rows = [r for s in ex.sweeps for r in s.rows()]
-    cols = list(sweep_rows[0]) if sweep_rows else []
-    csv_lines = [",".join(cols)] + [
-        ",".join("" if r[c] is None else (repr(r[c]) if isinstance(r[c], float) else str(r[c]))
-                 for c in cols)
-        for r in sweep_rows
-    ]  # fmt: skip
+
+
+def _sweep_csv(ex: ExperimentResult) -> str:
+    rows = [r for s in ex.sweeps for r in s.rows()]
+    cols = list(rows[0]) if rows else []
+
+    def cell(v: Any) -> str:
+        return "" if v is None else (repr(v) if isinstance(v, float) else str(v))
+
+    lines = [",".join(cols)] + [",".join(cell(r[c]) for c in cols) for r in rows]
+    return "\n".join(lines) + "\n"
+
+
+def _rig_text(rig: Any, step: float) -> str:
+    return (
+        f"The packaged reconstruction of the paper's bench (`{rig.name}`: "
+        f"m = {rig.actuator_mass:.4g} kg, b = {rig.actuator_damping:g} N·s/m, "
+        f"k1 = {rig.damper.k1:g} N/m, b1 = {rig.damper.b1:g} N·s/m, "
+        f"{rig.control.rate:g} Hz control, one sample of delay, "
+        f"{rig.control.velocity_filter_hz:g} Hz velocity filter, Coulomb friction, encoder "
+        "quantization, force saturation) runs the paper's protocol: LP and Ours, "
+        f"kd from 0 to {rig.experiment.kd_max:g} N/m in steps of {step:g} N/m, load masses "
+        f"{', '.join(f'{m:g}' for m in rig.experiment.load_masses)} kg. The values the paper "
+        "identified are printed only in a figure, so m, b, b1 are reconstructions; compare "
+        "trends, not digits."
+    )
+
+
+def stage_rig(quick: bool) -> Section:
+    """The hardware experiment (Sec. VI, Fig. 3) on the digital twin."""
+    rig = paper_rig()
+    # quick: 100 N/m steps still put two gains below 200 N/m (the low-gain finding)
+    step = rig.experiment.kd_step * (4 if quick else 1)
+    ex = _rig_sweeps(rig, step)
+    im = run_impacts(rig)
+    stage_progress(3, 4, "figures")
     return Section(
         key="rig",
         title="Hardware experiment on the digital twin (paper Sec. VI, Fig. 3)",
-        text=(
-            f"The packaged reconstruction of the paper's bench (`{rig.name}`: "
-            f"m = {rig.actuator_mass:.4g} kg, b = {rig.actuator_damping:g} N·s/m, "
-            f"k1 = {rig.damper.k1:g} N/m, b1 = {rig.damper.b1:g} N·s/m, "
-            f"{rig.control.rate:g} Hz control, one sample of delay, "
-            f"{rig.control.velocity_filter_hz:g} Hz velocity filter, Coulomb friction, encoder "
-            "quantization, force saturation) runs the paper's protocol: LP and Ours, "
-            f"kd from 0 to {rig.experiment.kd_max:g} N/m in steps of {step:g} N/m, load masses "
-            f"{', '.join(f'{m:g}' for m in rig.experiment.load_masses)} kg. The values the paper "
-            "identified are printed only in a figure, so m, b, b1 are reconstructions; compare "
-            "trends, not digits."
-        ),
-        tables=(sweep_table, impact_table),
+        text=_rig_text(rig, step),
+        tables=(_sweep_summary(ex), _impact_table(im)),
         figures=(
-            FigureData(
+            FigureData.of(
                 "rig_sweep",
-                "Settling time and steady-state error against kd (twin).",
-                figure_bytes(plot_rig_sweep(ex)),
+                "Settling time and steady-state error against kd (twin), one column per load mass.",
+                plot_rig_sweep(ex),
             ),
-            FigureData(
+            FigureData.of(
                 "rig_impacts",
                 "Perceived stiffness of Ours under impacts (twin).",
-                figure_bytes(plot_impacts(im)),
+                plot_impacts(im),
             ),
         ),
         findings=tuple(_finding(f) for f in (*ex.findings, *im.findings)),
         files={
-            "rig_sweep.csv": "\n".join(csv_lines) + "\n",
+            "rig_sweep.csv": _sweep_csv(ex),
             "rig_experiment.json": to_json(ex.to_dict()),
             "rig_impacts.json": to_json(im.to_dict()),
         },
@@ -155,6 +178,7 @@ def stage_sampled(quick: bool) -> Section:
         ("rig", rig.control.delay_samples, rig.control.velocity_filter_hz),
     ]
     designs = [("LP", rig_sea(rig, "LP"), 2000.0), ("Ours", rig_sea(rig, "ours", bd=bd), 1e5)]
+    steps = iter(range(len(designs) * len(setups)))
     rtol = 1e-6 if quick else 1e-9
     rows, results, findings = [], {}, []
     for name, sea, hi in designs:
@@ -162,6 +186,7 @@ def stage_sampled(quick: bool) -> Section:
         cont_max = cont.intervals[-1][1] if cont.intervals else None
         per = []
         for label, delay, filt in setups:
+            stage_progress(next(steps), len(designs) * len(setups), f"{name}, {label}")
             r = sampled_passive_bound(
                 sea, "kd", period=period, lo=0.0, hi=hi, delay=delay, velocity_filter=filt, rtol=rtol,
             )  # fmt: skip
@@ -197,7 +222,10 @@ def stage_sampled(quick: bool) -> Section:
             f"limits certified (branch and bound, edge enclosures of relative width {rtol:g})."
         ),
     )
-    fig = figure_bytes(plot_sampled_limits(rows, period=period))
+    fig = FigureData.of(
+        "sampled_limits", "Largest passive kd: continuous vs 500 Hz.",
+        plot_sampled_limits(rows, period=period),
+    )  # fmt: skip
     return Section(
         key="sampled",
         title="Sampled-data passivity at the rig's 500 Hz (beyond the paper)",
@@ -210,7 +238,7 @@ def stage_sampled(quick: bool) -> Section:
             "sampled; LP's limit shrinks further."
         ),
         tables=(table,),
-        figures=(FigureData("sampled_limits", "Largest passive kd: continuous vs 500 Hz.", fig),),
+        figures=(fig,),
         findings=tuple(findings),
         files={"sampled_bounds.json": to_json(results)},
     )
@@ -232,6 +260,7 @@ def stage_deploy(quick: bool) -> Section:
     runs: list[tuple[str, Any]] = []
     findings: list[Finding] = []
     for label, ctrl, sea in cases:
+        stage_progress(len(rows), len(cases), label)
         plant = TwinPlant(rig, load_mass=0.1)
         plant.reset(x_A=0.02, x_L=0.02)
         hw = SimulatedHardware(plant, delay_samples=delay)
@@ -278,9 +307,7 @@ def stage_deploy(quick: bool) -> Section:
             "500 Hz one with the bench's delay."
         ),
         tables=(table,),
-        figures=(
-            FigureData("deploy", "Deployed loops on the twin.", figure_bytes(plot_deploy(runs))),
-        ),
+        figures=(FigureData.of("deploy", "Deployed loops on the twin.", plot_deploy(runs)),),
         findings=tuple(findings),
         files={"deploy.json": to_json({label: rec.summary() for label, rec in runs})},
     )

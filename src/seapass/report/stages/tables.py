@@ -6,103 +6,166 @@ Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 import sympy as sp
 
-from ...analysis.freqresp import stiffness_response
+from ...analysis.freqresp import FrequencyResponse, stiffness_response
 from ...model.catalog import REFERENCE_VALUES
 from ...paper.tablefmt import format_latex, format_markdown
-from ...paper.tables import PAPER_ROWS, build_tables
-from ...plot.response import plot_stiffness_response
-from ...plot.style import axes_grid, figure_bytes
-from ..document import FigureData, Finding, Section, Table, Verdict, to_json
+from ...paper.tables import PAPER_ROWS, PaperRow, TableRow, build_tables
+from ...plot.response import plot_stiffness_bode
+from ...plot.style import axes_grid
+from ..document import (
+    Discrepancy,
+    FigureData,
+    Finding,
+    Math,
+    Section,
+    Table,
+    Verdict,
+    formula,
+    to_json,
+)
+from ..pipeline import stage_progress
 
 __all__ = [
     "stage_stiffness",
     "stage_tables",
 ]
 
+_GROUPS = (
+    ("I", "table1", "Table I: mechanical configurations (load-side P, C_L = kd)"),
+    ("II", "table2", "Table II: controllers (pure spring D1 = k1)"),
+    ("proposed", "proposed", "Proposed design (damped spring, actuator-side PD)"),
+)
+_COLUMNS = (
+    "row", "D1", "D2", "C_A", "C_L", "F_L/X_L (paper)", "F_L/X_L (derived)", "TF agrees",
+    "Re condition (paper)", "Re condition (derived)", "condition agrees", "paper bound",
+    "paper bound is", "exact condition (derived)", "counterexample",
+)  # fmt: skip
+_BOUND_COLUMN = _COLUMNS.index("paper bound is")
+_VIEWS = (
+    ("Stiffness transfer function F_L/X_L", (0, 1, 2, 3, 4, 5, 6, 7)),
+    ("Passivity", (0, 8, 9, 10, 11, 12, 13, 14)),
+)
 
-def _code(text: Any) -> str:
-    return f"`{text}`"
+
+def _values_text(values: dict[str, float] | None) -> str:
+    return ", ".join(f"{k}={v:.4g}" for k, v in values.items()) if values else ""
+
+
+def _row_cells(r: TableRow) -> tuple[Any, ...]:
+    """One table row: the paper's printed text and the derivation, formulas as `Math`."""
+    p = r.paper
+    return (
+        p.name, Math(p.D1), Math(p.D2), Math(p.CA), Math(p.CL),
+        Math(p.stiffness), Math(str(sp.factor(r.stiffness))), r.stiffness_agrees,
+        Math(f"{p.condition} >= 0"), Math(f"{r.condition} >= 0"), r.agrees,
+        Math(p.bound), r.bound_status, Math(str(r.exact_condition)),
+        _values_text(r.counterexample),
+    )  # fmt: skip
+
+
+def _typos(r: TableRow) -> list[str]:
+    """The printed formulas of a row that differ from the derivation."""
+    out = []
+    if not r.eq4_agrees:
+        out.append(
+            f"Eq. (4) as printed omits the {formula('D1*D2')} term: it should read "
+            f"{formula('D2*(alpha + C_A + D1)')}"
+        )
+    if not r.stiffness_agrees:
+        out.append("the printed transfer function differs from the first-principles derivation")
+    if not r.agrees:
+        extra = sp.factor(sp.expand(r.condition - r.paper_condition))
+        out.append(
+            "the printed passivity polynomial differs from the derived one "
+            f"(derived - printed = {formula(extra)})"
+        )
+    return out
+
+
+def _row_findings(r: TableRow) -> list[Finding]:
+    """What the row shows: the printed formulas (typos) and the stated bound, classified."""
+    p = r.paper
+    name = f"{p.title} ({p.name})"
+    typos = _typos(r)
+    findings = []
+    if typos:
+        findings.append(
+            Finding(f"{name}: printed formulas", Verdict.DIFFERS, "; ".join(typos),
+                    kind=Discrepancy.PAPER_TYPO)
+        )  # fmt: skip
+    bound = formula(p.bound)
+    example = _values_text(r.counterexample)
+    if r.bound_status == "unsafe":
+        findings.append(
+            Finding(f"{name}: the stated bound {bound}", Verdict.DIFFERS,
+                    f"admits designs that are NOT passive, e.g. {example}",
+                    kind=Discrepancy.UNSAFE)
+        )  # fmt: skip
+    elif r.bound_status == "sufficient only":
+        findings.append(
+            Finding(f"{name}: the stated bound {bound}", Verdict.DIFFERS,
+                    f"is sufficient but not necessary: {example} violates it and is passive",
+                    kind=Discrepancy.CONSERVATIVE)
+        )  # fmt: skip
+    if not findings:
+        findings.append(
+            Finding(name, Verdict.AGREES,
+                    f"transfer function, passivity polynomial and bound ({r.bound_status}) agree")
+        )  # fmt: skip
+    return findings
+
+
+def _group_table(key: str, name: str, title: str, rows: Sequence[TableRow]) -> Table:
+    group = [r for r in rows if r.paper.table == key]
+    flags = {
+        (i, _BOUND_COLUMN)
+        for i, r in enumerate(group)
+        if r.bound_status in ("unsafe", "sufficient only")
+    }
+    return Table(
+        name=name,
+        title=title,
+        columns=_COLUMNS,
+        rows=tuple(_row_cells(r) for r in group),
+        highlight=frozenset(flags),
+        views=_VIEWS,
+    )
 
 
 def stage_tables(quick: bool) -> Section:
     """Tables I and II and the proposed design, derived and compared with the paper."""
+    done = [0]
 
-    rows = build_tables()
-    tables = []
-    findings = []
-    titles = {
-        "I": "Table I: mechanical configurations (load-side P, C_L = kd)",
-        "II": "Table II: controllers (pure spring D1 = k1)",
-        "proposed": "Proposed design (damped spring, actuator-side PD)",
-    }
-    columns = (
-        "row", "D1", "D2", "C_A", "C_L", "F_L/X_L (paper)", "F_L/X_L (derived)", "TF agrees",
-        "Re condition (paper)", "Re condition (derived)", "condition agrees", "paper bound",
-        "paper bound is", "exact condition (derived)", "counterexample",
-    )  # fmt: skip
-    for key, title in titles.items():
-        group = [r for r in rows if r.paper.table == key]
-        cells, flags = [], set()
-        for i, r in enumerate(group):
-            p = r.paper
-            ce = r.counterexample
-            cells.append(
-                (
-                    p.name, _code(p.D1), _code(p.D2), _code(p.CA), _code(p.CL),
-                    _code(p.stiffness), _code(sp.factor(r.stiffness)), r.stiffness_agrees,
-                    _code(f"{p.condition} >= 0"), _code(f"{r.condition} >= 0"), r.agrees,
-                    _code(p.bound), r.bound_status, _code(r.exact_condition),
-                    ", ".join(f"{k}={v:.4g}" for k, v in ce.items()) if ce else "",
-                )
-            )  # fmt: skip
-            if r.bound_status in ("unsafe", "sufficient only"):
-                flags.add((i, 12))
-            if r.notes:
-                findings.append(
-                    Finding(f"{p.title} ({p.name})", Verdict.DIFFERS, "; ".join(r.notes))
-                )
-            else:
-                findings.append(
-                    Finding(
-                        f"{p.title} ({p.name})",
-                        Verdict.AGREES,
-                        f"transfer function, passivity polynomial and bound ({r.bound_status}) agree",
-                    )
-                )
-        tables.append(
-            Table(
-                name={"I": "table1", "II": "table2"}.get(key, "proposed"),
-                title=title,
-                columns=columns,
-                rows=tuple(cells),
-                highlight=frozenset(flags),
-                views=(
-                    ("Stiffness transfer function F_L/X_L", (0, 1, 2, 3, 4, 5, 6, 7)),
-                    ("Passivity", (0, 8, 9, 10, 11, 12, 13, 14)),
-                ),
-            )
-        )
-    n_bad = sum(1 for f in findings if f.verdict == Verdict.DIFFERS)
+    def tick(name: str) -> None:
+        stage_progress(done[0], len(PAPER_ROWS), name)
+        done[0] += 1
+
+    rows = build_tables(progress=tick)
+    tables = tuple(_group_table(key, name, title, rows) for key, name, title in _GROUPS)
+    findings = [f for r in rows for f in _row_findings(r)]
+    n_bad = sum(1 for r in rows if r.notes)
     text = (
-        "Every row is derived from the free-body model (actuator `m s² X_A + b s X_A = F_A + "
-        "D1 (X_L − X_A)`, massless port `F_L = D1 (X_L − X_A) + D2 X_L`) and compared with the "
-        "paper's printed transfer function, passivity polynomial `Re N(jω) D(−jω) ≥ 0` and "
-        "stated bound. The bound is classified against the exact condition: **exact**, "
-        "**sufficient only** (a passive design violates it; counterexample given) or "
-        "**unsafe** (a design satisfying it is not passive). Flagged cells are discrepancies. "
-        f"{n_bad} of {len(rows)} rows have at least one discrepancy; see "
-        "`docs/notes-on-the-paper.md` for the discussion of each."
+        "Every row is derived from the free-body model (actuator "
+        f"{formula('m*s**2*X_A + b*s*X_A == F_A + D1*(X_L - X_A)')}, "
+        f"massless port {formula('F_L == D1*(X_L - X_A) + D2*X_L')}) and compared with the "
+        "paper's printed transfer function, passivity polynomial "
+        "`Re N(jω) D(−jω) ≥ 0` and stated bound. The bound is classified against the exact "
+        "condition: **exact**, **sufficient only** (a passive design violates it; "
+        "counterexample given) or **unsafe** (a design satisfying it is not passive). Flagged "
+        f"cells are discrepancies. {n_bad} of {len(rows)} rows have at least one discrepancy; "
+        "see `docs/notes-on-the-paper.md` for the discussion of each."
     )
     return Section(
         key="tables",
         title="Tables I and II: paper vs first principles",
         text=text,
-        tables=tuple(tables),
+        tables=tables,
         findings=tuple(findings),
         files={
             "tables.json": to_json([r.to_dict() for r in rows]),
@@ -112,35 +175,64 @@ def stage_tables(quick: bool) -> Section:
     )
 
 
+def _grid_shape(n: int) -> tuple[int, int]:
+    """Rows and columns (at most 3) for ``n`` panels, with as few empty slots as possible."""
+    ncol = min((c for c in (3, 2, 1) if c <= n), key=lambda c: (-(n % c == 0), -c))
+    return math.ceil(n / ncol), ncol
+
+
+def _stiffness_figure(
+    title: str, group: Sequence[tuple[PaperRow, dict[str, float], FrequencyResponse]]
+) -> Any:
+    """Magnitude and phase of every row of one table, one Bode pair per row, no empty slot."""
+    nrow, ncol = _grid_shape(len(group))
+    axes = axes_grid(
+        None, 2 * nrow, ncol, figsize=(4.3 * ncol + 0.6, 4.4 * nrow + 0.6),
+        sharex=True, gridspec_kw={"height_ratios": [2, 1] * nrow},
+    )  # fmt: skip
+    for k, (row, vals, resp) in enumerate(group):
+        i, j = divmod(k, ncol)
+        shown = ", ".join(f"{n}={v:g}" for n, v in vals.items() if n not in ("m", "b"))
+        plot_stiffness_bode(
+            resp, title=f"{row.title}\n{shown}", reference=vals.get("k1"),
+            axes=axes[2 * i : 2 * i + 2, j],
+        )  # fmt: skip
+    for k in range(len(group) - ncol):  # one frequency label per column, at the bottom
+        i, j = divmod(k, ncol)
+        axes[2 * i + 1, j].set_xlabel("")
+    for k in range(len(group), nrow * ncol):
+        i, j = divmod(k, ncol)
+        axes[2 * i, j].set_visible(False)
+        axes[2 * i + 1, j].set_visible(False)
+    fig = axes[0, 0].figure
+    fig.suptitle(
+        f"{title}: rendered stiffness F_L/X_L(jω), magnitude and phase "
+        "(m = 1 kg, b = 10 N·s/m; dashed: spring stiffness k1)",
+        fontsize=11,
+    )
+    return fig
+
+
 def stage_stiffness(quick: bool) -> Section:
     """The rendered stiffness of every table row at the reference values."""
     omega = np.logspace(-1, 4, 200 if quick else 400)
     results = []
-    for row in PAPER_ROWS:
+    for k, row in enumerate(PAPER_ROWS):
+        stage_progress(k, len(PAPER_ROWS) + len(_GROUPS), row.name)
         sea = row.design.sea()
-        vals = {k: REFERENCE_VALUES[k] for k in sea.parameters}
+        vals = {n: REFERENCE_VALUES[n] for n in sea.parameters}
         results.append((row, vals, stiffness_response(sea, omega, values=vals, label=row.title)))
     figures = []
-    for key, title in (("I", "Table I"), ("II", "Table II"), ("proposed", "Proposed design")):
+    for g, (key, name, _title) in enumerate(_GROUPS):
+        title = {"I": "Table I", "II": "Table II"}.get(key, "Proposed design")
+        stage_progress(len(PAPER_ROWS) + g, len(PAPER_ROWS) + len(_GROUPS), f"{title} figure")
         group = [r for r in results if r[0].table == key]
-        ncol = min(3, len(group))
-        nrow = math.ceil(len(group) / ncol)
-        axes = axes_grid(None, nrow, ncol, figsize=(max(5.0 * ncol, 7.0), 3.9 * nrow + 0.4))
-        fig = axes[0, 0].figure
-        for ax, (row, vals, resp) in zip(axes.flat, group, strict=False):
-            shown = ", ".join(f"{k}={v:g}" for k, v in vals.items() if k not in ("m", "b"))
-            plot_stiffness_response(resp, reference=vals.get("k1"), ax=ax)
-            ax.set_title(f"{row.title}\n{shown}", fontsize=10)
-        for ax in list(axes.flat)[len(group) :]:
-            ax.set_visible(False)
-        fig.suptitle(
-            f"{title}: rendered stiffness |F_L/X_L(jω)|\n(m = 1 kg, b = 10 N·s/m)", fontsize=11
-        )
         figures.append(
-            FigureData(
-                f"stiffness_{'table1' if key == 'I' else 'table2' if key == 'II' else 'proposed'}",
-                f"{title}: stiffness frequency response of every row at the reference values.",
-                figure_bytes(fig),
+            FigureData.of(
+                f"stiffness_{name}",
+                f"{title}: stiffness frequency response (magnitude and phase) of every row at "
+                "the reference values.",
+                _stiffness_figure(title, group),
             )
         )
     summary = Table(
@@ -165,9 +257,10 @@ def stage_stiffness(quick: bool) -> Section:
         title="Stiffness frequency responses",
         text=(
             "The paper's *Frequency Response* column, recomputed from the derived transfer "
-            "functions. Reference values: `m = 1, b = 10, k1 = k2 = 1000, b1 = b2 = 20, "
-            "kd = 500, bd = 25, ki = 100` (SI units). A damper in the transmission makes the "
-            "stiffness grow with frequency (the *perceived stiffness* under impacts)."
+            "functions, with the phase the paper does not show. Reference values: `m = 1, "
+            "b = 10, k1 = k2 = 1000, b1 = b2 = 20, kd = 500, bd = 25, ki = 100` (SI units). A "
+            "damper in the transmission makes the stiffness grow with frequency (the "
+            "*perceived stiffness* under impacts)."
         ),
         tables=(summary,),
         figures=tuple(figures),
