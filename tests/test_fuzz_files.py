@@ -29,7 +29,7 @@ OURS = (REPO / "examples" / "ours.toml").read_text()
 RIG = (REPO / "src" / "seapass" / "data" / "paper_rig.toml").read_text()
 
 ADDRESS_SPACE = 1 << 30  # RLIMIT_AS of the subprocess
-PEAK_RSS_MB = 512
+PEAK_RSS_MB = 640  # one process runs every file: the whole stack imported, well below 1 GB
 WATCHDOG_S = 60  # per file, against hangs (not a timing assertion)
 
 DRIVER = r"""

@@ -248,7 +248,7 @@ def test_old_manifest_directory_is_refused_with_the_fix(
         ds.dataset(str(out), format="parquet").to_table()
     with pytest.raises(
         FileFormatError,
-        match=r"old-style manifest\.json.*\(--resume\) to migrate it to _manifest\.json",
+        match=r"old-style manifest\.json.*resume=True to migrate it to _manifest\.json",
     ):
         run_design_sweep(small_sweep, out, progress=False)
     assert (out / "manifest.json").is_file()  # nothing touched

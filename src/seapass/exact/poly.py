@@ -51,7 +51,7 @@ Examples
 from __future__ import annotations
 
 import itertools
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from fractions import Fraction
 from numbers import Rational as _PyRational
 from typing import cast
@@ -389,23 +389,27 @@ def _bisect_once(sf: Poly, a: fmpq, b: fmpq) -> Interval:
     return mid, b
 
 
-def _refine_sf(sf: Poly, iv: Interval, width: fmpq) -> Interval:
+def _bisect_while(sf: Poly, iv: Interval, more: Callable[[fmpq, fmpq], bool]) -> Interval:
+    """Bisect ``(a, b]`` on the simple root of ``sf`` while ``more(a, b)``; ``(r, r]`` if met."""
     a, b = iv
     if a == b:
         return b, b
     sb = sign(sf(b))
     if sb == 0:
         return b, b
-    while b - a > width:
+    for _ in range(MAX_BISECTIONS):
+        if not more(a, b):
+            return a, b
         mid = (a + b) / 2
         sm = sign(sf(mid))
         if sm == 0:
             return mid, mid
-        if sm == sb:
-            b = mid
-        else:
-            a = mid
-    return a, b
+        a, b = (a, mid) if sm == sb else (mid, b)
+    raise ArithmeticError(f"no isolating interval after {MAX_BISECTIONS} bisections")
+
+
+def _refine_sf(sf: Poly, iv: Interval, width: fmpq) -> Interval:
+    return _bisect_while(sf, iv, lambda a, b: b - a > width)
 
 
 def refine_past(p: Poly, iv: Interval, x: RationalLike) -> Interval:
@@ -417,28 +421,10 @@ def refine_past(p: Poly, iv: Interval, x: RationalLike) -> Interval:
     >>> refine_past(fmpq_poly([-2, 0, 1]), (fmpq(0), fmpq(2)), 1)   # √2 in (5/4, 3/2]
     (5/4, 3/2)
     """
-    a, b = iv
     xq = rational(x)
-    if a == b or a > xq:
-        return a, b
-    sf = squarefree_part(p)
-    sb = sign(sf(b))
-    if sb == 0:
-        return b, b
-    steps = 0
-    while a <= xq:
-        mid = (a + b) / 2
-        sm = sign(sf(mid))
-        if sm == 0:
-            return mid, mid
-        if sm == sb:
-            b = mid
-        else:
-            a = mid
-        steps += 1
-        if steps > MAX_BISECTIONS:
-            raise ArithmeticError(f"the root is not above {xq} after {MAX_BISECTIONS} bisections")
-    return a, b
+    if iv[0] > xq:
+        return iv
+    return _bisect_while(squarefree_part(p), iv, lambda a, b: a <= xq)
 
 
 def refine(p: Poly, iv: Interval, width: RationalLike) -> Interval:
