@@ -54,6 +54,7 @@ from flint import fmpq
 from ..exact import poly as ep
 from ..exact.axis import at_j_omega, even_to_x, sqrt_float
 from ..exact.halfline import minimum_on_half_line
+from ..model.display import html_card, short_repr
 from ..model.sea import SEA, Impedance
 from .impedance import evaluate_system
 from .passivity import Reason, positive_real_test
@@ -72,7 +73,7 @@ _POLE_REASONS = frozenset(
 )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class PassivityIndex:
     """One passivity index (see the module docstring).
 
@@ -117,8 +118,37 @@ class PassivityIndex:
             "reason": self.reason,
         }
 
+    def describe(self) -> str:
+        """The value, its certified enclosure (when not exact) and where it is attained."""
+        text = f"{self.value:.6g}"
+        if self.lower is not None and self.upper is not None:
+            lo, hi = f"{_down(self.lower):.10g}", f"{_up(self.upper):.10g}"
+            text += f" in [{lo}, {hi}]" if lo != hi else ""
+        if self.reason:
+            return f"{text} ({Reason(self.reason).description})"
+        if math.isfinite(self.value):
+            text += " as ω → ∞" if self.omega is None else f" at ω = {self.omega:.6g} rad/s"
+        word = (
+            "strictly passive" if self.sign > 0 else "passive" if self.sign == 0 else "not passive"
+        )
+        return f"{text}: {word}"
 
-@dataclass(frozen=True)
+    def __repr__(self) -> str:
+        return short_repr(
+            "PassivityIndex",
+            {
+                "value": self.value,
+                "sign": self.sign,
+                "omega": self.omega,
+                "reason": str(self.reason) or None,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        return html_card("Passivity index", [("index", self.describe())])
+
+
+@dataclass(frozen=True, repr=False)
 class PassivityIndices:
     """ν and ρ of a port impedance (`passivity_indices`).
 
@@ -154,6 +184,24 @@ class PassivityIndices:
                 "enclosed by certified bounds [lower, upper]"
             ),
         }
+
+    def __repr__(self) -> str:
+        reasons = {"nu_reason": self.input.reason, "rho_reason": self.output.reason}
+        return short_repr(
+            "PassivityIndices",
+            {"nu": self.nu, "rho": self.rho, **{k: str(r) or None for k, r in reasons.items()}},
+        )
+
+    def _repr_html_(self) -> str:
+        rows = [
+            ("ν, input feedforward [N·s/m]", self.input.describe()),
+            ("ρ, output feedback [m/(N·s)]", self.output.describe()),
+        ]
+        return html_card(
+            f"Passivity indices: ν = {self.nu:.6g}, ρ = {self.rho:.6g}",
+            rows,
+            note="Decided exactly; values enclosed by certified rational bounds.",
+        )
 
 
 def _down(q: fmpq) -> float:

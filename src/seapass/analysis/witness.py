@@ -43,6 +43,7 @@ from flint import fmpq_poly
 
 from ..errors import NotPassiveError
 from ..exact.halfline import HalfLinePoint
+from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA, Impedance
 from .coupled import CoupledResult, Environment, coupled_stability
 from .coupled_response import CoupledSimulation, simulate_coupled
@@ -65,7 +66,7 @@ __all__ = [
 SystemLike: TypeAlias = SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class WitnessResult:
     """Outcome of `find_destabilizing_environment`.
 
@@ -137,6 +138,76 @@ class WitnessResult:
             "max_real_part": self.coupled.max_real_part if self.coupled else None,
             "simulation": self.simulation.to_dict() if self.simulation else None,
         }
+
+    @property
+    def status(self) -> str:
+        """``"passive"``, ``"found"``, ``"none in bounds (proven)"`` or ``"none found"``."""
+        if self.passive or self.found:
+            return "passive" if self.passive else "found"
+        return "none in bounds (proven)" if self.certified else "none found"
+
+    def plot(self, *, axes: Any = None, **kwargs: Any) -> Any:
+        """The growing coupled response and the coupled poles (needs ``found`` and a simulation).
+
+        Parameters
+        ----------
+        axes : sequence of two matplotlib.axes.Axes, optional
+            Where to draw; a new figure if None.
+        **kwargs
+            Passed to [`plot_witness`][seapass.plot.witness.plot_witness] (``title``).
+
+        Returns
+        -------
+        numpy.ndarray of matplotlib.axes.Axes
+        """
+        from ..plot.witness import plot_witness
+
+        return plot_witness(self, axes=axes, **kwargs)
+
+    def __repr__(self) -> str:
+        env = self.environment if self.found else self.outside
+        shown = None if env is None else Shown(_environment_repr(env))
+        return short_repr(
+            "WitnessResult",
+            {
+                "status": self.status,
+                "reason": str(self.reason) or None,
+                ("environment" if self.found else "outside"): shown,
+                "growth_rate": self.coupled.max_real_part if self.coupled else None,
+                "omega": self.omega,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        rows: list[tuple[str, Any]] = [
+            ("verdict", "passive" if self.passive else f"not passive ({self.reason})")
+        ]
+        if self.environment is not None:
+            rows.append(("environment", _environment_text(self.environment)))
+        if self.coupled is not None:
+            rows.append(
+                (
+                    "coupled system",
+                    f"{self.coupled.status}, max Re s = {self.coupled.max_real_part:.6g} 1/s",
+                )
+            )
+        if self.simulation is not None:
+            rows.append(("growth over the run", f"×{self.simulation.growth_factor:.4g}"))
+        if self.outside is not None:
+            rows.append(("outside the bounds", _environment_text(self.outside)))
+        if self.bounds is not None:
+            rows.append(("bounds", self.bounds.describe()))
+        rows += [("method", self.method or "-"), ("environments verified", self.candidates)]
+        return html_card(f"Destabilizing environment: {self.status}", rows, note=self.detail)
+
+
+def _environment_repr(env: Environment) -> str:
+    fields = {"mass": env.mass, "damping": env.damping, "stiffness": env.stiffness}
+    return short_repr("Environment", fields)
+
+
+def _environment_text(env: Environment) -> str:
+    return f"m_e = {env.mass:.4g} kg, b_e = {env.damping:.4g} N*s/m, k_e = {env.stiffness:.4g} N/m"
 
 
 # ---------------------------------------------------------------- entry point

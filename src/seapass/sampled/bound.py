@@ -12,12 +12,13 @@ from __future__ import annotations
 
 import math
 import sys
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
 from ..errors import ParameterError, SeapassError, UnrealizableError
+from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA
 from .boxes import BoxVerdict, bound_boxes
 from .controllers import Method, controller_tfs
@@ -27,7 +28,7 @@ from .passivity import check_delay, check_ranges, sampled_passivity
 from .plant import plant_key, plant_of
 from .verdict import PRECISIONS, decide
 
-__all__ = ["Edge", "SampledBoundResult", "sampled_passive_bound"]
+__all__ = ["Edge", "SampledBoundResult", "intervals_text", "sampled_passive_bound"]
 
 #: Smallest and largest relative edge tolerance accepted.
 RTOL_RANGE = (1e-12, 1e-2)
@@ -45,7 +46,7 @@ class Edge:
         return {"lo": self.lo, "hi": self.hi, "kind": self.kind}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class SampledBoundResult:
     """Certified passive values of one parameter (`sampled_passive_bound`).
 
@@ -97,6 +98,72 @@ class SampledBoundResult:
             "design_passive": self.design_passive,
             "low_frequency": self.low_frequency,
         }
+
+    def plot(self, *, ax: Any = None) -> Any:
+        """The certified passive intervals, edge enclosures and design value on one axis.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw; a new figure if None.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
+        from ..plot.sampled import plot_bound
+
+        return plot_bound(self, ax=ax)
+
+    def __repr__(self) -> str:
+        return short_repr(
+            "SampledBoundResult",
+            {
+                "param": self.param,
+                "period": self.period,
+                "delay": self.delay,
+                "passive": Shown(intervals_text(self.intervals, most=2)),
+                "max_passive": self.max_passive,
+                "undecided": len(self.undecided) or None,
+                "design_passive": self.design_passive,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        filt = "none" if self.velocity_filter is None else f"{self.velocity_filter:g} Hz"
+        rows: list[tuple[str, Any]] = [
+            ("range searched", f"[{self.lo:.6g}, {self.hi:.6g}]"),
+            ("loop", f"T = {self.period:g} s, delay {self.delay} samples, velocity filter {filt}"),
+            ("passive (certified)", intervals_text(self.intervals, most=20)),
+            ("largest passive value", "none" if self.max_passive is None else self.max_passive),
+        ]
+        rows += [
+            (f"edge ({e.kind.replace('_', ' ')})", f"[{e.lo:.10g}, {e.hi:.10g}]")
+            for e in self.edges[:20]
+        ]
+        if self.undecided:
+            rows.append(("undecided", intervals_text(self.undecided, most=20)))
+        if self.design_value is not None:
+            verdict = {True: "passive", False: "not passive", None: "not decided"}
+            rows.append(
+                (f"design {self.param} = {self.design_value:.6g}", verdict[self.design_passive])
+            )
+        if self.low_frequency:
+            rows.append(("low frequency", self.low_frequency))
+        return html_card(
+            f"Sampled passive set of {self.param} at T = {self.period * 1e3:g} ms",
+            rows,
+            note=f"Edges enclosed to a relative width of {self.rtol:g}; no value is sampled.",
+        )
+
+
+def intervals_text(intervals: Sequence[tuple[float, float]], *, most: int) -> str:
+    """``[a, b] ∪ [c, d]`` (6 significant digits), the first ``most`` and a count of the rest."""
+    if not intervals:
+        return "none"
+    text = " ∪ ".join(f"[{a:.6g}, {b:.6g}]" for a, b in intervals[:most])
+    rest = len(intervals) - most
+    return text + (f" ∪ {rest} more" if rest > 0 else "")
 
 
 def _merge_status(boxes: list[BoxVerdict]) -> list[tuple[Fraction, Fraction, str, str]]:

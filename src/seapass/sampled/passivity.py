@@ -54,6 +54,7 @@ import numpy as np
 
 from ..errors import ModelError, NotPassiveError, ParameterError
 from ..files.limits import MAX_DELAY_SAMPLES
+from ..model.display import html_card, short_repr
 from ..model.sea import SEA
 from .controllers import DiscreteController, Method, controller_tfs
 from .lowfreq import LowFrequency, low_frequency_of
@@ -103,7 +104,7 @@ _DETAILS = {
 }
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class SampledPassivityResult:
     """Certified verdict of `sampled_passivity`.
 
@@ -169,6 +170,38 @@ class SampledPassivityResult:
             "precision_bits": self.precision,
             "low_frequency": None if self.low_frequency is None else self.low_frequency.to_dict(),
         }
+
+    def __repr__(self) -> str:
+        return short_repr(
+            "SampledPassivityResult",
+            {
+                "status": self.status.value,
+                "reason": self.reason or None,
+                "omega": self.omega,
+                "period": self.period,
+                "delay": self.delay,
+                "velocity_filter": self.velocity_filter,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        filt = "none" if self.velocity_filter is None else f"{self.velocity_filter:g} Hz"
+        rows: list[tuple[str, Any]] = [
+            ("verdict", self.status.value.replace("_", " ")),
+            ("detail", self.detail),
+            ("loop", f"T = {self.period:g} s, delay {self.delay} samples, velocity filter {filt}"),
+        ]
+        if self.omega is not None:
+            rows.append(("witness", f"N(ω) < 0 at ω = {self.omega:.6g} rad/s (proven)"))
+        lf = self.low_frequency
+        if lf is not None and lf.resistance is not None:
+            rows.append(("low-frequency resistance R_lf", f"{float(lf.resistance):.6g} N·s/m"))
+        rows += [
+            ("spectral radius (port held)", f"{self.spectral_radius:.6g}"),
+            ("decided at", f"degree {self.degree} in cos ωT, {self.precision} bits"),
+        ]
+        title = f"Sampled passivity at T = {self.period * 1e3:g} ms: {rows[0][1]}"
+        return html_card(title, rows, note=f"Method: {self.method}.")
 
 
 #: Most whole samples of computational delay accepted (each adds 2 to the polynomial degree).

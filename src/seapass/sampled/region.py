@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError
+from ..model.display import html_card, short_repr
 from ..model.sea import SEA
 from .bound import SampledBoundResult, sampled_passive_bound
 from .controllers import Method
@@ -58,7 +59,7 @@ def default_setups(delay: int = 1, velocity_filter: float | None = 50.0) -> tupl
     return tuple(out)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class ZWidthMap:
     """Certified passive sets of ``p1`` for each value of ``p2`` and each loop setup.
 
@@ -108,6 +109,55 @@ class ZWidthMap:
             ],
             "rows": {k: [r.to_dict() for r in v] for k, v in self.rows.items()},
         }
+
+    def plot(self, *, ax: Any = None) -> Any:
+        """The Z-width map: passive ``p1`` on every ``p2`` row, one colour per loop setup.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw; a new figure if None.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
+        from ..plot.sampled import plot_zwidth
+
+        return plot_zwidth(self, ax=ax)
+
+    def __repr__(self) -> str:
+        return short_repr(
+            "ZWidthMap",
+            {
+                "p1": self.p1,
+                "p2": self.p2,
+                "period": self.period,
+                "rows": len(self.p2_values),
+                "setups": len(self.setups),
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        xs = self.p2_values
+        rows = [(f"{self.p2} rows", f"{len(xs)} in [{min(xs):.6g}, {max(xs):.6g}]")]
+        for s in self.setups:
+            top = self.upper_boundary(s.label)
+            empty = int(np.sum(np.isnan(top)))
+            text = (
+                f"largest passive {self.p1} from {np.nanmin(top):.6g} to {np.nanmax(top):.6g}"
+                if empty < top.size
+                else f"no passive {self.p1}"
+            )
+            rows.append(
+                (s.label, text + (f"; none on {empty} rows" if 0 < empty < top.size else ""))
+            )
+        return html_card(
+            f"Z-width at T = {self.period * 1e3:g} ms: passive {self.p1} against {self.p2}",
+            rows,
+            note=f"Every row certified over [{self.p1_range[0]:.6g}, {self.p1_range[1]:.6g}]; "
+            f"only the spacing of the {self.p2} rows is a sampling.",
+        )
 
 
 def sampled_region(

@@ -29,6 +29,7 @@ import pyarrow as pa
 from ..batch.step_metrics import batch_step_metrics
 from ..batch.verdicts import batch_is_passive
 from ..errors import ParameterError
+from ..model.display import html_card, short_repr
 from ..model.sea import SEA
 from ..sim.metrics import SETTLING_CODES
 from .cluster import check_scheduler, dask_client, run_bounded, total_threads
@@ -110,7 +111,7 @@ def _part_task(c: int, state: Mapping[str, Any], parts: Location) -> PartSummary
 # --------------------------------------------------------------------------- result
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class DesignSweepResult:
     """Summary of a finished sweep.
 
@@ -155,6 +156,44 @@ class DesignSweepResult:
         d["columns"] = list(self.columns)
         d["passive_fraction"] = self.n_passive / self.n_designs if self.n_designs else None
         return d
+
+    def __repr__(self) -> str:
+        return short_repr(
+            "DesignSweepResult",
+            {
+                "path": self.path,
+                "designs": self.n_designs,
+                "passive": self.n_passive,
+                "settled": self.n_settled,
+                "complete": self.complete,
+                "chunks": self.n_chunks,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        def share(n: int) -> str:
+            return f"{n} ({100 * n / self.n_designs:.3g} %)" if self.n_designs else str(n)
+
+        rows: list[tuple[str, Any]] = [
+            ("output", self.path),
+            ("designs", self.n_designs),
+            ("passive (exact)", share(self.n_passive)),
+        ]
+        if self.n_settled is not None:
+            rows.append(("settled", share(self.n_settled)))
+        done = self.chunks_computed + self.chunks_resumed
+        rows += [
+            (
+                "chunks",
+                f"{done} of {self.n_chunks} ({self.chunks_computed} computed, "
+                f"{self.chunks_resumed} resumed)",
+            ),
+            ("workers", self.workers),
+            ("time", f"{self.seconds:.3g} s wall, {self.compute_seconds:.3g} s computing"),
+            ("columns", ", ".join(self.columns)),
+        ]
+        status = "complete" if self.complete else "incomplete (resume to finish)"
+        return html_card(f"Design sweep: {status}", rows)
 
 
 # --------------------------------------------------------------------------- running

@@ -38,22 +38,31 @@ import numpy as np
 from ..analysis.passivity import PassivityResult, is_passive
 from ..analysis.region import passive_intervals
 from ..errors import NotPassiveError, ParameterError, TuningWarning
+from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA
 from ..sampled.passivity import SampledPassivityResult, sampled_passivity
 from ..sim.metrics import TrackingMetrics, tracking_metrics
 from ..sim.scenarios import Step
-from ..sim.simulate import simulate
+from ..sim.simulate import SimulationResult, simulate
 from .cost import CandidateCost, ConstraintChecks, objective_value
 from .problem import BoxLike, DesignLike, Objective, TuningOptions, TuningProblem, resolve_problem
 from .search import differential_search
 
-__all__ = ["SNAP_FRACTION", "TuningResult", "narrowed_box", "snap_to_edges", "tune", "verify"]
+__all__ = [
+    "SNAP_FRACTION",
+    "TuningResult",
+    "narrowed_box",
+    "snap_to_edges",
+    "step_run",
+    "tune",
+    "verify",
+]
 
 SNAP_FRACTION = 0.05
 """Gains this close to an edge of the searched box (a fraction of its width) are tried on it."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class TuningResult:
     """Outcome of `tune`.
 
@@ -151,6 +160,75 @@ class TuningResult:
             "warnings": list(self.warnings),
             **self.metrics.to_dict(),
         }
+
+    def plot(self, *, ax: Any = None, load_masses: Any = None, **kwargs: Any) -> Any:
+        """The step response at the tuned gains, simulated at ``options.dt_verify``.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw; a new figure if None.
+        load_masses : sequence of float, optional
+            Load masses [kg], one line each (default: the tuning load mass).
+        **kwargs
+            Passed to [`plot_step_responses`][seapass.plot.sim.plot_step_responses]
+            (``title``).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
+        from ..plot.sim import plot_step_responses
+
+        o = self.options
+        masses = (o.load_mass,) if load_masses is None else tuple(load_masses)
+        runs = [(float(mass), *step_run(self.sea, o, float(mass))) for mass in masses]
+        kwargs.setdefault("title", f"{self.design}: tuned gains")
+        return plot_step_responses(runs, step=float(o.step), ax=ax, **kwargs)  # type: ignore[arg-type]
+
+    def __repr__(self) -> str:
+        return short_repr(
+            "TuningResult",
+            {
+                "design": self.design,
+                "gains": dict(self.gains),
+                str(self.options.objective): self.objective,
+                "feasible": self.feasible,
+                "passive": self.passive,
+                "sampled_passive": self.sampled_passive,
+                "violations": Shown(", ".join(self.violations)) if self.violations else None,
+                "on_bound": dict(self.on_bound) or None,
+            },
+        )
+
+    def _repr_html_(self) -> str:
+        o, m = self.options, self.metrics
+        verdict = "feasible" if self.feasible else "not feasible: " + ", ".join(self.violations)
+        rows: list[tuple[str, Any]] = [
+            (
+                name,
+                f"{value:.6g} (searched [{self.bounds[name][0]:.6g}, {self.bounds[name][1]:.6g}]"
+                + (f", at the {self.on_bound[name]} edge)" if name in self.on_bound else ")"),
+            )
+            for name, value in self.gains.items()
+        ]
+        rows += [
+            ("verdict", verdict),
+            (f"objective ({o.objective})", f"{self.objective:.6g} {Objective(o.objective).unit}"),
+            ("passive (exact)", "yes" if self.passive else "no"),
+        ]
+        if self.sampled_passive is not None:
+            rows.append(
+                (f"sampled passive (T = {o.period:g} s)", "yes" if self.sampled_passive else "no")
+            )
+        settle = "-" if m.settling_time is None else f"{m.settling_time:.4g} s"
+        over = "-" if m.overshoot is None else f"{100 * m.overshoot:.3g} %"
+        rows += [
+            (f"step {o.step:g} m, m_L = {o.load_mass:g} kg", f"{m.status}, settles in {settle}"),
+            ("overshoot, peak force", f"{over}, {m.peak_force:.4g} N"),
+            ("simulations", self.evaluations),
+        ]
+        return html_card(f"Tuning {self.design}: {verdict}", rows, note=" ".join(self.warnings))
 
 
 def tune(
@@ -310,14 +388,7 @@ def verify(
     sea = problem.candidate(x)
     pr = is_passive(sea)
     sampled = None if opts.period is None else _sampled_verdict(problem, sea)
-    res = simulate(
-        sea,
-        load_mass=float(opts.load_mass),  # type: ignore[arg-type]
-        scenario=Step(float(opts.step)),  # type: ignore[arg-type]
-        horizon=float(opts.horizon),  # type: ignore[arg-type]
-        dt=opts.dt_verify,
-    )
-    met = tracking_metrics(res, tolerance=opts.tolerance)
+    res, met = step_run(sea, opts, float(opts.load_mass))  # type: ignore[arg-type]
     violations, notes = _limits(problem, pr, sampled, met)
     on_bound = problem.on_bound(gains)
     notes += [_edge_note(problem, name, gains[name], edge) for name, edge in on_bound.items()]
@@ -343,6 +414,20 @@ def verify(
         sampled=sampled,
         warnings=tuple(notes),
     )
+
+
+def step_run(
+    sea: SEA, opts: TuningOptions, load_mass: float
+) -> tuple[SimulationResult, TrackingMetrics]:
+    """The verified step response of ``sea`` at ``load_mass`` and its metrics (``dt_verify``)."""
+    res = simulate(
+        sea,
+        load_mass=load_mass,
+        scenario=Step(float(opts.step)),  # type: ignore[arg-type]
+        horizon=float(opts.horizon),  # type: ignore[arg-type]
+        dt=opts.dt_verify,
+    )
+    return res, tracking_metrics(res, tolerance=opts.tolerance)
 
 
 def _edge_note(problem: TuningProblem, name: str, value: float, edge: str) -> str:
