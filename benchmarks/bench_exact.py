@@ -97,7 +97,11 @@ def _kernel(quick: bool) -> tuple[list[Row], list[str]]:
 
 def paper_designs() -> list[tuple[str, SEA]]:
     """Every catalogued design with its gains at the catalog's reference values."""
-    return [(key, d.sea(REFERENCE_VALUES)) for key, d in CATALOG.items()]
+    out = []
+    for key, d in CATALOG.items():
+        used = d.sea().parameters  # values are strict: only the names this model uses
+        out.append((key, d.sea({k: v for k, v in REFERENCE_VALUES.items() if k in used})))
+    return out
 
 
 def _legacy(num: Any, den: Any, support: Any) -> Any:
