@@ -10,6 +10,8 @@ from hypothesis import settings
 # derandomized: CI runs the same examples every time, so a failure reproduces
 settings.register_profile("ci", max_examples=60, deadline=None, derandomize=True)
 settings.register_profile("dev", max_examples=30, deadline=None)
+# one-off deep runs before a release: HYPOTHESIS_PROFILE=deep (random, 20x the CI examples)
+settings.register_profile("deep", max_examples=1200, deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 

@@ -157,6 +157,25 @@ def test_import_seapass_is_light() -> None:
     assert out.stdout.strip() == "", f"import seapass loads {out.stdout.strip()}"
 
 
+def test_the_command_line_starts_light() -> None:
+    """Building the parser (``seapass --help``, every command's start) imports no heavy
+    package: a command loads what it needs when it runs."""
+    code = (
+        "import sys; from seapass.cli import build_parser; build_parser(); "
+        "heavy = [m for m in ('sympy', 'numpy', 'scipy', 'matplotlib', 'control', 'dask', "
+        "'pyarrow', 'flint') if m in sys.modules]; print(','.join(heavy))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "", f"building the CLI parser loads {out.stdout.strip()}"
+
+
+def test_witness_help_shows_the_human_limb_box() -> None:
+    from seapass.analysis.environment_box import HUMAN_LIMB
+    from seapass.cli.cmd_witness import HELP_DEFAULTS
+
+    assert {k: list(v) for k, v in HELP_DEFAULTS.items()} == HUMAN_LIMB.to_dict()
+
+
 def test_lazy_names_resolve() -> None:
     import seapass
 

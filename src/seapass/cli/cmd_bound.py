@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-from ..analysis.region import passive_intervals
 from .common import (
     add_json_option,
     add_model_options,
@@ -39,6 +38,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..analysis.region import passive_intervals
+
     lo, hi = parse_range(args.range)
     sea = model_from_args(args, extra_free={args.param: f"bound {args.param}"})
     warn_unrealizable(sea)

@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING
 
-from ..analysis.indices import PassivityIndices, passivity_indices
-from ..analysis.passivity import Reason, is_passive
 from .common import (
     add_json_option,
     add_model_options,
@@ -13,6 +12,9 @@ from .common import (
     system_from_args,
     warn_unrealizable,
 )
+
+if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
+    from ..analysis.indices import PassivityIndices
 
 EXAMPLE = """examples:
   seapass check --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
@@ -45,6 +47,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..analysis.indices import passivity_indices
+    from ..analysis.passivity import Reason, is_passive
+
     system = system_from_args(args)
     realizable = warn_unrealizable(system)
     result = is_passive(system)

@@ -10,16 +10,15 @@ from __future__ import annotations
 
 import argparse
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
-from ..analysis.freqresp import stiffness_response
-from ..analysis.portresponse import ImpedanceResponse, impedance_response
 from ..errors import ParameterError
-from ..model.sea import SEA
-from .cmd_bound import parse_range
 from .common import add_model_options, print_json, system_from_args, write_figure
+
+if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
+    import numpy as np
+
+    from ..analysis.portresponse import ImpedanceResponse
 
 EXAMPLE = """examples:
   seapass plot real --D1 k1 --CL "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
@@ -68,6 +67,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def _frequencies(text: str | None, points: int) -> np.ndarray | None:
+    import numpy as np
+
+    from .cmd_bound import parse_range
+
     if not 2 <= points <= 100_000:
         raise ParameterError(f"--points {points}: use between 2 and 100000")
     if text is None:
@@ -81,6 +84,10 @@ def _frequencies(text: str | None, points: int) -> np.ndarray | None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..analysis.freqresp import stiffness_response
+    from ..analysis.portresponse import impedance_response
+    from ..model.sea import SEA
+
     system = system_from_args(args)
     grid = _frequencies(args.omega, args.points)
     label = "Z" if args.Z is not None else "Z_L"
@@ -122,6 +129,8 @@ def _print_bands(resp: ImpedanceResponse, label: str) -> None:
 
 
 def _print_bode(fr: Any, resp: ImpedanceResponse) -> None:
+    import numpy as np
+
     print(f"static stiffness F_L/X_L(0) = {fr.static:.6g} N/m")
     print(f"high-frequency stiffness    = {fr.high_frequency:.6g} N/m")
     i = int(np.argmax(fr.magnitude))

@@ -4,9 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
-
-from ..analysis.region import passive_map
 from ..errors import ParameterError
 from ..files.limits import MAX_REGION_COLUMNS
 from .common import (
@@ -53,6 +50,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from ..analysis.region import passive_map
+
     if args.x == args.y:
         raise ParameterError("X and Y must be different parameters")
     if not 2 <= args.nx <= MAX_REGION_COLUMNS:

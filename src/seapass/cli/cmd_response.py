@@ -4,9 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
-
-from ..analysis.freqresp import stiffness_response
 from ..errors import ParameterError
 from ..files.limits import MAX_FREQUENCY_POINTS
 from .common import (
@@ -52,6 +49,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from ..analysis.freqresp import stiffness_response
+
     lo, hi = parse_range(args.omega, "--omega", strict=True)
     if lo <= 0:
         raise ParameterError("--omega: the lower frequency must be positive for a log scale")

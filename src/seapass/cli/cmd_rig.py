@@ -8,14 +8,10 @@ import functools
 import io
 import math
 import sys
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..errors import ParameterError
 from ..files.limits import MAX_KD_GAINS_CLI
-from ..rig.experiment import run_experiment
-from ..rig.impacts import run_impacts
-from ..rig.packaged import rig_template
-from ..rig.rigfile import Rig, load_rig, paper_rig
 from .common import (
     add_json_option,
     add_out_dir_option,
@@ -25,6 +21,9 @@ from .common import (
     write_figure,
     write_text,
 )
+
+if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
+    from ..rig.rigfile import Rig
 
 _SWEEP_EPILOG = """\
 examples:
@@ -179,6 +178,8 @@ def register(subparsers: Any) -> None:
 
 
 def _rig(args: argparse.Namespace) -> Rig:
+    from ..rig.rigfile import load_rig, paper_rig
+
     return load_rig(args.rig) if args.rig else paper_rig()
 
 
@@ -194,6 +195,8 @@ def _csv(rows: list[dict[str, Any]]) -> str:
 
 
 def _sweep(args: argparse.Namespace) -> int:
+    from ..rig.experiment import run_experiment
+
     rig = _rig(args)
     out = check_out_dir(args.out)
     designs = ["LP", "ours"] if args.design == "both" else [args.design]
@@ -250,6 +253,8 @@ def _gain(x: float | None, label: str) -> str:
 
 
 def _impacts(args: argparse.Namespace) -> int:
+    from ..rig.impacts import run_impacts
+
     rig = _rig(args)
     out = check_out_dir(args.out)
     result = run_impacts(rig)
@@ -294,6 +299,8 @@ def _show(args: argparse.Namespace) -> int:
 
 
 def _template(args: argparse.Namespace) -> int:
+    from ..rig.packaged import rig_template
+
     sys.stdout.write(rig_template())
     return 0
 
@@ -301,6 +308,7 @@ def _template(args: argparse.Namespace) -> int:
 def _fit(args: argparse.Namespace) -> int:
     from ..rig.identify import fit_rig
     from ..rig.log import load_log
+    from ..rig.rigfile import load_rig
 
     rig = load_rig(args.rig)
     log = load_log(args.log)

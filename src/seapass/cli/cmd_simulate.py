@@ -4,24 +4,11 @@ from __future__ import annotations
 
 import argparse
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
-from ..analysis.passivity import is_passive
 from ..errors import FileFormatError, SeapassError
 from ..files.limits import MAX_TRAJECTORY_BYTES, MAX_TRAJECTORY_SAMPLES
 from ..files.textfile import read_text_file
-from ..sim.metrics import tracking_metrics
-from ..sim.simulate import (
-    ForceImpulse,
-    ForceStep,
-    LoadDisplaced,
-    Scenario,
-    Step,
-    Trajectory,
-    simulate,
-)
 from .common import (
     add_json_option,
     add_model_options,
@@ -33,6 +20,9 @@ from .common import (
     print_json,
     save_plot,
 )
+
+if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
+    from ..sim.simulate import Scenario, Trajectory
 
 EXAMPLE = """examples:
   seapass simulate --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
@@ -90,6 +80,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _load_trajectory(path: str, interp: str, reference: str) -> Trajectory:
+    import numpy as np
+
+    from ..sim.simulate import Trajectory
+
     text = read_text_file(path, max_bytes=MAX_TRAJECTORY_BYTES, what="trajectory file")
     rows: list[tuple[float, float]] = []
     for n, line in enumerate(text.splitlines(), 1):
@@ -117,6 +111,8 @@ def _load_trajectory(path: str, interp: str, reference: str) -> Trajectory:
 
 
 def scenario_from_args(args: argparse.Namespace) -> Scenario:
+    from ..sim.simulate import ForceImpulse, ForceStep, LoadDisplaced, Step
+
     if args.load_displaced is not None:
         return LoadDisplaced(args.load_displaced)
     if args.force_step is not None:
@@ -129,6 +125,10 @@ def scenario_from_args(args: argparse.Namespace) -> Scenario:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..analysis.passivity import is_passive
+    from ..sim.metrics import tracking_metrics
+    from ..sim.simulate import simulate
+
     figure = plot_path(args.plot)
     check_step(args.step)
     sea = model_from_args(args)

@@ -8,9 +8,6 @@ import sys
 
 from ..errors import ParameterError, did_you_mean
 from ..files.atomic import check_writable
-from ..sweep import GridAxis, RangeAxis, SweepSpec, heatmap_data, run_design_sweep
-from ..sweep.cluster import available_cores
-from ..sweep.spec import LOAD_MASS
 from .common import (
     add_json_option,
     add_model_options,
@@ -94,8 +91,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "--workers",
         type=int,
         metavar="N",
-        help=f"worker processes of --scheduler local (default: this machine's cores, "
-        f"{available_cores()} here)",
+        help="worker processes of --scheduler local (default: one per core this process may use)",
     )
     o.add_argument("--no-progress", action="store_true", help="no progress bar")
     o.add_argument(
@@ -109,6 +105,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 def run(args: argparse.Namespace) -> int:
     from ..model.expr import parse_value
+    from ..sweep import GridAxis, RangeAxis, SweepSpec, heatmap_data, run_design_sweep
+    from ..sweep.cluster import available_cores
+    from ..sweep.spec import LOAD_MASS
 
     grid = [
         GridAxis(name, *(parse_value(v, f"--grid {name}") for v in parts))

@@ -5,11 +5,8 @@ from __future__ import annotations
 import argparse
 import functools
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from ..analysis.freqresp import stiffness_response
-from ..model.catalog import REFERENCE_VALUES
-from ..paper.tablefmt import format_latex, format_markdown, format_text
-from ..paper.tables import TableRow, build_tables
 from .common import (
     add_json_option,
     add_out_dir_option,
@@ -18,6 +15,9 @@ from .common import (
     print_json,
     save_plot,
 )
+
+if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
+    from ..paper.tables import TableRow
 
 EXAMPLE = """examples:
   seapass tables
@@ -43,6 +43,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..paper.tablefmt import format_latex, format_markdown, format_text
+    from ..paper.tables import build_tables
+
     out = check_out_dir(deprecated_alias(args, "plots", "out"))
     rows = build_tables()
     if out is not None:
@@ -60,6 +63,8 @@ def run(args: argparse.Namespace) -> int:
 
 def write_row_plots(rows: list[TableRow], out: Path) -> list[Path]:
     """One PNG per row with the reference values of `REFERENCE_VALUES`."""
+    from ..analysis.freqresp import stiffness_response
+    from ..model.catalog import REFERENCE_VALUES
     from ..plot.response import plot_stiffness_response
 
     paths = []

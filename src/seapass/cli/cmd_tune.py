@@ -7,15 +7,16 @@ import sys
 import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import ParameterError, TuningWarning, did_you_mean
-from ..model.catalog import CATALOG
-from ..model.design_file import Design, load_design
-from ..model.expr import parse_assignment, parse_value
-from ..model.sea import SEA
-from ..tuning.optimize import TuningResult, tune
-from ..tuning.problem import QUICK_OPTIONS, DesignLike, TuningOptions, design_parts
 from .common import add_json_option, add_model_options, check_period, check_step, print_json, warn
+
+if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
+    from ..model.design_file import Design
+    from ..model.sea import SEA
+    from ..tuning.optimize import TuningResult
+    from ..tuning.problem import DesignLike, TuningOptions
 
 EXAMPLE = """examples:
   seapass tune examples/ours.toml --json
@@ -85,6 +86,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 def parse_tune(items: Sequence[str], flag: str = "--tune") -> dict[str, tuple[float, float] | None]:
     """``NAME=LO:HI`` or ``NAME`` items into ``{name: (lo, hi) or None}``; repeats are errors."""
+    from ..model.expr import parse_value
+
     out: dict[str, tuple[float, float] | None] = {}
     for item in items:
         name, sep, rng = item.partition("=")
@@ -108,6 +111,8 @@ def parse_tune(items: Sequence[str], flag: str = "--tune") -> dict[str, tuple[fl
 
 
 def _assignments(items: Sequence[str]) -> dict[str, float]:
+    from ..model.expr import parse_assignment
+
     out: dict[str, float] = {}
     for item in items:
         name, value = parse_assignment(item)
@@ -119,6 +124,10 @@ def _assignments(items: Sequence[str]) -> dict[str, float]:
 
 def _design(args: argparse.Namespace) -> tuple[DesignLike, Design | None, dict[str, float]]:
     """The design named on the command line, its design file (if any) and the ``--set`` values."""
+    from ..model.catalog import CATALOG
+    from ..model.design_file import load_design
+    from ..model.sea import SEA
+
     if args.design and args.design_option:
         raise ParameterError("give the design once (DESIGN or --design)")
     name = args.design or args.design_option
@@ -157,6 +166,8 @@ def _check_names(values: Mapping[str, object], parameters: Sequence[str], flag: 
 
 def options_from_args(args: argparse.Namespace, file: Design | None) -> TuningOptions:
     """`TuningOptions` from the command line (design-file defaults are resolved later)."""
+    from ..tuning.problem import QUICK_OPTIONS, TuningOptions
+
     opts = TuningOptions(
         objective=args.objective,
         max_overshoot=None if args.max_overshoot is None else args.max_overshoot / 100.0,
@@ -186,6 +197,10 @@ def options_from_args(args: argparse.Namespace, file: Design | None) -> TuningOp
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..model.sea import SEA
+    from ..tuning.optimize import tune
+    from ..tuning.problem import design_parts
+
     design, file, values = _design(args)
     boxes = parse_tune([*args.tune, *args.bound])
     opts = options_from_args(args, file)

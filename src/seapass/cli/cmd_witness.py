@@ -3,11 +3,9 @@
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING
 
-from ..analysis.environment_box import HUMAN_LIMB, EnvironmentBounds
-from ..analysis.witness import WitnessResult, find_destabilizing_environment
 from ..errors import ParameterError
-from ..model.expr import parse_value
 from .common import (
     add_json_option,
     add_model_options,
@@ -20,6 +18,10 @@ from .common import (
     warn_unrealizable,
     write_text,
 )
+
+if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
+    from ..analysis.environment_box import EnvironmentBounds
+    from ..analysis.witness import WitnessResult
 
 EXAMPLE = """examples:
   seapass witness --D1 k1 --CL kd --set m=1 --set b=10 --set k1=1000 --set kd=2000 --json
@@ -37,6 +39,11 @@ environment outside the bounds that does.
 """
 
 
+#: The default box in ``--help``: `seapass.analysis.environment_box.HUMAN_LIMB` (a test keeps
+#: them equal; written out so that the CLI starts without importing the analysis).
+HELP_DEFAULTS = {"mass": (0.1, 10.0), "damping": (0.0, 100.0), "stiffness": (0.0, 5000.0)}
+
+
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
     p = sub.add_parser(
         "witness",
@@ -51,7 +58,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     p.add_argument("--Z", help="raw impedance Z(s) instead of an SEA model, e.g. '(s - 1)/(s + 1)'")
     g = p.add_argument_group("the environments allowed (default: a human limb)")
     for name, unit in (("mass", "kg"), ("damping", "N*s/m"), ("stiffness", "N/m")):
-        lo, hi = getattr(HUMAN_LIMB, name)
+        lo, hi = HELP_DEFAULTS[name]
         g.add_argument(f"--{name}", metavar="LO:HI",
                        help=f"range of the environment's {name} [{unit}] (default: {lo:g}:{hi:g})")  # fmt: skip
     g.add_argument("--unbounded", action="store_true",
@@ -63,6 +70,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 def parse_range(text: str, flag: str) -> tuple[float, float]:
     """``LO:HI`` with ``0 <= LO <= HI``, both finite."""
+    from ..model.expr import parse_value
+
     lo, sep, hi = text.partition(":")
     if not sep:
         raise ParameterError(f"{flag} {text!r}: expected LO:HI, e.g. {flag} 0.1:10")
@@ -77,6 +86,8 @@ def parse_range(text: str, flag: str) -> tuple[float, float]:
 
 def bounds_from_args(args: argparse.Namespace) -> EnvironmentBounds | None:
     """The environment box of the command line (None with --unbounded)."""
+    from ..analysis.environment_box import HUMAN_LIMB, EnvironmentBounds
+
     given = {n: getattr(args, n) for n in ("mass", "damping", "stiffness") if getattr(args, n)}
     if args.unbounded:
         if given:
@@ -87,6 +98,8 @@ def bounds_from_args(args: argparse.Namespace) -> EnvironmentBounds | None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..analysis.witness import find_destabilizing_environment
+
     out = check_out_dir(args.out)
     system = system_from_args(args)
     warn_unrealizable(system)
