@@ -12,7 +12,9 @@ Every decision here is exact or certified:
 
 * gcd, division, squarefree parts and multiplicities are exact (FLINT);
 * the sign of ``p`` at a rational point is an exact evaluation;
-* real roots are isolated by FLINT's certified root finder
+* real roots are isolated, one irreducible factor at a time (FLINT's
+  ``fmpz_poly.factor``; roots of different factors are then separated by
+  exact bisection), by FLINT's certified root finder
   (``arb_fmpz_poly_complex_roots``, Arb ball arithmetic): it returns pairwise
   disjoint complex balls, proven to hold one root each, and proves which roots
   are real (their balls get an imaginary part of exactly zero).  Each real
@@ -88,8 +90,8 @@ Interval = tuple[fmpq, fmpq]
 RationalLike = fmpq | fmpz | int | Fraction | float
 PolyLike = fmpq_poly | fmpz_poly | Iterable[RationalLike]
 
-#: Upper bound on bisection steps in `sign_at_root` (never reached for
-#: exact input; a bound on the time, not a tolerance).
+#: Upper bound on the bisection steps of one refinement or separation (never
+#: reached for exact input; a bound on the time, not a tolerance).
 MAX_BISECTIONS = 100_000
 
 
