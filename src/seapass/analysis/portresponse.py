@@ -6,7 +6,7 @@ below zero narrower than the grid spacing is simply missed.  So the
 frequencies where ``Re Z(jω) < 0`` are never read off the grid.  They come
 from the real-part polynomial ``P(x) = Re N(jω) D(−jω)``, ``x = ω²``, whose
 sign is the sign of ``Re Z(jω)`` wherever ``D(jω) ≠ 0``: its distinct
-positive real roots are isolated exactly (Sturm sequences on rationals), the
+positive real roots are isolated exactly (certified, re-checked on rationals), the
 sign of ``P`` between consecutive roots is evaluated exactly at a rational
 point, and only the band edges are rounded to floats (to full double
 precision) for display.  The grid of the curve always contains those edges.
