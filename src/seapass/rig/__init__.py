@@ -20,7 +20,7 @@ May import: everything in [`seapass.sampled`][seapass.sampled] and below.
 from .experiment import ExperimentResult, RigSweepResult, run_experiment, run_rig_sweep
 from .identify import FitParameter, RigFit, fit_rig
 from .impacts import ImpactResult, run_impacts
-from .log import RigLog, chirp_command, load_log, twin_log
+from .log import RigLog, chirp_command, load_log, twin_log, twin_step_log
 from .packaged import is_paper_hardware, rig_template
 from .plant import TwinPlant
 from .rigfile import Rig, load_rig, paper_rig
@@ -48,4 +48,5 @@ __all__ = [
     "run_rig_sweep",
     "simulate_loop",
     "twin_log",
+    "twin_step_log",
 ]

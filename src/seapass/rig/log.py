@@ -11,6 +11,8 @@ as a zero-order hold.
 ([`TwinPlant`][seapass.rig.plant.TwinPlant]: friction, saturation, encoder
 quantization), from a command such as `chirp_command`: the way to try
 ``seapass rig fit`` before logging on hardware, and the test of the fit.
+`twin_step_log` logs the rig's own controller (LP or Ours) tracking a
+reference step instead, the closed-loop log a bench records most easily.
 """
 
 from __future__ import annotations
@@ -40,6 +42,7 @@ __all__ = [
     "load_log",
     "parse_log",
     "twin_log",
+    "twin_step_log",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -295,3 +298,66 @@ def twin_log(
         twin.apply(u[k - delay] if k >= delay else 0.0, period)
     t = np.arange(u.size, dtype=float) * period
     return RigLog(t, u, xa, xl, source="twin")
+
+
+def twin_step_log(
+    rig: Rig,
+    *,
+    design: str,
+    kd: float,
+    step: float,
+    load_mass: float,
+    duration: float = 1.0,
+    bd: float | None = None,
+    seed: int | None = None,
+    **plant: Any,
+) -> RigLog:
+    """Log the twin of ``rig`` tracking a reference step under one of its controllers.
+
+    The loop is [`simulate_loop`][seapass.rig.twin.simulate_loop]: the rig
+    starts at rest at 0 and the reference jumps to ``step`` at ``t = 0``.  Row
+    ``k`` holds the time ``k·T``, the controller's output at that sample (before
+    the rig's delay and saturation, as `twin_log` and the fit expect) and the
+    encoder readings the controller used.
+
+    Parameters
+    ----------
+    rig : Rig
+    design : {"LP", "ours"}
+        Load-side P (``C_L = kd``) or Ours' actuator-side PD (``C_A = kd + bd s``).
+    kd : float
+        Proportional gain [N/m].
+    step : float
+        Reference step [m].
+    load_mass : float
+        Mass attached to the output carriage [kg].
+    duration : float, default 1.0
+        Length of the log [s].
+    bd : float, optional
+        Ours' derivative gain [N·s/m] (default: ``rig.experiment.bd_ours``).
+    seed : int or None
+        Encoder phase offsets (see [`TwinPlant`][seapass.rig.plant.TwinPlant]).
+    **plant
+        ``friction``, ``quantize``, ``saturate`` switches of the plant.
+
+    Examples
+    --------
+    >>> from seapass.rig.rigfile import paper_rig
+    >>> log = twin_step_log(paper_rig(), design="ours", kd=1000.0, step=0.02,
+    ...                     load_mass=0.1, duration=0.1)
+    >>> log.size, float(log.force[0])
+    (50, 20.0)
+    """
+    from .predictions import controller_gains
+    from .twin import simulate_loop
+
+    if not (math.isfinite(step) and step != 0):
+        raise ParameterError(f"step must be a non-zero distance, got {step!r}")
+    bdv = rig.experiment.bd_ours if bd is None else float(bd)
+    res = simulate_loop(
+        rig, load_mass=load_mass, duration=duration, reference=step, seed=seed,
+        **controller_gains(design, kd, bdv), **plant,
+    )  # fmt: skip
+    n = res.command.shape[1]
+    return RigLog(res.t[:n], res.command[0], res.x_A_measured[0, :n], res.x_L_measured[0, :n],
+                  source="twin")  # fmt: skip

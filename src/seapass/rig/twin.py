@@ -38,8 +38,11 @@ class LoopResult:
     t : ndarray, shape (N+1,)
     x_A, x_L : ndarray, shape (B, N+1)
         True positions.
-    x_L_measured : ndarray, shape (B, N+1)
-        Load position from the encoders.
+    x_A_measured, x_L_measured : ndarray, shape (B, N+1)
+        Actuator and load positions from the encoders.
+    command : ndarray, shape (B, N)
+        The controller's output at sample ``k``, before the delay and the
+        saturation (what a bench logs as the commanded force).
     force : ndarray, shape (B, N)
         Saturated force applied during period ``k``.
     external_force : ndarray, shape (B, N+1)
@@ -51,7 +54,9 @@ class LoopResult:
     t: FloatArray
     x_A: FloatArray
     x_L: FloatArray
+    x_A_measured: FloatArray
     x_L_measured: FloatArray
+    command: FloatArray
     force: FloatArray
     external_force: FloatArray
     diverged: NDArray[np.bool_]
@@ -151,9 +156,9 @@ def simulate_loop(
     ctrl.start(xa_hat, xl_hat)
     ext = arr["load_force"] + (contact.force() if contact is not None else 0.0)
     for step in range(steps):
-        rec.sample(step, kern, xl_hat, ext)
+        rec.sample(step, kern, xa_hat, xl_hat, ext)
         force = np.where(stop.diverged, 0.0, kern.saturate(ctrl.command(xa_hat, xl_hat)))
-        rec.force[:, step] = force
+        rec.force[:, step], rec.command[:, step] = force, ctrl.pending
         for _ in range(rig.control.substeps):
             if contact is not None:
                 ext = arr["load_force"] + contact.advance(kern.h)
@@ -162,12 +167,14 @@ def simulate_loop(
             ext = arr["load_force"] + contact.force()
         stop.hold(kern)
         xa_hat, xl_hat = enc.measure(kern.xa, kern.xl)
-    rec.sample(steps, kern, xl_hat, ext)
+    rec.sample(steps, kern, xa_hat, xl_hat, ext)
     return LoopResult(
         t=np.arange(steps + 1, dtype=float) * T,
         x_A=rec.x_A,
         x_L=rec.x_L,
+        x_A_measured=rec.x_A_measured,
         x_L_measured=rec.x_L_measured,
+        command=rec.command,
         force=rec.force,
         external_force=rec.external,
         diverged=stop.diverged,
@@ -306,13 +313,18 @@ class _Record:
     def __init__(self, n: int, steps: int) -> None:
         self.x_A = np.empty((n, steps + 1))
         self.x_L = np.empty((n, steps + 1))
+        self.x_A_measured = np.empty((n, steps + 1))
         self.x_L_measured = np.empty((n, steps + 1))
         self.external = np.zeros((n, steps + 1))
         self.force = np.zeros((n, steps))
+        self.command = np.zeros((n, steps))
 
-    def sample(self, k: int, kern: PlantKernel, xl_hat: FloatArray, ext: Any) -> None:
+    def sample(
+        self, k: int, kern: PlantKernel, xa_hat: FloatArray, xl_hat: FloatArray, ext: Any
+    ) -> None:
         self.x_A[:, k], self.x_L[:, k] = kern.xa, kern.xl
-        self.x_L_measured[:, k], self.external[:, k] = xl_hat, ext
+        self.x_A_measured[:, k], self.x_L_measured[:, k] = xa_hat, xl_hat
+        self.external[:, k] = ext
 
 
 def linear_matrices(
