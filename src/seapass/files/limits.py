@@ -103,8 +103,9 @@ MAX_RIG_INTEGRATOR_STEPS = 20_000_000
 """Integrator steps of one twin run (control periods × ``substeps``)."""
 
 MAX_TWIN_VALUES = 5_000_000
-"""Recorded samples of one batch of twin runs (runs × control periods): five float64
-arrays of this size are 200 MB."""
+"""Recorded samples of one batch of twin runs (runs × control periods): the seven float64
+arrays recorded (true and measured positions, external force, applied force, command) are
+280 MB at this size."""
 
 MAX_HORIZON = 1000.0
 """Simulated time [s] of a design file's step responses and tuning (at the 1 ms step of the
