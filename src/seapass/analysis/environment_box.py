@@ -54,9 +54,10 @@ from flint import fmpq, fmpq_poly
 
 from ..errors import ParameterError
 from ..exact import poly as ep
-from ..exact.axis import at_j_omega, even_to_x
+from ..exact.axis import at_j_omega, even_to_x, real_part_polynomial, squared_magnitude_polynomial
 from ..exact.halfline import HalfLinePoint, half_line_cells
 from .coupled import Environment, characteristic_from_polys, classify_polynomial
+from .portresponse import reduced_impedance
 
 __all__ = [
     "HUMAN_LIMB",
@@ -144,11 +145,9 @@ class _Polys:
     def of(cls, num: fmpq_poly, den: fmpq_poly) -> _Polys:
         nr, ni = at_j_omega(num)
         dr, di = at_j_omega(den)
-        p = even_to_x(nr * dr + ni * di)
         q = ni * dr - nr * di  # Im N(jω) D(−jω), odd in ω
         w = even_to_x(fmpq_poly([0, 1]) * q)
-        m = even_to_x(dr * dr + di * di)
-        return cls(p, w, m)
+        return cls(real_part_polynomial(num, den), w, squared_magnitude_polynomial(den))
 
 
 def _q(x: float) -> fmpq:
@@ -224,8 +223,7 @@ def certify_box(
         num, den = -num, -den
     if num.is_zero():
         return BoxCertificate(False, "Z is identically zero")
-    g = num.gcd(den)
-    rn, rd = num // g, den // g
+    rn, rd = reduced_impedance(num, den)
     m_lo, m_hi = (_q(v) for v in bounds.mass)
     if m_lo == 0:
         return BoxCertificate(False, "the mass bound includes 0, where the coupled order drops")

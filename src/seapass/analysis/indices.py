@@ -52,7 +52,7 @@ import sympy as sp
 from flint import fmpq
 
 from ..exact import poly as ep
-from ..exact.axis import at_j_omega, even_to_x, sqrt_float
+from ..exact.axis import real_part_polynomial, sqrt_float, squared_magnitude_polynomial
 from ..exact.halfline import minimum_on_half_line
 from ..model.display import html_card, short_repr
 from ..model.sea import SEA, Impedance
@@ -241,10 +241,8 @@ def index_of(a: ep.PolyLike, b: ep.PolyLike) -> PassivityIndex:
     shifted = positive_real_test(a + k * b, b)
     if shifted.reason in _POLE_REASONS:
         return PassivityIndex(-math.inf, None, None, -1, None, shifted.reason)
-    ar, ai = at_j_omega(a)
-    br, bi = at_j_omega(b)
-    p = even_to_x(ar * br + ai * bi)
-    m = even_to_x(br * br + bi * bi)
+    p = real_part_polynomial(a, b)
+    m = squared_magnitude_polynomial(b)
     low = minimum_on_half_line(p, m)
     if low.lower is None:  # pragma: no cover - admissible poles keep Re G bounded
         return PassivityIndex(-math.inf, None, None, -1, None, Reason.AXIS_RESIDUE)

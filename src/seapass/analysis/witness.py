@@ -56,6 +56,7 @@ from .environment_box import (
 )
 from .impedance import exact_rational_function
 from .passivity import PassivityResult, Reason, is_passive
+from .portresponse import reduced_impedance
 from .witness_search import Candidate, bounded_candidates, refine, score, unbounded_candidates
 
 __all__ = [
@@ -267,7 +268,7 @@ def find_destabilizing_environment(
     num, den = exact_rational_function(system, values)
     if den.leading_coefficient() < 0:
         num, den = -num, -den
-    rn, rd = _reduced(num, den)
+    rn, rd = reduced_impedance(num, den)  # num != 0: a zero Z is passive, returned above
     stages: list[tuple[str, list[Candidate]]]
     if bounds is None:
         stages = [
@@ -284,14 +285,6 @@ def find_destabilizing_environment(
         coupled = coupled_stability(system, env, values=values)
         return _found(system, values, pr, method, env, w0, coupled, count, simulate, throw, bounds)
     return _not_found(num, den, rn, rd, pr, count, bounds, cells)
-
-
-def _reduced(num: fmpq_poly, den: fmpq_poly) -> tuple[fmpq_poly, fmpq_poly]:
-    """``num/den`` with their common factor cancelled."""
-    if num.is_zero():
-        return num, den
-    g = num.gcd(den)
-    return num // g, den // g
 
 
 def _search(

@@ -6,8 +6,7 @@ import argparse
 from typing import Any
 
 from ..errors import CompilerError, ParameterError, SeapassError
-from ..files.limits import MIN_RTOL
-from .common import add_json_option, announce, check_out_dir, print_json
+from .common import add_json_option, announce, check_out_dir, check_rtol, print_json
 
 EXAMPLE = """examples:
   seapass export c examples/ours.toml --out firmware/
@@ -111,8 +110,7 @@ def run_c(args: argparse.Namespace) -> int:
         tunable = [t.strip() for t in args.tunable.split(",") if t.strip()]
         if not tunable:
             raise ParameterError("--tunable needs gain names, e.g. --tunable kd,bd")
-    if not MIN_RTOL <= args.rtol <= 1e-2:  # 0 or a tolerance below float spacing never ends
-        raise ParameterError(f"--rtol must be in [{MIN_RTOL:g}, 1e-2], got {args.rtol:g}")
+    check_rtol(args.rtol)
     check_out_dir(args.out)
     if args.verify and find_c_compiler() is None:  # before anything is written
         raise CompilerError("--verify needs a C compiler: none found (set CC or install gcc)")

@@ -16,6 +16,7 @@ from .common import (
     add_out_dir_option,
     check_out_dir,
     check_period,
+    check_rtol,
     json_text,
     model_from_args,
     parse_range,
@@ -148,11 +149,6 @@ def _range(text: str, flag: str = "--range") -> tuple[float, float]:
     return parse_range(text, flag, strict=True)
 
 
-def _check_rtol(rtol: float) -> None:
-    if not (math.isfinite(rtol) and MIN_RTOL <= rtol <= 1e-2):
-        raise ParameterError(f"--rtol {rtol:g}: give a relative width from {MIN_RTOL:g} to 1e-2")
-
-
 def _loop_kw(args: argparse.Namespace) -> dict[str, Any]:
     """The loop options, checked before any work starts."""
     if not (math.isfinite(args.period) and args.period > 0):
@@ -221,7 +217,7 @@ def run_bound(args: argparse.Namespace) -> int:
 
     lo, hi = _range(args.range)
     kw = _loop_kw(args)
-    _check_rtol(args.rtol)
+    check_rtol(args.rtol)
     d = check_out_dir(args.out)
     sea = model_from_args(args, extra_free={args.param: f"sampled bound {args.param}"})
     warn_unrealizable(sea)
@@ -253,7 +249,7 @@ def run_region(args: argparse.Namespace) -> int:
     lo1, hi1 = _range(args.range)
     lo2, hi2 = _range(args.range2, "--range2")
     kw = _loop_kw(args)
-    _check_rtol(args.rtol)
+    check_rtol(args.rtol)
     out = check_out_dir(args.out)
     if args.p1 == args.p2:
         raise ParameterError(f"sampled region: give two different parameters, got {args.p1} twice")

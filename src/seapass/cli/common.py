@@ -20,6 +20,7 @@ in the project notes and the README's command-line section):
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import re
 import sys
@@ -61,6 +62,7 @@ __all__ = [
     "check_names",
     "check_out_dir",
     "check_period",
+    "check_rtol",
     "check_step",
     "cli_flag",
     "deprecated_alias",
@@ -268,6 +270,17 @@ def parse_range(text: str, flag: str = "--range", *, strict: bool = False) -> tu
 
 
 # --------------------------------------------------------------------------- models
+
+
+def check_rtol(rtol: float, flag: str = "--rtol") -> None:
+    """The relative width of a certified edge enclosure: ``MIN_RTOL`` to 1e-2 (0 never ends)."""
+    from ..files.limits import MIN_RTOL
+
+    if not (math.isfinite(rtol) and MIN_RTOL <= rtol <= 1e-2):
+        raise ParameterError(
+            f"{flag} must be in [{MIN_RTOL:g}, 1e-2], the relative width of a certified edge "
+            f"enclosure; got {flag} {rtol:g}"
+        )
 
 
 def add_jobs_argument(p: argparse.ArgumentParser) -> None:

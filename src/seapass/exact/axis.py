@@ -34,6 +34,7 @@ __all__ = [
     "safe_float",
     "sign_regions",
     "sqrt_float",
+    "squared_magnitude_polynomial",
 ]
 
 
@@ -72,6 +73,16 @@ def real_part_polynomial(num: fmpq_poly, den: fmpq_poly) -> fmpq_poly:
     nr, ni = at_j_omega(num)
     dr, di = at_j_omega(den)
     return even_to_x(nr * dr + ni * di)
+
+
+def squared_magnitude_polynomial(p: fmpq_poly) -> fmpq_poly:
+    """``M(x)`` with ``M(ω²) = |p(jω)|²``.
+
+    >>> squared_magnitude_polynomial(fmpq_poly([2, 1]))  # |jω + 2|² = ω² + 4
+    x + 4
+    """
+    re, im = at_j_omega(p)
+    return even_to_x(re * re + im * im)
 
 
 def axis_factor(g: fmpq_poly) -> fmpq_poly:
