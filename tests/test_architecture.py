@@ -24,7 +24,7 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "seapass"
 
 #: Bottom to top.  A package may import from its own layer group only where listed together.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "version"),
+    ("errors", "version", "outcome"),
     ("files",),
     ("exact",),
     ("model",),

@@ -8,7 +8,6 @@ to a cap; at the cap the answer is "undecided", never a guess.
 
 from __future__ import annotations
 
-import enum
 import functools
 import math
 from collections.abc import Sequence
@@ -19,6 +18,7 @@ import numpy as np
 from flint import acb, acb_poly, arb, arb_poly, fmpq, fmpq_poly
 
 from ..errors import ParameterError
+from ..outcome import Outcome
 from .alias import AliasSums, alias_sums
 from .certified import Sign, precision, schur_stable, schur_stable_exact, sign_on
 from .plant import plant_from_key
@@ -30,14 +30,6 @@ __all__ = ["Decision", "Outcome", "decide", "precision_ladder"]
 PRECISIONS = (128, 256, 512, 1024, 2048, 4096)
 #: Largest degree of the power polynomial (bounds time and memory; delays add 2 per sample).
 MAX_POWER_DEGREE = 400
-
-
-class Outcome(enum.StrEnum):
-    """Certified outcome."""
-
-    PASSIVE = "passive"
-    NOT_PASSIVE = "not_passive"
-    UNDECIDED = "undecided"
 
 
 @dataclass(frozen=True)
