@@ -16,8 +16,17 @@ value* of ``p``: a real root of one of
 
 Between consecutive critical values the verdict is constant, so one exact
 test at a rational point inside each gap, plus exact tests at the rational
-critical values, gives the exact passive set.  Irrational end points are
-reported as floats rounded to nearest.
+critical values, gives the exact passive set.
+
+End points are algebraic numbers, isolated exactly.  They are reported as
+doubles rounded **inward** (a lower end up, an upper end down), each decided
+exactly against the isolating interval of the end point (`seapass.exact.rounding`):
+every double in a reported interval is passive, and so is every number printed
+for an end ([`seapass.exact.rounding.interval_text`][seapass.exact.rounding.interval_text]).  ``edges`` gives
+the certified enclosure of each true end point beside it.  An end that is a
+passive rational number is reported exactly when it is a double.  Two passive
+gaps on both sides of an irrational critical value are reported as one interval:
+no rational number, hence no double, lies on that value.
 """
 
 from __future__ import annotations
@@ -33,6 +42,13 @@ from flint import fmpq, fmpq_poly
 
 from ..errors import ParameterError
 from ..exact import poly as ep
+from ..exact.rounding import (
+    float_above_root,
+    float_below_root,
+    float_down,
+    float_up,
+    interval_text,
+)
 from ..model.display import Shown, html_card, short_repr
 from ..model.expr import S, symbol, to_fraction
 from ..model.sea import SEA, Impedance
@@ -61,10 +77,17 @@ class PassiveIntervals:
     lo, hi : float
         The search range.
     intervals : list of (float, float)
-        Disjoint closed intervals, sorted, whose union is the passive set
-        (a single passive point appears as ``(v, v)``).
+        Disjoint closed intervals of doubles, sorted: every double in them is
+        passive, and every passive double is in them (a single passive point
+        appears as ``(v, v)``).  The ends are the true end points rounded
+        inward to doubles.
+    edges : list of ((float, float), (float, float))
+        For each interval, certified enclosures ``(lo, hi)`` of its true lower and
+        upper end points (rounded outward; ``(v, v)`` for an end that is the
+        double ``v`` exactly).
     critical_values : list of float
-        Every value in the range where the verdict may change.
+        Every value in the range where the verdict may change (nearest doubles,
+        for information).
     """
 
     param: str
@@ -72,6 +95,7 @@ class PassiveIntervals:
     hi: float
     intervals: list[tuple[float, float]] = field(default_factory=list)
     critical_values: list[float] = field(default_factory=list)
+    edges: list[tuple[tuple[float, float], tuple[float, float]]] = field(default_factory=list)
 
     def contains(self, value: float) -> bool:
         return any(a <= value <= b for a, b in self.intervals)
@@ -85,6 +109,7 @@ class PassiveIntervals:
             "param": self.param,
             "range": [self.lo, self.hi],
             "intervals": [list(iv) for iv in self.intervals],
+            "edges": [[list(lo), list(hi)] for lo, hi in self.edges],
             "critical_values": list(self.critical_values),
         }
 
@@ -117,7 +142,7 @@ class PassiveIntervals:
 def _intervals_text(intervals: Sequence[tuple[float, float]], limit: int = 4) -> str:
     if not intervals:
         return "[] (nowhere)"
-    text = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in intervals[:limit])
+    text = ", ".join(interval_text(a, b) for a, b in intervals[:limit])
     more = len(intervals) - limit
     return text + (f" and {more} more" if more > 0 else "")
 
@@ -211,31 +236,99 @@ def critical_polynomials(
     return list(out)
 
 
+@dataclass(frozen=True, eq=False)
+class _Point:
+    """A critical value: the rational ``lo`` (``lo == hi``) or the only root of the
+    irreducible ``poly`` (degree >= 2, so irrational) in ``(lo, hi]``."""
+
+    lo: Fraction
+    hi: Fraction
+    poly: fmpq_poly | None = None
+
+    def separated(self, other: _Point) -> tuple[_Point, _Point]:
+        """Both narrowed until their intervals are disjoint (distinct roots)."""
+        a, b = self, other
+        for _ in range(ep.MAX_BISECTIONS):
+            if a.hi < b.lo or b.hi < a.lo or (a.lo == a.hi and b.lo == b.hi):
+                return a, b
+            a, b = a.halved(), b.halved()
+        raise ArithmeticError("critical values could not be separated")
+
+    def halved(self) -> _Point:
+        if self.poly is None:
+            return self
+        lo, hi = (ep.rational(x) for x in (self.lo, self.hi))
+        lo, hi = ep.refine(self.poly, (lo, hi), (hi - lo) / 2)
+        return _Point(ep.to_fraction(lo), ep.to_fraction(hi), self.poly)
+
+
 def _critical_values(
     polys: list[sp.Expr], p: sp.Symbol, lo: Fraction, hi: Fraction
-) -> list[tuple[Fraction, Fraction]]:
-    """Sorted critical values in ``[lo, hi]``: ``(r, r)`` for rational roots, tight
-    isolating intervals ``(a, b]`` (relative width 2^-60) for irrational ones."""
+) -> list[_Point]:
+    """Sorted critical values in ``[lo, hi]``: rational roots exactly, irrational ones by
+    tight isolating intervals ``(a, b]`` (relative width 2^-60), pairwise disjoint."""
     factors: set[sp.Expr] = set()
     for e in polys:
         if not e.has(p):
             continue
         for f, _mult in sp.factor_list(sp.Poly(e, p, domain="QQ"))[1]:
             factors.add(f.monic().as_expr())
-    out: list[tuple[Fraction, Fraction]] = []
+    out: dict[tuple[Fraction, Fraction], _Point] = {}
     for f in factors:
         q = _univariate(f, p)
         if q.degree() == 1:
             r = ep.to_fraction(-q[0] / q[1])
             if lo <= r <= hi:
-                out.append((r, r))
+                out[r, r] = _Point(r, r)
             continue
         for a, b in ep.isolate_real_roots(q, lo, hi):
             a, b = ep.refine(q, (a, b), max(abs(b), fmpq(1)) / fmpq(2) ** 40)
             scale_ = min(abs(a), abs(b)) or fmpq(1, 2**40)
             a, b = ep.refine(q, (a, b), scale_ / fmpq(2) ** 60)
-            out.append((ep.to_fraction(a), ep.to_fraction(b)))
-    return sorted(set(out))
+            lo_, hi_ = ep.to_fraction(a), ep.to_fraction(b)
+            out[lo_, hi_] = _Point(lo_, hi_, q)
+    points = sorted(out.values(), key=lambda c: (c.lo, c.hi))
+    for i in range(len(points) - 1):  # roots closer than 2^-60: narrow both
+        if points[i + 1].lo <= points[i].hi:
+            points[i], points[i + 1] = points[i].separated(points[i + 1])
+    return sorted(points, key=lambda c: (c.lo, c.hi))
+
+
+@dataclass(frozen=True)
+class _Piece:
+    """A cell of ``[lo, hi]``: an open gap between two critical values (or the range
+    ends, which belong to it when they are not critical) or one rational critical value."""
+
+    left: _Point
+    right: _Point
+    left_closed: bool
+    right_closed: bool
+    passive: bool
+
+
+def _inward(
+    piece_run: list[_Piece],
+) -> tuple[tuple[float, float], tuple[tuple[float, float], tuple[float, float]]] | None:
+    """A run of passive pieces as an interval of doubles rounded inward, and the
+    enclosures of its true ends; ``None`` when no double lies in it."""
+    left, right = piece_run[0], piece_run[-1]
+    a, b = left.left, right.right
+    if a.poly is not None:
+        lo_f = float_above_root(a.poly, (a.lo, a.hi))
+    else:
+        lo_f = float_up(a.lo)
+        if not left.left_closed and Fraction(lo_f) == a.lo:
+            lo_f = float(np.nextafter(lo_f, np.inf))
+    if b.poly is not None:
+        hi_f = float_below_root(b.poly, (b.lo, b.hi))
+    else:
+        hi_f = float_down(b.hi)
+        if not right.right_closed and Fraction(hi_f) == b.hi:
+            hi_f = float(np.nextafter(hi_f, -np.inf))
+    if lo_f > hi_f:
+        return None
+    edges = ((float_down(a.lo), float_up(a.hi)), (float_down(b.lo), float_up(b.hi)))
+    return (lo_f, hi_f), edges
 
 
 def passive_intervals(
@@ -289,29 +382,40 @@ def passive_intervals(
         return is_passive(_with(system, {**merged, param: x})).passive
 
     # one exact test per open gap and at each rational critical value
-    pieces: list[tuple[Fraction, Fraction, bool]] = []
-    cursor = lo_q
-    for a, b in crit:
-        if a > cursor:
-            pieces.append((cursor, a, verdict((cursor + a) / 2)))
-        if a == b:
-            pieces.append((a, a, verdict(a)))
-        cursor = b
-    if hi_q > cursor or not pieces:
-        pieces.append((cursor, hi_q, verdict((cursor + hi_q) / 2)))
+    pieces: list[_Piece] = []
+    cursor, closed = _Point(lo_q, lo_q), True  # the range end belongs to its gap
+    for c in crit:
+        if c.lo > cursor.hi:
+            mid = (cursor.hi + c.lo) / 2
+            pieces.append(_Piece(cursor, c, closed, False, verdict(mid)))
+        if c.poly is None:
+            pieces.append(_Piece(c, c, True, True, verdict(c.lo)))
+        cursor, closed = c, False
+    if hi_q > cursor.hi or not pieces:
+        end = _Point(hi_q, hi_q)
+        pieces.append(_Piece(cursor, end, closed, True, verdict((cursor.hi + hi_q) / 2)))
+    # consecutive passive pieces share their critical value: one interval
+    runs: list[list[_Piece]] = []
+    previous_passive = False
+    for piece in pieces:
+        if piece.passive:
+            if previous_passive:
+                runs[-1].append(piece)
+            else:
+                runs.append([piece])
+        previous_passive = piece.passive
     result: list[tuple[float, float]] = []
-    for start, end, ok in pieces:
-        if not ok:
-            continue
-        a_f, b_f = float(start), float(end)
-        if result and a_f <= np.nextafter(result[-1][1], np.inf):
-            result[-1] = (result[-1][0], max(result[-1][1], b_f))
-        else:
-            result.append((a_f, b_f))
-    crit_f = [float((a + b) / 2) for a, b in crit]
+    edges: list[tuple[tuple[float, float], tuple[float, float]]] = []
+    for run in runs:
+        shown = _inward(run)
+        if shown is not None:
+            result.append(shown[0])
+            edges.append(shown[1])
+    crit_f = [float((c.lo + c.hi) / 2) for c in crit]
     return PassiveIntervals(
-        param=param, lo=float(lo_q), hi=float(hi_q), intervals=result, critical_values=crit_f
-    )
+        param=param, lo=float(lo_q), hi=float(hi_q), intervals=result, critical_values=crit_f,
+        edges=edges,
+    )  # fmt: skip
 
 
 def _with(system: SEA | Impedance, values: Mapping[str, Any]) -> SEA | Impedance:

@@ -149,6 +149,8 @@ def run_c(args: argparse.Namespace) -> int:
 
 
 def _print_summary(res: Any, ver: Any, ok: bool) -> None:
+    from ..exact.rounding import exact_text, interval_text
+
     dep = res.deployment
     vf = f"{dep.velocity_filter:g} Hz" if dep.velocity_filter else "none"
     print(f"design {dep.design.name!r}: seapass_ctrl.h and seapass_ctrl.c in {res.header.parent}")
@@ -163,7 +165,8 @@ def _print_summary(res: Any, ver: Any, ok: bool) -> None:
         print(f"  NOT CERTIFIED (exported on request): {dep.verdict}")
     for g in dep.gains:
         if g.tunable:
-            print(f"  {g.name} = {g.nominal:g}, tunable in [{g.low:.10g}, {g.high:.10g}]")
+            shown = interval_text(g.low, g.high, digits=10)  # rounded inward
+            print(f"  {g.name} = {exact_text(g.nominal)}, tunable in {shown}")
         else:
             print(f"  {g.name} = {g.nominal:g}")
     for note in dep.notes:

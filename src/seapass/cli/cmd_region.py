@@ -53,6 +53,7 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..analysis.region import passive_map
+    from ..exact.rounding import exact_text, interval_text
 
     if args.x == args.y:
         raise ParameterError("X and Y must be different parameters")
@@ -77,9 +78,9 @@ def run(args: argparse.Namespace) -> int:
         print_json(pmap.to_dict())
     else:
         for xv, ivs in zip(pmap.x, pmap.intervals, strict=True):
-            shown = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in ivs)
+            shown = ", ".join(interval_text(a, b) for a, b in ivs)  # rounded inward
             print(
-                f"{args.x} = {xv:.6g}: "
+                f"{args.x} = {exact_text(float(xv))}: "
                 + (f"passive {args.y} in {shown}" if shown else f"no passive {args.y}")
             )
     return 0

@@ -213,6 +213,7 @@ def _partition_csv(param: str, res: Any) -> str:
 
 
 def run_bound(args: argparse.Namespace) -> int:
+    from ..exact.rounding import enclosure_text, interval_text
     from ..sampled.bound import sampled_passive_bound
 
     lo, hi = _range(args.range)
@@ -232,11 +233,17 @@ def run_bound(args: argparse.Namespace) -> int:
     if args.json:
         print_json(out)
         return 0
-    ivs = ", ".join(f"[{a:.10g}, {b:.10g}]" for a, b in res.intervals) or "none"
+    ivs = ", ".join(interval_text(a, b, digits=10) for a, b in res.intervals) or "none"
     print(f"passive {args.param} at T = {args.period:g} s (delay {args.delay}): {ivs}")
     for e in res.edges:
-        print(f"  edge in [{e.lo:.12g}, {e.hi:.12g}] ({e.kind.replace('_', ' ')})")
-    if res.undecided:
+        print(f"  edge in {enclosure_text(e.lo, e.hi)} ({e.kind.replace('_', ' ')})")
+    if res.budget_exhausted:
+        print(
+            f"  stopped at the budget of boxes: {len(res.undecided)} undecided sub-interval(s) "
+            "(not shown as passive): "
+            + ", ".join(enclosure_text(a, b) for a, b in res.undecided[:5])
+        )
+    elif res.undecided:
         print(f"  undecided slivers: {len(res.undecided)} (each narrower than rtol)")
     if res.low_frequency is not None:
         print(f"  low-frequency condition: {res.low_frequency}")
@@ -244,6 +251,7 @@ def run_bound(args: argparse.Namespace) -> int:
 
 
 def run_region(args: argparse.Namespace) -> int:
+    from ..exact.rounding import decimal_down, exact_text
     from ..sampled.region import LoopSetup, sampled_region
 
     lo1, hi1 = _range(args.range)
@@ -287,8 +295,11 @@ def run_region(args: argparse.Namespace) -> int:
     print(header)
     bounds = [zmap.upper_boundary(s.label) for s in zmap.setups]
     for i, v in enumerate(zmap.p2_values):
-        cells = "  ".join(f"{'none' if math.isnan(b[i]) else f'{b[i]:.6g}':>28}" for b in bounds)
-        print(f"{v:>12.6g}  {cells}")
+        # the largest passive value rounded down, at the exact row value
+        cells = "  ".join(
+            f"{'none' if math.isnan(b[i]) else decimal_down(b[i], 6):>28}" for b in bounds
+        )
+        print(f"{exact_text(v):>12}  {cells}")
     return 0
 
 

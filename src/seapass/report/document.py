@@ -28,6 +28,7 @@ from types import MappingProxyType
 from typing import Any
 
 from ..errors import ParameterError
+from ..exact.rounding import inward_text
 
 __all__ = [
     "Discrepancy",
@@ -179,13 +180,15 @@ def format_cell(value: Any) -> str:
 
 
 def format_intervals(intervals: Sequence[tuple[float, float]], hi: float) -> str:
-    """``[a, b] ∪ {c}`` with 6 significant digits; an end at ``hi`` is marked as the search limit."""
+    """``[a, b] ∪ {c}`` with 6 significant digits, rounded inward (every printed end is in
+    its interval); an end at ``hi`` is marked as the search limit."""
     if not intervals:
         return "none"
     parts = []
     for a, b in intervals:
-        end = f"{b:.6g}" + (" (search limit)" if b >= hi else "")
-        parts.append(f"[{a:.6g}, {end}]" if a != b else f"{{{a:.6g}}}")
+        a_text, b_text = inward_text(a, b, 6)
+        end = b_text + (" (search limit)" if b >= hi else "")
+        parts.append(f"[{a_text}, {end}]" if a != b else f"{{{a_text}}}")
     return " ∪ ".join(parts)
 
 

@@ -18,9 +18,17 @@ from fractions import Fraction
 from typing import Any
 
 from ..errors import ParameterError, SeapassError, UnrealizableError
+from ..exact.rounding import (
+    decimal_down,
+    enclosure_text,
+    exact_text,
+    float_down,
+    float_up,
+    interval_text,
+)
 from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA
-from .boxes import BoxVerdict, bound_boxes
+from .boxes import MAX_BOXES, BoxVerdict, bound_boxes
 from .controllers import Method, controller_tfs
 from .family import controller_family
 from .lowfreq import low_frequency_limit
@@ -53,17 +61,24 @@ class SampledBoundResult:
     Attributes
     ----------
     intervals : list of (float, float)
-        Proven passive intervals (closed; a degenerate ``(v, v)`` is an isolated value).
-        Their ends are the inner ends of the edge enclosures: conservative.
+        Proven passive intervals of doubles (closed; a degenerate ``(v, v)`` is an
+        isolated value): every double in them is proven passive.  Their ends are the
+        inner ends of the edge enclosures, rounded inward to doubles.
     edges : list of Edge
-        Every boundary of the passive set, enclosed to ``rtol`` relative width.
+        Every boundary of the passive set, enclosed to ``rtol`` relative width (the
+        enclosure rounded outward to doubles).
     undecided : list of (float, float)
-        Sub-intervals (each narrower than the tolerance) the certification could not
-        settle away from the edges; empty in all but near-degenerate cases.
+        Sub-intervals the certification could not settle away from the edges (rounded
+        outward): narrower than the tolerance, or left when the budget of boxes ran out
+        (``budget_exhausted``).  Never reported passive.
     max_passive : float or None
         Largest proven passive value.
     partition : list of (float, float, str)
-        The whole range as proven boxes and leaves: ``(lo, hi, status)``.
+        The whole range as proven boxes and leaves: ``(lo, hi, status)`` (proven boxes
+        rounded inward, undecided ones outward).
+    budget_exhausted : bool
+        The branch and bound stopped at ``max_boxes`` boxes; what it had not settled is
+        in ``undecided``.
     """
 
     param: str
@@ -81,6 +96,7 @@ class SampledBoundResult:
     design_value: float | None = None
     design_passive: bool | None = None
     low_frequency: str | None = None
+    budget_exhausted: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -97,6 +113,7 @@ class SampledBoundResult:
             "design_value": self.design_value,
             "design_passive": self.design_passive,
             "low_frequency": self.low_frequency,
+            "budget_exhausted": self.budget_exhausted,
         }
 
     def plot(self, *, ax: Any = None) -> Any:
@@ -135,10 +152,13 @@ class SampledBoundResult:
             ("range searched", f"[{self.lo:.6g}, {self.hi:.6g}]"),
             ("loop", f"T = {self.period:g} s, delay {self.delay} samples, velocity filter {filt}"),
             ("passive (certified)", intervals_text(self.intervals, most=20)),
-            ("largest passive value", "none" if self.max_passive is None else self.max_passive),
+            (
+                "largest passive value",
+                "none" if self.max_passive is None else decimal_down(self.max_passive, 10),
+            ),
         ]
         rows += [
-            (f"edge ({e.kind.replace('_', ' ')})", f"[{e.lo:.10g}, {e.hi:.10g}]")
+            (f"edge ({e.kind.replace('_', ' ')})", enclosure_text(e.lo, e.hi, digits=10))
             for e in self.edges[:20]
         ]
         if self.undecided:
@@ -146,7 +166,10 @@ class SampledBoundResult:
         if self.design_value is not None:
             verdict = {True: "passive", False: "not passive", None: "not decided"}
             rows.append(
-                (f"design {self.param} = {self.design_value:.6g}", verdict[self.design_passive])
+                (
+                    f"design {self.param} = {exact_text(self.design_value)}",
+                    verdict[self.design_passive],
+                )
             )
         if self.low_frequency:
             rows.append(("low frequency", self.low_frequency))
@@ -158,10 +181,11 @@ class SampledBoundResult:
 
 
 def intervals_text(intervals: Sequence[tuple[float, float]], *, most: int) -> str:
-    """``[a, b] ∪ [c, d]`` (6 significant digits), the first ``most`` and a count of the rest."""
+    """``[a, b] ∪ [c, d]`` (6 significant digits, rounded inward), the first ``most`` and a
+    count of the rest."""
     if not intervals:
         return "none"
-    text = " ∪ ".join(f"[{a:.6g}, {b:.6g}]" for a, b in intervals[:most])
+    text = " ∪ ".join(interval_text(a, b) for a, b in intervals[:most])
     rest = len(intervals) - most
     return text + (f" ∪ {rest} more" if rest > 0 else "")
 
@@ -209,6 +233,7 @@ def sampled_passive_bound(
     rtol: float = 1e-9,
     design_value: float | None = None,
     max_precision: int = PRECISIONS[-1],
+    max_boxes: int = MAX_BOXES,
     progress: bool = False,
 ) -> SampledBoundResult:
     """Certified passive values of the controller parameter ``param`` in ``[lo, hi]``.
@@ -234,6 +259,10 @@ def sampled_passive_bound(
         reported (it always agrees with the intervals).
     max_precision : int
         Precision cap (bits) of the balls.
+    max_boxes : int, default 20000
+        Budget of the branch and bound, in boxes examined (counted, not timed).  When it
+        runs out, what is not settled is reported ``undecided`` (never passive) and
+        ``budget_exhausted`` is set.
     progress : bool
         Show a rich progress bar when stderr is a terminal.
 
@@ -255,6 +284,8 @@ def sampled_passive_bound(
             f"rtol must be in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}] (relative width of an edge "
             f"enclosure), got {rtol!r}"
         )
+    if isinstance(max_boxes, bool) or not isinstance(max_boxes, int) or max_boxes < 1:
+        raise ParameterError(f"max_boxes must be a positive whole number, got {max_boxes!r}")
     base = sea.with_values(**(values or {}))
     if param not in base.parameters:
         raise ParameterError(
@@ -302,7 +333,8 @@ def sampled_passive_bound(
         boxes = bound_boxes(
             key, T, fam, flo, fhi,
             rtol=Fraction(rtol), atol=Fraction(rtol) * span / 10**6,
-            start_precision=start, max_precision=max_precision, advance=advance,
+            start_precision=start, max_precision=max_precision, max_boxes=max_boxes,
+            advance=advance,
         )  # fmt: skip
     finally:
         if advance is not None:
@@ -320,6 +352,17 @@ def sampled_passive_bound(
     return _assemble(base, param, boxes, points, float(lo), float(hi), loop, rtol, design_value)
 
 
+def _inward(a: Fraction, b: Fraction, a_closed: bool, b_closed: bool) -> tuple[float, float]:
+    """The doubles of an exact interval: ends rounded inward, open ends excluded."""
+    lo = float_up(a)
+    if not a_closed and Fraction(lo) == a:
+        lo = math.nextafter(lo, math.inf)
+    hi = float_down(b)
+    if not b_closed and Fraction(hi) == b:
+        hi = math.nextafter(hi, -math.inf)
+    return lo, hi
+
+
 def _assemble(
     sea: SEA,
     param: str,
@@ -332,28 +375,31 @@ def _assemble(
     design_value: float | None,
 ) -> SampledBoundResult:
     merged = _merge_status(boxes)
-    # passive pieces as exact ends, then the special points overriding
-    pieces: list[tuple[Fraction, Fraction]] = [(a, b) for a, b, st, _r in merged if st == "passive"]
+    # passive pieces as exact ends (closed: proven over the closed box), then the special
+    # points overriding: a passive one is added, a non-passive one opens the pieces at it
+    pieces: list[tuple[Fraction, Fraction, bool, bool]] = [
+        (a, b, True, True) for a, b, st, _r in merged if st == "passive"
+    ]
     for v, ok in points.items():
-        if ok and not any(a <= v <= b for a, b in pieces):
-            pieces.append((v, v))
+        if ok and not any(a <= v <= b for a, b, _ac, _bc in pieces):
+            pieces.append((v, v, True, True))
         if not ok:
             cut = []
-            for a, b in pieces:
+            for a, b, ac, bc in pieces:
                 if a < v < b:
-                    cut += [(a, v), (v, b)]  # open at v: reported closed, v is an edge of width 0
+                    cut += [(a, v, ac, False), (v, b, False, bc)]
                 elif a == v == b:
                     continue
                 else:
-                    cut.append((a, b))
+                    cut.append((a, b, ac and a != v, bc and b != v))
             pieces = cut
     pieces.sort()
-    joined: list[tuple[Fraction, Fraction]] = []
-    for a, b in pieces:
-        if joined and joined[-1][1] == a and points.get(a, True):
-            joined[-1] = (joined[-1][0], b)
+    joined: list[tuple[Fraction, Fraction, bool, bool]] = []
+    for a, b, ac, bc in pieces:
+        if joined and joined[-1][1] == a and (joined[-1][3] or ac):
+            joined[-1] = (joined[-1][0], b, joined[-1][2], bc)
         else:
-            joined.append((a, b))
+            joined.append((a, b, ac, bc))
     edges: list[Edge] = []
     undecided: list[tuple[float, float]] = []
     for a, b, st, reason in merged:
@@ -363,15 +409,16 @@ def _assemble(
             kind = _edge_kind(
                 sea, param, float(a) - (float(b - a) or 1e-300), float(b) + float(b - a), loop
             )
-            edges.append(Edge(float(a), float(b), kind))
+            edges.append(Edge(float_down(a), float_up(b), kind))  # rounded outward
         else:
-            undecided.append((float(a), float(b)))
+            undecided.append((float_down(a), float_up(b)))
     for v, ok in points.items():
-        inside = any(a < v < b for a, b in joined)
-        if not inside and any(a <= v <= b for a, b in joined) != ok:
+        inside = any(a < v < b for a, b, _ac, _bc in joined)
+        if not inside and any(a <= v <= b for a, b, _ac, _bc in joined) != ok:
             edges.append(Edge(float(v), float(v), "special"))
     edges.sort(key=lambda e: e.lo)
-    intervals = [(float(a), float(b)) for a, b in joined]
+    # every double in a reported interval is passive: ends rounded inward
+    intervals = [iv for iv in (_inward(*piece) for piece in joined) if iv[0] <= iv[1]]
     design_passive = None
     if design_value is not None:
         design_passive = any(a <= design_value <= b for a, b in intervals)
@@ -380,6 +427,10 @@ def _assemble(
         low = low_frequency_limit(
             sea, param, delay=int(loop["delay"]), period=float(loop["period"]), lo=lo, hi=hi
         )
+    partition = [
+        (*(_inward(a, b, True, True) if st != "undecided" else (float_down(a), float_up(b))), st)
+        for a, b, st, _r in merged
+    ]
     return SampledBoundResult(
         param=param,
         period=float(loop["period"]),
@@ -389,13 +440,14 @@ def _assemble(
         max_passive=intervals[-1][1] if intervals else None,
         edges=edges,
         undecided=undecided,
-        partition=[(float(a), float(b), st) for a, b, st, _r in merged],
+        partition=partition,
         delay=int(loop["delay"]),
         velocity_filter=loop["velocity_filter"],
         rtol=rtol,
         design_value=design_value,
         design_passive=design_passive,
         low_frequency=low,
+        budget_exhausted=any(r == "budget" for _a, _b, _s, r in merged),
     )
 
 

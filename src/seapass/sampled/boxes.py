@@ -229,6 +229,27 @@ def _global_minimum(poly: arb_poly) -> list[Fraction]:
     return [_deepest(poly, Fraction(xs[min(range(len(xs)), key=vals.__getitem__)]))]
 
 
+def _point_decided(s: _Setup, centre: Fraction, load_zero: bool) -> bool:
+    """The verdict at the single value ``centre`` is decided at the precision of ``s``.
+
+    When it is not, the balls are too wide there (the power is within their radius of 0,
+    typically ``x = cos ωT`` near 1 at a short period): no split in ``λ`` can decide a box
+    around it, only more bits can.
+    """
+    with precision(s.prec):
+        a = arb(_fq(centre))
+        zero = arb(0)
+        stable = _stable_on_box(s.chi_family, s.chi_circle, a, zero)
+        dl_ok = True if load_zero else _stable_on_box(s.dl_family, s.dl_circle, a, zero)
+        if stable is False or dl_ok is False:
+            return True
+        if stable is None or dl_ok is None:
+            return False
+        poly = _shift(s.p_family, a)[0]
+        res = sign_on([poly], Fraction(-1), Fraction(1), budget=60)
+        return res.sign is not Sign.UNDECIDED
+
+
 def bound_boxes(
     key: str,
     period: Fraction,
@@ -240,12 +261,18 @@ def bound_boxes(
     atol: Fraction,
     start_precision: int = PRECISIONS[0],
     max_precision: int = PRECISIONS[-1],
+    max_boxes: int = MAX_BOXES,
     advance: Callable[[float], None] | None = None,
 ) -> list[BoxVerdict]:
     """Partition ``[lo, hi]`` into proven boxes and undecided leaves (sorted).
 
-    Undecided regions that are not edges (proven boxes of opposite verdicts on both sides)
-    are examined again at the next precision, up to ``max_precision``.
+    A box that is not decided is split in two, unless the verdict at its centre is not
+    decided either at the box's precision: then the balls, not the width, are what
+    fails, and the box is examined again at the next precision (each box carries its own
+    precision, so only the boxes that need more bits pay for them).  Undecided leaves that
+    are not edges (proven boxes of opposite verdicts on both sides) are examined again at
+    the next precision, up to ``max_precision``.  At most ``max_boxes`` boxes are
+    examined: what is left then is reported ``undecided`` with reason ``"budget"``.
     """
     a_zero, l_zero = fam.actuator.is_zero, fam.load.is_zero
     if a_zero and l_zero:
@@ -256,51 +283,63 @@ def bound_boxes(
     if "Sg" not in names:
         names = (*names, "Sg")
     ladder = [p for p in precision_ladder(max_precision) if p >= start_precision] or [max_precision]
+    setups: dict[int, _Setup] = {}
+
+    def setup(level: int) -> _Setup:
+        if level not in setups:
+            setups[level] = _setup(key, period, fam, names, ladder[level])
+        return setups[level]
+
     tol_rel = rtol / 4  # adjacent leaves may merge into one enclosure
     done: list[BoxVerdict] = []
-    todo = [(lo, hi)]
+    stack: list[tuple[Fraction, Fraction, int, tuple[tuple[Fraction, Fraction], ...]]]
+    stack = [(lo, hi, 0, ())]
     boxes = 0
-    for prec in ladder:
-        s = _setup(key, period, fam, names, prec)
-        leaves: list[tuple[Fraction, Fraction]] = []
-        stack: list[tuple[Fraction, Fraction, tuple[tuple[Fraction, Fraction], ...]]]
-        stack = [(a, b, ()) for a, b in reversed(todo)]
+    while stack:
+        leaves: list[tuple[Fraction, Fraction, int]] = []
         while stack:
-            a, b, start = stack.pop()
+            a, b, level, start = stack.pop()
+            if boxes >= max_boxes:
+                done.append(BoxVerdict(a, b, "undecided", "budget"))
+                continue
             boxes += 1
+            s = setup(level)
             status, reason, part = _classify(s, a, b, l_zero, start)
             if status != "undecided":
                 done.append(BoxVerdict(a, b, status, reason))
                 if advance:
                     advance(float((b - a) / (hi - lo)))
                 continue
-            if b - a <= max(tol_rel * max(abs(a), abs(b)), atol) or boxes > MAX_BOXES:
-                leaves.append((a, b))
+            if b - a <= max(tol_rel * max(abs(a), abs(b)), atol):
+                leaves.append((a, b, level))
+                continue
+            if level + 1 < len(ladder) and not _point_decided(s, (a + b) / 2, l_zero):
+                stack.append((a, b, level + 1, ()))  # more bits, not a narrower box
                 continue
             mid = (a + b) / 2
-            stack.append((mid, b, part))
-            stack.append((a, mid, part))
+            stack.append((mid, b, level, part))
+            stack.append((a, mid, level, part))
         proven = sorted(done, key=lambda v: v.lo)
-        todo = []
-        for group in _merge(leaves):
-            if _is_edge(group, proven):
-                done.append(BoxVerdict(group[0], group[1], "undecided", "edge"))
+        for ga, gb, level in _merge(leaves):
+            if _is_edge((ga, gb), proven):
+                done.append(BoxVerdict(ga, gb, "undecided", "edge"))
+            elif level + 1 < len(ladder) and boxes < max_boxes:
+                stack.append((ga, gb, level + 1, ()))
             else:
-                todo.append(group)
-        if not todo or boxes > MAX_BOXES:
-            break
-    for a, b in todo:
-        done.append(BoxVerdict(a, b, "undecided", "undecided"))
+                done.append(BoxVerdict(ga, gb, "undecided", "undecided"))
     return sorted(done, key=lambda v: v.lo)
 
 
-def _merge(leaves: list[tuple[Fraction, Fraction]]) -> list[tuple[Fraction, Fraction]]:
-    out: list[tuple[Fraction, Fraction]] = []
-    for a, b in sorted(leaves):
+def _merge(
+    leaves: list[tuple[Fraction, Fraction, int]],
+) -> list[tuple[Fraction, Fraction, int]]:
+    """Adjacent leaves joined; each group keeps the highest precision level of its leaves."""
+    out: list[tuple[Fraction, Fraction, int]] = []
+    for a, b, level in sorted(leaves):
         if out and out[-1][1] == a:
-            out[-1] = (out[-1][0], b)
+            out[-1] = (out[-1][0], b, max(out[-1][2], level))
         else:
-            out.append((a, b))
+            out.append((a, b, level))
     return out
 
 

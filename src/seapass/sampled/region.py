@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError
+from ..exact.rounding import decimal_down
 from ..model.display import html_card, short_repr
 from ..model.sea import SEA
 from .bound import SampledBoundResult, sampled_passive_bound
@@ -145,7 +146,8 @@ class ZWidthMap:
             top = self.upper_boundary(s.label)
             empty = int(np.sum(np.isnan(top)))
             text = (
-                f"largest passive {self.p1} from {np.nanmin(top):.6g} to {np.nanmax(top):.6g}"
+                f"largest passive {self.p1} from {decimal_down(np.nanmin(top), 6)} to "
+                f"{decimal_down(np.nanmax(top), 6)}"
                 if empty < top.size
                 else f"no passive {self.p1}"
             )

@@ -11,6 +11,7 @@ import numpy as np
 import sympy as sp
 
 from ...errors import ModelError
+from ...exact.rounding import enclosure_text
 from ...model.design_file import Design
 from ...model.expr import S, symbol
 from ...plot.rig import plot_rig_sweep
@@ -72,7 +73,7 @@ def stage_sampled(design: Design, quick: bool) -> Section:
         )
         bounds[name] = b.to_dict()
         edges = "; ".join(
-            f"[{e.lo:.10g}, {e.hi:.10g}] ({e.kind.replace('_', ' ')})" for e in b.edges
+            f"{enclosure_text(e.lo, e.hi, digits=10)} ({e.kind.replace('_', ' ')})" for e in b.edges
         )
         rows.append(
             (name, value, f"[{b.lo:g}, {b.hi:g}]", format_intervals(b.intervals, b.hi),

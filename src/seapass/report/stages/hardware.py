@@ -12,6 +12,7 @@ import numpy as np
 
 from ...analysis.region import passive_intervals
 from ...errors import NotPassiveError
+from ...exact.rounding import decimal_down
 from ...plot.rig import plot_deploy, plot_impacts, plot_rig_sweep
 from ...plot.sampled import plot_sampled_limits
 from ...rig.experiment import ExperimentResult, run_rig_sweeps
@@ -199,8 +200,8 @@ def stage_sampled(quick: bool) -> Section:
                 f"{name}: the continuous-time passive range of kd carries over to the 500 Hz controller",
                 Verdict.DIFFERS,
                 f"continuous: {format_intervals(cont.intervals, hi)}; at T = {period * 1e3:g} ms the largest "
-                f"passive kd is {per[0] if per[0] is None else f'{per[0]:.5g}'} N/m (ideal) and "
-                f"{per[1] if per[1] is None else f'{per[1]:.5g}'} N/m (one-sample delay, "
+                f"passive kd is {per[0] if per[0] is None else decimal_down(per[0], 5)} N/m (ideal) and "
+                f"{per[1] if per[1] is None else decimal_down(per[1], 5)} N/m (one-sample delay, "
                 f"{rig.control.velocity_filter_hz:g} Hz velocity filter)",
             )
         )

@@ -16,6 +16,7 @@ from ...analysis.boundary import passive_region
 from ...analysis.region import passive_intervals, passive_map
 from ...analysis.witness import find_destabilizing_environment
 from ...errors import ParameterError
+from ...exact.rounding import decimal_down
 from ...model.catalog import PAPER_VALUES, REFERENCE_VALUES
 from ...model.catalog import design as catalog_design
 from ...paper.tables import PAPER_ROWS, paper_bound_set
@@ -159,7 +160,7 @@ def _lp_region(quick: bool) -> tuple[FigureData, Finding, str]:
         Verdict.DIFFERS if max(gap) > 1e-6 else Verdict.AGREES,
         f"the paper's bound is sufficient only: the exact largest passive kd exceeds it by up "
         f"to {max(gap):.4g} N/m over b1 ∈ [0, 60] (e.g. b1 = {b1s[-1]:g}: exact "
-        f"{top[-1]:.6g} N/m vs bound {float(_lp_bound(b1s[-1])):.6g} N/m)",
+        f"{decimal_down(top[-1], 6)} N/m vs bound {float(_lp_bound(b1s[-1])):.6g} N/m)",
         kind=Discrepancy.CONSERVATIVE if max(gap) > 1e-6 else None,
     )
     lines = ["b1_Ns_per_m,kd_lo_N_per_m,kd_hi_N_per_m,paper_bound_N_per_m"]
