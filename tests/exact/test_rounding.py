@@ -20,8 +20,8 @@ from seapass.exact.rounding import (
     float_below_root,
     float_down,
     float_up,
-    inward_text,
     interval_text,
+    inward_text,
 )
 
 rationals = st.fractions(
@@ -66,7 +66,9 @@ def test_inward_text_stays_inside(a, b, digits):
 def test_interval_and_enclosure_text():
     assert interval_text(0.0, 118.46721557324219, digits=10) == "[0, 118.4672155]"
     assert interval_text(2.0, 2.0) == "{2.0}"
-    assert enclosure_text(118.46721557324217, 118.46721557324219) == "[118.467215573, 118.467215574]"
+    assert (
+        enclosure_text(118.46721557324217, 118.46721557324219) == "[118.467215573, 118.467215574]"
+    )
     assert exact_text(30.0) == "30" and float(exact_text(0.1 + 0.2)) == 0.1 + 0.2
 
 
