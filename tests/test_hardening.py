@@ -22,6 +22,7 @@ from pathlib import Path
 import msgpack
 import pytest
 
+from cpu_budget import BLOCKED_S
 from seapass.cli import main
 from seapass.errors import FileFormatError, OutputPathError, ParameterError
 from seapass.files import limits
@@ -229,18 +230,20 @@ def dask_greeting() -> bytes:
 )
 def test_scheduler_probe_is_bounded_and_one_line(reply: bytes | None, needle: str) -> None:
     with fake_server(reply) as address:
+        # silent: the probe's own deadline must end it (whatever the load, nothing comes);
+        # http: the answer ends it, the deadline only guards against a fake that never runs
         with pytest.raises(ConnectionError, match=needle):
-            probe_scheduler(address, timeout=0.5)
+            probe_scheduler(address, timeout=0.5 if reply is None else BLOCKED_S)
 
 
 def test_scheduler_probe_accepts_a_dask_greeting_and_refuses_closed_ports() -> None:
     with fake_server(dask_greeting()) as address:
-        probe_scheduler(address, timeout=5.0)
+        probe_scheduler(address, timeout=BLOCKED_S)  # the greeting ends it
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
     with pytest.raises(ConnectionError, match="refused"):
-        probe_scheduler(f"tcp://127.0.0.1:{port}", timeout=2.0)
+        probe_scheduler(f"tcp://127.0.0.1:{port}", timeout=BLOCKED_S)  # refused at once
 
 
 def test_cli_sweep_with_a_fake_scheduler_is_one_line(

@@ -65,7 +65,7 @@ def test_inward_text_stays_inside(a, b, digits):
 
 def test_interval_and_enclosure_text():
     assert interval_text(0.0, 118.46721557324219, digits=10) == "[0, 118.4672155]"
-    assert interval_text(2.0, 2.0) == "{2.0}"
+    assert interval_text(2.0, 2.0) == "{2}" and interval_text(0.1, 0.1) == "{0.1}"
     assert (
         enclosure_text(118.46721557324217, 118.46721557324219) == "[118.467215573, 118.467215574]"
     )

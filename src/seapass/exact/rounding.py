@@ -189,13 +189,14 @@ def inward_text(lo: Exact | fmpq, hi: Exact | fmpq, digits: int = 10) -> tuple[s
     """``lo`` rounded up and ``hi`` rounded down, both inside ``[lo, hi]`` (``lo <= hi``).
 
     Uses more digits when ``digits`` would make the rounded ends meet; a single point
-    (``lo == hi``) is shown by the shortest text that reads back as the same double.
+    (``lo == hi``) is shown by the shortest text of at least ``digits`` digits that reads
+    back as the same double (`exact_text`).
     """
     qlo, qhi = _q(lo), _q(hi)
     if qlo > qhi:
         raise ValueError(f"empty interval [{lo}, {hi}]")
     if qlo == qhi:
-        text = repr(float(qlo)) if Fraction(float(qlo)) == qlo else str(qlo)
+        text = exact_text(float(qlo), digits) if Fraction(float(qlo)) == qlo else str(qlo)
         return text, text
     for n in range(digits, 41):  # two distinct ends stay distinct when they can
         a, b = decimal_up(qlo, n), decimal_down(qhi, n)

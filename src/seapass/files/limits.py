@@ -152,7 +152,8 @@ controller on a damped spring: 36; filtered PD and PID on both sides with a spri
 ground: 96)."""
 
 SYMBOLIC_TIME_LIMIT = 20.0
-"""Wall-clock budget [s] of one symbolic derivation (SIGALRM, main thread only)."""
+"""CPU-time budget [s] of one symbolic derivation (``ITIMER_PROF``, main thread only): the
+same input passes or fails whatever else runs on the machine."""
 
 
 def check_count(value: int, limit: int, what: str, hint: str = "") -> int:

@@ -143,18 +143,19 @@ def check_symbolic_size(expr: sp.Expr, what: str = "expression") -> None:
 def symbolic_time_limit(
     seconds: float = SYMBOLIC_TIME_LIMIT, what: str = "symbolic derivation"
 ) -> Iterator[None]:
-    """Raise `SymbolicLimitError` if the block runs longer than ``seconds``.
+    """Raise `SymbolicLimitError` if the block computes longer than ``seconds`` of CPU time.
 
-    Uses ``SIGALRM`` and is therefore active only in the main thread of a
-    process whose real-time interval timer is unused; elsewhere (worker
-    threads, dask workers) the size budget of `check_symbolic_size`
-    is the only guard.
+    CPU time, not wall-clock time: the same input is accepted or refused however busy
+    the machine is.  Uses ``ITIMER_PROF``/``SIGPROF`` and is therefore active only in
+    the main thread of a process whose profiling interval timer is unused; elsewhere
+    (worker threads, dask workers, inside another CPU budget) the size budget of
+    `check_symbolic_size` is the only guard.
     """
     usable = (
         hasattr(signal, "setitimer")
         and threading.current_thread() is threading.main_thread()
-        and signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
-        and signal.getsignal(signal.SIGALRM) in (signal.SIG_DFL, None)
+        and signal.getitimer(signal.ITIMER_PROF) == (0.0, 0.0)
+        and signal.getsignal(signal.SIGPROF) in (signal.SIG_DFL, None)
     )
     if not usable:
         yield
@@ -162,13 +163,13 @@ def symbolic_time_limit(
 
     def _expired(signum: int, frame: object) -> None:
         raise SymbolicLimitError(
-            f"{what} exceeded its time budget of {seconds:g} s: simplify the model"
+            f"{what} exceeded its time budget of {seconds:g} s of CPU time: simplify the model"
         )
 
-    old = signal.signal(signal.SIGALRM, _expired)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    old = signal.signal(signal.SIGPROF, _expired)
+    signal.setitimer(signal.ITIMER_PROF, seconds)
     try:
         yield
     finally:
-        signal.setitimer(signal.ITIMER_REAL, 0.0)
-        signal.signal(signal.SIGALRM, old)
+        signal.setitimer(signal.ITIMER_PROF, 0.0)
+        signal.signal(signal.SIGPROF, old)
