@@ -2,8 +2,9 @@
 
 What lives here: [`passivity`][seapass.analysis.passivity] (the exact positive-real
 test), [`conditions`][seapass.analysis.conditions] (symbolic necessary-and-sufficient
-conditions), [`region`][seapass.analysis.region] (exact passive intervals and 2-D
-maps), [`boundary`][seapass.analysis.boundary] (the exact 2-D passive region and its
+conditions), [`critical`][seapass.analysis.critical] (the critical values of one
+parameter, isolated exactly), [`region`][seapass.analysis.region] (exact passive
+intervals, reported inward, and 2-D maps), [`boundary`][seapass.analysis.boundary] (the exact 2-D passive region and its
 boundary curves), [`freqresp`][seapass.analysis.freqresp] (the stiffness frequency response),
 [`coupled`][seapass.analysis.coupled] (coupled stability with an environment),
 [`indices`][seapass.analysis.indices] (the passivity indices ν and ρ, exact),

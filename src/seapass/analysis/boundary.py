@@ -39,7 +39,7 @@ from ..errors import ParameterError
 from ..model.expr import symbol
 from ..model.sea import SEA, Impedance
 from .passivity import is_passive
-from .region import critical_polynomials
+from .critical import critical_polynomials
 
 __all__ = ["PassiveRegion", "RegionCell", "passive_region"]
 
