@@ -38,8 +38,8 @@ import sympy as sp
 from ..errors import ParameterError
 from ..model.expr import symbol
 from ..model.sea import SEA, Impedance
-from .passivity import is_passive
 from .critical import critical_polynomials
+from .passivity import is_passive
 
 __all__ = ["PassiveRegion", "RegionCell", "passive_region"]
 
