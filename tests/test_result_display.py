@@ -17,6 +17,7 @@ from seapass.analysis.coupled import Environment
 from seapass.analysis.environment_box import HUMAN_LIMB
 from seapass.analysis.indices import passivity_indices
 from seapass.analysis.witness import WitnessResult, find_destabilizing_environment
+from seapass.exact.rounding import decimal_down
 from seapass.model.sea import SEA
 from seapass.plot.style import bare_figures
 from seapass.sampled.bound import intervals_text, sampled_passive_bound
@@ -119,8 +120,9 @@ def test_reprs_say_the_key_facts(results: dict[str, Any]) -> None:
     top = r["bound"].max_passive
     assert 798 < top < 799
     assert repr(r["bound"]) == (
-        f"SampledBoundResult(param='kd', period=0.002, delay=0, passive=[0, {top:.6g}], "
-        f"max_passive={top:.6g}, design_passive=True)"
+        # the largest passive value is shown rounded down (inward), issue 20
+        f"SampledBoundResult(param='kd', period=0.002, delay=0, passive=[0, {decimal_down(top, 6)}], "
+        f"max_passive={decimal_down(top, 6)}, design_passive=True)"
     )
     assert repr(r["zwidth"]) == "ZWidthMap(p1='kd', p2='bd', period=0.002, rows=3, setups=3)"
     sweep = r["sweep"]
@@ -141,11 +143,11 @@ def test_html_cards_hold_the_key_numbers(results: dict[str, Any]) -> None:
     html = r["sampled"]._repr_html_()
     assert "not passive" in html and f"ω = {r['sampled'].omega:.6g}" in html
     html = r["bound"]._repr_html_()
-    assert f"[0, {r['bound'].max_passive:.6g}]" in html and "design kd = 500" in html
+    assert f"[0, {decimal_down(r['bound'].max_passive, 6)}]" in html and "design kd = 500" in html
     html = r["zwidth"]._repr_html_()
     z = r["zwidth"]
     for s in z.setups:
-        assert f"{np.nanmax(z.upper_boundary(s.label)):.6g}" in html
+        assert decimal_down(np.nanmax(z.upper_boundary(s.label)), 6) in html
     html = r["sweep"]._repr_html_()
     assert f"{r['sweep'].n_passive} (" in html and "4 of 4" in html
 

@@ -140,7 +140,9 @@ class SampledBoundResult:
                 "period": self.period,
                 "delay": self.delay,
                 "passive": Shown(intervals_text(self.intervals, most=2)),
-                "max_passive": self.max_passive,
+                "max_passive": None
+                if self.max_passive is None
+                else Shown(decimal_down(self.max_passive, 6)),
                 "undecided": len(self.undecided) or None,
                 "design_passive": self.design_passive,
             },
