@@ -73,6 +73,15 @@ SHORT_PERIOD = {
 PEER_BOXES = 1500
 
 
+_CLASSIFY = boxes._classify
+
+
+def _split_only(*args: Any, **kwargs: Any) -> Any:
+    """`boxes._classify` as the search before issue 20 used it: never more bits for a box."""
+    status, reason, part = _CLASSIFY(*args, **kwargs)
+    return status, "" if reason == "precision" else reason, part
+
+
 def _short_period_rows(quick: bool) -> list[Row]:
     rows = []
     cases = list(SHORT_PERIOD.items())[: 2 if quick else None]
@@ -83,12 +92,11 @@ def _short_period_rows(quick: bool) -> list[Row]:
             return sampled_passive_bound(sea, "kd", period=period, lo=0.0, hi=20000.0, **loop, **kw)
 
         t_new = timed(bound)
-        escalate = boxes._point_decided
-        boxes._point_decided = lambda *a, **k: True  # the search before issue 20
+        boxes._classify = _split_only
         try:
             t_old = timed(lambda bound=bound: bound(max_boxes=PEER_BOXES))
         finally:
-            boxes._point_decided = escalate
+            boxes._classify = _CLASSIFY
         r, o = t_new.result, t_old.result
         stopped = o.budget_exhausted
         note = (f"{t_new.seconds:.2f} s vs {'> ' if stopped else ''}{t_old.seconds:.1f} s"

@@ -220,6 +220,10 @@ def _classify(
             for x in (_deepest(centre_poly, centre.witness), *_global_minimum(centre_poly)):
                 if negative_at(controls, x):
                     return "not_passive", "negative_power", ()
+        if centre.sign is Sign.UNDECIDED:
+            # not even the centre is decided at this precision: the balls are what fails
+            # (the power within their radius of 0), and no split in λ can help
+            return "undecided", "precision", ()
     return "undecided", "", ()
 
 
@@ -227,27 +231,6 @@ def _global_minimum(poly: arb_poly) -> list[Fraction]:
     xs = [math.cos(math.pi * i / 256) for i in range(257)] + [1 - 2.0**-k for k in range(12, 48, 4)]
     vals = [_value(poly, x) for x in xs]
     return [_deepest(poly, Fraction(xs[min(range(len(xs)), key=vals.__getitem__)]))]
-
-
-def _point_decided(s: _Setup, centre: Fraction, load_zero: bool) -> bool:
-    """The verdict at the single value ``centre`` is decided at the precision of ``s``.
-
-    When it is not, the balls are too wide there (the power is within their radius of 0,
-    typically ``x = cos ωT`` near 1 at a short period): no split in ``λ`` can decide a box
-    around it, only more bits can.
-    """
-    with precision(s.prec):
-        a = arb(_fq(centre))
-        zero = arb(0)
-        stable = _stable_on_box(s.chi_family, s.chi_circle, a, zero)
-        dl_ok = True if load_zero else _stable_on_box(s.dl_family, s.dl_circle, a, zero)
-        if stable is False or dl_ok is False:
-            return True
-        if stable is None or dl_ok is None:
-            return False
-        poly = _shift(s.p_family, a)[0]
-        res = sign_on([poly], Fraction(-1), Fraction(1), budget=60)
-        return res.sign is not Sign.UNDECIDED
 
 
 def bound_boxes(
@@ -313,7 +296,7 @@ def bound_boxes(
             if b - a <= max(tol_rel * max(abs(a), abs(b)), atol):
                 leaves.append((a, b, level))
                 continue
-            if level + 1 < len(ladder) and not _point_decided(s, (a + b) / 2, l_zero):
+            if reason == "precision" and level + 1 < len(ladder):
                 stack.append((a, b, level + 1, ()))  # more bits, not a narrower box
                 continue
             mid = (a + b) / 2
