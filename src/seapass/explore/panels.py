@@ -29,6 +29,7 @@ from ..batch import batch_is_passive
 from ..errors import SeapassError
 from ..exact import poly as ep
 from ..exact.axis import real_part_polynomial
+from ..exact.rounding import inward_text
 from ..sampled import sampled_passivity
 from ..sim.metrics import tracking_metrics
 from ..sim.scenarios import Step
@@ -111,6 +112,8 @@ def _interval(state: ExploreState) -> dict[str, Any]:
         "hi": hi,
         "scale": slider_scale(lo, hi),
         "intervals": [list(iv) for iv in r.intervals],
+        # the ends as text, rounded inward: every number shown is passive (issue 20)
+        "shown": [list(inward_text(a, b, 6)) for a, b in r.intervals],
         "critical_values": list(r.critical_values),
     }
 
