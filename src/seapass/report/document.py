@@ -28,7 +28,7 @@ from types import MappingProxyType
 from typing import Any
 
 from ..errors import ParameterError
-from ..exact.rounding import inward_text
+from ..exact.rounding import decimal_down, inward_text
 
 __all__ = [
     "Discrepancy",
@@ -40,6 +40,7 @@ __all__ = [
     "SectionStatus",
     "Summary",
     "Table",
+    "UpperEnd",
     "Verdict",
     "code",
     "format_cell",
@@ -162,10 +163,20 @@ def plain_text(text: str) -> str:
 _FILE = re.compile(r"^[A-Za-z0-9_.-]+$")
 
 
+class UpperEnd(float):
+    """A table cell that is the upper end of a passive set (a largest passive value): shown
+    rounded down, so the printed number is itself passive; data files keep the double."""
+
+    __slots__ = ()
+
+
 def format_cell(value: Any) -> str:
-    """Human-readable cell: floats to 4 significant digits, booleans as yes/NO."""
+    """Human-readable cell: floats to 4 significant digits (an `UpperEnd` rounded down),
+    booleans as yes/NO."""
     if value is None:
         return "–"
+    if isinstance(value, UpperEnd) and math.isfinite(value):
+        return decimal_down(float(value), 4)
     if isinstance(value, Math):
         return value.text
     if isinstance(value, bool):

@@ -29,6 +29,7 @@ from ..document import (
     Finding,
     Section,
     Table,
+    UpperEnd,
     Verdict,
     format_intervals,
     to_json,
@@ -193,8 +194,13 @@ def stage_sampled(quick: bool) -> Section:
             )  # fmt: skip
             results[f"{name}/{label}"] = r.to_dict()
             per.append(r.max_passive)
+        # largest passive values: shown rounded down (UpperEnd)
+        shown = [None if v is None else UpperEnd(v) for v in per]
+        cont_shown = (
+            None if cont_max is None else math.inf if cont_max >= hi else UpperEnd(cont_max)
+        )
         rows.append((name, _code(str(sea.CA) if name == "Ours" else str(sea.CL)), hi,
-                     cont_max if cont_max is None or cont_max < hi else math.inf, *per))  # fmt: skip
+                     cont_shown, *shown))  # fmt: skip
         findings.append(
             Finding(
                 f"{name}: the continuous-time passive range of kd carries over to the 500 Hz controller",

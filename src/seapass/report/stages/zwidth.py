@@ -13,6 +13,7 @@ import re
 import numpy as np
 
 from ...errors import ModelError
+from ...exact.rounding import decimal_down
 from ...model.design_file import Design
 from ...model.sea import SEA
 from ...plot.sampled import plot_zwidth
@@ -20,7 +21,16 @@ from ...plot.style import figure_bytes
 from ...rig.predictions import rig_sea
 from ...rig.rigfile import paper_rig
 from ...sampled.region import LoopSetup, ZWidthMap, sampled_region
-from ..document import FigureData, Finding, Section, SectionStatus, Table, Verdict, to_json
+from ..document import (
+    FigureData,
+    Finding,
+    Section,
+    SectionStatus,
+    Table,
+    UpperEnd,
+    Verdict,
+    to_json,
+)
 
 __all__ = ["stage_design_zwidth", "stage_zwidth"]
 
@@ -47,7 +57,7 @@ def _section(
 ) -> Section:
     bounds = [zmap.upper_boundary(s.label) for s in zmap.setups]
     rows = tuple(
-        (v, *(None if math.isnan(b[i]) else float(b[i]) for b in bounds))
+        (v, *(None if math.isnan(b[i]) else UpperEnd(float(b[i])) for b in bounds))
         for i, v in enumerate(zmap.p2_values)
     )
     table = Table(
@@ -80,16 +90,20 @@ def stage_zwidth(quick: bool) -> Section:
         setups=_setups(rig.control.delay_samples, filt), rtol=1e-6,
     )  # fmt: skip
     ideal, _delayed, real = (zmap.upper_boundary(s.label) for s in zmap.setups)
+
+    def down(v: float) -> str:  # a largest passive value, printed rounded down
+        return "none" if math.isnan(v) else decimal_down(float(v), 5)
+
     bd0 = rig.experiment.bd_ours
     i = int(np.argmin(np.abs(np.asarray(zmap.p2_values) - bd0)))
     finding = Finding(
         "Damping widens the sampled Z-width (Colgate & Schenkel: K ≤ 2(b + B)/T-like growth "
         "for the damped transmission)",
         Verdict.INFO,
-        f"largest passive kd grows from {ideal[0]:.5g} to {ideal[-1]:.5g} N/m (ideal ZOH) and "
-        f"from {real[0]:.5g} to {real[-1]:.5g} N/m (rig delay and filter) as bd goes "
+        f"largest passive kd grows from {down(ideal[0])} to {down(ideal[-1])} N/m (ideal ZOH) "
+        f"and from {down(real[0])} to {down(real[-1])} N/m (rig delay and filter) as bd goes "
         f"0 → {zmap.p2_values[-1]:g} N·s/m; at bd ≈ {zmap.p2_values[i]:g} the rig limit is "
-        f"{real[i]:.5g} N/m",
+        f"{down(real[i])} N/m",
     )
     text = _TEXT.format(p1="kd", p2="bd", d=max(rig.control.delay_samples, 1), f=filt, n=n)
     return _section("zwidth", f"Z-width of Ours at {1 / rig.period:g} Hz (beyond the paper)", zmap,
