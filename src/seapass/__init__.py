@@ -45,6 +45,7 @@ _LAZY: dict[str, str] = {
     "SEA": "model.sea",
     "Impedance": "model.sea",
     "Design": "model.design_file",
+    "SampledLoop": "model.loop",
     "load_design": "model.design_file",
     "derive_stiffness": "model.stiffness",
     "is_passive": "analysis.passivity",
@@ -80,6 +81,7 @@ __all__ = [
     "Design",
     "Impedance",
     "PassivityResult",
+    "SampledLoop",
     "SeapassError",
     "Step",
     "TuningOptions",
@@ -130,6 +132,7 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
     from .analysis.witness import find_destabilizing_environment
     from .export.c_code import export_c
     from .model.design_file import Design, load_design
+    from .model.loop import SampledLoop
     from .model.sea import SEA, Impedance
     from .model.stiffness import derive_stiffness
     from .report.analyze import analyze

@@ -19,6 +19,7 @@ __all__ = [
     "NotPassiveError",
     "OutputPathError",
     "ParameterError",
+    "SeapassDeprecationWarning",
     "SeapassError",
     "SeapassWarning",
     "SimulationError",
@@ -100,6 +101,14 @@ class MissingExtraError(SeapassError, ImportError):
 
 class SeapassWarning(UserWarning):
     """Base class of every warning seapass issues."""
+
+
+class SeapassDeprecationWarning(SeapassWarning, DeprecationWarning):
+    """An old spelling that still works for one release: a keyword argument or a file key.
+
+    The message names the new spelling.  The command line shows it as a
+    ``warning:`` line.
+    """
 
 
 class TuningWarning(SeapassWarning):

@@ -164,7 +164,7 @@ def register(subparsers: Any) -> None:
     ft.add_argument(
         "--delay",
         type=int,
-        help="samples between a logged command and its action (default: the rig's delay_samples)",
+        help="samples between a logged command and its action (default: the rig's control.delay)",
     )
     ft.add_argument(
         "--confidence", type=float, default=0.95, help="level of the intervals (default: 0.95)"

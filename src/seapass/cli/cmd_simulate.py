@@ -52,7 +52,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--load-mass", type=float, required=True, help="load mass m_L [kg], > 0")
     g = p.add_mutually_exclusive_group()
     g.add_argument(
-        "--step", type=float, metavar="M", help="reference step size [m] (the default: 0.5)"
+        "--step",
+        type=float,
+        metavar="M",
+        help="reference step size [m] (the default: the paper's 0.5)",
     )
     g.add_argument(
         "--load-displaced", type=float, metavar="X0", help="load starts at X0 [m], reference 0"
@@ -69,7 +72,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         default="both",
         help="which references step/follow the trajectory (default both: θ_A = θ_L)",
     )
-    p.add_argument("--horizon", type=float, default=10.0, help="simulated time [s]")
+    p.add_argument(
+        "--horizon", type=float, help="simulated time [s] (default: the paper's experiment, 10)"
+    )
     p.add_argument("--dt", type=float, default=1e-3, help="time step [s]")
     p.add_argument(
         "--tolerance", type=float, default=0.02, help="settling band (fraction of the step)"
@@ -121,11 +126,12 @@ def scenario_from_args(args: argparse.Namespace) -> Scenario:
         return ForceImpulse(args.impulse)
     if args.trajectory is not None:
         return _load_trajectory(args.trajectory, args.interp, args.reference)
-    return Step(0.5 if args.step is None else args.step, apply_to=args.reference)
+    return Step(args.step, apply_to=args.reference)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..analysis.passivity import is_passive
+    from ..model.experiment import PAPER_EXPERIMENT
     from ..sim.metrics import tracking_metrics
     from ..sim.simulate import simulate
 
@@ -133,9 +139,8 @@ def run(args: argparse.Namespace) -> int:
     check_step(args.step)
     sea = model_from_args(args)
     scenario = scenario_from_args(args)
-    result = simulate(
-        sea, load_mass=args.load_mass, scenario=scenario, horizon=args.horizon, dt=args.dt
-    )
+    horizon = PAPER_EXPERIMENT.pick("horizon", args.horizon)
+    result = simulate(sea, load_mass=args.load_mass, scenario=scenario, horizon=horizon, dt=args.dt)
     met = tracking_metrics(result, tolerance=args.tolerance)
     out: dict[str, Any] = {
         "settling_time": met.settling_time,
@@ -159,7 +164,7 @@ def run(args: argparse.Namespace) -> int:
             "band": met.band,
             "target": met.target,
             "load_mass": args.load_mass,
-            "horizon": args.horizon,
+            "horizon": horizon,
             "dt": float(result.time[1] - result.time[0]) if result.time.size > 1 else args.dt,
             "scenario": type(scenario).__name__,
             "poles": [[float(p.real), float(p.imag)] for p in result.poles],

@@ -10,7 +10,15 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import ParameterError, TuningWarning, did_you_mean
-from .common import add_json_option, add_model_options, check_period, check_step, print_json, warn
+from .common import (
+    add_json_option,
+    add_loop_options,
+    add_model_options,
+    check_step,
+    loop_from_args,
+    print_json,
+    warn,
+)
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     from ..model.design_file import Design
@@ -58,16 +66,12 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
                    help="settling: 2%% settling time; itae: integral of t*|error| (default: settling)")  # fmt: skip
     g.add_argument("--max-overshoot", type=float, metavar="PCT",
                    help="overshoot limit in percent of the step (default: none)")  # fmt: skip
-    g.add_argument("--force-limit", type=float, default=1000.0, metavar="N",
-                   help="peak actuator force |f_A| [N] (default: 1000)")  # fmt: skip
+    g.add_argument("--force-limit", type=float, metavar="N",
+                   help="peak actuator force |f_A| [N] (default: the paper's experiment, 1000)")  # fmt: skip
     g.add_argument("--no-force-limit", action="store_true", help="no force limit")
-    g.add_argument("--period", type=float, metavar="T",
-                   help="also require passivity under sampled-data control with period T [s]")  # fmt: skip
-    g.add_argument("--delay", type=int, metavar="N",
-                   help="samples of delay of that controller (default: the file's, else 0)")  # fmt: skip
-    g.add_argument("--velocity-filter", type=float, metavar="HZ",
-                   help="its velocity low-pass cut-off [Hz] (default: the file's, else none)")  # fmt: skip
-    s = p.add_argument_group("the step response (default: the file's [simulation], else 10 kg, 0.5 m, 10 s)")  # fmt: skip
+    add_loop_options(p, method=False, what="the sampled loop (with --period)",
+                     period_help="also require passivity under sampled-data control with period T [s]")  # fmt: skip
+    s = p.add_argument_group("the step response (default: the file's [simulation], else the paper's experiment: 10 kg, 0.5 m, 10 s)")  # fmt: skip
     s.add_argument("--load-mass", type=float, metavar="KG", help="tuning load mass m_L [kg]")
     s.add_argument("--step", type=float, metavar="M", help="reference step [m]")
     s.add_argument("--horizon", type=float, metavar="S", help="simulated time [s]")
@@ -165,19 +169,19 @@ def _check_names(values: Mapping[str, object], parameters: Sequence[str], flag: 
 
 
 def options_from_args(args: argparse.Namespace, file: Design | None) -> TuningOptions:
-    """`TuningOptions` from the command line (design-file defaults are resolved later)."""
+    """`TuningOptions` from the command line; what it leaves out (None) the library takes
+    from the design file, else from the paper's experiment."""
     from ..tuning.problem import QUICK_OPTIONS, TuningOptions
 
+    limit = {} if args.force_limit is None else {"force_limit": args.force_limit}
     opts = TuningOptions(
         objective=args.objective,
         max_overshoot=None if args.max_overshoot is None else args.max_overshoot / 100.0,
-        force_limit=None if args.no_force_limit else args.force_limit,
+        **({"force_limit": None} if args.no_force_limit else limit),
         load_mass=args.load_mass,
-        step=0.5 if args.step is None else args.step,
+        step=args.step,
         horizon=args.horizon,
-        period=args.period,
-        delay=args.delay,
-        velocity_filter=args.velocity_filter,
+        loop=loop_from_args(args, file),
         seed=args.seed,
     )
     if args.quick:
@@ -204,7 +208,6 @@ def run(args: argparse.Namespace) -> int:
     design, file, values = _design(args)
     boxes = parse_tune([*args.tune, *args.bound])
     opts = options_from_args(args, file)
-    check_period(opts.period)
     check_step(args.step)
     if args.load_mass is not None and not args.load_mass > 0:
         raise ParameterError(f"--load-mass must be positive, got {args.load_mass:g}")
@@ -261,7 +264,7 @@ def _model_gains(
 
 
 def _control_hint(file: Design | None, opts: TuningOptions) -> str:
-    if file is None or file.period is None or opts.period is not None:
+    if file is None or file.period is None or opts.loop is not None:
         return ""
     return (
         f"the design file sets a {file.control_rate:g} Hz controller; add --period "
@@ -278,10 +281,10 @@ def _print_text(result: TuningResult) -> None:
     what = "settling time" if kind == "settling" else "ITAE"
     print(f"{what}: {result.objective:.6g} {unit} ({m.status})")
     verdicts = f"passive: {'yes' if result.passive else 'NO'}"
-    if result.sampled_passive is not None:
+    loop = result.options.loop
+    if result.sampled_passive is not None and loop is not None:
         verdicts += (
-            f"; passive at T = {result.options.period:g} s: "
-            f"{'yes' if result.sampled_passive else 'NO'}"
+            f"; passive at T = {loop.period:g} s: {'yes' if result.sampled_passive else 'NO'}"
         )
     print(verdicts)
     overshoot = "-" if m.overshoot is None else f"{100 * m.overshoot:.3g} %"

@@ -12,6 +12,9 @@ in the project notes and the README's command-line section):
   `add_out_dir_option` / `check_out_dir`; files are written and announced
   (``wrote PATH`` on stderr) by `save_plot`, `write_text`, `write_bytes` in
   [`seapass.cli.output`][seapass.cli.output];
+* the sampled loop: `add_loop_options` and `loop_from_args` (one
+  [`SampledLoop`][seapass.model.loop.SampledLoop] from ``--period --delay
+  --velocity-filter --method`` and a design file's ``[control]``);
 * messages: `warn` (``warning: ...`` on stderr), the unit-slip checks
   `check_period` and `check_step`, and `error_text` (one line, CLI flags in place
   of Python argument names).
@@ -51,6 +54,7 @@ __all__ = [
     "HelpFormatter",
     "add_jobs_argument",
     "add_json_option",
+    "add_loop_options",
     "add_model_options",
     "add_out_dir_option",
     "add_plot_option",
@@ -68,6 +72,7 @@ __all__ = [
     "deprecated_alias",
     "error_text",
     "json_text",
+    "loop_from_args",
     "model_from_args",
     "parse_named",
     "parse_range",
@@ -281,6 +286,78 @@ def check_rtol(rtol: float, flag: str = "--rtol") -> None:
             f"{flag} must be in [{MIN_RTOL:g}, 1e-2], the relative width of a certified edge "
             f"enclosure; got {flag} {rtol:g}"
         )
+
+
+def add_loop_options(
+    p: argparse.ArgumentParser,
+    *,
+    period: float | None = None,
+    delay: int | None = None,
+    velocity_filter: float | None = None,
+    method: bool = True,
+    what: str = "sampled loop",
+    period_help: str = "control period T in s",
+) -> argparse._ArgumentGroup:
+    """``--period --delay --velocity-filter [--method]``, read back by `loop_from_args`.
+
+    A default of None means "the design file's, else none" (``--period``: no sampled loop).
+    """
+    from ..files.limits import MAX_DELAY_SAMPLES
+
+    g = p.add_argument_group(what)
+    g.add_argument("--period", type=float, default=period, metavar="T", help=period_help)
+    g.add_argument(
+        "--delay",
+        type=int,
+        default=delay,
+        metavar="N",
+        help=f"computational delay in samples, 0 to {MAX_DELAY_SAMPLES}"
+        + ("" if delay is not None else " (default: the design file's, else 0)"),
+    )
+    g.add_argument(
+        "--velocity-filter",
+        type=float,
+        default=velocity_filter,
+        metavar="HZ",
+        help="first-order low-pass on the finite-difference velocity, cut-off in Hz below "
+        "the Nyquist frequency 1/(2T)"
+        + ("" if velocity_filter is not None else " (default: the design file's, else none)"),
+    )
+    if method:
+        g.add_argument(
+            "--method",
+            choices=("tustin", "zoh", "backward"),
+            default=None,
+            help="discretization of strictly proper controller parts; derivatives always use "
+            "backward differences (default: the design file's, else tustin)",
+        )
+    return g
+
+
+def loop_from_args(args: argparse.Namespace, design: Any = None) -> Any:
+    """The [`SampledLoop`][seapass.model.loop.SampledLoop] of the loop options, or None.
+
+    ``--period`` gives the period (None: no sampled loop); ``--delay``,
+    ``--velocity-filter`` and ``--method`` not given come from ``design``'s ``[control]``
+    (a [`Design`][seapass.model.design_file.Design]), else 0, none and Tustin.  The
+    object checks every value; its errors name the flags.  A period that looks like a
+    rate in Hz gets a warning first.
+    """
+    from ..model.loop import SampledLoop
+
+    period = args.period
+    check_period(period)
+    if period is None:
+        return None
+    file = None if design is None else design.loop
+    kw: dict[str, Any] = {"period": period}
+    for name in ("delay", "velocity_filter", "method"):
+        given = getattr(args, name, None)
+        if given is None and file is not None:
+            given = getattr(file, name)
+        if given is not None:
+            kw[name] = given
+    return SampledLoop(**kw)
 
 
 def add_jobs_argument(p: argparse.ArgumentParser) -> None:

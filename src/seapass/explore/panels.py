@@ -79,14 +79,10 @@ def _verdict(state: ExploreState) -> dict[str, Any]:
 
 
 def _sampled(state: ExploreState) -> dict[str, Any]:
-    if state.period is None:
+    loop = state.loop
+    if loop is None:
         return {"analysed": False, "detail": "no control period set: continuous control only"}
-    r = sampled_passivity(
-        state.sea(),
-        period=state.period,
-        delay=state.delay,
-        velocity_filter=state.velocity_filter,
-    )
+    r = sampled_passivity(state.sea(), loop=loop)
     return {
         "analysed": True,
         "passive": r.passive,

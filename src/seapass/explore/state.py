@@ -20,10 +20,12 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
-from ..errors import SeapassError
+from ..errors import ParameterError, SeapassError
 from ..model.catalog import REFERENCE_VALUES
 from ..model.design_file import Design, parse_design
+from ..model.experiment import PAPER_EXPERIMENT
 from ..model.expr import STANDARD_SYMBOLS, parse_expression
+from ..model.loop import SampledLoop
 from ..model.sea import SEA
 
 __all__ = [
@@ -57,7 +59,7 @@ LIMITS: Mapping[str, Any] = MappingProxyType(
     }
 )
 
-_DEFAULTS = {"load_mass": 10.0, "step": 0.5, "horizon": 10.0}
+_DEFAULTS = {k: getattr(PAPER_EXPERIMENT, k) for k in ("load_mass", "step", "horizon")}
 
 
 def slider_scale(lo: float, hi: float) -> str:
@@ -108,6 +110,8 @@ class ExploreState:
         Computational delay (samples).
     velocity_filter : float or None
         Cut-off (Hz) of the velocity low-pass, None for none.
+    loop : SampledLoop or None
+        The three as the sampled loop (None for continuous control only).
     """
 
     name: str
@@ -117,9 +121,9 @@ class ExploreState:
     gain: str
     region: tuple[str, str]
     title: str = ""
-    load_mass: float = 10.0
-    step: float = 0.5
-    horizon: float = 10.0
+    load_mass: float = PAPER_EXPERIMENT.load_mass
+    step: float = PAPER_EXPERIMENT.step
+    horizon: float = PAPER_EXPERIMENT.horizon
     period: float | None = None
     delay: int = 0
     velocity_filter: float | None = None
@@ -136,6 +140,14 @@ class ExploreState:
 
     def sea(self) -> SEA:
         return SEA(**dict(self.model), values=dict(self.values), name=self.name)
+
+    @property
+    def loop(self) -> SampledLoop | None:
+        if self.period is None:
+            return None
+        return SampledLoop(
+            period=self.period, delay=self.delay, velocity_filter=self.velocity_filter
+        )
 
     def key(self, *, without: tuple[str, ...] = (), extra: tuple[str, ...] = ()) -> str:
         """Canonical text of the model, the values except ``without`` and the fields ``extra``."""
@@ -182,9 +194,7 @@ class ExploreState:
             step=self.step,
             horizon=self.horizon,
             tune_mass=self.load_mass,
-            control_rate=None if self.period is None else 1.0 / self.period,
-            control_delay=self.delay,
-            velocity_filter=self.velocity_filter,
+            loop=self.loop,
         )
 
     def design_toml(self) -> str:
@@ -214,14 +224,18 @@ class ExploreState:
             f"horizon = {_toml_float(d.horizon)}",
             f"tune_mass = {_toml_float(self.load_mass)}",
         ]
-        if d.control_rate is not None:
-            lines += ["", "[control]", f"rate = {_toml_float(d.control_rate)}"]
-            lines.append(f"delay = {d.control_delay}")
-            if d.velocity_filter is not None:
-                lines.append(f"velocity_filter = {_toml_float(d.velocity_filter)}")
+        if d.loop is not None:
+            lines += ["", "[control]"]
+            lines += [f"{k} = {_toml_value(v)}" for k, v in d.loop.to_table().items()]
         text = "\n".join(lines) + "\n"
         parse_design(tomllib.loads(text))  # what we write must load
         return text
+
+
+def _toml_value(value: float | int | str) -> str:
+    if isinstance(value, str):
+        return _toml_str(value)
+    return _toml_float(value) if isinstance(value, float) else str(value)
 
 
 def _toml_str(text: str) -> str:
@@ -471,6 +485,11 @@ def check_state(data: Any) -> StateCheck:
             **conditions,
         )
         state.sea()
+        state.loop  # noqa: B018 - the filter below the Nyquist frequency of the period
+    except ParameterError as exc:
+        if exc.argument in ("period", "delay", "velocity_filter"):
+            return StateCheck(None, {exc.argument: str(exc)[len(exc.argument) + 2 :]})
+        return StateCheck(None, {_field_of(str(exc)): str(exc)})
     except SeapassError as exc:
         return StateCheck(None, {_field_of(str(exc)): str(exc)})
     return StateCheck(state, {})

@@ -34,9 +34,10 @@ Format (every section but ``[model]`` and ``[parameters]`` is optional)::
     stiffness = [0.0, 5000.0]           # N/m     (default 0-5000)
 
     [control]                           # sampled-data (digital) controller
-    rate = 500.0                        # Hz
+    rate = 500.0                        # Hz (or period = 0.002, in s)
     delay = 0                           # samples
     velocity_filter = 50.0              # Hz, first-order low-pass on velocity
+    method = "tustin"                   # or "zoh", "backward"
 
     [rig]
     file = "my_rig.toml"                # relative to the design file, or preset = "paper"
@@ -46,7 +47,11 @@ value out of range raises [`FileFormatError`][seapass.errors.FileFormatError] na
 key (e.g. ``parameters.kd``), so a typo never falls back to a default.  Sizes are
 capped at load time (file size, nesting, list lengths, text lengths, delay and
 horizon: see [`seapass.files.limits`][seapass.files.limits]); the sampling rate
-is 1 Hz to 1 MHz.
+is 1 Hz to 1 MHz and the velocity filter stays below the Nyquist frequency (the
+``[control]`` table is read by
+[`SampledLoop.from_table`][seapass.model.loop.SampledLoop.from_table], the same
+spelling as a rig file's).  What ``[simulation]`` leaves out comes from the paper's
+experiment, [`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT].
 Expressions go through the safe parser of [`seapass.model.expr`][seapass.model.expr].
 """
 
@@ -63,7 +68,6 @@ from typing import Any
 
 from ..errors import FileFormatError, SeapassError
 from ..files.limits import (
-    MAX_DELAY_SAMPLES,
     MAX_HORIZON,
     MAX_LIST_LENGTH,
     MAX_NAME_CHARS,
@@ -73,6 +77,8 @@ from ..files.limits import (
 from ..files.textfile import check_input_file
 from ..files.toml import load_toml_file
 from .display import html_card, short_repr
+from .experiment import PAPER_EXPERIMENT
+from .loop import LOOP_KEYS, SampledLoop
 from .sea import SEA
 
 __all__ = ["Design", "load_design", "parse_design"]
@@ -82,11 +88,9 @@ _TOP = ("name", "title", "model", "parameters", "ranges", "simulation", "environ
 _ENVIRONMENT = ("mass", "damping", "stiffness")
 _MODEL = ("D1", "D2", "CA", "CL")
 _SIM = ("load_masses", "step", "horizon", "tune_mass")
-_CONTROL = ("rate", "delay", "velocity_filter")
 _RIG = ("file", "preset")
 _NAME = re.compile(rf"^[A-Za-z0-9_.-]{{1,{MAX_NAME_CHARS}}}$")
 _PARAM = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,31}$")
-_RATE = (1.0, 1e6)  # Hz: sampling rate and velocity-filter cut-off
 _MAX_MASS = 1e6  # kg
 _MAX_STEP = 100.0  # m
 
@@ -111,12 +115,8 @@ class Design:
         Reference step (m) and simulated time (s).
     tune_mass : float or None
         Load mass (kg) the gains are tuned at; None means the median load mass.
-    control_rate : float or None
-        Sampling rate (Hz) of the digital controller; None: continuous only.
-    control_delay : int
-        Computational delay (samples).
-    velocity_filter : float or None
-        Cut-off (Hz) of the velocity low-pass.
+    loop : SampledLoop or None
+        The digital controller's loop (``[control]``); None: continuous only.
     rig_file : str or None
         Rig TOML path (resolved against the design file) or ``"paper"``.
     environment : mapping of str to (float, float)
@@ -133,13 +133,11 @@ class Design:
     CL: str = "0"
     title: str = ""
     ranges: Mapping[str, tuple[float, float]] = field(default_factory=dict)
-    load_masses: tuple[float, ...] = (1.0, 10.0, 25.0)
-    step: float = 0.5
-    horizon: float = 10.0
+    load_masses: tuple[float, ...] = PAPER_EXPERIMENT.load_masses
+    step: float = PAPER_EXPERIMENT.step
+    horizon: float = PAPER_EXPERIMENT.horizon
     tune_mass: float | None = None
-    control_rate: float | None = None
-    control_delay: int = 0
-    velocity_filter: float | None = None
+    loop: SampledLoop | None = None
     rig_file: str | None = None
     environment: Mapping[str, tuple[float, float]] = field(default_factory=dict)
 
@@ -157,6 +155,8 @@ class Design:
             self, "environment",
             MappingProxyType({k: tuple(v) for k, v in self.environment.items()}),
         )  # fmt: skip
+        if self.loop is not None and not isinstance(self.loop, SampledLoop):
+            raise FileFormatError(f"loop: expected a SampledLoop, got {type(self.loop).__name__}")
         for key in ("m", "b"):
             if key not in self.values:
                 raise FileFormatError(f"missing parameters.{key} (actuator mass / damping)")
@@ -195,8 +195,8 @@ class Design:
         rows: list[tuple[str, Any]] = [(k, getattr(self, k)) for k in ("D1", "D2", "CA", "CL")]
         rows += list(self.values.items())
         rows += [(f"range of {k}", f"[{lo:g}, {hi:g}]") for k, (lo, hi) in self.ranges.items()]
-        if self.control_rate:
-            rows.append(("control rate", f"{self.control_rate:g} Hz"))
+        if self.loop is not None:
+            rows.append(("control rate", f"{self.loop.rate:g} Hz"))
         return html_card(f"Design {self.name}" + (f": {self.title}" if self.title else ""), rows)
 
     def sea(self) -> SEA:
@@ -220,7 +220,22 @@ class Design:
     @property
     def period(self) -> float | None:
         """Control period (s), or None for a continuous controller."""
-        return None if self.control_rate is None else 1.0 / self.control_rate
+        return None if self.loop is None else self.loop.period
+
+    @property
+    def control_rate(self) -> float | None:
+        """Sampling rate (Hz) of the digital controller, or None (``loop.rate``)."""
+        return None if self.loop is None else self.loop.rate
+
+    @property
+    def control_delay(self) -> int:
+        """Computational delay (samples), 0 without a loop (``loop.delay``)."""
+        return 0 if self.loop is None else self.loop.delay
+
+    @property
+    def velocity_filter(self) -> float | None:
+        """Cut-off (Hz) of the velocity low-pass, or None (``loop.velocity_filter``)."""
+        return None if self.loop is None else self.loop.velocity_filter
 
     @property
     def tuning_mass(self) -> float:
@@ -410,22 +425,8 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
         kw["environment"] = _environment(_table(data["environment"], "environment"))
     if "control" in data:
         ctl = _table(data["control"], "control")
-        _unknown(ctl, _CONTROL, "control")
-        if "rate" not in ctl:
-            raise FileFormatError("missing control.rate (the sampling rate in Hz)")
-        kw["control_rate"] = _bounded(ctl["rate"], "control.rate", *_RATE, open_lo=False)
-        if "delay" in ctl:
-            d = ctl["delay"]
-            if isinstance(d, bool) or not isinstance(d, int) or not 0 <= d <= MAX_DELAY_SAMPLES:
-                raise FileFormatError(
-                    f"control.delay: expected an integer from 0 to {MAX_DELAY_SAMPLES} "
-                    f"samples, got {d!r}"
-                )
-            kw["control_delay"] = d
-        if "velocity_filter" in ctl:
-            kw["velocity_filter"] = _bounded(
-                ctl["velocity_filter"], "control.velocity_filter", 0.0, _RATE[1]
-            )
+        _unknown(ctl, LOOP_KEYS, "control")
+        kw["loop"] = SampledLoop.from_table(ctl)
     if "rig" in data:
         rig = _table(data["rig"], "rig")
         _unknown(rig, _RIG, "rig")

@@ -28,6 +28,7 @@ import numpy as np
 
 from ..errors import ParameterError, TuningWarning
 from ..model.catalog import design as catalog_design
+from ..model.experiment import PAPER_EXPERIMENT
 from ..sim.metrics import TrackingMetrics, tracking_metrics
 from ..sim.simulate import SimulationResult, Step, simulate
 from ..tuning.optimize import TuningResult, tune
@@ -177,10 +178,10 @@ def _finite(obj: Any) -> Any:
 def run_simulation_study(
     *,
     designs: Sequence[str] = ("LP", "APD", "ours"),
-    masses: Sequence[float] = (1.0, 10.0, 25.0),
+    masses: Sequence[float] = PAPER_EXPERIMENT.load_masses,
     options: TuningOptions | None = None,
     quick: bool = False,
-    horizon: float = 10.0,
+    horizon: float = PAPER_EXPERIMENT.horizon,
     dt: float = 1e-3,
     progress: bool | None = None,
     on_design: Callable[[TuningResult], None] | None = None,
@@ -192,9 +193,10 @@ def run_simulation_study(
     designs : sequence of str
         Subset of ``LP``, ``APD``, ``ours``.
     masses : sequence of float
-        Evaluation load masses (kg), each positive.
+        Evaluation load masses (kg), each positive; default the paper's
+        ([`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT]).
     options : TuningOptions, optional
-        Tuning setup (default: the paper's; tuning mass 10 kg, 0.5 m step).
+        Tuning setup (default: the paper's experiment; tuning mass 10 kg, 0.5 m step).
     quick : bool
         Use the small budget of `QUICK_OPTIONS` (for tests and previews).
     horizon, dt : float
@@ -225,7 +227,7 @@ def run_simulation_study(
     tuned: dict[str, TuningResult] = {}
     runs: dict[tuple[str, float], SimulationResult] = {}
     rows: list[StudyRow] = []
-    step = 0.5
+    step = PAPER_EXPERIMENT.step
     for key in keys:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", TuningWarning)  # kept in tr.warnings and the JSON

@@ -325,7 +325,7 @@ def fit_rig(
         of interest works well.
     delay : int, optional
         Samples between a logged command and its action (default: the rig's
-        ``control.delay_samples``).
+        ``control.delay``).
     confidence : float, default 0.95
         Level of the intervals.
 

@@ -121,8 +121,8 @@ def simulate_mujoco(
     sub = round(T / timestep)
     if abs(sub * timestep - T) > 1e-9 * T:
         raise ParameterError("timestep must divide the control period")
-    fc = rig.control.velocity_filter_hz
-    alpha = math.exp(-2.0 * math.pi * fc * T) if fc > 0 else 0.0
+    fc = rig.control.velocity_filter
+    alpha = math.exp(-2.0 * math.pi * fc * T) if fc else 0.0
     steps = round(duration / T)
     xa = np.empty(steps + 1)
     xl = np.empty(steps + 1)
@@ -133,7 +133,7 @@ def simulate_mujoco(
         vhat = alpha * vhat + (1.0 - alpha) * (a - prev) / T
         prev = a
         u = -kp_actuator * a - kv_actuator * vhat - kp_load * ll
-        applied = pending if rig.control.delay_samples else u
+        applied = pending if rig.control.delay else u
         pending = u
         data.ctrl[0] = force + applied
         for _ in range(sub):

@@ -27,9 +27,10 @@ from dataclasses import dataclass
 from importlib import resources
 from typing import Any
 
-from ..errors import FileFormatError
+from ..errors import FileFormatError, ParameterError
 from ..files import limits
 from ..files.toml import dump_toml, load_toml_file
+from ..model.loop import SampledLoop
 from .schema import (
     SCHEMA,
     TOP_FIELDS,
@@ -83,6 +84,8 @@ class Rig:
         Metres per count of the two encoders.
     period : float
         Control period ``1/rate`` (s).
+    loop : SampledLoop
+        The bench's sampled loop: ``[control]`` rate, delay and velocity filter.
     """
 
     motor: MotorSpec
@@ -112,6 +115,10 @@ class Rig:
             raise FileFormatError("experiment.load_masses must list at least one mass")
         if abs(self.experiment.initial_position) >= self.load.travel:
             raise FileFormatError("experiment.initial_position must lie inside ±load.travel")
+        try:
+            self.loop  # noqa: B018 - checks the velocity filter against the Nyquist frequency
+        except ParameterError as exc:
+            raise FileFormatError(f"control.{exc}") from None
         c, n_max, steps_max = self.control, limits.MAX_RIG_SAMPLES, limits.MAX_RIG_INTEGRATOR_STEPS
         for key, n in (("experiment.horizon", self.experiment.horizon * c.rate),
                        ("impacts.duration", self.impacts.duration * c.rate)):  # fmt: skip
@@ -156,6 +163,12 @@ class Rig:
     def period(self) -> float:
         return 1.0 / self.control.rate
 
+    @property
+    def loop(self) -> SampledLoop:
+        """The bench's sampled loop (`SampledLoop`) from ``[control]``."""
+        c = self.control
+        return SampledLoop(rate=c.rate, delay=c.delay, velocity_filter=c.velocity_filter)
+
     def load_side_mass(self, load_mass: float) -> float:
         """Output carriage plus the attached load (kg)."""
         return self.load.carriage_mass + float(load_mass)
@@ -199,7 +212,9 @@ class Rig:
         out: dict[str, Any] = {"name": self.name, "description": self.description}
         for sec in SCHEMA:
             d = dataclasses.asdict(getattr(self, sec))
-            out[sec] = {k: (list(v) if isinstance(v, tuple) else v) for k, v in d.items()}
+            out[sec] = {
+                k: (list(v) if isinstance(v, tuple) else v) for k, v in d.items() if v is not None
+            }
         return out
 
     def to_toml(self) -> str:

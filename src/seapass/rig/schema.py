@@ -14,6 +14,7 @@ from typing import Any
 
 from ..errors import FileFormatError
 from ..files import limits
+from ..model.loop import rename_rig_control_keys
 
 __all__ = [
     "SCHEMA",
@@ -106,11 +107,11 @@ class EncoderSpec:
 
 @dataclass(frozen=True)
 class ControlSpec:
-    """Digital control loop of the bench."""
+    """Digital control loop of the bench (`Rig.loop` is it as a `SampledLoop`)."""
 
     rate: float  # Hz
-    delay_samples: int  # 0 or 1: command computed from sample k applied at k+1
-    velocity_filter_hz: float  # first-order low-pass on finite differences; 0 = none
+    delay: int  # samples, 0 or 1: command computed from sample k applied at k+1
+    velocity_filter: float | None  # Hz, first-order low-pass on finite differences; None: none
     substeps: int  # integrator substeps per control period
 
 
@@ -194,8 +195,8 @@ SCHEMA: dict[str, tuple[type, dict[str, Field]]] = {
         ControlSpec,
         {
             "rate": _f(1.0, 1e6),
-            "delay_samples": _i(0, 1, default=0),
-            "velocity_filter_hz": _f(0.0, 1e6, default=0.0),
+            "delay": _i(0, 1, default=0),
+            "velocity_filter": Field(float, 0.0, 1e6, lo_open=True, required=False),
             "substeps": _i(1, 10_000, default=10),
         },
     ),
@@ -271,6 +272,8 @@ def build_section(section: str, table: Any) -> Any:
     cls, fields = SCHEMA[section]
     if not isinstance(table, dict):
         raise FileFormatError(f"[{section}] must be a table, got {type(table).__name__}")
+    if section == "control":  # the loop's one spelling; old rig files still load
+        table = rename_rig_control_keys(table, section=section)
     unknown = sorted(set(table) - set(fields))
     if unknown:
         raise FileFormatError(
@@ -278,7 +281,7 @@ def build_section(section: str, table: Any) -> Any:
         )
     kwargs: dict[str, Any] = {}
     for key, spec in fields.items():
-        if key in table:
+        if table.get(key) is not None:  # None (from `Rig.replace`) leaves an optional key out
             kwargs[key] = check_value(f"{section}.{key}", spec, table[key])
         elif spec.required:
             raise FileFormatError(f"missing required key {section}.{key}")

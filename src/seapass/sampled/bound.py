@@ -19,12 +19,13 @@ from typing import Any
 
 from ..errors import ParameterError, SeapassError, UnrealizableError
 from ..model.display import Shown, html_card, short_repr
+from ..model.loop import SampledLoop, loop_argument
 from ..model.sea import SEA
 from .boxes import BoxVerdict, bound_boxes
-from .controllers import Method, controller_tfs
+from .controllers import controller_tfs
 from .family import controller_family
 from .lowfreq import low_frequency_limit
-from .passivity import check_delay, check_ranges, sampled_passivity
+from .passivity import check_precision, check_values, sampled_passivity
 from .plant import plant_key, plant_of
 from .verdict import PRECISIONS, decide
 
@@ -64,10 +65,12 @@ class SampledBoundResult:
         Largest proven passive value.
     partition : list of (float, float, str)
         The whole range as proven boxes and leaves: ``(lo, hi, status)``.
+    loop : SampledLoop
+        The sampled loop (``period``, ``delay`` and ``velocity_filter`` are its).
     """
 
     param: str
-    period: float
+    loop: SampledLoop
     lo: float
     hi: float
     intervals: list[tuple[float, float]]
@@ -75,12 +78,22 @@ class SampledBoundResult:
     edges: list[Edge] = field(default_factory=list)
     undecided: list[tuple[float, float]] = field(default_factory=list)
     partition: list[tuple[float, float, str]] = field(default_factory=list)
-    delay: int = 0
-    velocity_filter: float | None = None
     rtol: float = 1e-9
     design_value: float | None = None
     design_passive: bool | None = None
     low_frequency: str | None = None
+
+    @property
+    def period(self) -> float:
+        return self.loop.period
+
+    @property
+    def delay(self) -> int:
+        return self.loop.delay
+
+    @property
+    def velocity_filter(self) -> float | None:
+        return self.loop.velocity_filter
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -130,10 +143,9 @@ class SampledBoundResult:
         )
 
     def _repr_html_(self) -> str:
-        filt = "none" if self.velocity_filter is None else f"{self.velocity_filter:g} Hz"
         rows: list[tuple[str, Any]] = [
             ("range searched", f"[{self.lo:.6g}, {self.hi:.6g}]"),
-            ("loop", f"T = {self.period:g} s, delay {self.delay} samples, velocity filter {filt}"),
+            ("loop", self.loop.summary),
             ("passive (certified)", intervals_text(self.intervals, most=20)),
             ("largest passive value", "none" if self.max_passive is None else self.max_passive),
         ]
@@ -176,12 +188,12 @@ def _merge_status(boxes: list[BoxVerdict]) -> list[tuple[Fraction, Fraction, str
     return out
 
 
-def _edge_kind(sea: SEA, param: str, left: float, right: float, loop: dict[str, Any]) -> str:
+def _edge_kind(sea: SEA, param: str, left: float, right: float, loop: SampledLoop) -> str:
     """Which condition flips across an edge (from certified verdicts just outside it)."""
     kinds = []
     for v in (left, right):
         try:
-            r = sampled_passivity(sea, values={param: v}, continuous_gate=False, **loop)
+            r = sampled_passivity(sea, loop=loop, values={param: v}, continuous_gate=False)
         except SeapassError:  # no deployable controller just outside the edge
             return "interior"
         kinds.append(r.reason)
@@ -199,17 +211,15 @@ def sampled_passive_bound(
     sea: SEA,
     param: str,
     *,
-    period: float,
+    loop: SampledLoop | None = None,
     lo: float,
     hi: float,
-    delay: int = 0,
-    velocity_filter: float | None = None,
-    method: Method = "tustin",
     values: Mapping[str, float] | None = None,
     rtol: float = 1e-9,
     design_value: float | None = None,
     max_precision: int = PRECISIONS[-1],
     progress: bool = False,
+    **old: Any,
 ) -> SampledBoundResult:
     """Certified passive values of the controller parameter ``param`` in ``[lo, hi]``.
 
@@ -219,12 +229,11 @@ def sampled_passive_bound(
         The design; ``param`` must appear in ``CA`` or ``CL`` only, every other
         parameter needs a value.
     param : str
-    period : float
-        Control period (s).
+    loop : SampledLoop
+        The sampled loop (period, delay, velocity filter, discretization), as in
+        [`sampled_passivity`][seapass.sampled.passivity.sampled_passivity].
     lo, hi : float
         Range to partition (``lo < hi``; ``lo = 0`` is fine).
-    delay, velocity_filter, method
-        The sampled loop, as in [`sampled_passivity`][seapass.sampled.passivity.sampled_passivity].
     values : mapping, optional
         Parameter values overriding those in ``sea``.
     rtol : float, default 1e-9
@@ -236,6 +245,10 @@ def sampled_passive_bound(
         Precision cap (bits) of the balls.
     progress : bool
         Show a rich progress bar when stderr is a terminal.
+    **old
+        ``period=, delay=, velocity_filter=, method=``: the loop's old spelling, still
+        accepted for one release with a
+        [`SeapassDeprecationWarning`][seapass.errors.SeapassDeprecationWarning].
 
     Returns
     -------
@@ -244,10 +257,12 @@ def sampled_passive_bound(
     Examples
     --------
     >>> ours = SEA(D1="k1 + b1*s", CA="kd + bd*s", values=dict(m=1, b=10, k1=1005, b1=30, bd=0))
-    >>> r = sampled_passive_bound(ours, "kd", period=0.002, lo=0, hi=2e4)
+    >>> r = sampled_passive_bound(ours, "kd", loop=SampledLoop(period=0.002), lo=0, hi=2e4)
     >>> [round(x) for x in r.intervals[0]]
     [0, 10033]
     """
+    loop = loop_argument(loop, old, where="sampled_passive_bound")
+    max_precision = check_precision(max_precision)
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise ParameterError(f"need a finite range lo < hi, got [{lo}, {hi}]")
     if not (isinstance(rtol, int | float) and RTOL_RANGE[0] <= rtol <= RTOL_RANGE[1]):
@@ -273,27 +288,16 @@ def sampled_passive_bound(
     if base.free_parameters != (param,):
         others = [p for p in base.free_parameters if p != param]
         raise ParameterError("sampled bound needs values for: " + ", ".join(others))
-    T = check_ranges(base.with_values(**{param: hi}), period)
-    delay = check_delay(delay)
+    check_values(base.with_values(**{param: hi}))
+    T = loop.exact_period
     probe = base.with_values(**{param: hi})
     plant_of(probe)
     key = plant_key(probe)
-    loop: dict[str, Any] = {
-        "period": period,
-        "delay": delay,
-        "velocity_filter": velocity_filter,
-        "method": method,
-    }
-    fam = controller_family(
-        base, param, period=period, delay=delay, velocity_filter=velocity_filter, method=method
-    )
+    fam = controller_family(base, param, loop)
     # the precision the point verdicts need at a few values starts the boxes
     start = PRECISIONS[0]
     for v in {lo, hi, (lo + hi) / 2, *(() if design_value is None else (design_value,))}:
-        ka, kl = controller_tfs(
-            base.with_values(**{param: v}),
-            **{k: loop[k] for k in ("period", "delay", "velocity_filter", "method")},
-        )
+        ka, kl = controller_tfs(base.with_values(**{param: v}), loop)
         start = max(start, decide(key, ka, kl, T, max_precision=max_precision).precision)
     flo, fhi = Fraction(lo), Fraction(hi)
     span = fhi - flo
@@ -312,7 +316,9 @@ def sampled_passive_bound(
     for v in fam.special:
         if flo <= v <= fhi and float(v) == v:
             try:
-                r = sampled_passivity(base, values={param: float(v)}, continuous_gate=False, **loop)
+                r = sampled_passivity(
+                    base, loop=loop, values={param: float(v)}, continuous_gate=False
+                )
             except UnrealizableError:  # the discretization is undefined there: not deployable
                 points[v] = False
                 continue
@@ -327,7 +333,7 @@ def _assemble(
     points: dict[Fraction, bool],
     lo: float,
     hi: float,
-    loop: dict[str, Any],
+    loop: SampledLoop,
     rtol: float,
     design_value: float | None,
 ) -> SampledBoundResult:
@@ -376,13 +382,11 @@ def _assemble(
     if design_value is not None:
         design_passive = any(a <= design_value <= b for a, b in intervals)
     low = None
-    if any(e.kind == "low_frequency" for e in edges) and loop["method"] != "zoh":
-        low = low_frequency_limit(
-            sea, param, delay=int(loop["delay"]), period=float(loop["period"]), lo=lo, hi=hi
-        )
+    if any(e.kind == "low_frequency" for e in edges) and loop.method != "zoh":
+        low = low_frequency_limit(sea, param, delay=loop.delay, period=loop.period, lo=lo, hi=hi)
     return SampledBoundResult(
         param=param,
-        period=float(loop["period"]),
+        loop=loop,
         lo=lo,
         hi=hi,
         intervals=intervals,
@@ -390,8 +394,6 @@ def _assemble(
         edges=edges,
         undecided=undecided,
         partition=[(float(a), float(b), st) for a, b, st, _r in merged],
-        delay=int(loop["delay"]),
-        velocity_filter=loop["velocity_filter"],
         rtol=rtol,
         design_value=design_value,
         design_passive=design_passive,

@@ -19,8 +19,9 @@ from flint import fmpq, fmpq_poly
 
 from ..errors import ParameterError
 from ..model.expr import S, symbol, to_fraction
+from ..model.loop import Method, SampledLoop
 from ..model.sea import SEA
-from .controllers import Method, discrete_paths
+from .controllers import discrete_paths
 
 __all__ = ["ControllerFamily", "ControllerPolys", "controller_family", "poly_product"]
 
@@ -155,18 +156,10 @@ def _rational_roots(exprs: list[sp.Expr], lam: sp.Symbol) -> set[Fraction]:
     return out
 
 
-def controller_family(
-    sea: SEA,
-    param: str,
-    *,
-    period: float,
-    delay: int = 0,
-    velocity_filter: float | None = None,
-    method: Method = "tustin",
-) -> ControllerFamily:
-    """``K_A``, ``K_L`` of ``sea`` with ``param`` free (every other value substituted)."""
+def controller_family(sea: SEA, param: str, loop: SampledLoop) -> ControllerFamily:
+    """``K_A``, ``K_L`` of ``sea`` in ``loop`` with ``param`` free (every other value substituted)."""
     lam = symbol(param)
-    T = Fraction(repr(float(period)))
+    T = loop.exact_period
     vals = {k: v for k, v in sea.values.items() if v is not None and k != param}
     subs = {symbol(k): sp.Rational(to_fraction(v, k)) for k, v in vals.items()}
     parts = []
@@ -178,9 +171,9 @@ def controller_family(
             raise ParameterError(
                 "controller has parameters without values: " + ", ".join(sorted(map(str, leftover)))
             )
-        polys, sp_ = _discretize(e, lam, T, method, velocity_filter)
-        if delay:
-            polys = ControllerPolys(tuple(p.left_shift(delay) for p in polys.num), polys.den)
+        polys, sp_ = _discretize(e, lam, T, loop.method, loop.velocity_filter)
+        if loop.delay:
+            polys = ControllerPolys(tuple(p.left_shift(loop.delay) for p in polys.num), polys.den)
         parts.append(polys)
         special += sp_
     return ControllerFamily(parts[0], parts[1], tuple(sorted(_rational_roots(special, lam))))

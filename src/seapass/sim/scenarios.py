@@ -14,6 +14,7 @@ from typing import Literal
 import numpy as np
 
 from ..errors import ParameterError
+from ..model.experiment import PAPER_EXPERIMENT
 from ..model.expr import finite_number
 
 __all__ = [
@@ -41,16 +42,19 @@ def reference_values(apply_to: str, value: float) -> tuple[float, float]:
 class Step:
     """Reference step of ``size`` metres at ``t = 0`` from rest at the origin.
 
-    ``apply_to`` selects the references that step: ``"both"`` (θ_A = θ_L, the
+    ``size`` defaults to the paper's step
+    ([`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT]); None means the
+    same.  ``apply_to`` selects the references that step: ``"both"`` (θ_A = θ_L, the
     default), ``"actuator"`` (θ_A only) or ``"load"`` (θ_L only).  The load
     target for the tracking metrics is ``size``.
     """
 
-    size: float = 0.5
+    size: float = PAPER_EXPERIMENT.step
     apply_to: str = "both"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "size", finite_number(self.size, "step size", nonzero=True))
+        size = PAPER_EXPERIMENT.pick("step", self.size)
+        object.__setattr__(self, "size", finite_number(size, "step size", nonzero=True))
         reference_values(self.apply_to, 1.0)
 
 

@@ -103,24 +103,17 @@ class ConstraintChecks:
     sampled: dict[tuple[float, ...], bool] = field(default_factory=dict)
 
     def passive(self, x: tuple[float, ...]) -> bool:
-        """Exact continuous passivity, then sampled passivity when a period is set."""
+        """Exact continuous passivity, then sampled passivity when a loop is set."""
         if x not in self.continuous:
             self.continuous[x] = _decide(lambda: is_passive(self.problem.candidate(x)).passive)
         if not self.continuous[x]:
             return False
-        opts = self.problem.options
-        if opts.period is None:
+        loop = self.problem.options.loop
+        if loop is None:
             return True
         if x not in self.sampled:
             self.sampled[x] = _decide(
-                lambda: (
-                    sampled_passivity(
-                        self.problem.candidate(x),
-                        period=float(opts.period),
-                        delay=int(opts.delay or 0),
-                        velocity_filter=opts.velocity_filter,
-                    ).passive
-                )
+                lambda: sampled_passivity(self.problem.candidate(x), loop=loop).passive
             )
         return self.sampled[x]
 

@@ -78,7 +78,7 @@ class TuningResult:
     passive : bool
         Exact continuous-time verdict at the gains.
     sampled_passive : bool or None
-        Verdict under sampled-data control at ``options.period`` (None without a period).
+        Verdict under sampled-data control in ``options.loop`` (None without a loop).
     feasible : bool
         Passive (and sampled-passive) and within the force and overshoot limits.
     violations : tuple of str
@@ -153,9 +153,9 @@ class TuningResult:
             "horizon": o.horizon,
             "force_limit": o.force_limit,
             "max_overshoot": o.max_overshoot,
-            "period": o.period,
-            "delay": o.delay if o.period is not None else None,
-            "velocity_filter": o.velocity_filter if o.period is not None else None,
+            "period": None if o.loop is None else o.loop.period,
+            "delay": None if o.loop is None else o.loop.delay,
+            "velocity_filter": None if o.loop is None else o.loop.velocity_filter,
             "seed": o.seed,
             "warnings": list(self.warnings),
             **self.metrics.to_dict(),
@@ -217,9 +217,12 @@ class TuningResult:
             (f"objective ({o.objective})", f"{self.objective:.6g} {Objective(o.objective).unit}"),
             ("passive (exact)", "yes" if self.passive else "no"),
         ]
-        if self.sampled_passive is not None:
+        if self.sampled_passive is not None and o.loop is not None:
             rows.append(
-                (f"sampled passive (T = {o.period:g} s)", "yes" if self.sampled_passive else "no")
+                (
+                    f"sampled passive (T = {o.loop.period:g} s)",
+                    "yes" if self.sampled_passive else "no",
+                )
             )
         settle = "-" if m.settling_time is None else f"{m.settling_time:.4g} s"
         over = "-" if m.overshoot is None else f"{100 * m.overshoot:.3g} %"
@@ -272,7 +275,7 @@ def tune(
         not feasible (not passive, or a limit is violated).
     **changes
         Any field of `TuningOptions`, replacing the one in ``options``, e.g.
-        ``objective="itae"``, ``period=0.002``, ``seed=3``.
+        ``objective="itae"``, ``loop=SampledLoop(period=0.002)``, ``seed=3``.
 
     Returns
     -------
@@ -300,7 +303,7 @@ def tune(
     opts = (options or TuningOptions()).replace(**changes)
     problem = resolve_problem(design, tune, opts, values)
     bounds = narrowed_box(problem)
-    if problem.options.period is not None:  # fail now on what the sampled analysis refuses
+    if problem.options.loop is not None:  # fail now on what the sampled analysis refuses
         _sampled_verdict(problem, problem.candidate(sum(bounds[g]) / 2 for g in problem.gains))
     checks = ConstraintChecks(problem)
     cost = CandidateCost(problem, checks)
@@ -387,7 +390,7 @@ def verify(
     gains = dict(zip(problem.gains, x, strict=True))
     sea = problem.candidate(x)
     pr = is_passive(sea)
-    sampled = None if opts.period is None else _sampled_verdict(problem, sea)
+    sampled = None if opts.loop is None else _sampled_verdict(problem, sea)
     res, met = step_run(sea, opts, float(opts.load_mass))  # type: ignore[arg-type]
     violations, notes = _limits(problem, pr, sampled, met)
     on_bound = problem.on_bound(gains)
@@ -442,13 +445,7 @@ def _edge_note(problem: TuningProblem, name: str, value: float, edge: str) -> st
 
 
 def _sampled_verdict(problem: TuningProblem, sea: SEA) -> SampledPassivityResult:
-    opts = problem.options
-    return sampled_passivity(
-        sea,
-        period=float(opts.period),  # type: ignore[arg-type]
-        delay=int(opts.delay or 0),
-        velocity_filter=opts.velocity_filter,
-    )
+    return sampled_passivity(sea, loop=problem.options.loop)
 
 
 def _limits(
@@ -466,7 +463,7 @@ def _limits(
     if sampled is not None and not sampled.passive:
         violations.append("sampled passivity")
         notes.append(
-            f"the best gains are not passive under sampled-data control at T = {opts.period:g} s "
+            f"the best gains are not passive under sampled-data control at T = {sampled.period:g} s "
             f"({sampled.detail or sampled.reason})"
         )
     if opts.force_limit is not None and met.peak_force > opts.force_limit * (1 + 1e-9):

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import difflib
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import InitVar, dataclass, field, fields, replace
 from enum import StrEnum
 from types import MappingProxyType
 from typing import Any, TypeAlias
@@ -27,7 +27,9 @@ from ..errors import ParameterError
 from ..model.catalog import PAPER_VALUES, CatalogDesign
 from ..model.catalog import design as catalog_design
 from ..model.design_file import Design
+from ..model.experiment import PAPER_EXPERIMENT
 from ..model.expr import finite_number, symbol
+from ..model.loop import SampledLoop, loop_argument
 from ..model.sea import SEA
 
 __all__ = [
@@ -45,11 +47,11 @@ __all__ = [
     "resolve_problem",
 ]
 
-DEFAULT_LOAD_MASS = 10.0
+DEFAULT_LOAD_MASS = PAPER_EXPERIMENT.load_mass
 """Load mass (kg) of the paper's simulation study (Sec. V), used when nothing else says."""
-DEFAULT_STEP = 0.5
+DEFAULT_STEP = PAPER_EXPERIMENT.step
 """Reference step (m) of the paper's simulation study."""
-DEFAULT_HORIZON = 10.0
+DEFAULT_HORIZON = PAPER_EXPERIMENT.horizon
 """Simulated time (s) of the paper's simulation study."""
 EDGE_FRACTION = 0.01
 """A tuned gain within this fraction of its box width from an edge is reported ``on_bound``."""
@@ -83,21 +85,20 @@ class TuningOptions:
     max_overshoot : float, optional
         Largest overshoot allowed, as a fraction of the step (``0.05`` is 5 %).
     force_limit : float or None
-        Largest peak actuator force ``|f_A|`` (N) during the step, default 1000 N
-        (an average stiffness of 2000 N/m over the 0.5 m step: without a force
-        limit a stiffer controller is always faster and the optimum runs to the
-        edge of the box); None for no limit.
+        Largest peak actuator force ``|f_A|`` (N) during the step, default the
+        experiment's 1000 N (an average stiffness of 2000 N/m over the 0.5 m step:
+        without a force limit a stiffer controller is always faster and the optimum
+        runs to the edge of the box); None for no limit.
     load_mass, step, horizon : float, optional
         Tuning load mass (kg), reference step (m) and simulated time (s); None
         takes them from a design file's ``[simulation]`` (``tune_mass``, ``step``,
-        ``horizon``), else the paper's 10 kg, 0.5 m and 10 s.
-    period : float, optional
-        Also require passivity under sampled-data control with this period (s),
-        decided by [`seapass.sampled.sampled_passivity`][seapass.sampled.passivity.sampled_passivity].
-    delay, velocity_filter : optional
-        Samples of delay and the velocity filter cut-off (Hz) of that digital
-        controller; None takes them from a design file's ``[control]``, else 0
-        and no filter.
+        ``horizon``), else from the paper's experiment
+        ([`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT]: 10 kg, 0.5 m, 10 s).
+    loop : SampledLoop, optional
+        Also require passivity under sampled-data control in this loop, decided by
+        [`seapass.sampled.sampled_passivity`][seapass.sampled.passivity.sampled_passivity].
+        The old fields ``period``, ``delay`` and ``velocity_filter`` are accepted for one
+        release (with a warning) and build it.
     tolerance : float
         Settling band, a fraction of the step (2 %).
     dt_search, dt_verify : float
@@ -108,21 +109,28 @@ class TuningOptions:
 
     objective: Objective | str = Objective.SETTLING
     max_overshoot: float | None = None
-    force_limit: float | None = 1000.0
+    force_limit: float | None = PAPER_EXPERIMENT.force_limit
     load_mass: float | None = None
     step: float | None = None
     horizon: float | None = None
-    period: float | None = None
-    delay: int | None = None
-    velocity_filter: float | None = None
-    tolerance: float = 0.02
+    loop: SampledLoop | None = None
+    tolerance: float = PAPER_EXPERIMENT.tolerance
     dt_search: float = 5e-3
     dt_verify: float = 1e-3
     maxiter: int = 60
     popsize: int = 12
     seed: int = 0
+    period: InitVar[float | None] = None
+    delay: InitVar[int | None] = None
+    velocity_filter: InitVar[float | None] = None
 
-    def __post_init__(self) -> None:
+    def __post_init__(
+        self, period: float | None, delay: int | None, velocity_filter: float | None
+    ) -> None:
+        old = {"period": period, "delay": delay, "velocity_filter": velocity_filter}
+        object.__setattr__(self, "loop", _old_loop(self.loop, old))
+        if self.loop is not None and not isinstance(self.loop, SampledLoop):
+            raise ParameterError(f"loop: expected a SampledLoop, got {self.loop!r}")
         try:
             object.__setattr__(self, "objective", Objective(str(self.objective).lower()))
         except ValueError:
@@ -132,7 +140,7 @@ class TuningOptions:
             ) from None
         for name in ("dt_search", "dt_verify"):
             finite_number(getattr(self, name), name, positive=True)
-        for name in ("load_mass", "horizon", "force_limit", "period", "velocity_filter"):
+        for name in ("load_mass", "horizon", "force_limit"):
             if getattr(self, name) is not None:
                 finite_number(getattr(self, name), name, positive=True)
         if self.step is not None and not (finite_number(self.step, "step") != 0):
@@ -144,7 +152,7 @@ class TuningOptions:
             raise ParameterError(f"max_overshoot must be >= 0, got {self.max_overshoot}")
         if not 0 < finite_number(self.tolerance, "tolerance") < 1:
             raise ParameterError(f"tolerance must be in (0, 1), got {self.tolerance}")
-        for name, low in (("maxiter", 1), ("popsize", 2), ("delay", 0)):
+        for name, low in (("maxiter", 1), ("popsize", 2)):
             v = getattr(self, name)
             if v is not None and (isinstance(v, bool) or not isinstance(v, int) or v < low):
                 raise ParameterError(f"{name} must be an integer >= {low}, got {v!r}")
@@ -154,10 +162,24 @@ class TuningOptions:
     def replace(self, **changes: Any) -> TuningOptions:
         """A copy with ``changes``; an unknown name is an error with a did-you-mean."""
         known = [f.name for f in fields(self)]
+        old = {k: changes.pop(k) for k in _OLD_LOOP_FIELDS if k in changes}
         for name in changes:
             if name not in known:
                 raise ParameterError(f"unknown tuning option {name!r}{_did_you_mean(name, known)}")
+        if old:
+            changes["loop"] = _old_loop(changes.get("loop", self.loop), old)
         return replace(self, **changes)
+
+
+_OLD_LOOP_FIELDS = ("period", "delay", "velocity_filter")
+
+
+def _old_loop(loop: SampledLoop | None, old: Mapping[str, Any]) -> SampledLoop | None:
+    """``loop`` changed by the old fields ``period, delay, velocity_filter`` (None: not given)."""
+    given = {k: v for k, v in old.items() if v is not None}
+    if not given:
+        return loop
+    return loop_argument(None, given, where="TuningOptions", base=loop)
 
 
 def _did_you_mean(name: str, choices: Iterable[str]) -> str:
@@ -185,7 +207,7 @@ class TuningProblem:
     box : mapping of str to (float, float)
         The search box of every tuned gain.
     options : TuningOptions
-        With ``load_mass``, ``step``, ``horizon``, ``delay`` resolved to numbers.
+        With ``load_mass``, ``step``, ``horizon`` resolved to numbers.
     """
 
     name: str
@@ -369,11 +391,9 @@ def resolve_problem(
     file = design if isinstance(design, Design) else None
     resolved = replace(
         opts,
-        load_mass=_pick(opts.load_mass, file and file.tuning_mass, DEFAULT_LOAD_MASS),
-        step=_pick(opts.step, file and file.step, DEFAULT_STEP),
-        horizon=_pick(opts.horizon, file and file.horizon, DEFAULT_HORIZON),
-        delay=_pick(opts.delay, file and file.control_delay, 0),
-        velocity_filter=_pick(opts.velocity_filter, file and file.velocity_filter, None),
+        load_mass=PAPER_EXPERIMENT.pick("load_mass", opts.load_mass, file and file.tuning_mass),
+        step=PAPER_EXPERIMENT.pick("step", opts.step, file and file.step),
+        horizon=PAPER_EXPERIMENT.pick("horizon", opts.horizon, file and file.horizon),
     )
     horizon = float(resolved.horizon or DEFAULT_HORIZON)
     if horizon < max(resolved.dt_search, resolved.dt_verify):
@@ -381,11 +401,3 @@ def resolve_problem(
     return TuningProblem(
         name=name, sea=sea, gains=gains, box=MappingProxyType(box), options=resolved
     )
-
-
-def _pick(given: Any, from_file: Any, default: Any) -> Any:
-    if given is not None:
-        return given
-    if from_file is not None and from_file is not False:
-        return from_file
-    return default

@@ -204,9 +204,6 @@ def _verdict(ok: bool) -> Verdict:
 
 def _sampled_check(design: Design, sea: Any) -> Any:
     """The sampled-data verdict of ``sea`` under the file's ``[control]``, or None."""
-    if design.period is None:
+    if design.loop is None:
         return None
-    return sampled_passivity(
-        sea, period=design.period, delay=design.control_delay,
-        velocity_filter=design.velocity_filter,
-    )  # fmt: skip
+    return sampled_passivity(sea, loop=design.loop)

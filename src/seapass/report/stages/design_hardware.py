@@ -5,8 +5,6 @@ Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 import sympy as sp
 
@@ -39,8 +37,8 @@ __all__ = [
 
 def stage_sampled(design: Design, quick: bool) -> Section:
 
-    period = design.period
-    if period is None:
+    loop = design.loop
+    if loop is None:
         return Section(
             "sampled", "Sampled-data passivity", status=SectionStatus.SKIPPED,
             text="Skipped: the design file has no `[control] rate`; the controller is "
@@ -48,13 +46,8 @@ def stage_sampled(design: Design, quick: bool) -> Section:
         )  # fmt: skip
     sea = design.sea()
     steps = iter(range(len(design.analysis_ranges())))
-    kw: dict[str, Any] = {
-        "period": period,
-        "delay": design.control_delay,
-        "velocity_filter": design.velocity_filter,
-    }
     try:
-        res = sampled_passivity(sea, **kw)
+        res = sampled_passivity(sea, loop=loop)
     except ModelError as exc:
         return Section(
             "sampled", "Sampled-data passivity", status=SectionStatus.SKIPPED,
@@ -68,8 +61,9 @@ def stage_sampled(design: Design, quick: bool) -> Section:
             continue
         value = design.values[name]
         b = sampled_passive_bound(
-            sea.with_values(**{name: None}), name, lo=lo, hi=hi, rtol=rtol, design_value=value, **kw
-        )
+            sea.with_values(**{name: None}), name, loop=loop, lo=lo, hi=hi, rtol=rtol,
+            design_value=value,
+        )  # fmt: skip
         bounds[name] = b.to_dict()
         edges = "; ".join(
             f"[{e.lo:.10g}, {e.hi:.10g}] ({e.kind.replace('_', ' ')})" for e in b.edges
@@ -79,9 +73,9 @@ def stage_sampled(design: Design, quick: bool) -> Section:
              edges or "none", "yes" if b.design_passive else "no")
         )  # fmt: skip
     setup = (
-        f"T = {period * 1e3:.4g} ms ({design.control_rate:g} Hz), delay {design.control_delay} "
+        f"T = {loop.period * 1e3:.4g} ms ({loop.rate:g} Hz), delay {loop.delay} "
         f"sample(s), velocity filter "
-        + ("none" if design.velocity_filter is None else f"{design.velocity_filter:g} Hz")
+        + ("none" if loop.velocity_filter is None else f"{loop.velocity_filter:g} Hz")
     )
     if res.passive:
         verdict = f"**Passive under sampled-data control** ({setup})."
@@ -175,7 +169,7 @@ def stage_rig(design: Design, quick: bool) -> Section:
         title=title,
         text=(
             f"The controller runs on the twin of `{rig.name}` ({rig.control.rate:g} Hz, "
-            f"{rig.control.delay_samples} sample delay, friction, quantization, saturation) "
+            f"{rig.control.delay} sample delay, friction, quantization, saturation) "
             f"with the **rig's** plant (m = {rig.actuator_mass:.4g} kg, b = "
             f"{rig.actuator_damping:g} N·s/m, k1 = {rig.damper.k1:g} N/m, b1 = "
             f"{rig.damper.b1:g} N·s/m), not the file's: the load starts "

@@ -124,7 +124,7 @@ def _rig_text(rig: Any, step: float) -> str:
         f"m = {rig.actuator_mass:.4g} kg, b = {rig.actuator_damping:g} N·s/m, "
         f"k1 = {rig.damper.k1:g} N/m, b1 = {rig.damper.b1:g} N·s/m, "
         f"{rig.control.rate:g} Hz control, one sample of delay, "
-        f"{rig.control.velocity_filter_hz:g} Hz velocity filter, Coulomb friction, encoder "
+        f"{rig.control.velocity_filter or 0:g} Hz velocity filter, Coulomb friction, encoder "
         "quantization, force saturation) runs the paper's protocol: LP and Ours, "
         f"kd from 0 to {rig.experiment.kd_max:g} N/m in steps of {step:g} N/m, load masses "
         f"{', '.join(f'{m:g}' for m in rig.experiment.load_masses)} kg. The values the paper "
@@ -173,10 +173,7 @@ def stage_sampled(quick: bool) -> Section:
     vals = rig.model_values()
     period = rig.period
     bd = rig.experiment.bd_ours
-    setups = [
-        ("ideal", 0, None),
-        ("rig", rig.control.delay_samples, rig.control.velocity_filter_hz),
-    ]
+    setups = [("ideal", rig.loop.replace(delay=0, velocity_filter=None)), ("rig", rig.loop)]
     designs = [("LP", rig_sea(rig, "LP"), 2000.0), ("Ours", rig_sea(rig, "ours", bd=bd), 1e5)]
     steps = iter(range(len(designs) * len(setups)))
     rtol = 1e-6 if quick else 1e-9
@@ -185,11 +182,9 @@ def stage_sampled(quick: bool) -> Section:
         cont = passive_intervals(sea, "kd", 0.0, hi)
         cont_max = cont.intervals[-1][1] if cont.intervals else None
         per = []
-        for label, delay, filt in setups:
+        for label, loop in setups:
             stage_progress(next(steps), len(designs) * len(setups), f"{name}, {label}")
-            r = sampled_passive_bound(
-                sea, "kd", period=period, lo=0.0, hi=hi, delay=delay, velocity_filter=filt, rtol=rtol,
-            )  # fmt: skip
+            r = sampled_passive_bound(sea, "kd", loop=loop, lo=0.0, hi=hi, rtol=rtol)
             results[f"{name}/{label}"] = r.to_dict()
             per.append(r.max_passive)
         rows.append((name, _code(str(sea.CA) if name == "Ours" else str(sea.CL)), hi,
@@ -201,7 +196,7 @@ def stage_sampled(quick: bool) -> Section:
                 f"continuous: {format_intervals(cont.intervals, hi)}; at T = {period * 1e3:g} ms the largest "
                 f"passive kd is {per[0] if per[0] is None else f'{per[0]:.5g}'} N/m (ideal) and "
                 f"{per[1] if per[1] is None else f'{per[1]:.5g}'} N/m (one-sample delay, "
-                f"{rig.control.velocity_filter_hz:g} Hz velocity filter)",
+                f"{rig.control.velocity_filter or 0:g} Hz velocity filter)",
             )
         )
     table = Table(
@@ -247,8 +242,8 @@ def stage_sampled(quick: bool) -> Section:
 def stage_deploy(quick: bool) -> Section:
     """The discrete controllers on the twin behind the continuous and sampled passivity gate."""
     rig = paper_rig()
-    period, delay = rig.period, rig.control.delay_samples
-    filt = rig.control.velocity_filter_hz
+    period, delay = rig.period, rig.control.delay
+    filt = rig.control.velocity_filter
     duration = 1.0 if quick else 2.0
     cases = [
         ("Ours, kd = 1000, bd = 25", OursController(1000.0, 25.0, period, velocity_filter=filt),
@@ -263,7 +258,7 @@ def stage_deploy(quick: bool) -> Section:
         stage_progress(len(rows), len(cases), label)
         plant = TwinPlant(rig, load_mass=0.1)
         plant.reset(x_A=0.02, x_L=0.02)
-        hw = SimulatedHardware(plant, delay_samples=delay)
+        hw = SimulatedHardware(plant, delay=delay)
         try:
             loop = ControlLoop(
                 hw, ctrl, period=period, force_limit=rig.force_limit,

@@ -13,6 +13,7 @@ from ...batch.step_metrics import batch_step_metrics
 from ...batch.verdicts import batch_is_passive
 from ...model.catalog import PAPER_VALUES
 from ...model.catalog import design as catalog_design
+from ...model.experiment import PAPER_EXPERIMENT
 from ...paper.simstudy import run_simulation_study
 from ...plot.sim import plot_simulation_study, plot_tradeoff
 from ..document import FigureData, Finding, Section, Table, Verdict
@@ -99,7 +100,11 @@ def stage_simulation(quick: bool) -> Section:
     )
 
 
-_LOAD_MASS, _STEP, _HORIZON = 10.0, 0.5, 10.0
+_LOAD_MASS, _STEP, _HORIZON = (
+    PAPER_EXPERIMENT.load_mass,
+    PAPER_EXPERIMENT.step,
+    PAPER_EXPERIMENT.horizon,
+)
 
 
 def _tuned_lp(quick: bool) -> tuple[float, float | None]:
