@@ -22,7 +22,7 @@ import sympy as sp
 
 from ..errors import NotPassiveError, ParameterError
 from ..model.design_file import Design
-from ..model.loop import SampledLoop
+from ..model.loop import LoopAttributes, SampledLoop
 from ..sampled.controllers import DiscreteController, filter_pole
 from .envelope import GainEnvelope, certify_gains, sampled_verdict
 from .realization import FilterSpec, realize
@@ -31,7 +31,7 @@ __all__ = ["Deployment", "plan_deployment"]
 
 
 @dataclass(frozen=True)
-class Deployment:
+class Deployment(LoopAttributes):
     """The deployed controller of a design with the envelope it was certified for.
 
     Attributes
@@ -76,16 +76,6 @@ class Deployment:
     def period(self) -> Fraction:
         """Certified sampling period (s), exactly as the analysis used it."""
         return self.loop.exact_period
-
-    @property
-    def delay(self) -> int:
-        """Certified delay (samples) from sampling to applying the command."""
-        return self.loop.delay
-
-    @property
-    def velocity_filter(self) -> float | None:
-        """Cut-off (Hz) of the velocity low-pass, or None."""
-        return self.loop.velocity_filter
 
     @property
     def hardware_delay(self) -> int:

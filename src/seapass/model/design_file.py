@@ -78,7 +78,7 @@ from ..files.textfile import check_input_file
 from ..files.toml import load_toml_file
 from .display import html_card, short_repr
 from .experiment import PAPER_EXPERIMENT
-from .loop import LOOP_KEYS, SampledLoop
+from .loop import LOOP_KEYS, LoopAttributes, SampledLoop
 from .sea import SEA
 
 __all__ = ["Design", "load_design", "parse_design"]
@@ -96,7 +96,7 @@ _MAX_STEP = 100.0  # m
 
 
 @dataclass(frozen=True, repr=False)
-class Design:
+class Design(LoopAttributes):
     """A complete SEA design: model, parameter values, ranges and test conditions.
 
     Attributes
@@ -230,12 +230,7 @@ class Design:
     @property
     def control_delay(self) -> int:
         """Computational delay (samples), 0 without a loop (``loop.delay``)."""
-        return 0 if self.loop is None else self.loop.delay
-
-    @property
-    def velocity_filter(self) -> float | None:
-        """Cut-off (Hz) of the velocity low-pass, or None (``loop.velocity_filter``)."""
-        return None if self.loop is None else self.loop.velocity_filter
+        return self.delay
 
     @property
     def tuning_mass(self) -> float:

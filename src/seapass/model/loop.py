@@ -53,6 +53,7 @@ __all__ = [
     "LOOP_KEYS",
     "METHODS",
     "PERIOD_RANGE",
+    "LoopAttributes",
     "Method",
     "SampledLoop",
     "loop_argument",
@@ -287,6 +288,26 @@ class SampledLoop:
             ("discretization", self.method),
         ]
         return html_card(f"Sampled loop: {self.label}", rows)
+
+
+class LoopAttributes:
+    """``delay`` and ``velocity_filter`` of the `SampledLoop` an object holds as ``loop``.
+
+    A mixin for the designs, results and deployments that carry a loop, so that
+    ``result.delay`` reads the loop (0 and None without one) in one place.
+    """
+
+    loop: SampledLoop | None
+
+    @property
+    def delay(self) -> int:
+        """Samples of delay of the loop (0 without one)."""
+        return 0 if self.loop is None else self.loop.delay
+
+    @property
+    def velocity_filter(self) -> float | None:
+        """Cut-off (Hz) of the loop's velocity low-pass, or None."""
+        return None if self.loop is None else self.loop.velocity_filter
 
 
 def _bounded(value: Any, key: str, lo: float, hi: float, *, open_lo: bool = True) -> float:

@@ -19,7 +19,7 @@ from typing import Any
 
 from ..errors import ParameterError, SeapassError, UnrealizableError
 from ..model.display import Shown, html_card, short_repr
-from ..model.loop import SampledLoop, loop_argument
+from ..model.loop import LoopAttributes, SampledLoop, loop_argument
 from ..model.sea import SEA
 from .boxes import BoxVerdict, bound_boxes
 from .controllers import controller_tfs
@@ -48,7 +48,7 @@ class Edge:
 
 
 @dataclass(frozen=True, repr=False)
-class SampledBoundResult:
+class SampledBoundResult(LoopAttributes):
     """Certified passive values of one parameter (`sampled_passive_bound`).
 
     Attributes
@@ -86,14 +86,6 @@ class SampledBoundResult:
     @property
     def period(self) -> float:
         return self.loop.period
-
-    @property
-    def delay(self) -> int:
-        return self.loop.delay
-
-    @property
-    def velocity_filter(self) -> float | None:
-        return self.loop.velocity_filter
 
     def to_dict(self) -> dict[str, Any]:
         return {

@@ -54,7 +54,7 @@ import numpy as np
 
 from ..errors import ModelError, NotPassiveError, ParameterError
 from ..model.display import html_card, short_repr
-from ..model.loop import SampledLoop, loop_argument
+from ..model.loop import LoopAttributes, SampledLoop, loop_argument
 from ..model.sea import SEA
 from .controllers import DiscreteController, controller_tfs
 from .lowfreq import LowFrequency, low_frequency_of
@@ -108,7 +108,7 @@ _DETAILS = {
 
 
 @dataclass(frozen=True, repr=False)
-class SampledPassivityResult:
+class SampledPassivityResult(LoopAttributes):
     """Certified verdict of `sampled_passivity`.
 
     Attributes
@@ -154,14 +154,6 @@ class SampledPassivityResult:
     @property
     def period(self) -> float:
         return math.nan if self.loop is None else self.loop.period
-
-    @property
-    def delay(self) -> int:
-        return 0 if self.loop is None else self.loop.delay
-
-    @property
-    def velocity_filter(self) -> float | None:
-        return None if self.loop is None else self.loop.velocity_filter
 
     @property
     def marginal(self) -> bool:
