@@ -304,33 +304,20 @@ def add_loop_options(
     """
     from ..files.limits import MAX_DELAY_SAMPLES
 
+    file = " (default: the design file's, else {})"
     g = p.add_argument_group(what)
     g.add_argument("--period", type=float, default=period, metavar="T", help=period_help)
-    g.add_argument(
-        "--delay",
-        type=int,
-        default=delay,
-        metavar="N",
-        help=f"computational delay in samples, 0 to {MAX_DELAY_SAMPLES}"
-        + ("" if delay is not None else " (default: the design file's, else 0)"),
-    )
-    g.add_argument(
-        "--velocity-filter",
-        type=float,
-        default=velocity_filter,
-        metavar="HZ",
-        help="first-order low-pass on the finite-difference velocity, cut-off in Hz below "
-        "the Nyquist frequency 1/(2T)"
-        + ("" if velocity_filter is not None else " (default: the design file's, else none)"),
-    )
+    g.add_argument("--delay", type=int, default=delay, metavar="N",
+                   help=f"computational delay in samples, 0 to {MAX_DELAY_SAMPLES}"
+                   + ("" if delay is not None else file.format(0)))  # fmt: skip
+    g.add_argument("--velocity-filter", type=float, default=velocity_filter, metavar="HZ",
+                   help="first-order low-pass on the finite-difference velocity, cut-off in Hz "
+                   "below the Nyquist frequency 1/(2T)"
+                   + ("" if velocity_filter is not None else file.format("none")))  # fmt: skip
     if method:
-        g.add_argument(
-            "--method",
-            choices=("tustin", "zoh", "backward"),
-            default=None,
-            help="discretization of strictly proper controller parts; derivatives always use "
-            "backward differences (default: the design file's, else tustin)",
-        )
+        g.add_argument("--method", choices=("tustin", "zoh", "backward"),
+                       help="discretization of strictly proper controller parts; derivatives "
+                       "always use backward differences" + file.format("tustin"))  # fmt: skip
     return g
 
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
-from ..errors import ParameterError, SeapassError
+from ..errors import SeapassError
 from ..model.catalog import REFERENCE_VALUES
 from ..model.design_file import Design, parse_design
 from ..model.experiment import PAPER_EXPERIMENT
@@ -143,11 +143,8 @@ class ExploreState:
 
     @property
     def loop(self) -> SampledLoop | None:
-        if self.period is None:
-            return None
-        return SampledLoop(
-            period=self.period, delay=self.delay, velocity_filter=self.velocity_filter
-        )
+        p, d, f = self.period, self.delay, self.velocity_filter
+        return None if p is None else SampledLoop(period=p, delay=d, velocity_filter=f)
 
     def key(self, *, without: tuple[str, ...] = (), extra: tuple[str, ...] = ()) -> str:
         """Canonical text of the model, the values except ``without`` and the fields ``extra``."""
@@ -226,16 +223,13 @@ class ExploreState:
         ]
         if d.loop is not None:
             lines += ["", "[control]"]
-            lines += [f"{k} = {_toml_value(v)}" for k, v in d.loop.to_table().items()]
+            lines += [  # rate or period, delay, velocity filter: numbers (the method is Tustin)
+                f"{k} = {_toml_float(v) if isinstance(v, float) else v}"
+                for k, v in d.loop.to_table().items()
+            ]
         text = "\n".join(lines) + "\n"
         parse_design(tomllib.loads(text))  # what we write must load
         return text
-
-
-def _toml_value(value: float | int | str) -> str:
-    if isinstance(value, str):
-        return _toml_str(value)
-    return _toml_float(value) if isinstance(value, float) else str(value)
 
 
 def _toml_str(text: str) -> str:
@@ -486,11 +480,10 @@ def check_state(data: Any) -> StateCheck:
         )
         state.sea()
         state.loop  # noqa: B018 - the filter below the Nyquist frequency of the period
-    except ParameterError as exc:
-        if exc.argument in ("period", "delay", "velocity_filter"):
-            return StateCheck(None, {exc.argument: str(exc)[len(exc.argument) + 2 :]})
-        return StateCheck(None, {_field_of(str(exc)): str(exc)})
     except SeapassError as exc:
+        arg = exc.argument or ""
+        if arg in ("period", "delay", "velocity_filter"):
+            return StateCheck(None, {arg: str(exc)[len(arg) + 2 :]})
         return StateCheck(None, {_field_of(str(exc)): str(exc)})
     return StateCheck(state, {})
 
