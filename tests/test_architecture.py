@@ -184,3 +184,15 @@ def test_lazy_names_resolve() -> None:
     assert set(dir(seapass)) >= set(seapass.__all__)
     with pytest.raises(AttributeError, match="nothing"):
         _ = seapass.nothing  # type: ignore[attr-defined]
+
+
+def test_every_layer_is_reachable_from_the_front_door() -> None:
+    """``seapass.<unit>`` works for every subpackage and top-level module of `LAYERS`."""
+    import seapass
+
+    for group in LAYERS:
+        for name in group:
+            if name == "version":
+                continue  # ``seapass.__version__`` is its one name
+            assert getattr(seapass, name).__name__ == f"seapass.{name}", name
+            assert name in dir(seapass), name

@@ -263,23 +263,23 @@ class Table:
 
 @dataclass(frozen=True)
 class FigureData:
-    """A rendered figure: ``figures/<name>.png`` and, when given, ``figures/<name>.svg``.
+    """A rendered figure: ``figures/<name>.png`` and ``figures/<name>.svg``.
 
     Build it from a matplotlib figure (or its Axes) with `FigureData.of`,
-    which renders both formats.
+    which renders both formats; every figure of a report has both.
     """
 
     name: str
     caption: str
     png: bytes = field(repr=False)
-    svg: bytes | None = field(default=None, repr=False)
+    svg: bytes = field(repr=False)
 
     def __post_init__(self) -> None:
         if not _FILE.match(self.name):
             raise ParameterError(f"figure name {self.name!r} is not a plain file stem")
         if not self.png.startswith(b"\x89PNG"):
             raise ParameterError(f"figure {self.name!r}: not PNG data")
-        if self.svg is not None and b"<svg" not in self.svg[:2000]:
+        if b"<svg" not in self.svg[:2000]:
             raise ParameterError(f"figure {self.name!r}: not SVG data")
 
     @classmethod
@@ -293,10 +293,7 @@ class FigureData:
     @property
     def files(self) -> dict[str, bytes]:
         """Relative path to content of every file of this figure."""
-        out = {f"figures/{self.name}.png": self.png}
-        if self.svg is not None:
-            out[f"figures/{self.name}.svg"] = self.svg
-        return out
+        return {f"figures/{self.name}.png": self.png, f"figures/{self.name}.svg": self.svg}
 
 
 @dataclass(frozen=True)
