@@ -6,7 +6,8 @@ import argparse
 from typing import Any
 
 from ..errors import CompilerError, ParameterError, SeapassError
-from .common import add_json_option, announce, check_out_dir, check_rtol, print_json
+from ..files.limits import MAX_RTOL, MIN_RTOL, check_rtol
+from .common import add_json_option, announce, check_out_dir, print_json
 
 EXAMPLE = """examples:
   seapass export c examples/ours.toml --out firmware/
@@ -89,7 +90,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         type=float,
         default=1e-6,
         help="relative width of the certified edge enclosures of each tunable gain's "
-        "interval, in [1e-12, 1e-2] (default: 1e-6)",
+        f"interval, in [{MIN_RTOL:g}, {MAX_RTOL:g}] (default: 1e-6)",
     )
     c.add_argument(
         "--verify",

@@ -9,14 +9,13 @@ import sys
 from typing import Any
 
 from ..errors import ParameterError
-from ..files.limits import MAX_DELAY_SAMPLES, MIN_RTOL
+from ..files.limits import MAX_DELAY_SAMPLES, MAX_RTOL, MIN_RTOL, check_rtol
 from .common import (
     add_json_option,
     add_model_options,
     add_out_dir_option,
     check_out_dir,
     check_period,
-    check_rtol,
     json_text,
     model_from_args,
     parse_range,
@@ -114,7 +113,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "--rtol",
         type=float,
         default=1e-9,
-        help=f"relative width of every edge enclosure, in [{MIN_RTOL:g}, 1e-2]",
+        help=f"relative width of every edge enclosure, in [{MIN_RTOL:g}, {MAX_RTOL:g}]",
     )
     add_model_options(b)
     _loop_options(b)
@@ -138,7 +137,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "--rtol",
         type=float,
         default=1e-6,
-        help=f"relative width of edge enclosures, in [{MIN_RTOL:g}, 1e-2]",
+        help=f"relative width of edge enclosures, in [{MIN_RTOL:g}, {MAX_RTOL:g}]",
     )
     add_model_options(r)
     _loop_options(r, delay=1, velocity_filter=50.0)

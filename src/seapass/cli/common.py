@@ -20,7 +20,6 @@ in the project notes and the README's command-line section):
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import re
 import sys
@@ -62,7 +61,6 @@ __all__ = [
     "check_names",
     "check_out_dir",
     "check_period",
-    "check_rtol",
     "check_step",
     "cli_flag",
     "deprecated_alias",
@@ -186,6 +184,9 @@ def error_text(exc: BaseException) -> str:
         arg = getattr(exc, "argument", None)
         if arg and msg.startswith(f"{arg}: "):
             msg = f"{cli_flag(arg)}: {msg[len(arg) + 2 :]}"
+        elif arg and re.fullmatch(r"[a-z][a-z0-9_]*", arg):  # "rtol must ...; got rtol=0"
+            flag = cli_flag(arg)
+            msg = re.sub(rf"(?<![\w.'\[-]){arg}(=| )", lambda m: f"{flag} ", msg)
         msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"e.g. --set \1=VALUE", msg)
         msg = re.sub(r"values\['(\w+)'\]", r"--set \1", msg)
         msg = re.sub(r"\b([a-z][a-z_]*)=True\b", lambda m: "--" + m.group(1).replace("_", "-"), msg)
@@ -270,17 +271,6 @@ def parse_range(text: str, flag: str = "--range", *, strict: bool = False) -> tu
 
 
 # --------------------------------------------------------------------------- models
-
-
-def check_rtol(rtol: float, flag: str = "--rtol") -> None:
-    """The relative width of a certified edge enclosure: ``MIN_RTOL`` to 1e-2 (0 never ends)."""
-    from ..files.limits import MIN_RTOL
-
-    if not (math.isfinite(rtol) and MIN_RTOL <= rtol <= 1e-2):
-        raise ParameterError(
-            f"{flag} must be in [{MIN_RTOL:g}, 1e-2], the relative width of a certified edge "
-            f"enclosure; got {flag} {rtol:g}"
-        )
 
 
 def add_jobs_argument(p: argparse.ArgumentParser) -> None:

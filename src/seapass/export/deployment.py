@@ -21,6 +21,7 @@ from typing import Any
 import sympy as sp
 
 from ..errors import NotPassiveError, ParameterError
+from ..files.limits import check_rtol
 from ..model.design_file import Design
 from ..sampled.controllers import DiscreteController, filter_pole
 from .envelope import GainEnvelope, certify_gains, sampled_verdict
@@ -181,6 +182,7 @@ def plan_deployment(
             f"design {design.name!r} has no [control] rate; the exported controller needs its "
             "sampling rate: add [control] rate = 500.0 (Hz) to the design file"
         )
+    check_rtol(rtol)  # before the (slow) certification
     period = float(design.period)
     delay = int(design.control_delay)
     if (

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 import re
 from collections.abc import Mapping, Sequence
@@ -28,6 +27,7 @@ from types import MappingProxyType
 from typing import Any
 
 from ..errors import ParameterError
+from ..files.jsontext import json_text as to_json
 
 __all__ = [
     "Discrepancy",
@@ -187,23 +187,6 @@ def format_intervals(intervals: Sequence[tuple[float, float]], hi: float) -> str
         end = f"{b:.6g}" + (" (search limit)" if b >= hi else "")
         parts.append(f"[{a:.6g}, {end}]" if a != b else f"{{{a:.6g}}}")
     return " ∪ ".join(parts)
-
-
-def to_json(obj: Any) -> str:
-    """Strict, stable JSON text (non-finite floats become null, numpy scalars plain)."""
-
-    def clean(o: Any) -> Any:
-        if isinstance(o, float) and not math.isfinite(o):
-            return None
-        if isinstance(o, Mapping):
-            return {str(k): clean(v) for k, v in o.items()}
-        if isinstance(o, list | tuple):
-            return [clean(v) for v in o]
-        if hasattr(o, "item") and callable(o.item) and not isinstance(o, str | bytes):
-            return clean(o.item())
-        return o
-
-    return json.dumps(clean(obj), indent=2, allow_nan=False) + "\n"
 
 
 def _csv_cell(value: Any) -> str:

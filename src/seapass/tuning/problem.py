@@ -16,14 +16,13 @@ the paper's plant with the catalog's gains and boxes), a
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, fields, replace
 from enum import StrEnum
 from types import MappingProxyType
 from typing import Any, TypeAlias
 
-from ..errors import ParameterError
+from ..errors import ParameterError, did_you_mean
 from ..model.catalog import PAPER_VALUES, CatalogDesign
 from ..model.catalog import design as catalog_design
 from ..model.design_file import Design
@@ -156,13 +155,8 @@ class TuningOptions:
         known = [f.name for f in fields(self)]
         for name in changes:
             if name not in known:
-                raise ParameterError(f"unknown tuning option {name!r}{_did_you_mean(name, known)}")
+                raise ParameterError(f"unknown tuning option {name!r}{did_you_mean(name, known)}")
         return replace(self, **changes)
-
-
-def _did_you_mean(name: str, choices: Iterable[str]) -> str:
-    close = difflib.get_close_matches(name, list(choices), n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 QUICK_OPTIONS = TuningOptions(maxiter=12, popsize=6, dt_search=1e-2)
@@ -283,7 +277,7 @@ def _gain_boxes(
         if name not in sea.parameters:
             raise ParameterError(
                 f"{where}: {name!r} is not a parameter of the design "
-                f"({', '.join(sea.parameters)}){_did_you_mean(str(name), sea.parameters)}"
+                f"({', '.join(sea.parameters)}){did_you_mean(str(name), sea.parameters)}"
             )
         if symbol(name) in sea.m.free_symbols | sea.b.free_symbols:
             raise ParameterError(
@@ -348,7 +342,7 @@ def resolve_problem(
         if key not in sea.parameters:
             raise ParameterError(
                 f"values[{key!r}]: {key!r} is not a parameter of the design "
-                f"({', '.join(sea.parameters)}){_did_you_mean(key, sea.parameters)}"
+                f"({', '.join(sea.parameters)}){did_you_mean(key, sea.parameters)}"
             )
     if values:
         sea = sea.with_values(**values)
