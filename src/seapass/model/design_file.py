@@ -60,7 +60,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
-from ..errors import FileFormatError, SeapassError
+from ..errors import FileFormatError, ParameterError, SeapassError
 from ..files.limits import (
     MAX_DELAY_SAMPLES,
     MAX_HORIZON,
@@ -71,10 +71,12 @@ from ..files.limits import (
 from ..files.schema import Field, check_table, check_value
 from ..files.textfile import check_input_file
 from ..files.toml import load_toml_file
+from .catalog import CATALOG, CatalogDesign
+from .catalog import design as catalog_design
 from .display import html_card, short_repr
 from .sea import SEA
 
-__all__ = ["DESIGN_FIELDS", "Design", "load_design", "parse_design"]
+__all__ = ["DESIGN_FIELDS", "Design", "load_design", "load_design_or_catalog", "parse_design"]
 
 _ENVIRONMENT = ("mass", "damping", "stiffness")
 _MODEL = ("D1", "D2", "CA", "CL")
@@ -384,3 +386,32 @@ def load_design(path: str | os.PathLike[str]) -> Design:
     """
     p = Path(path)
     return load_toml_file(p, lambda data: parse_design(data, base_dir=p.parent), what="design file")
+
+
+def load_design_or_catalog(name: str | os.PathLike[str]) -> Design | CatalogDesign:
+    """The design a user names: a catalog design (``LP``, ``APD``, ``ours``, any case) or a file.
+
+    A catalog name means the catalog's design unless a file of that name
+    exists; anything else is read as a design file.
+
+    Raises
+    ------
+    ParameterError
+        For a name that is neither (not a catalog name, and no such ``.toml`` file).
+    FileFormatError, OSError
+        As `load_design`.
+
+    Examples
+    --------
+    >>> load_design_or_catalog("apd").key
+    'APD'
+    """
+    path = Path(name)
+    if not path.is_file() and str(name).lower() in {k.lower() for k in CATALOG}:
+        return catalog_design(str(name))
+    if path.suffix != ".toml" and not path.exists():
+        raise ParameterError(
+            f"design {str(name)!r} is neither a design file nor a catalog name "
+            f"({', '.join(CATALOG)})"
+        )
+    return load_design(path)
