@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import io
 import math
 import sys
 from typing import Any
@@ -174,7 +173,7 @@ def _loop_kw(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def run_check(args: argparse.Namespace) -> int:
-    from ..sampled.passivity import sampled_passivity, sampled_power_curve
+    from ..sampled.passivity import power_curve_csv, sampled_passivity, sampled_power_curve
 
     kw = _loop_kw(args)
     d = check_out_dir(args.out)
@@ -188,8 +187,7 @@ def run_check(args: argparse.Namespace) -> int:
         if res.reason in ("", "negative_power", "low_frequency", "undecided"):
             curve = {k: v for k, v in kw.items() if k != "max_precision"}
             w, n = sampled_power_curve(sea, **curve)
-            rows = "".join(f"{a!r},{b!r}\n" for a, b in zip(w, n, strict=True))
-            write_text(d / "sampled_power.csv", "omega_rad_s,N\n" + rows)
+            write_text(d / "sampled_power.csv", power_curve_csv(w, n))
             save_plot(lambda: plot_power_curve(w, n, period=args.period), d / "sampled_power.png")
     if args.json:
         print_json(res.to_dict())
@@ -201,14 +199,6 @@ def run_check(args: argparse.Namespace) -> int:
         if res.omega is not None:
             print(f"witness: w = {res.omega:.6g} rad/s")
     return 0 if res.passive else 1
-
-
-def _partition_csv(param: str, res: Any) -> str:
-    buf = io.StringIO()
-    buf.write(f"{param}_lo,{param}_hi,status\n")
-    for a, b, status in res.partition:
-        buf.write(f"{a!r},{b!r},{status}\n")
-    return buf.getvalue()
 
 
 def run_bound(args: argparse.Namespace) -> int:
@@ -225,7 +215,7 @@ def run_bound(args: argparse.Namespace) -> int:
     if d is not None:
         from ..plot.sampled import plot_bound
 
-        write_text(d / f"sampled_bound_{args.param}.csv", _partition_csv(args.param, res))
+        write_text(d / f"sampled_bound_{args.param}.csv", res.to_csv())
         write_text(d / f"sampled_bound_{args.param}.json", json_text(out))
         save_plot(lambda: plot_bound(res), d / f"sampled_bound_{args.param}.png")
     if args.json:

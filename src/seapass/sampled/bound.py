@@ -97,6 +97,15 @@ class SampledBoundResult:
             "low_frequency": self.low_frequency,
         }
 
+    def to_csv(self) -> str:
+        """The whole range as proven boxes and leaves, one per line: ``lo, hi, status``.
+
+        The header names the parameter (``kd_lo,kd_hi,status``); numbers are
+        written exactly (``repr``).
+        """
+        rows = "".join(f"{a!r},{b!r},{status}\n" for a, b, status in self.partition)
+        return f"{self.param}_lo,{self.param}_hi,status\n{rows}"
+
     def plot(self, *, ax: Any = None) -> Any:
         """The certified passive intervals, edge enclosures and design value on one axis.
 
