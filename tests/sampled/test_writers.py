@@ -24,7 +24,9 @@ def test_power_curve_csv_holds_plain_exact_numbers() -> None:
     w, n = sampled_power_curve(OURS.with_values(kd=2000), period=0.002, n=5)
     rows = _rows(power_curve_csv(w, n))
     assert rows[0] == ["omega_rad_s", "N"] and len(rows) == 6
-    assert [[float(a), float(b)] for a, b in rows[1:]] == [[a, b] for a, b in zip(w, n)]
+    assert [[float(a), float(b)] for a, b in rows[1:]] == [
+        [a, b] for a, b in zip(w, n, strict=True)
+    ]
 
 
 def test_bound_csv_is_the_partition() -> None:
