@@ -15,6 +15,8 @@ from seapass.errors import ParameterError
 from seapass.files.limits import MAX_FREQUENCY_POINTS
 from seapass.model.sea import Impedance
 
+RESPONSE = ["response", "--D1", "k1", "--set", "m=1", "--set", "b=1", "--set", "k1=1"]
+
 
 def test_log_frequencies() -> None:
     w = log_frequencies(0.1, 1e4, 6)
