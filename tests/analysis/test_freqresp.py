@@ -17,6 +17,8 @@ from seapass.model.sea import Impedance
 
 RESPONSE = ["response", "--D1", "k1", "--set", "m=1", "--set", "b=1", "--set", "k1=1"]
 
+RESPONSE = ["response", "--D1", "k1", "--set", "m=1", "--set", "b=1", "--set", "k1=1"]
+
 
 def test_log_frequencies() -> None:
     w = log_frequencies(0.1, 1e4, 6)
@@ -39,22 +41,7 @@ def test_the_library_default_grid_has_the_same_limit() -> None:
     [
         (["plot", "real", "--Z", "1/(s+1)", "--omega", "1:x"], "--omega end"),  # was "--range end"
         (["plot", "real", "--Z", "1/(s+1)", "--points", "1"], "got --points 1"),
-        (
-            [
-                "response",
-                "--D1",
-                "k1",
-                "--set",
-                "m=1",
-                "--set",
-                "b=1",
-                "--set",
-                "k1=1",
-                "--omega",
-                "10:10",
-            ],
-            "--omega must be positive frequencies 0 < lo < hi",
-        ),  # fmt: skip
+        ([*RESPONSE, "--omega", "10:10"], "--omega must be positive frequencies 0 < lo < hi"),
     ],
 )
 def test_the_cli_words(argv: list[str], says: str) -> None:
