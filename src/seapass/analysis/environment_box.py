@@ -91,11 +91,14 @@ class EnvironmentBounds:
             try:
                 lo, hi = (float(v) for v in value)
             except (TypeError, ValueError):
-                raise ParameterError(f"bounds.{name}: expected (lo, hi), got {value!r}") from None
+                raise ParameterError(
+                    f"bounds.{name}: expected (lo, hi), got {value!r}", argument=f"bounds.{name}"
+                ) from None
             if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo <= hi):
                 raise ParameterError(
                     f"bounds.{name}: need finite 0 <= lo <= hi (a passive environment), "
-                    f"got ({lo:g}, {hi:g})"
+                    f"got ({lo:g}, {hi:g})",
+                    argument=f"bounds.{name}",
                 )
             object.__setattr__(self, name, (lo, hi))
 

@@ -166,6 +166,8 @@ def cli_flag(argument: str) -> str:
         return f"{_KEYED[m.group(1)]} {m.group(2)}"
     if argument in _FLAGS:
         return _FLAGS[argument]
+    if argument.startswith("bounds."):  # an environment box: --mass, --damping, --stiffness
+        return "--" + argument[len("bounds.") :]
     if re.fullmatch(r"[a-z][a-z0-9_]*", argument):
         return "--" + argument.replace("_", "-")
     return argument
