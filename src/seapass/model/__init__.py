@@ -9,7 +9,7 @@ a state-space system), [`catalog`][seapass.model.catalog] (the one catalog of na
 designs: LP, APD, Ours and every Table I/II row) and
 [`design_file`][seapass.model.design_file] (a user's design as a strict TOML file).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact].
+May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files].
 """
 
 from .catalog import CATALOG, PAPER_VALUES, REFERENCE_VALUES, CatalogDesign, design

@@ -7,7 +7,7 @@ matrix-exponential simulation with a load mass), [`metrics`][seapass.sim.metrics
 (one simulation with its metrics and the design's passivity: ``seapass simulate``).  Tuning lives in
 [`seapass.tuning`][seapass.tuning] (it also needs the sampled-data analysis).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model],
+May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
 [`seapass.analysis`][seapass.analysis].
 """
 
