@@ -6,8 +6,10 @@ files, arrays, step counts, expressions, text), [`textfile`][seapass.files.textf
 [`atomic`][seapass.files.atomic] (write a file or a directory so that an
 interrupted run never leaves a half-written one), [`toml`][seapass.files.toml]
 (read design and rig files; every error names the file; write the flat tables
-seapass writes back) and [`jsontext`][seapass.files.jsontext] (strict JSON text of
-any result: non-finite numbers null, numpy values plain).
+seapass writes back), [`schema`][seapass.files.schema] (the declarative checker of
+design and rig files: a `Field` per key), [`jsontext`][seapass.files.jsontext] (strict
+JSON text of any result: non-finite numbers null, numpy values plain) and
+[`csvtext`][seapass.files.csvtext] (CSV text of result rows).
 
 May import: [`seapass.errors`][seapass.errors] only.
 """
