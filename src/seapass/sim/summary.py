@@ -122,15 +122,9 @@ def simulation_summary(
 
     Parameters
     ----------
-    sea : SEA
-        The design; every parameter needs a value.
-    load_mass : float
-        Load mass ``m_L`` (kg), positive.
-    scenario : Step, LoadDisplaced, ForceStep, ForceImpulse or Trajectory, optional
-        What happens; default [`Step()`][seapass.sim.scenarios.Step].
-    horizon, dt : float
-        Simulated time and largest time step (s), as for
-        [`simulate`][seapass.sim.simulate.simulate].
+    sea, load_mass, scenario, horizon, dt
+        As for [`simulate`][seapass.sim.simulate.simulate] (default scenario: a
+        0.5 m reference step).
     tolerance : float
         Settling band, a fraction of the motion.
 
