@@ -163,7 +163,7 @@ def test_cli_tune_feasible_and_infeasible_exit_codes():
         (["ours", "--tune", "kx=0:5"], "--tune kx: not a parameter of the design"),
         (["ours", "--bound", "kdd=0:5"], "did you mean 'kd'"),
         (["ours", "--tune", "kd=0:5", "--tune", "kd=0:9"], "twice"),
-        (["ours", "--tune", "kd=5:1"], "LO < HI"),
+        (["ours", "--tune", "kd=5:1"], "--tune kd: need lo < hi"),
         (["ours", "--set", "kdd=5000"], "did you mean 'kd'"),
         (["ours", "--set", "k1=1", "--set", "k1=2"], "twice"),
         (["LP", "--set", "kd=3"], "kd is tuned"),

@@ -123,7 +123,8 @@ def did_you_mean(name: str, choices: Iterable[str]) -> str:
     """
     import difflib  # light, and only on the error path
 
-    close = difflib.get_close_matches(name, list(choices), n=1, cutoff=0.6)
+    choices = list(choices)  # an iterator is read twice below
+    close = difflib.get_close_matches(name, choices, n=1, cutoff=0.6)
     if not close:
         lowered = {c.lower(): c for c in choices}
         close = [lowered[name.lower()]] if name.lower() in lowered else []

@@ -50,7 +50,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from flint import fmpq, fmpq_poly
+from flint import fmpq_poly
 
 from ..errors import ParameterError
 from ..exact import poly as ep
@@ -91,11 +91,14 @@ class EnvironmentBounds:
             try:
                 lo, hi = (float(v) for v in value)
             except (TypeError, ValueError):
-                raise ParameterError(f"bounds.{name}: expected (lo, hi), got {value!r}") from None
+                raise ParameterError(
+                    f"bounds.{name}: expected (lo, hi), got {value!r}", argument=f"bounds.{name}"
+                ) from None
             if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo <= hi):
                 raise ParameterError(
                     f"bounds.{name}: need finite 0 <= lo <= hi (a passive environment), "
-                    f"got ({lo:g}, {hi:g})"
+                    f"got ({lo:g}, {hi:g})",
+                    argument=f"bounds.{name}",
                 )
             object.__setattr__(self, name, (lo, hi))
 
@@ -150,18 +153,14 @@ class _Polys:
         return cls(real_part_polynomial(num, den), w, squared_magnitude_polynomial(den))
 
 
-def _q(x: float) -> fmpq:
-    return ep.rational(x)
-
-
 def _conditions(polys: _Polys, b: EnvironmentBounds) -> tuple[fmpq_poly, ...]:
     """``c1 ≤ 0, c2 ≥ 0, c3 ≤ 0, c4 ≥ 0`` (see the module docstring)."""
     (m_lo, m_hi), (b_lo, b_hi), (k_lo, k_hi) = b.mass, b.damping, b.stiffness
     xm = fmpq_poly([0, 1]) * polys.m
-    c1 = _q(b_lo) * polys.m + polys.p
-    c2 = _q(b_hi) * polys.m + polys.p
-    c3 = _q(m_lo) * xm + polys.w - _q(k_hi) * polys.m
-    c4 = _q(m_hi) * xm + polys.w - _q(k_lo) * polys.m
+    c1 = ep.rational(b_lo) * polys.m + polys.p
+    c2 = ep.rational(b_hi) * polys.m + polys.p
+    c3 = ep.rational(m_lo) * xm + polys.w - ep.rational(k_hi) * polys.m
+    c4 = ep.rational(m_hi) * xm + polys.w - ep.rational(k_lo) * polys.m
     return c1, c2, c3, c4
 
 
@@ -224,7 +223,7 @@ def certify_box(
     if num.is_zero():
         return BoxCertificate(False, "Z is identically zero")
     rn, rd = reduced_impedance(num, den)
-    m_lo, m_hi = (_q(v) for v in bounds.mass)
+    m_lo, m_hi = (ep.rational(v) for v in bounds.mass)
     if m_lo == 0:
         return BoxCertificate(False, "the mass bound includes 0, where the coupled order drops")
     if rn.degree() == rd.degree() + 1:
@@ -255,7 +254,7 @@ def certify_box(
 
 def _zero_crossing(rn: fmpq_poly, rd: fmpq_poly, bounds: EnvironmentBounds) -> str:
     """Why a coupled pole may sit at ``s = 0`` for an environment in the box (``""``: none)."""
-    (k_lo, k_hi), b_lo = bounds.stiffness, _q(bounds.damping[0])
+    (k_lo, k_hi), b_lo = bounds.stiffness, ep.rational(bounds.damping[0])
     if rd[0] != 0:  # Z(0) finite: F(0) = D(0) k
         if k_lo > 0:
             return ""
@@ -269,7 +268,7 @@ def _zero_crossing(rn: fmpq_poly, rd: fmpq_poly, bounds: EnvironmentBounds) -> s
     residue = rn[0] / rd[1] if rd[1] != 0 else None
     if residue is None:
         return "Z has a repeated pole at s = 0"
-    if _q(k_lo) <= -residue <= _q(k_hi):
+    if ep.rational(k_lo) <= -residue <= ep.rational(k_hi):
         return f"a spring of k = {float(-residue):.6g} N/m cancels Z's static stiffness"
     return ""
 

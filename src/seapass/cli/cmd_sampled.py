@@ -3,22 +3,18 @@
 from __future__ import annotations
 
 import argparse
-import io
 import math
 import sys
 from typing import Any
 
 from ..errors import ParameterError
-from ..files.limits import MIN_RTOL
+from ..files.limits import MAX_RTOL, MIN_RTOL, check_rtol
 from .common import (
     add_json_option,
-    add_loop_options,
     add_model_options,
     add_out_dir_option,
     check_out_dir,
-    check_rtol,
     json_text,
-    loop_from_args,
     model_from_args,
     parse_range,
     print_json,
@@ -26,6 +22,7 @@ from .common import (
     warn_unrealizable,
     write_text,
 )
+from .loop_options import add_loop_options, loop_from_args
 
 EXAMPLE = """examples:
   seapass sampled check --period 0.002 --D1 "k1 + b1*s" --CA "kd + bd*s" \\
@@ -94,7 +91,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "--rtol",
         type=float,
         default=1e-9,
-        help=f"relative width of every edge enclosure, in [{MIN_RTOL:g}, 1e-2]",
+        help=f"relative width of every edge enclosure, in [{MIN_RTOL:g}, {MAX_RTOL:g}]",
     )
     add_model_options(b)
     _loop_options(b)
@@ -118,7 +115,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "--rtol",
         type=float,
         default=1e-6,
-        help=f"relative width of edge enclosures, in [{MIN_RTOL:g}, 1e-2]",
+        help=f"relative width of edge enclosures, in [{MIN_RTOL:g}, {MAX_RTOL:g}]",
     )
     add_model_options(r)
     _loop_options(r, delay=1, velocity_filter=50.0)
@@ -130,7 +127,7 @@ def _range(text: str, flag: str = "--range") -> tuple[float, float]:
 
 
 def run_check(args: argparse.Namespace) -> int:
-    from ..sampled.passivity import sampled_passivity, sampled_power_curve
+    from ..sampled.passivity import power_curve_csv, sampled_passivity, sampled_power_curve
 
     loop = loop_from_args(args)
     d = check_out_dir(args.out)
@@ -143,8 +140,7 @@ def run_check(args: argparse.Namespace) -> int:
         write_text(d / "sampled_check.json", json_text(res.to_dict()))
         if res.reason in ("", "negative_power", "low_frequency", "undecided"):
             w, n = sampled_power_curve(sea, loop=loop)
-            rows = "".join(f"{a!r},{b!r}\n" for a, b in zip(w, n, strict=True))
-            write_text(d / "sampled_power.csv", "omega_rad_s,N\n" + rows)
+            write_text(d / "sampled_power.csv", power_curve_csv(w, n))
             save_plot(lambda: plot_power_curve(w, n, period=loop.period), d / "sampled_power.png")
     if args.json:
         print_json(res.to_dict())
@@ -156,14 +152,6 @@ def run_check(args: argparse.Namespace) -> int:
         if res.omega is not None:
             print(f"witness: w = {res.omega:.6g} rad/s")
     return 0 if res.passive else 1
-
-
-def _partition_csv(param: str, res: Any) -> str:
-    buf = io.StringIO()
-    buf.write(f"{param}_lo,{param}_hi,status\n")
-    for a, b, status in res.partition:
-        buf.write(f"{a!r},{b!r},{status}\n")
-    return buf.getvalue()
 
 
 def run_bound(args: argparse.Namespace) -> int:
@@ -183,7 +171,7 @@ def run_bound(args: argparse.Namespace) -> int:
     if d is not None:
         from ..plot.sampled import plot_bound
 
-        write_text(d / f"sampled_bound_{args.param}.csv", _partition_csv(args.param, res))
+        write_text(d / f"sampled_bound_{args.param}.csv", res.to_csv())
         write_text(d / f"sampled_bound_{args.param}.json", json_text(out))
         save_plot(lambda: plot_bound(res), d / f"sampled_bound_{args.param}.png")
     if args.json:

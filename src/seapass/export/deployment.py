@@ -21,6 +21,7 @@ from typing import Any
 import sympy as sp
 
 from ..errors import NotPassiveError, ParameterError
+from ..files.limits import check_rtol
 from ..model.design_file import Design
 from ..model.loop import LoopAttributes, SampledLoop
 from ..sampled.controllers import DiscreteController, filter_pole
@@ -182,6 +183,7 @@ def plan_deployment(
             f"design {design.name!r} has no [control] rate; the exported controller needs its "
             "sampling rate: add [control] rate = 500.0 (Hz) to the design file"
         )
+    check_rtol(rtol)  # before the (slow) certification
     period, delay = loop.period, loop.delay
     if (
         not isinstance(hardware_delay, int)

@@ -11,7 +11,7 @@ designs: LP, APD, Ours and every Table I/II row), [`experiment`][seapass.model.e
 (`SampledLoop`, the digital controller's period, delay, velocity filter and discretization)
 and [`design_file`][seapass.model.design_file] (a user's design as a strict TOML file).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact].
+May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files].
 """
 
 from .catalog import CATALOG, PAPER_VALUES, REFERENCE_VALUES, CatalogDesign, design

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
@@ -27,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError, TuningWarning
+from ..files.jsontext import json_text
 from ..model.catalog import design as catalog_design
 from ..model.experiment import PAPER_EXPERIMENT
 from ..sim.metrics import TrackingMetrics, tracking_metrics
@@ -152,7 +152,7 @@ class SimulationStudy:
             "rows": self.table_dicts(),
             "ours_fastest": {repr(k): v for k, v in self.ours_fastest().items()},
         }
-        return json.dumps(_finite(doc), indent=2, allow_nan=False) + "\n"
+        return json_text(doc)
 
     def timeseries_csv(self) -> str:
         """Long format: design, load mass, time, x_A, x_L, f_A (all runs share one grid)."""
@@ -163,16 +163,6 @@ class SimulationStudy:
             for row in zip(res.time, res.x_A, res.x_L, res.f_A, strict=True):
                 w.writerow([design, f"{mass:g}", *(f"{v:.9g}" for v in row)])
         return buf.getvalue()
-
-
-def _finite(obj: Any) -> Any:
-    if isinstance(obj, float) and not np.isfinite(obj):
-        return None
-    if isinstance(obj, dict):
-        return {k: _finite(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [_finite(v) for v in obj]
-    return obj
 
 
 def run_simulation_study(

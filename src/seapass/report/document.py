@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 import re
 from collections.abc import Mapping, Sequence
@@ -28,6 +27,7 @@ from types import MappingProxyType
 from typing import Any
 
 from ..errors import ParameterError
+from ..files.jsontext import json_text as to_json
 
 __all__ = [
     "Discrepancy",
@@ -189,23 +189,6 @@ def format_intervals(intervals: Sequence[tuple[float, float]], hi: float) -> str
     return " ∪ ".join(parts)
 
 
-def to_json(obj: Any) -> str:
-    """Strict, stable JSON text (non-finite floats become null, numpy scalars plain)."""
-
-    def clean(o: Any) -> Any:
-        if isinstance(o, float) and not math.isfinite(o):
-            return None
-        if isinstance(o, Mapping):
-            return {str(k): clean(v) for k, v in o.items()}
-        if isinstance(o, list | tuple):
-            return [clean(v) for v in o]
-        if hasattr(o, "item") and callable(o.item) and not isinstance(o, str | bytes):
-            return clean(o.item())
-        return o
-
-    return json.dumps(clean(obj), indent=2, allow_nan=False) + "\n"
-
-
 def _csv_cell(value: Any) -> str:
     if value is None:
         return ""
@@ -263,23 +246,23 @@ class Table:
 
 @dataclass(frozen=True)
 class FigureData:
-    """A rendered figure: ``figures/<name>.png`` and, when given, ``figures/<name>.svg``.
+    """A rendered figure: ``figures/<name>.png`` and ``figures/<name>.svg``.
 
     Build it from a matplotlib figure (or its Axes) with `FigureData.of`,
-    which renders both formats.
+    which renders both formats; every figure of a report has both.
     """
 
     name: str
     caption: str
     png: bytes = field(repr=False)
-    svg: bytes | None = field(default=None, repr=False)
+    svg: bytes = field(repr=False)
 
     def __post_init__(self) -> None:
         if not _FILE.match(self.name):
             raise ParameterError(f"figure name {self.name!r} is not a plain file stem")
         if not self.png.startswith(b"\x89PNG"):
             raise ParameterError(f"figure {self.name!r}: not PNG data")
-        if self.svg is not None and b"<svg" not in self.svg[:2000]:
+        if b"<svg" not in self.svg[:2000]:
             raise ParameterError(f"figure {self.name!r}: not SVG data")
 
     @classmethod
@@ -293,10 +276,7 @@ class FigureData:
     @property
     def files(self) -> dict[str, bytes]:
         """Relative path to content of every file of this figure."""
-        out = {f"figures/{self.name}.png": self.png}
-        if self.svg is not None:
-            out[f"figures/{self.name}.svg"] = self.svg
-        return out
+        return {f"figures/{self.name}.png": self.png, f"figures/{self.name}.svg": self.svg}
 
 
 @dataclass(frozen=True)

@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ParameterError
+from ..files.csvtext import rows_csv
 from ..files.limits import MAX_KD_GAINS
 from ..model.display import html_card, short_repr
 from ..sim.metrics import Settling
@@ -374,6 +375,10 @@ class ExperimentResult:
             for s in self.sweeps
         ]
         return html_card(f"Rig experiment on {self.rig_name}", rows)
+
+    def to_csv(self) -> str:
+        """One line per gain of every sweep (the rows of `RigSweepResult.rows`)."""
+        return rows_csv([r for s in self.sweeps for r in s.rows()])
 
     def to_dict(self) -> dict[str, Any]:
         return {

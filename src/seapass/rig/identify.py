@@ -183,6 +183,23 @@ class RigFit:
         )
 
     @property
+    def warnings(self) -> tuple[str, ...]:
+        """One note per `poorly_determined` parameter: why, and which log pins it down."""
+        out = []
+        for name in self.poorly_determined:
+            others = self.confounded(name)
+            why = (
+                f"correlated with {', '.join(others)} beyond ±0.98"
+                if others
+                else f"standard error {self[name].relative_error:.0%} of the estimate"
+            )
+            out.append(
+                f"{name} is poorly determined by this log ({why}); log a chirp with the load "
+                "free to move"
+            )
+        return tuple(out)
+
+    @property
     def consistent_with_zero(self) -> tuple[str, ...]:
         """Dampings and frictions whose interval holds 0 (or that sit on their bound 0)."""
         return tuple(

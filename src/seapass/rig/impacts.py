@@ -16,6 +16,7 @@ import sympy as sp
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ParameterError
+from ..files.csvtext import rows_csv
 from ..model.display import html_card, short_repr
 from ..model.expr import S
 from ..model.sea import SEA
@@ -149,6 +150,15 @@ class ImpactResult:
         if self.paper_k_out is not None:
             rows.append(("paper (its bench)", "{:g} ± {:g} N/m".format(*self.paper_k_out)))
         return html_card("Perceived stiffness under impacts", rows)
+
+    def to_csv(self) -> str:
+        """One line per impact: its index, step force (N) and the ``k_out`` read (N/m)."""
+        return rows_csv(
+            [
+                {"impact": i, "force": float(f), "k_out": float(k)}
+                for i, (f, k) in enumerate(zip(self.forces, self.k_out, strict=True))
+            ]
+        )
 
     def to_dict(self) -> dict[str, Any]:
         out: dict[str, Any] = {

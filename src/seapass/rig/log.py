@@ -114,6 +114,18 @@ class RigLog:
     def size(self) -> int:
         return int(self.t.size)
 
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """What looks wrong in the log without being an error: positions beyond 1 m
+        (millimetres given for metres?)."""
+        reach = float(max(np.abs(self.x_A).max(), np.abs(self.x_L).max()))
+        if reach > 1.0:
+            return (
+                f"positions reach {reach:g} m; the log's positions must be in metres "
+                "(millimetres given?)",
+            )
+        return ()
+
     def to_csv(self) -> str:
         """The log as CSV text with a header, readable by `parse_log`."""
         buf = io.StringIO()

@@ -29,11 +29,11 @@ from typing import Any
 
 from ..errors import FileFormatError, ParameterError
 from ..files import limits
+from ..files.schema import check_table
 from ..files.toml import dump_toml, load_toml_file
-from ..model.loop import SampledLoop
+from ..model.loop import SampledLoop, rename_rig_control_keys
 from .schema import (
     SCHEMA,
-    TOP_FIELDS,
     ControlSpec,
     DamperSpec,
     EncoderSpec,
@@ -42,8 +42,7 @@ from .schema import (
     LoadSpec,
     MotorSpec,
     TransmissionSpec,
-    build_section,
-    check_value,
+    rig_fields,
 )
 
 __all__ = [
@@ -247,21 +246,11 @@ def parse_rig(data: dict[str, Any]) -> Rig:
         Naming the offending key for unknown keys, wrong types, missing
         required keys or out-of-range values.
     """
-    if not isinstance(data, dict):
-        raise FileFormatError("a rig must be a TOML table")
-    unknown = sorted(set(data) - set(SCHEMA) - set(TOP_FIELDS))
-    if unknown:
-        raise FileFormatError(
-            f"unknown key {unknown[0]}; allowed sections: {', '.join(SCHEMA)} "
-            f"and keys {', '.join(TOP_FIELDS)}"
-        )
-    kwargs: dict[str, Any] = {}
-    for key, spec in TOP_FIELDS.items():
-        kwargs[key] = check_value(key, spec, data[key]) if key in data else spec.default
-    for section in SCHEMA:
-        if section not in data:
-            raise FileFormatError(f"missing required section [{section}]")
-        kwargs[section] = build_section(section, data[section])
+    if isinstance(data.get("control"), dict):  # the loop's one spelling; old rig files still load
+        data = {**data, "control": rename_rig_control_keys(data["control"])}
+    kwargs = check_table(data, rig_fields(), what="a rig")
+    for section, (cls, _fields) in SCHEMA.items():
+        kwargs[section] = cls(**kwargs[section])
     return Rig(**kwargs)
 
 

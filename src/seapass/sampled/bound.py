@@ -18,6 +18,7 @@ from fractions import Fraction
 from typing import Any
 
 from ..errors import ParameterError, SeapassError, UnrealizableError
+from ..files.limits import check_rtol
 from ..model.display import Shown, html_card, short_repr
 from ..model.loop import LoopAttributes, SampledLoop, loop_argument
 from ..model.sea import SEA
@@ -30,9 +31,6 @@ from .plant import plant_key, plant_of
 from .verdict import PRECISIONS, decide
 
 __all__ = ["Edge", "SampledBoundResult", "intervals_text", "sampled_passive_bound"]
-
-#: Smallest and largest relative edge tolerance accepted.
-RTOL_RANGE = (1e-12, 1e-2)
 
 
 @dataclass(frozen=True)
@@ -103,6 +101,15 @@ class SampledBoundResult(LoopAttributes):
             "design_passive": self.design_passive,
             "low_frequency": self.low_frequency,
         }
+
+    def to_csv(self) -> str:
+        """The whole range as proven boxes and leaves, one per line: ``lo, hi, status``.
+
+        The header names the parameter (``kd_lo,kd_hi,status``); numbers are
+        written exactly (``repr``).
+        """
+        rows = "".join(f"{a!r},{b!r},{status}\n" for a, b, status in self.partition)
+        return f"{self.param}_lo,{self.param}_hi,status\n{rows}"
 
     def plot(self, *, ax: Any = None) -> Any:
         """The certified passive intervals, edge enclosures and design value on one axis.
@@ -229,7 +236,8 @@ def sampled_passive_bound(
     values : mapping, optional
         Parameter values overriding those in ``sea``.
     rtol : float, default 1e-9
-        Relative width of every edge enclosure, in ``[1e-12, 1e-2]``.
+        Relative width of every edge enclosure, in ``[MIN_RTOL, MAX_RTOL]`` =
+        ``[1e-12, 1e-2]`` ([`seapass.files.limits.check_rtol`][seapass.files.limits.check_rtol]).
     design_value : float, optional
         The design's own value: the range is widened to include it and its verdict is
         reported (it always agrees with the intervals).
@@ -257,11 +265,7 @@ def sampled_passive_bound(
     max_precision = check_precision(max_precision)
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise ParameterError(f"need a finite range lo < hi, got [{lo}, {hi}]")
-    if not (isinstance(rtol, int | float) and RTOL_RANGE[0] <= rtol <= RTOL_RANGE[1]):
-        raise ParameterError(
-            f"rtol must be in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}] (relative width of an edge "
-            f"enclosure), got {rtol!r}"
-        )
+    check_rtol(rtol)
     base = sea.with_values(**(values or {}))
     if param not in base.parameters:
         raise ParameterError(

@@ -15,9 +15,10 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
-from flint import acb, acb_poly, arb, arb_poly, fmpq, fmpq_poly
+from flint import acb, acb_poly, arb, arb_poly, fmpq_poly
 
 from ..errors import ParameterError
+from ..exact.poly import as_poly, rational
 from ..outcome import Outcome
 from .alias import AliasSums, alias_sums
 from .certified import Sign, precision, schur_stable, schur_stable_exact, sign_on
@@ -47,18 +48,10 @@ def precision_ladder(max_bits: int) -> tuple[int, ...]:
     return ladder or (max(64, int(max_bits)),)
 
 
-def _fq(c: Fraction) -> fmpq:
-    return fmpq(c.numerator, c.denominator)
-
-
-def _poly(coeffs: Sequence[Fraction]) -> fmpq_poly:
-    return fmpq_poly([_fq(Fraction(c)) for c in coeffs])
-
-
 def point_family(ka: object, kl: object) -> ControllerFamily:
     """``v' = (d_A d_L, n_A d_L, n_L d_A)`` of fixed controllers (λ-degree 0)."""
-    na, da = _poly(ka.num), _poly(ka.den)  # type: ignore[attr-defined]
-    nl, dl = _poly(kl.num), _poly(kl.den)  # type: ignore[attr-defined]
+    na, da = as_poly(ka.num), as_poly(ka.den)  # type: ignore[attr-defined]
+    nl, dl = as_poly(kl.num), as_poly(kl.den)  # type: ignore[attr-defined]
     return [[da * dl], [na * dl], [nl * da]]
 
 
@@ -75,7 +68,7 @@ def needed_sums(ka_zero: bool, kl_zero: bool) -> tuple[str, ...]:
 def cached_sums(key: str, period: Fraction, names: tuple[str, ...], prec: int) -> AliasSums:
     plant = plant_from_key(key)
     summands = plant.summands()
-    return alias_sums({k: summands[k] for k in names}, _fq(period), prec)
+    return alias_sums({k: summands[k] for k in names}, rational(period), prec)
 
 
 def alias_injection(key: str) -> bool:
@@ -115,7 +108,7 @@ def _below_one(p: arb_poly) -> Fraction | None:
     """The largest ``x = 1 − 2^-k`` with a proven ``p(x) < 0`` (``p(1) < 0``: ``ω > 0``)."""
     for k in range(4, 400, 4):
         x = 1 - Fraction(1, 2**k)
-        if p(arb(_fq(x))) < 0:
+        if p(arb(rational(x))) < 0:
             return x
     return None
 
@@ -138,7 +131,7 @@ def _deepest_witness(
     for i in order[:8]:
         t = Fraction(cands[i])
         xi = 1 - t * t / 2 if t < Fraction(1, 10**4) else Fraction(math.cos(cands[i]))
-        if xi < 1 and p(arb(_fq(xi))) < 0:
+        if xi < 1 and p(arb(rational(xi))) < 0:
             return xi
     return x
 
@@ -153,7 +146,7 @@ def loop_radius(key: str, ka: object, kl: object, period: Fraction) -> float:
     the roots of ``χ`` and the load-side controller's own poles."""
     sums = cached_sums(key, period, ("Sg",), PRECISIONS[0])
     with precision(sums.prec):
-        chi = characteristic(sums, _poly(ka.num), _poly(ka.den))  # type: ignore[attr-defined]
+        chi = characteristic(sums, as_poly(ka.num), as_poly(ka.den))  # type: ignore[attr-defined]
     rho = _radius(chi)
     poles = kl.poles()  # type: ignore[attr-defined]
     if not kl.is_zero and poles.size:  # type: ignore[attr-defined]
@@ -197,7 +190,7 @@ def decide(
                 "lower-order controller"
             )
         with precision(prec):
-            chi = characteristic(sums, _poly(ka.num), _poly(ka.den))  # type: ignore[attr-defined]
+            chi = characteristic(sums, as_poly(ka.num), as_poly(ka.den))  # type: ignore[attr-defined]
             stable = schur_stable(chi)
             rho = _radius(chi)
             if stable is False:

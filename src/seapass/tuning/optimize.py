@@ -257,9 +257,9 @@ def tune(
     tune : mapping of str to (lo, hi) or None, or iterable of str, optional
         The gains to tune, each with its box ``(lo, hi)`` or None for the
         design's default box.  Every other parameter keeps its value.  Default:
-        the catalog's gains, a design file's controller gains (the parameters
-        of ``C_A`` and ``C_L``), an SEA's free parameters (else its controller
-        gains); see [`resolve_problem`][seapass.tuning.problem.resolve_problem].
+        the catalog's gains, else the controller gains (the parameters of
+        ``C_A`` and ``C_L``) of a design file or an SEA; see
+        [`resolve_problem`][seapass.tuning.problem.resolve_problem].
     values : mapping of str to float, optional
         Values of fixed parameters overriding the design's, e.g. the plant of a
         catalog design: ``tune("ours", values={"k1": 1005, "b1": 30}, tune=["kd", "bd"])``.
@@ -440,7 +440,7 @@ def _edge_note(problem: TuningProblem, name: str, value: float, edge: str) -> st
         return f"{where}: the best design wants little or none of it"
     return (
         f"{where}: the optimum may lie beyond it; widen the box if the physics allows "
-        f"(--tune {name}=LO:HI, or tune={{{name!r}: (lo, hi)}})"
+        f"(tune={{{name!r}: (lo, hi)}})"
     )
 
 

@@ -16,14 +16,13 @@ the paper's plant with the catalog's gains and boxes), a
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable, Mapping
 from dataclasses import InitVar, dataclass, field, fields, replace
 from enum import StrEnum
 from types import MappingProxyType
 from typing import Any, TypeAlias
 
-from ..errors import ParameterError
+from ..errors import ParameterError, did_you_mean
 from ..model.catalog import PAPER_VALUES, CatalogDesign
 from ..model.catalog import design as catalog_design
 from ..model.design_file import Design
@@ -71,7 +70,13 @@ class Objective(StrEnum):
 
     @property
     def unit(self) -> str:
+        """The unit of the objective's value: ``"s"`` or ``"m*s^2"``."""
         return "s" if self is Objective.SETTLING else "m*s^2"
+
+    @property
+    def label(self) -> str:
+        """What the value is: ``"settling time"`` or ``"ITAE"``."""
+        return "settling time" if self is Objective.SETTLING else "ITAE"
 
 
 @dataclass(frozen=True)
@@ -139,10 +144,10 @@ class TuningOptions:
                 f"objective must be one of {choices}, got {self.objective!r}"
             ) from None
         for name in ("dt_search", "dt_verify"):
-            finite_number(getattr(self, name), name, positive=True)
+            _positive(self, name)
         for name in ("load_mass", "horizon", "force_limit"):
             if getattr(self, name) is not None:
-                finite_number(getattr(self, name), name, positive=True)
+                _positive(self, name)
         if self.step is not None and not (finite_number(self.step, "step") != 0):
             raise ParameterError("step must be nonzero")
         if (
@@ -165,7 +170,7 @@ class TuningOptions:
         old = {k: changes.pop(k) for k in _OLD_LOOP_FIELDS if k in changes}
         for name in changes:
             if name not in known:
-                raise ParameterError(f"unknown tuning option {name!r}{_did_you_mean(name, known)}")
+                raise ParameterError(f"unknown tuning option {name!r}{did_you_mean(name, known)}")
         if old:
             changes["loop"] = _old_loop(changes.get("loop", self.loop), old)
         return replace(self, **changes)
@@ -182,9 +187,12 @@ def _old_loop(loop: SampledLoop | None, old: Mapping[str, Any]) -> SampledLoop |
     return loop_argument(None, given, where="TuningOptions", base=loop)
 
 
-def _did_you_mean(name: str, choices: Iterable[str]) -> str:
-    close = difflib.get_close_matches(name, list(choices), n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
+def _positive(options: TuningOptions, name: str) -> None:
+    """A positive finite option, or an error naming it (the CLI shows its flag)."""
+    try:
+        finite_number(getattr(options, name), name, positive=True)
+    except ParameterError as exc:
+        raise ParameterError(str(exc), argument=name) from None
 
 
 QUICK_OPTIONS = TuningOptions(maxiter=12, popsize=6, dt_search=1e-2)
@@ -275,20 +283,16 @@ def design_parts(
         return design.name, sea, design.gains, boxes
     if isinstance(design, SEA):
         controller = {str(x) for x in design.CA.free_symbols | design.CL.free_symbols}
-        gains = design.free_parameters or tuple(p for p in design.parameters if p in controller)
-        return design.name or "design", design, tuple(gains), {}
+        gains = tuple(p for p in design.parameters if p in controller)
+        return design.name or "design", design, gains, {}
     raise ParameterError(
         f"design: expected an SEA, a Design, a CatalogDesign or a catalog name, "
         f"got {type(design).__name__}"
     )
 
 
-def _gain_boxes(
-    tune: BoxLike | None,
-    defaults: tuple[str, ...],
-    boxes: Mapping[str, tuple[float, float]],
-    sea: SEA,
-) -> dict[str, tuple[float, float]]:
+def _wanted(tune: BoxLike | None, defaults: tuple[str, ...], sea: SEA) -> dict[str, Any]:
+    """The gains to tune, each with its box as given (checked; None: from the design)."""
     if tune is None:
         wanted: dict[str, Any] = dict.fromkeys(defaults)
     elif isinstance(tune, Mapping):
@@ -299,28 +303,33 @@ def _gain_boxes(
         wanted = dict.fromkeys(tune)
     if not wanted:
         raise ParameterError("tune: no gains to tune; give e.g. tune={'kd': (0, 5000)}")
-    out: dict[str, tuple[float, float]] = {}
-    for name, given in wanted.items():
+    for name in wanted:
         where = f"tune[{name!r}]"
         if name not in sea.parameters:
             raise ParameterError(
-                f"{where}: {name!r} is not a parameter of the design "
-                f"({', '.join(sea.parameters)}){_did_you_mean(str(name), sea.parameters)}"
+                f"{where}: not a parameter of the design "
+                f"({', '.join(sea.parameters)}){did_you_mean(str(name), sea.parameters)}"
             )
         if symbol(name) in sea.m.free_symbols | sea.b.free_symbols:
             raise ParameterError(
                 f"{where}: {name} sets the actuator mass or damping (the plant); tune the "
                 "controller gains or the transmission instead"
             )
-        box = given if given is None else _box(given, where)
-        box = box or boxes.get(name) or default_box(name, sea.values.get(name))
-        if box is None:
-            raise ParameterError(
-                f"{where}: {name} has no value and no search box; give one, "
-                f"e.g. tune={{{name!r}: (0, 1000)}}"
-            )
-        out[name] = box
-    return out
+        if wanted[name] is not None:
+            wanted[name] = _box(wanted[name], where)
+    return wanted
+
+
+def _gain_box(
+    name: str, given: tuple[float, float] | None, boxes: Mapping[str, tuple[float, float]], sea: SEA
+) -> tuple[float, float]:
+    box = given or boxes.get(name) or default_box(name, sea.values.get(name))
+    if box is None:
+        raise ParameterError(
+            f"tune[{name!r}]: {name} has no value and no search box; give one, "
+            f"e.g. tune={{{name!r}: (0, 1000)}}"
+        )
+    return box
 
 
 def _box(given: Any, where: str) -> tuple[float, float]:
@@ -350,8 +359,8 @@ def resolve_problem(
         The gains to tune and their boxes.  A name without a box takes it from
         the design (a catalog entry's box, the file's ``[ranges]``, else
         `default_box` for a gain with a value).  Default: the catalog's gains,
-        a design file's controller gains (the parameters of ``C_A`` and ``C_L``),
-        or an SEA's free parameters (else its controller gains).
+        else the controller gains (the parameters of ``C_A`` and ``C_L``) of a
+        design file or an SEA.  Every other parameter keeps its value.
     options : TuningOptions, optional
     values : mapping of str to float, optional
         Values of fixed parameters overriding the design's (a catalog design's
@@ -369,25 +378,26 @@ def resolve_problem(
     for key in values or {}:
         if key not in sea.parameters:
             raise ParameterError(
-                f"values[{key!r}]: {key!r} is not a parameter of the design "
-                f"({', '.join(sea.parameters)}){_did_you_mean(key, sea.parameters)}"
+                f"values[{key!r}]: not a parameter of the design "
+                f"({', '.join(sea.parameters)}){did_you_mean(key, sea.parameters)}"
             )
     if values:
         sea = sea.with_values(**values)
-    box = _gain_boxes(tune, defaults, boxes, sea)
-    clash = sorted(set(values or {}) & set(box))
+    wanted = _wanted(tune, defaults, sea)
+    clash = sorted(set(values or {}) & set(wanted))
     if clash:
         raise ParameterError(
             f"values[{clash[0]!r}]: {clash[0]} is tuned, so its value would be ignored; "
             "drop the value or tune other gains"
         )
-    gains = tuple(box)
-    missing = [p for p in sea.parameters if p not in box and sea.values.get(p) is None]
+    missing = [p for p in sea.parameters if p not in wanted and sea.values.get(p) is None]
     if missing:
         raise ParameterError(
             f"no value for {', '.join(missing)}: give it in the design's values "
             f"(values[{missing[0]!r}]) or tune it (tune={{{missing[0]!r}: (lo, hi)}})"
         )
+    box = {name: _gain_box(name, given, boxes, sea) for name, given in wanted.items()}
+    gains = tuple(box)
     file = design if isinstance(design, Design) else None
     resolved = replace(
         opts,

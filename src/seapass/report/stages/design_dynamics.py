@@ -13,7 +13,7 @@ import numpy as np
 from ...analysis.freqresp import stiffness_response
 from ...errors import ParameterError, TuningWarning
 from ...model.design_file import Design
-from ...plot.response import plot_stiffness_bode
+from ...plot.passivity import plot_bode
 from ...plot.sim import plot_step_responses
 from ...sampled.passivity import sampled_passivity
 from ...sim.metrics import tracking_metrics
@@ -37,9 +37,10 @@ def stage_stiffness(design: Design, quick: bool) -> Section:
     sea = design.sea()
     r = stiffness_response(sea, np.logspace(-1, 4, 200 if quick else 400), label=design.name)
     k1 = design.values.get("k1")
-    fig = plot_stiffness_bode(
+    fig = plot_bode(
         r, title=f"{design.name}: rendered stiffness"
         + (" (dashed: spring stiffness k1)" if k1 is not None else ""), reference=k1,
+        legend=False,
     )  # fmt: skip
     table = Table(
         name="stiffness_summary",

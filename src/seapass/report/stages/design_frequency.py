@@ -10,7 +10,6 @@ from ...analysis.freqresp import stiffness_response
 from ...analysis.portresponse import impedance_response
 from ...model.design_file import Design
 from ...plot.passivity import plot_bode, plot_nyquist, plot_real_part
-from ...plot.style import figure_bytes
 from ..document import FigureData, Section, Table, to_json
 
 __all__ = ["stage_frequency"]
@@ -28,20 +27,20 @@ def stage_frequency(design: Design, quick: bool) -> Section:
     bands = resp.negative_bands
     k1 = design.values.get("k1")
     figures = (
-        FigureData(
+        FigureData.of(
             "bode",
             "Rendered stiffness F_L/X_L(jω), magnitude and phase; shaded: Re Z_L(jω) < 0 (exact).",
-            figure_bytes(plot_bode(fr, reference=k1, bands=bands)),
+            plot_bode(fr, reference=k1, bands=bands),
         ),
-        FigureData(
+        FigureData.of(
             "real_part",
             "Re Z_L(jω) on a symmetric-log axis; shaded: the exact bands where it is negative.",
-            figure_bytes(plot_real_part(resp)),
+            plot_real_part(resp),
         ),
-        FigureData(
+        FigureData.of(
             "nyquist",
             "Nyquist plot of Z_L(jω); a passive port stays in the closed right half-plane.",
-            figure_bytes(plot_nyquist(resp)),
+            plot_nyquist(resp),
         ),
     )
     if bands:

@@ -107,17 +107,6 @@ def _impact_table(im: Any) -> Table:
     )
 
 
-def _sweep_csv(ex: ExperimentResult) -> str:
-    rows = [r for s in ex.sweeps for r in s.rows()]
-    cols = list(rows[0]) if rows else []
-
-    def cell(v: Any) -> str:
-        return "" if v is None else (repr(v) if isinstance(v, float) else str(v))
-
-    lines = [",".join(cols)] + [",".join(cell(r[c]) for c in cols) for r in rows]
-    return "\n".join(lines) + "\n"
-
-
 def _rig_text(rig: Any, step: float) -> str:
     return (
         f"The packaged reconstruction of the paper's bench (`{rig.name}`: "
@@ -160,7 +149,7 @@ def stage_rig(quick: bool) -> Section:
         ),
         findings=tuple(_finding(f) for f in (*ex.findings, *im.findings)),
         files={
-            "rig_sweep.csv": _sweep_csv(ex),
+            "rig_sweep.csv": ex.to_csv(),
             "rig_experiment.json": to_json(ex.to_dict()),
             "rig_impacts.json": to_json(im.to_dict()),
         },

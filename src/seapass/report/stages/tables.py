@@ -16,7 +16,7 @@ from ...analysis.freqresp import FrequencyResponse, stiffness_response
 from ...model.catalog import REFERENCE_VALUES
 from ...paper.tablefmt import format_latex, format_markdown
 from ...paper.tables import PAPER_ROWS, PaperRow, TableRow, build_tables
-from ...plot.response import plot_stiffness_bode
+from ...plot.passivity import plot_bode
 from ...plot.style import axes_grid
 from ..document import (
     Discrepancy,
@@ -193,8 +193,8 @@ def _stiffness_figure(
     for k, (row, vals, resp) in enumerate(group):
         i, j = divmod(k, ncol)
         shown = ", ".join(f"{n}={v:g}" for n, v in vals.items() if n not in ("m", "b"))
-        plot_stiffness_bode(
-            resp, title=f"{row.title}\n{shown}", reference=vals.get("k1"),
+        plot_bode(
+            resp, title=f"{row.title}\n{shown}", reference=vals.get("k1"), legend=False,
             axes=axes[2 * i : 2 * i + 2, j],
         )  # fmt: skip
     for k in range(len(group) - ncol):  # one frequency label per column, at the bottom

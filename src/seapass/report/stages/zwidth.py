@@ -17,7 +17,6 @@ from ...model.design_file import Design
 from ...model.loop import SampledLoop
 from ...model.sea import SEA
 from ...plot.sampled import plot_zwidth
-from ...plot.style import figure_bytes
 from ...rig.predictions import rig_sea
 from ...rig.rigfile import paper_rig
 from ...sampled.region import ZWidthMap, sampled_region
@@ -56,13 +55,13 @@ def _section(
         rows=rows,
         note="Full passive sets (islands included) per row in the CSV and JSON files.",
     )
-    fig = figure_bytes(plot_zwidth(zmap))
+    fig = FigureData.of(key, f"Z-width: passive {zmap.p1} against {zmap.p2}.", plot_zwidth(zmap))
     return Section(
         key=key,
         title=title,
         text=text,
         tables=(table,),
-        figures=(FigureData(key, f"Z-width: passive {zmap.p1} against {zmap.p2}.", fig),),
+        figures=(fig,),
         findings=findings,
         files={f"{key}.csv": zmap.to_csv(), f"{key}.json": to_json(zmap.to_dict())},
     )

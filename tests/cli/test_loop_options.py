@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from seapass.cli import main
-from seapass.cli.common import add_loop_options, loop_from_args
+from seapass.cli.loop_options import add_loop_options, loop_from_args
 from seapass.model.design_file import load_design
 from seapass.model.loop import SampledLoop
 
