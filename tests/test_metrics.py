@@ -117,9 +117,29 @@ def test_wide_band_and_bad_tolerance():
 
 def test_metrics_validation():
     with pytest.raises(ParameterError):
-        TrackingMetrics("settled", None, 0.0, None, 0.0, 0.0, 0.0, 0.01, 0.5)
+        TrackingMetrics(
+            status="settled",
+            settling_time=None,
+            final_error=0.0,
+            overshoot=None,
+            peak_force=0.0,
+            energy=0.0,
+            positive_work=0.0,
+            band=0.01,
+            target=0.5,
+        )
     with pytest.raises(ParameterError):
-        TrackingMetrics("bogus", None, 0.0, None, 0.0, 0.0, 0.0, 0.01, 0.5)
+        TrackingMetrics(
+            status="bogus",
+            settling_time=None,
+            final_error=0.0,
+            overshoot=None,
+            peak_force=0.0,
+            energy=0.0,
+            positive_work=0.0,
+            band=0.01,
+            target=0.5,
+        )
 
 
 @settings(max_examples=12, deadline=None)

@@ -18,6 +18,7 @@ from seapass.analysis.environment_box import HUMAN_LIMB
 from seapass.analysis.indices import passivity_indices
 from seapass.analysis.witness import WitnessResult, find_destabilizing_environment
 from seapass.model.sea import SEA
+from seapass.outcome import Outcome
 from seapass.plot.style import bare_figures
 from seapass.sampled.bound import intervals_text, sampled_passive_bound
 from seapass.sampled.passivity import sampled_passivity
@@ -155,9 +156,9 @@ def test_html_escapes_user_text(results: dict[str, Any]) -> None:
     z = r["zwidth"]
     label = z.setups[0].label
     renamed = ZWidthMap(
-        z.p1, z.p2, z.period, z.p1_range, z.p2_values,
-        (LoopSetup(HOSTILE, z.setups[0].delay), *z.setups[1:]),
-        {HOSTILE if k == label else k: v for k, v in z.rows.items()},
+        p1=z.p1, p2=z.p2, period=z.period, p1_range=z.p1_range, p2_values=z.p2_values,
+        setups=(LoopSetup(HOSTILE, z.setups[0].delay), *z.setups[1:]),
+        rows={HOSTILE if k == label else k: v for k, v in z.rows.items()},
     )  # fmt: skip
     hostile = [
         dataclasses.replace(r["tuning"], design=HOSTILE),
@@ -177,7 +178,7 @@ def test_witness_not_found_and_passive() -> None:
     assert repr(passive) == "WitnessResult(status='passive')"
     assert "Destabilizing environment: passive" in passive._repr_html_()
     proven = WitnessResult(
-        passive=False,
+        outcome=Outcome.NOT_PASSIVE,
         reason="negative_real_part",
         found=False,
         candidates=40,

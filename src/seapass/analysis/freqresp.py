@@ -18,7 +18,7 @@ from ..model.stiffness import derive_stiffness
 __all__ = ["FrequencyResponse", "stiffness_coefficients", "stiffness_response"]
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class FrequencyResponse:
     """``|F_L/X_L(jω)|`` and its phase.
 

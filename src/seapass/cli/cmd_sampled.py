@@ -175,7 +175,7 @@ def _loop_kw(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def run_check(args: argparse.Namespace) -> int:
-    from ..sampled.passivity import sampled_passivity, sampled_power_curve
+    from ..sampled.passivity import SampledReason, sampled_passivity, sampled_power_curve
 
     kw = _loop_kw(args)
     d = check_out_dir(args.out)
@@ -186,7 +186,13 @@ def run_check(args: argparse.Namespace) -> int:
         from ..plot.sampled import plot_power_curve
 
         write_text(d / "sampled_check.json", json_text(res.to_dict()))
-        if res.reason in ("", "negative_power", "low_frequency", "undecided"):
+        curved = (
+            SampledReason.NONE,
+            SampledReason.NEGATIVE_POWER,
+            SampledReason.LOW_FREQUENCY,
+            SampledReason.UNDECIDED,
+        )
+        if res.reason in curved:
             curve = {k: v for k, v in kw.items() if k != "max_precision"}
             w, n = sampled_power_curve(sea, **curve)
             rows = "".join(f"{a!r},{b!r}\n" for a, b in zip(w, n, strict=True))
@@ -195,10 +201,7 @@ def run_check(args: argparse.Namespace) -> int:
     if args.json:
         print_json(res.to_dict())
     else:
-        status = {"passive": "passive", "not_passive": "not passive", "undecided": "undecided"}
-        print(
-            f"{status[res.status.value]} at T = {args.period:g} s (delay {args.delay}): {res.detail}"
-        )
+        print(f"{res.outcome.label} at T = {args.period:g} s (delay {args.delay}): {res.detail}")
         if res.omega is not None:
             print(f"witness: w = {res.omega:.6g} rad/s")
     return 0 if res.passive else 1

@@ -251,7 +251,7 @@ def _names(text: str) -> list[str]:
     return list(dict.fromkeys(name for _, name in names if name != "s"))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class StateCheck:
     """Result of `check_state`: a state, or one message per offending field."""
 
@@ -328,12 +328,12 @@ def check_state(data: Any) -> StateCheck:
     >>> check = check_state({"model": {"D1": "k1", "CL": "kd"}, "values": {"kd": "2e3"}})
     >>> check.state.values["kd"], check.state.gain, check.state.ranges["kd"]
     (2000.0, 'kd', (0.0, 20000.0))
-    >>> check_state({"model": {"D1": "k1 +"}}).errors
+    >>> dict(check_state({"model": {"D1": "k1 +"}}).errors)
     {'model.D1': "cannot parse expression 'k1 +': invalid syntax"}
     """
     errors: dict[str, str] = {}
     if not isinstance(data, Mapping):
-        return StateCheck(None, {"state": "expected a JSON object"})
+        return StateCheck(state=None, errors=MappingProxyType({"state": "expected a JSON object"}))
     model_in = data.get("model", {})
     if not isinstance(model_in, Mapping):
         model_in = {}
@@ -438,7 +438,7 @@ def check_state(data: Any) -> StateCheck:
     )
 
     if errors:
-        return StateCheck(None, errors)
+        return StateCheck(state=None, errors=MappingProxyType(errors))
     name = _NAME.sub("-", str(data.get("name", "") or "custom")).strip("-.")[:64] or "custom"
     title = str(data.get("title", "") or "")[: LIMITS["title"]]
     params = list(values)
@@ -472,8 +472,8 @@ def check_state(data: Any) -> StateCheck:
         )
         state.sea()
     except SeapassError as exc:
-        return StateCheck(None, {_field_of(str(exc)): str(exc)})
-    return StateCheck(state, {})
+        return StateCheck(state=None, errors=MappingProxyType({_field_of(str(exc)): str(exc)}))
+    return StateCheck(state=state, errors=MappingProxyType({}))
 
 
 def _field_of(message: str) -> str:

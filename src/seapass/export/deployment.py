@@ -29,7 +29,7 @@ from .realization import FilterSpec, realize
 __all__ = ["Deployment", "plan_deployment"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Deployment:
     """The deployed controller of a design with the envelope it was certified for.
 

@@ -21,8 +21,9 @@ from __future__ import annotations
 
 import io
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -59,13 +60,13 @@ def default_setups(delay: int = 1, velocity_filter: float | None = 50.0) -> tupl
     return tuple(out)
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class ZWidthMap:
     """Certified passive sets of ``p1`` for each value of ``p2`` and each loop setup.
 
     Attributes
     ----------
-    rows : dict of str to list of SampledBoundResult
+    rows : mapping of str to tuple of SampledBoundResult
         ``rows[setup.label][i]`` is the passive set of ``p1`` at ``p2 = p2_values[i]``.
     """
 
@@ -75,7 +76,7 @@ class ZWidthMap:
     p1_range: tuple[float, float]
     p2_values: tuple[float, ...]
     setups: tuple[LoopSetup, ...]
-    rows: dict[str, list[SampledBoundResult]]
+    rows: Mapping[str, tuple[SampledBoundResult, ...]]
 
     def upper_boundary(self, label: str) -> np.ndarray:
         """Largest passive ``p1`` for every ``p2`` row (NaN where none)."""
@@ -237,5 +238,8 @@ def sampled_region(
             done += 1
             if progress is not None:
                 progress(done, total)
-    return ZWidthMap(p1, p2, float(period), (float(p1_range[0]), float(p1_range[1])),
-                     tuple(float(v) for v in values), setups, rows)  # fmt: skip
+    return ZWidthMap(
+        p1=p1, p2=p2, period=float(period), p1_range=(float(p1_range[0]), float(p1_range[1])),
+        p2_values=tuple(float(v) for v in values), setups=setups,
+        rows=MappingProxyType({k: tuple(v) for k, v in rows.items()}),
+    )  # fmt: skip

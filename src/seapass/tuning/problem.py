@@ -37,6 +37,7 @@ __all__ = [
     "QUICK_OPTIONS",
     "DesignLike",
     "Objective",
+    "ResolvedTuning",
     "TuningOptions",
     "TuningProblem",
     "default_box",
@@ -169,6 +170,21 @@ QUICK_OPTIONS = TuningOptions(maxiter=12, popsize=6, dt_search=1e-2)
 """A small optimizer budget for tests and previews (about 10x cheaper)."""
 
 
+@dataclass(frozen=True, kw_only=True)
+class ResolvedTuning(TuningOptions):
+    """`TuningOptions` with the design-dependent settings resolved (`resolve_problem`).
+
+    ``load_mass``, ``step`` and ``horizon`` are numbers and ``delay`` a whole number of
+    samples: the option when given, else the design file's ``[simulation]`` and
+    ``[control]``, else the paper's 10 kg, 0.5 m, 10 s and no delay.
+    """
+
+    load_mass: float = DEFAULT_LOAD_MASS
+    step: float = DEFAULT_STEP
+    horizon: float = DEFAULT_HORIZON
+    delay: int = 0
+
+
 @dataclass(frozen=True)
 class TuningProblem:
     """A validated tuning problem (from `resolve_problem`).
@@ -184,7 +200,7 @@ class TuningProblem:
         The tuned gains, in search order.
     box : mapping of str to (float, float)
         The search box of every tuned gain.
-    options : TuningOptions
+    options : ResolvedTuning
         With ``load_mass``, ``step``, ``horizon``, ``delay`` resolved to numbers.
     """
 
@@ -192,7 +208,7 @@ class TuningProblem:
     sea: SEA
     gains: tuple[str, ...]
     box: Mapping[str, tuple[float, float]] = field(default_factory=dict)
-    options: TuningOptions = field(default_factory=TuningOptions)
+    options: ResolvedTuning = field(default_factory=ResolvedTuning)
 
     def candidate(self, x: Iterable[float]) -> SEA:
         """The design with the tuned gains set to ``x`` (in the order of `gains`)."""
@@ -367,16 +383,18 @@ def resolve_problem(
             f"(values[{missing[0]!r}]) or tune it (tune={{{missing[0]!r}: (lo, hi)}})"
         )
     file = design if isinstance(design, Design) else None
-    resolved = replace(
-        opts,
-        load_mass=_pick(opts.load_mass, file and file.tuning_mass, DEFAULT_LOAD_MASS),
-        step=_pick(opts.step, file and file.step, DEFAULT_STEP),
-        horizon=_pick(opts.horizon, file and file.horizon, DEFAULT_HORIZON),
-        delay=_pick(opts.delay, file and file.control_delay, 0),
-        velocity_filter=_pick(opts.velocity_filter, file and file.velocity_filter, None),
+    given = {f.name: getattr(opts, f.name) for f in fields(TuningOptions)}
+    resolved = ResolvedTuning(
+        **{
+            **given,
+            "load_mass": _pick(opts.load_mass, file and file.tuning_mass, DEFAULT_LOAD_MASS),
+            "step": _pick(opts.step, file and file.step, DEFAULT_STEP),
+            "horizon": _pick(opts.horizon, file and file.horizon, DEFAULT_HORIZON),
+            "delay": _pick(opts.delay, file and file.control_delay, 0),
+            "velocity_filter": _pick(opts.velocity_filter, file and file.velocity_filter, None),
+        }
     )
-    horizon = float(resolved.horizon or DEFAULT_HORIZON)
-    if horizon < max(resolved.dt_search, resolved.dt_verify):
+    if resolved.horizon < max(resolved.dt_search, resolved.dt_verify):
         raise ParameterError("horizon is shorter than the time step")
     return TuningProblem(
         name=name, sea=sea, gains=gains, box=MappingProxyType(box), options=resolved

@@ -13,6 +13,7 @@ import sympy as sp
 from ...errors import ModelError
 from ...model.design_file import Design
 from ...model.expr import S, symbol
+from ...outcome import Outcome
 from ...plot.rig import plot_rig_sweep
 from ...rig.experiment import ExperimentResult, run_rig_sweeps
 from ...rig.rigfile import load_rig, paper_rig
@@ -85,7 +86,7 @@ def stage_sampled(design: Design, quick: bool) -> Section:
     )
     if res.passive:
         verdict = f"**Passive under sampled-data control** ({setup})."
-    elif res.marginal:
+    elif res.outcome is Outcome.UNDECIDED:
         verdict = f"**Undecided under sampled-data control** ({setup}): {res.detail}; treated as not passive."
     else:
         w = f" Witness ω = {res.omega:.6g} rad/s." if res.omega else ""
@@ -169,7 +170,7 @@ def stage_rig(design: Design, quick: bool) -> Section:
             (s.load_mass, float(s.kd[i]), s.status[i], float(s.settling_time[i]),
              float(s.steady_state_error[i]) * 1e3, s.unstable_gain_twin)
         )  # fmt: skip
-    fig = plot_rig_sweep(ExperimentResult(rig.name, sweeps, ()))
+    fig = plot_rig_sweep(ExperimentResult(rig_name=rig.name, sweeps=sweeps, findings=()))
     return Section(
         key="rig",
         title=title,

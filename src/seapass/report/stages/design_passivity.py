@@ -151,7 +151,7 @@ def stage_ranges(design: Design, quick: bool) -> Section:
         value = design.values[name]
         inside = res.contains(value) if res.lo <= value <= res.hi else None
         if inside is False:
-            flags.add((i, 3))
+            flags.add((i, "value is passive"))
         rows.append(
             (
                 name,

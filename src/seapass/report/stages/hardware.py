@@ -61,7 +61,9 @@ def _rig_sweeps(rig: Any, step: float) -> ExperimentResult:
     stage_progress(0, 4, f"{len(RIG_DESIGNS) * len(masses)} kd sweeps on the twin")
     sweeps = run_rig_sweeps(rig, designs=RIG_DESIGNS, load_masses=masses, kd_step=step)
     stage_progress(2, 4, "impacts")
-    return ExperimentResult(rig.name, sweeps, tuple(sweep_findings(sweeps)))
+    return ExperimentResult(
+        rig_name=rig.name, sweeps=sweeps, findings=tuple(sweep_findings(sweeps))
+    )
 
 
 def _sweep_summary(ex: ExperimentResult) -> Table:

@@ -61,7 +61,7 @@ def _measure(ivs: Sequence[tuple[float, float]]) -> float:
     return float(sum(b - a for a, b in ivs))
 
 
-def _compare(exact: list[tuple[float, float]], paper: Any, hi: float) -> str:
+def _compare(exact: Sequence[tuple[float, float]], paper: Any, hi: float) -> str:
     ex = (
         sp.Union(*[sp.Interval(sp.Float(a), sp.Float(b)) for a, b in exact])
         if exact
@@ -91,7 +91,7 @@ def _kd_sets(
         paper = paper_bound_set(row.bound, vals, 0.0, hi)
         verdict = _compare(res.intervals, paper, hi)
         if verdict != "matches":
-            flags.add((i, 4))
+            flags.add((i, "paper's bound"))
         if verdict.startswith("UNSAFE"):
             unsafe.append(
                 (row, sea, vals, _intervals_of(sp.Complement(paper, _union(res.intervals))))

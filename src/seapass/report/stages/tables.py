@@ -6,7 +6,7 @@ Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -15,7 +15,7 @@ import sympy as sp
 from ...analysis.freqresp import FrequencyResponse, stiffness_response
 from ...model.catalog import REFERENCE_VALUES
 from ...paper.tablefmt import format_latex, format_markdown
-from ...paper.tables import PAPER_ROWS, PaperRow, TableRow, build_tables
+from ...paper.tables import PAPER_ROWS, BoundStatus, PaperRow, TableRow, build_tables
 from ...plot.response import plot_stiffness_bode
 from ...plot.style import axes_grid
 from ..document import (
@@ -46,14 +46,13 @@ _COLUMNS = (
     "Re condition (paper)", "Re condition (derived)", "condition agrees", "paper bound",
     "paper bound is", "exact condition (derived)", "counterexample",
 )  # fmt: skip
-_BOUND_COLUMN = _COLUMNS.index("paper bound is")
 _VIEWS = (
-    ("Stiffness transfer function F_L/X_L", (0, 1, 2, 3, 4, 5, 6, 7)),
-    ("Passivity", (0, 8, 9, 10, 11, 12, 13, 14)),
+    ("Stiffness transfer function F_L/X_L", _COLUMNS[:8]),
+    ("Passivity", (_COLUMNS[0], *_COLUMNS[8:])),
 )
 
 
-def _values_text(values: dict[str, float] | None) -> str:
+def _values_text(values: Mapping[str, float] | None) -> str:
     return ", ".join(f"{k}={v:.4g}" for k, v in values.items()) if values else ""
 
 
@@ -101,13 +100,13 @@ def _row_findings(r: TableRow) -> list[Finding]:
         )  # fmt: skip
     bound = formula(p.bound)
     example = _values_text(r.counterexample)
-    if r.bound_status == "unsafe":
+    if r.bound_status is BoundStatus.UNSAFE:
         findings.append(
             Finding(f"{name}: the stated bound {bound}", Verdict.DIFFERS,
                     f"admits designs that are NOT passive, e.g. {example}",
                     kind=Discrepancy.UNSAFE)
         )  # fmt: skip
-    elif r.bound_status == "sufficient only":
+    elif r.bound_status is BoundStatus.SUFFICIENT:
         findings.append(
             Finding(f"{name}: the stated bound {bound}", Verdict.DIFFERS,
                     f"is sufficient but not necessary: {example} violates it and is passive",
@@ -124,9 +123,9 @@ def _row_findings(r: TableRow) -> list[Finding]:
 def _group_table(key: str, name: str, title: str, rows: Sequence[TableRow]) -> Table:
     group = [r for r in rows if r.paper.table == key]
     flags = {
-        (i, _BOUND_COLUMN)
+        (i, "paper bound is")
         for i, r in enumerate(group)
-        if r.bound_status in ("unsafe", "sufficient only")
+        if r.bound_status in (BoundStatus.UNSAFE, BoundStatus.SUFFICIENT)
     }
     return Table(
         name=name,
