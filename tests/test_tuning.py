@@ -29,7 +29,7 @@ def test_ours_is_passive_for_every_kd_by_the_exact_api():
     # the paper's condition kd <= ((b+bd)^2 + b b1 + b1 bd)/(2m) is sufficient, not necessary
     for bd, b1 in ((0.0, 50.0), (25.0, 20.0), (300.0, 300.0)):
         sea = design_sea("ours", gains={"bd": bd, "b1": b1})
-        assert passive_intervals(sea, "kd", 0.0, 1e7).intervals == [(0.0, 1e7)]
+        assert passive_intervals(sea, "kd", 0.0, 1e7).intervals == ((0.0, 1e7),)
     # while LP is passive exactly up to kd = k1
     lp = design_sea("LP")
     assert is_passive(lp.with_values(kd=1000.0)).passive

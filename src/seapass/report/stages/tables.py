@@ -1,6 +1,8 @@
 """Paper stages: Tables I and II derived and compared, and every row's rendered stiffness.
 
-Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
+Each ``stage_*`` returns a [`Section`][seapass.report.document.Section]; one with
+figures is split as python-control splits ``*_response`` from ``*_plot``
+(``*_data`` computes, ``*_figures`` draws, ``*_section`` writes the section).
 """
 
 from __future__ import annotations
@@ -34,6 +36,9 @@ from ..pipeline import stage_progress
 __all__ = [
     "stage_stiffness",
     "stage_tables",
+    "stiffness_data",
+    "stiffness_figures",
+    "stiffness_section",
 ]
 
 _GROUPS = (
@@ -180,9 +185,11 @@ def _grid_shape(n: int) -> tuple[int, int]:
     return math.ceil(n / ncol), ncol
 
 
-def _stiffness_figure(
-    title: str, group: Sequence[tuple[PaperRow, dict[str, float], FrequencyResponse]]
-) -> Any:
+#: One row of the stiffness stage: the paper's row, its reference values, its response.
+StiffnessRow = tuple[PaperRow, dict[str, float], FrequencyResponse]
+
+
+def _stiffness_figure(title: str, group: Sequence[StiffnessRow]) -> Any:
     """Magnitude and phase of every row of one table, one Bode pair per row, no empty slot."""
     nrow, ncol = _grid_shape(len(group))
     axes = axes_grid(
@@ -212,8 +219,8 @@ def _stiffness_figure(
     return fig
 
 
-def stage_stiffness(quick: bool) -> Section:
-    """The rendered stiffness of every table row at the reference values."""
+def stiffness_data(quick: bool) -> tuple[StiffnessRow, ...]:
+    """The rendered stiffness of every table row at the reference values (computed)."""
     omega = np.logspace(-1, 4, 200 if quick else 400)
     results = []
     for k, row in enumerate(PAPER_ROWS):
@@ -221,6 +228,11 @@ def stage_stiffness(quick: bool) -> Section:
         sea = row.design.sea()
         vals = {n: REFERENCE_VALUES[n] for n in sea.parameters}
         results.append((row, vals, stiffness_response(sea, omega, values=vals, label=row.title)))
+    return tuple(results)
+
+
+def stiffness_figures(results: Sequence[StiffnessRow]) -> tuple[FigureData, ...]:
+    """One figure per table: the Bode pair of each of its rows."""
     figures = []
     for g, (key, name, _title) in enumerate(_GROUPS):
         title = {"I": "Table I", "II": "Table II"}.get(key, "Proposed design")
@@ -234,6 +246,11 @@ def stage_stiffness(quick: bool) -> Section:
                 _stiffness_figure(title, group),
             )
         )
+    return tuple(figures)
+
+
+def stiffness_section(results: Sequence[StiffnessRow], figures: Sequence[FigureData]) -> Section:
+    """The section of `stiffness_data` with the figures of `stiffness_figures`."""
     summary = Table(
         name="stiffness_summary",
         title="Static and high-frequency stiffness at the reference values",
@@ -265,3 +282,9 @@ def stage_stiffness(quick: bool) -> Section:
         figures=tuple(figures),
         files={"stiffness_response.csv": "\n".join(lines) + "\n"},
     )
+
+
+def stage_stiffness(quick: bool) -> Section:
+    """The rendered stiffness of every table row at the reference values."""
+    results = stiffness_data(quick)
+    return stiffness_section(results, stiffness_figures(results))

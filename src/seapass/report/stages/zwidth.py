@@ -3,12 +3,15 @@
 Each ``stage_*`` returns a [`Section`][seapass.report.document.Section]:
 ``stage_zwidth(quick)`` for the paper's rig (Ours, ``kd`` against ``bd`` at 500 Hz) and
 ``stage_design_zwidth(design, quick)`` for a design file with a ``[control] rate``.
+Each computes its map, draws it with `zwidth_figures` and writes the section with
+`zwidth_section` (python-control's ``*_response`` / ``*_plot`` split).
 """
 
 from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -22,7 +25,7 @@ from ...rig.rigfile import paper_rig
 from ...sampled.region import LoopSetup, ZWidthMap, sampled_region
 from ..document import FigureData, Finding, Section, SectionStatus, Table, Verdict, to_json
 
-__all__ = ["stage_design_zwidth", "stage_zwidth"]
+__all__ = ["stage_design_zwidth", "stage_zwidth", "zwidth_figures", "zwidth_section"]
 
 _TEXT = (
     "The Z-width (Colgate & Brown, 1994) is the range of impedances a haptic device renders "
@@ -42,9 +45,20 @@ def _setups(delay: int, velocity_filter: float) -> tuple[LoopSetup, ...]:
     )
 
 
-def _section(
-    key: str, title: str, zmap: ZWidthMap, text: str, findings: tuple[Finding, ...]
+def zwidth_figures(key: str, zmap: ZWidthMap) -> tuple[FigureData, ...]:
+    fig = figure_bytes(plot_zwidth(zmap))
+    return (FigureData(key, f"Z-width: passive {zmap.p1} against {zmap.p2}.", fig),)
+
+
+def zwidth_section(
+    key: str,
+    title: str,
+    zmap: ZWidthMap,
+    text: str,
+    findings: tuple[Finding, ...],
+    figures: Sequence[FigureData],
 ) -> Section:
+    """The section of a Z-width map with the figures of `zwidth_figures`."""
     bounds = [zmap.upper_boundary(s.label) for s in zmap.setups]
     rows = tuple(
         (v, *(None if math.isnan(b[i]) else float(b[i]) for b in bounds))
@@ -57,13 +71,12 @@ def _section(
         rows=rows,
         note="Full passive sets (islands included) per row in the CSV and JSON files.",
     )
-    fig = figure_bytes(plot_zwidth(zmap))
     return Section(
         key=key,
         title=title,
         text=text,
         tables=(table,),
-        figures=(FigureData(key, f"Z-width: passive {zmap.p1} against {zmap.p2}.", fig),),
+        figures=tuple(figures),
         findings=findings,
         files={f"{key}.csv": zmap.to_csv(), f"{key}.json": to_json(zmap.to_dict())},
     )
@@ -92,8 +105,8 @@ def stage_zwidth(quick: bool) -> Section:
         f"{real[i]:.5g} N/m",
     )
     text = _TEXT.format(p1="kd", p2="bd", d=max(rig.control.delay_samples, 1), f=filt, n=n)
-    return _section("zwidth", f"Z-width of Ours at {1 / rig.period:g} Hz (beyond the paper)", zmap,
-                    text, (finding,))  # fmt: skip
+    title = f"Z-width of Ours at {1 / rig.period:g} Hz (beyond the paper)"
+    return zwidth_section("zwidth", title, zmap, text, (finding,), zwidth_figures("zwidth", zmap))
 
 
 def _first(text: str, name: str) -> int:
@@ -131,4 +144,4 @@ def stage_design_zwidth(design: Design, quick: bool) -> Section:
     text = _TEXT.format(p1=p1, p2=p2, d=max(design.control_delay, 1), f=filt, n=n)
     if design.velocity_filter is None:
         text += " (The design has no velocity filter; 50 Hz is shown for comparison.)"
-    return _section("zwidth", title, zmap, text, ())
+    return zwidth_section("zwidth", title, zmap, text, (), zwidth_figures("zwidth", zmap))
