@@ -61,7 +61,9 @@ INPUTS = {
 #: Dataclasses that are mutable on purpose (state, caches, handles), never results.
 MUTABLE = {
     "seapass.explore.reports.ReportJob", "seapass.sampled.boxes._Setup",
-    "seapass.sampled.controllers.DiscreteController", "seapass.tuning.cost.ConstraintChecks",
+    "seapass.sampled.controllers.DiscreteController", "seapass.sampled.controllers.LPController",
+    "seapass.sampled.controllers.APDController", "seapass.sampled.controllers.OursController",
+    "seapass.tuning.cost.ConstraintChecks",
 }  # fmt: skip
 MUTABLE_TYPES = {
     "list", "dict", "set", "List", "Dict", "Set", "MutableMapping", "MutableSequence",

@@ -79,7 +79,8 @@ class BatchPassivity:
     @property
     def outcome(self) -> np.ndarray:
         """`Outcome` of every design (object array): exact, so never ``UNDECIDED``."""
-        out = np.full(self.passive.shape, Outcome.NOT_PASSIVE, dtype=object)
+        out = np.empty(self.passive.shape, dtype=object)
+        out[...] = Outcome.NOT_PASSIVE  # (np.full would store plain strings)
         out[self.passive] = Outcome.PASSIVE
         return out
 
