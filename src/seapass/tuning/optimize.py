@@ -13,7 +13,7 @@ The job, in four readable steps:
    penalties for the force and overshoot limits, and exact passivity (and
    sampled passivity when a period is given) for every candidate that could
    become the best; then move gains that ended next to an edge of the box onto
-   it when that is better (`snap_to_edges`);
+   it when that is better (`seapass.tuning.search.snap_to_edges`);
 4. **verify** the optimum at the finer time step: exact verdicts, metrics, the
    limits, and which gains sit at an edge of their box (``on_bound``, with a
    [`TuningWarning`][seapass.errors.TuningWarning]: the optimum may lie beyond).
@@ -32,8 +32,6 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
-
-import numpy as np
 
 from ..analysis.passivity import PassivityResult, is_passive
 from ..analysis.region import passive_intervals
@@ -55,20 +53,15 @@ from .problem import (
     TuningProblem,
     resolve_problem,
 )
-from .search import differential_search
+from .search import differential_search, snap_to_edges
 
 __all__ = [
-    "SNAP_FRACTION",
     "TuningResult",
     "narrowed_box",
-    "snap_to_edges",
     "step_run",
     "tune",
     "verify",
 ]
-
-SNAP_FRACTION = 0.05
-"""Gains this close to an edge of the searched box (a fraction of its width) are tried on it."""
 
 
 @dataclass(frozen=True, repr=False, kw_only=True)
@@ -365,33 +358,6 @@ def narrowed_box(problem: TuningProblem) -> dict[str, tuple[float, float]]:
         )
     a, b = max(pieces, key=lambda ab: ab[1] - ab[0])
     return {gain: (float(a), float(b))}
-
-
-def snap_to_edges(
-    problem: TuningProblem,
-    bounds: Mapping[str, tuple[float, float]],
-    x: list[float],
-    best: float,
-    cost: Callable[[Any], float],
-) -> tuple[list[float], float]:
-    """Move gains within `SNAP_FRACTION` of an edge of the searched box onto it, when better.
-
-    Differential evolution approaches an optimum on the boundary of its box only
-    slowly (a trial point beyond the box is resampled inside it), so a gain the
-    objective pushes against an edge ends a little inside it.  Each such gain is
-    tried at the edge with the full cost, exact passivity included; the move is
-    kept only when it lowers the cost.
-    """
-    x = list(x)
-    for i, gain in enumerate(problem.gains):
-        lo, hi = bounds[gain]
-        near = [e for e in (lo, hi) if 0 < abs(x[i] - e) <= SNAP_FRACTION * (hi - lo)]
-        for edge in near:
-            trial = [*x[:i], edge, *x[i + 1 :]]
-            value = float(cost(np.array(trial)))
-            if value < best:
-                x, best = trial, value
-    return x, best
 
 
 def verify(
