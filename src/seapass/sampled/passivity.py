@@ -192,7 +192,7 @@ class SampledPassivityResult:
             "SampledPassivityResult",
             {
                 "status": self.outcome.value,
-                "reason": self.reason.value or None,
+                "reason": str(self.reason) or None,
                 "omega": self.omega,
                 "period": self.period,
                 "delay": self.delay,
