@@ -19,6 +19,7 @@ from seapass.analysis.indices import passivity_indices
 from seapass.analysis.witness import WitnessResult, find_destabilizing_environment
 from seapass.model.loop import SampledLoop
 from seapass.model.sea import SEA
+from seapass.outcome import Outcome
 from seapass.plot.style import bare_figures
 from seapass.sampled.bound import intervals_text, sampled_passive_bound
 from seapass.sampled.passivity import sampled_passivity
@@ -155,7 +156,10 @@ def test_html_cards_hold_the_key_numbers(results: dict[str, Any]) -> None:
 def test_html_escapes_user_text(results: dict[str, Any]) -> None:
     r = results
     z = r["zwidth"]
-    renamed = ZWidthMap(HOSTILE, z.p2, z.p1_range, z.p2_values, z.setups, z.rows)
+    renamed = ZWidthMap(
+        p1=HOSTILE, p2=z.p2, p1_range=z.p1_range, p2_values=z.p2_values,
+        setups=z.setups, rows=z.rows,
+    )  # fmt: skip
     hostile = [
         dataclasses.replace(r["tuning"], design=HOSTILE),
         dataclasses.replace(r["witness"], detail=HOSTILE),
@@ -174,7 +178,7 @@ def test_witness_not_found_and_passive() -> None:
     assert repr(passive) == "WitnessResult(status='passive')"
     assert "Destabilizing environment: passive" in passive._repr_html_()
     proven = WitnessResult(
-        passive=False,
+        outcome=Outcome.NOT_PASSIVE,
         reason="negative_real_part",
         found=False,
         candidates=40,

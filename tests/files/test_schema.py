@@ -39,7 +39,7 @@ def _rig(section: str, key: str, value: object) -> dict:
         (_design(control__rate="500"), _rig("control", "rate", "500"), r"control\.rate: expected a number, got str '500'"),
         (_design(control__rate=0.5), _rig("control", "rate", 0.5), r"control\.rate: 0\.5 is out of range \[1, 1e\+06\]"),
         (_design(control__rate=float("nan")), _rig("control", "rate", float("nan")), r"control\.rate: must be finite"),
-        (_design(control__delay=1.5), _rig("control", "delay_samples", 1.5), r"control\.\w+: expected an integer, got 1\.5"),
+        (_design(control__delay=1.5), _rig("control", "delay", 1.5), r"control\.\w+: expected an integer, got 1\.5"),
         (_design(simulation__load_masses=[1.0] * 100), _rig("experiment", "load_masses", [1.0] * 100), r"load_masses: 100 entries; the limit is 64"),
     ],
 )  # fmt: skip

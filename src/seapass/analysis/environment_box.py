@@ -56,6 +56,7 @@ from ..errors import ParameterError
 from ..exact import poly as ep
 from ..exact.axis import at_j_omega, even_to_x, real_part_polynomial, squared_magnitude_polynomial
 from ..exact.halfline import HalfLinePoint, half_line_cells
+from ..outcome import Outcome
 from .coupled import Environment, characteristic_from_polys, classify_polynomial
 from .portresponse import reduced_impedance
 
@@ -188,21 +189,32 @@ def crossing_cells(
     return out
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BoxCertificate:
     """Outcome of `certify_box`.
 
     Attributes
     ----------
-    certified : bool
-        Proven: no environment in the box gives the coupled system a pole in the
-        open right half-plane or a repeated pole on the imaginary axis.
+    outcome : Outcome
+        Of "is the design coupled-stable with every environment in the box":
+        ``PASSIVE`` proven (``certified``), ``NOT_PASSIVE`` when an environment
+        of the box is proven to destabilize it, else ``UNDECIDED``.
     reason : str
         Why not, when not certified (one sentence).
     """
 
-    certified: bool
+    outcome: Outcome
     reason: str = ""
+
+    @property
+    def certified(self) -> bool:
+        """Proven: no environment in the box gives the coupled system a pole in the
+        open right half-plane or a repeated pole on the imaginary axis."""
+        return self.outcome.passive
+
+
+def _undecided(reason: str) -> BoxCertificate:
+    return BoxCertificate(outcome=Outcome.UNDECIDED, reason=reason)
 
 
 def certify_box(
@@ -221,35 +233,37 @@ def certify_box(
     if den.leading_coefficient() < 0:
         num, den = -num, -den
     if num.is_zero():
-        return BoxCertificate(False, "Z is identically zero")
+        return _undecided("Z is identically zero")
     rn, rd = reduced_impedance(num, den)
     m_lo, m_hi = (ep.rational(v) for v in bounds.mass)
     if m_lo == 0:
-        return BoxCertificate(False, "the mass bound includes 0, where the coupled order drops")
+        return _undecided("the mass bound includes 0, where the coupled order drops")
     if rn.degree() == rd.degree() + 1:
         m_star = -rn.leading_coefficient() / rd.leading_coefficient()  # lead N + m lead D = 0
         if m_lo <= m_star <= m_hi:
-            return BoxCertificate(False, f"the coupled order drops at m = {float(m_star):.6g} kg")
+            return _undecided(f"the coupled order drops at m = {float(m_star):.6g} kg")
     elif rn.degree() > rd.degree() + 1:
-        return BoxCertificate(False, "Z grows faster than s at high frequency")
+        return _undecided("Z grows faster than s at high frequency")
     zero = _zero_crossing(rn, rd, bounds)
     if zero:
-        return BoxCertificate(False, zero)
+        return _undecided(zero)
     if cells is None:
         cells = crossing_cells(rn, rd, bounds)
     if cells:
         w = math.sqrt(float(cells[0][0]))
-        return BoxCertificate(
-            False,
-            f"an environment in the bounds puts a coupled pole on the axis at w = {w:.6g} rad/s",
+        return _undecided(
+            f"an environment in the bounds puts a coupled pole on the axis at w = {w:.6g} rad/s"
         )
     b_lo, k_lo, k_hi = bounds.damping[0], bounds.stiffness[0], bounds.stiffness[1]
     corner = Environment(mass=bounds.mass[0], damping=b_lo, stiffness=k_hi if k_hi else k_lo)
     chi, _ = characteristic_from_polys(num, den, *corner.polynomials())
     _status, rhp, repeated = classify_polynomial(chi)
     if rhp or repeated:
-        return BoxCertificate(False, f"the environment {_env_text(corner)} destabilizes it")
-    return BoxCertificate(True)
+        return BoxCertificate(
+            outcome=Outcome.NOT_PASSIVE,
+            reason=f"the environment {_env_text(corner)} destabilizes it",
+        )
+    return BoxCertificate(outcome=Outcome.PASSIVE)
 
 
 def _zero_crossing(rn: fmpq_poly, rd: fmpq_poly, bounds: EnvironmentBounds) -> str:

@@ -26,7 +26,7 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class FrequencyResponse:
     """``|F_L/X_L(jω)|`` and its phase.
 

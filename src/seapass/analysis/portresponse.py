@@ -126,7 +126,7 @@ def _roots(coeffs: Sequence[float]) -> np.ndarray:
     return np.roots(c)
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class ImpedanceResponse:
     """``Z(jω)`` of a port on a grid, and the exact bands where ``Re Z(jω) < 0``.
 

@@ -72,7 +72,7 @@ SETTLED, NOT_SETTLED = Settling.SETTLED.code, Settling.NOT_SETTLED.code
 UNSTABLE, INVALID = Settling.UNSTABLE.code, Settling.INVALID.code
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BatchMetrics:
     """Step-response metrics of a batch; every array has the broadcast design shape.
 

@@ -127,7 +127,12 @@ def _range(text: str, flag: str = "--range") -> tuple[float, float]:
 
 
 def run_check(args: argparse.Namespace) -> int:
-    from ..sampled.passivity import power_curve_csv, sampled_passivity, sampled_power_curve
+    from ..sampled.passivity import (
+        SampledReason,
+        power_curve_csv,
+        sampled_passivity,
+        sampled_power_curve,
+    )
 
     loop = loop_from_args(args)
     d = check_out_dir(args.out)
@@ -138,17 +143,20 @@ def run_check(args: argparse.Namespace) -> int:
         from ..plot.sampled import plot_power_curve
 
         write_text(d / "sampled_check.json", json_text(res.to_dict()))
-        if res.reason in ("", "negative_power", "low_frequency", "undecided"):
+        curved = (
+            SampledReason.NONE,
+            SampledReason.NEGATIVE_POWER,
+            SampledReason.LOW_FREQUENCY,
+            SampledReason.UNDECIDED,
+        )
+        if res.reason in curved:
             w, n = sampled_power_curve(sea, loop=loop)
             write_text(d / "sampled_power.csv", power_curve_csv(w, n))
             save_plot(lambda: plot_power_curve(w, n, period=loop.period), d / "sampled_power.png")
     if args.json:
         print_json(res.to_dict())
     else:
-        status = {"passive": "passive", "not_passive": "not passive", "undecided": "undecided"}
-        print(
-            f"{status[res.status.value]} at T = {loop.period:g} s (delay {loop.delay}): {res.detail}"
-        )
+        print(f"{res.outcome.label} at T = {loop.period:g} s (delay {loop.delay}): {res.detail}")
         if res.omega is not None:
             print(f"witness: w = {res.omega:.6g} rad/s")
     return 0 if res.passive else 1

@@ -86,8 +86,7 @@ def _sampled(state: ExploreState) -> dict[str, Any]:
     return {
         "analysed": True,
         "passive": r.passive,
-        "status": ("passive" if r.passive else "not passive")
-        + (" (marginal)" if r.marginal else ""),
+        "status": r.outcome.label,
         "reason": r.reason,
         "detail": r.detail,
         "omega": r.omega,

@@ -259,7 +259,7 @@ def _names(text: str) -> list[str]:
     return list(dict.fromkeys(name for _, name in names if name != "s"))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class StateCheck:
     """Result of `check_state`: a state, or one message per offending field."""
 
@@ -336,12 +336,12 @@ def check_state(data: Any) -> StateCheck:
     >>> check = check_state({"model": {"D1": "k1", "CL": "kd"}, "values": {"kd": "2e3"}})
     >>> check.state.values["kd"], check.state.gain, check.state.ranges["kd"]
     (2000.0, 'kd', (0.0, 20000.0))
-    >>> check_state({"model": {"D1": "k1 +"}}).errors
+    >>> dict(check_state({"model": {"D1": "k1 +"}}).errors)
     {'model.D1': "cannot parse expression 'k1 +': invalid syntax"}
     """
     errors: dict[str, str] = {}
     if not isinstance(data, Mapping):
-        return StateCheck(None, {"state": "expected a JSON object"})
+        return StateCheck(state=None, errors=MappingProxyType({"state": "expected a JSON object"}))
     model_in = data.get("model", {})
     if not isinstance(model_in, Mapping):
         model_in = {}
@@ -446,7 +446,7 @@ def check_state(data: Any) -> StateCheck:
     )
 
     if errors:
-        return StateCheck(None, errors)
+        return StateCheck(state=None, errors=MappingProxyType(errors))
     name = _NAME.sub("-", str(data.get("name", "") or "custom")).strip("-.")[:64] or "custom"
     title = str(data.get("title", "") or "")[: LIMITS["title"]]
     params = list(values)
@@ -483,9 +483,9 @@ def check_state(data: Any) -> StateCheck:
     except SeapassError as exc:
         arg = exc.argument or ""
         if arg in ("period", "delay", "velocity_filter"):
-            return StateCheck(None, {arg: str(exc)[len(arg) + 2 :]})
-        return StateCheck(None, {_field_of(str(exc)): str(exc)})
-    return StateCheck(state, {})
+            return StateCheck(state=None, errors=MappingProxyType({arg: str(exc)[len(arg) + 2 :]}))
+        return StateCheck(state=None, errors=MappingProxyType({_field_of(str(exc)): str(exc)}))
+    return StateCheck(state=state, errors=MappingProxyType({}))
 
 
 def _field_of(message: str) -> str:

@@ -246,7 +246,7 @@ def compile_c(
         return CompiledController(lib, export.deployment, period=period)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class VerifyResult:
     """How closely the compiled C follows the Python controller ([`verify_c`][seapass.export.compiled.verify_c]).
 

@@ -31,7 +31,7 @@ from .realization import FilterSpec, realize
 __all__ = ["Deployment", "plan_deployment"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Deployment(LoopAttributes):
     """The deployed controller of a design with the envelope it was certified for.
 

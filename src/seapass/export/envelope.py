@@ -22,7 +22,7 @@ from ..sampled.passivity import SampledPassivityResult, sampled_passivity
 __all__ = ["GainEnvelope", "certify_gains", "inward_interval", "sampled_verdict"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class GainEnvelope:
     """Certified range of one controller gain.
 
@@ -125,6 +125,13 @@ def certify_gains(
                 exact = iv
         low, high = inward_interval(*exact)
         envelopes.append(
-            GainEnvelope(g, nominal, min(low, nominal), max(high, nominal), exact, search)
+            GainEnvelope(
+                name=g,
+                nominal=nominal,
+                low=min(low, nominal),
+                high=max(high, nominal),
+                exact=exact,
+                search=search,
+            )
         )
     return tuple(envelopes), tuple(notes)

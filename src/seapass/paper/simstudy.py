@@ -37,7 +37,7 @@ from ..tuning.problem import QUICK_OPTIONS, TuningOptions
 __all__ = ["QUICK_OPTIONS", "SimulationStudy", "StudyRow", "run_simulation_study"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class StudyRow:
     """One design at one load mass."""
 
@@ -49,7 +49,7 @@ class StudyRow:
         return {"design": self.design, "load_mass": self.load_mass, **self.metrics.to_dict()}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SimulationStudy:
     """Result of `run_simulation_study`.
 
@@ -223,13 +223,19 @@ def run_simulation_study(
             warnings.simplefilter("ignore", TuningWarning)  # kept in tr.warnings and the JSON
             tr = tune(key, options=opts, progress=progress)
         tuned[key] = tr
-        step = float(tr.options.step)  # type: ignore[arg-type]
+        step = tr.options.step
         if on_design is not None:
             on_design(tr)
         for mass in ms:
             res = simulate(tr.sea, load_mass=mass, scenario=Step(step), horizon=horizon, dt=dt)
             runs[(key, mass)] = res
-            rows.append(StudyRow(key, mass, tracking_metrics(res, tolerance=opts.tolerance)))
+            rows.append(
+                StudyRow(
+                    design=key,
+                    load_mass=mass,
+                    metrics=tracking_metrics(res, tolerance=opts.tolerance),
+                )
+            )
     return SimulationStudy(
         designs=keys,
         masses=ms,

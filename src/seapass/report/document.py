@@ -203,19 +203,19 @@ def _csv_cell(value: Any) -> str:
 class Table:
     """A table of values; written as ``data/<name>.csv`` and shown in the report.
 
-    ``highlight`` lists ``(row, column)`` cells to flag (discrepancies); a
-    ``False`` cell is always flagged.  ``views`` optionally splits a wide
-    table for display into ``(subtitle, column indices)`` parts; the CSV
-    always has every column.
+    ``highlight`` lists ``(row index, column name)`` cells to flag
+    (discrepancies); a ``False`` cell is always flagged.  ``views`` optionally
+    splits a wide table for display into ``(subtitle, column names)`` parts;
+    the CSV always has every column.
     """
 
     name: str
     title: str
     columns: tuple[str, ...]
     rows: tuple[tuple[Any, ...], ...]
-    highlight: frozenset[tuple[int, int]] = frozenset()
+    highlight: frozenset[tuple[int, str]] = frozenset()
     note: str = ""
-    views: tuple[tuple[str, tuple[int, ...]], ...] = ()
+    views: tuple[tuple[str, tuple[str, ...]], ...] = ()
 
     def __post_init__(self) -> None:
         if not _FILE.match(self.name):
@@ -223,9 +223,12 @@ class Table:
         object.__setattr__(self, "columns", tuple(self.columns))
         object.__setattr__(self, "rows", tuple(tuple(r) for r in self.rows))
         object.__setattr__(self, "highlight", frozenset(self.highlight))
+        for _i, col in self.highlight:
+            if col not in self.columns:
+                raise ParameterError(f"table {self.name!r}: no column {col!r} to highlight")
         for _sub, cols in self.views:
-            if not cols or not all(0 <= j < len(self.columns) for j in cols):
-                raise ParameterError(f"table {self.name!r}: a view has bad column indices {cols}")
+            if not cols or not all(c in self.columns for c in cols):
+                raise ParameterError(f"table {self.name!r}: a view has unknown columns {cols}")
         for i, r in enumerate(self.rows):
             if len(r) != len(self.columns):
                 raise ParameterError(
@@ -233,7 +236,14 @@ class Table:
                 )
 
     def flagged(self, i: int, j: int) -> bool:
-        return (i, j) in self.highlight or self.rows[i][j] is False
+        """Cell ``(i, j)`` (row and column index) is flagged."""
+        return (i, self.columns[j]) in self.highlight or self.rows[i][j] is False
+
+    def view_indices(self) -> list[tuple[str, tuple[int, ...]]]:
+        """The display parts as ``(subtitle, column indices)`` (one part: every column)."""
+        if not self.views:
+            return [("", tuple(range(len(self.columns))))]
+        return [(sub, tuple(self.columns.index(c) for c in cols)) for sub, cols in self.views]
 
     def to_csv(self) -> str:
         buf = io.StringIO()

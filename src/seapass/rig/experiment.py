@@ -110,7 +110,7 @@ def settling_metrics(
 # ----------------------------------------------------------------------------- sweep
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class RigSweepResult:
     """Settling experiment for one design and one load mass.
 
@@ -337,7 +337,7 @@ def _sweep_result(
 # ----------------------------------------------------------------------------- findings
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class ExperimentResult:
     """The full settling experiment: one `RigSweepResult` per (design, mass).
 
@@ -420,7 +420,9 @@ def run_experiment(
         )
         if tick is not None:
             tick()
-    return ExperimentResult(rig.name, tuple(sweeps), tuple(sweep_findings(sweeps)))
+    return ExperimentResult(
+        rig_name=rig.name, sweeps=tuple(sweeps), findings=tuple(sweep_findings(sweeps))
+    )
 
 
 # ----------------------------------------------------------------------------- impacts

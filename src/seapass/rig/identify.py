@@ -69,7 +69,7 @@ FIT_PARAMETERS: tuple[tuple[str, str, str], ...] = (
 _CONFOUNDED = 0.98  # |correlation| beyond which two estimates are not told apart
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class FitParameter:
     """One fitted parameter with its uncertainty.
 
@@ -102,7 +102,7 @@ class FitParameter:
         }
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class RigFit:
     """The fitted actuator of a rig, with uncertainties and the data behind the fit.
 
@@ -379,7 +379,14 @@ def fit_rig(
     q = float(student.ppf(0.5 + confidence / 2, n - p))
     params = tuple(
         FitParameter(
-            name, float(v), float(s), float(v - q * s), float(v + q * s), unit, desc, bool(a)
+            name=name,
+            value=float(v),
+            stderr=float(s),
+            low=float(v - q * s),
+            high=float(v + q * s),
+            unit=unit,
+            description=desc,
+            at_bound=bool(a),
         )
         for (name, unit, desc), v, s, a in zip(FIT_PARAMETERS, theta, se, active, strict=True)
     )

@@ -116,7 +116,7 @@ def pack_windows(
     return np.asarray(starts, dtype=np.int64), np.asarray(sizes, dtype=np.int64)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Moments:
     """Window moments divided by ``∫φ`` (so in newtons): one row per window.
 

@@ -82,7 +82,7 @@ def build_mjcf(rig: Rig, *, load_mass: float, timestep: float = 1e-4) -> str:
 """
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class MujocoRun:
     """Positions at the control instants: ``t`` (N+1,), ``x_A``/``x_L`` (N+1,)."""
 
@@ -142,7 +142,7 @@ def simulate_mujoco(
     return MujocoRun(t=np.arange(steps + 1, dtype=float) * T, x_A=xa, x_L=xl)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class MujocoComparison:
     """MuJoCo vs linear twin: ``max_error`` (m) over both positions and all samples."""
 
@@ -206,7 +206,9 @@ def compare_with_twin(
     scale = max(abs(x0), float(np.max(np.abs(tw_l))))
     tol = 0.01 * scale if tolerance is None else float(tolerance)
     err = float(max(np.max(np.abs(mj_run.x_A - tw_a)), np.max(np.abs(mj_run.x_L - tw_l))))
-    return MujocoComparison(err, tol, err <= tol, mj_run, tw_a, tw_l)
+    return MujocoComparison(
+        max_error=err, tolerance=tol, agree=err <= tol, mujoco=mj_run, twin_x_A=tw_a, twin_x_L=tw_l
+    )
 
 
 def _twin_force_step(

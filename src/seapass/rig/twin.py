@@ -10,7 +10,9 @@ twin reduces to.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -27,7 +29,7 @@ FloatArray = NDArray[np.float64]
 __all__ = ["LoopResult", "linear_matrices", "simulate_loop"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LoopResult:
     """Batch closed-loop run of `simulate_loop`.
 
@@ -61,7 +63,7 @@ class LoopResult:
     force: FloatArray
     external_force: FloatArray
     diverged: NDArray[np.bool_]
-    meta: dict[str, Any] = field(default_factory=dict)
+    meta: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
 
 
 def simulate_loop(
@@ -186,12 +188,14 @@ def simulate_loop(
         force=rec.force,
         external_force=rec.external,
         diverged=stop.diverged,
-        meta={
-            "loop": loop,
-            "friction": friction,
-            "quantize": quantize,
-            "saturate": saturate,
-        },
+        meta=MappingProxyType(
+            {
+                "loop": loop,
+                "friction": friction,
+                "quantize": quantize,
+                "saturate": saturate,
+            }
+        ),
     )
 
 

@@ -28,7 +28,7 @@ from .controllers import (
     OursController,
     discretize,
 )
-from .passivity import SampledPassivityResult, SampledStatus, sampled_passivity
+from .passivity import SampledPassivityResult, SampledReason, SampledStatus, sampled_passivity
 from .region import ZWidthMap, sampled_region
 from .runtime import ControlLoop, HardwareInterface, SimulatedHardware
 
@@ -42,6 +42,7 @@ __all__ = [
     "OursController",
     "SampledBoundResult",
     "SampledPassivityResult",
+    "SampledReason",
     "SampledStatus",
     "SimulatedHardware",
     "ZWidthMap",

@@ -13,7 +13,8 @@ from __future__ import annotations
 import math
 import sys
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from enum import StrEnum
 from fractions import Fraction
 from typing import Any
 
@@ -22,60 +23,77 @@ from ..files.limits import check_rtol
 from ..model.display import Shown, html_card, short_repr
 from ..model.loop import LoopAttributes, SampledLoop, loop_argument
 from ..model.sea import SEA
+from ..outcome import Outcome
 from .boxes import BoxVerdict, bound_boxes
 from .controllers import controller_tfs
 from .family import controller_family
 from .lowfreq import low_frequency_limit
 from .passivity import check_precision, check_values, sampled_passivity
 from .plant import plant_key, plant_of
-from .verdict import PRECISIONS, decide
+from .verdict import PRECISIONS, SampledReason, decide
 
-__all__ = ["Edge", "SampledBoundResult", "intervals_text", "sampled_passive_bound"]
+__all__ = ["Edge", "EdgeKind", "SampledBoundResult", "intervals_text", "sampled_passive_bound"]
 
 
-@dataclass(frozen=True)
+class EdgeKind(StrEnum):
+    """What changes across an edge of a sampled passive set (the JSON value is the string)."""
+
+    LOW_FREQUENCY = "low_frequency"
+    """``N(ω) < 0`` as ``ω → 0`` on the non-passive side."""
+    STABILITY = "stability"
+    """The loop with the port held becomes unstable."""
+    INTERIOR = "interior"
+    """``N(ω) < 0`` at a frequency inside ``(0, π/T]`` (or the side is not deployable)."""
+    SPECIAL = "special"
+    """A single value where the deployed controller changes structure."""
+
+
+@dataclass(frozen=True, kw_only=True)
 class Edge:
     """Enclosure ``[lo, hi]`` of one boundary of the passive set and what changes there."""
 
     lo: float
     hi: float
-    kind: str  # "low_frequency", "stability", "nyquist", "interior", "special"
+    kind: EdgeKind
 
     def to_dict(self) -> dict[str, Any]:
         return {"lo": self.lo, "hi": self.hi, "kind": self.kind}
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class SampledBoundResult(LoopAttributes):
     """Certified passive values of one parameter (`sampled_passive_bound`).
 
     Attributes
     ----------
-    intervals : list of (float, float)
+    intervals : tuple of (float, float)
         Proven passive intervals (closed; a degenerate ``(v, v)`` is an isolated value).
         Their ends are the inner ends of the edge enclosures: conservative.
-    edges : list of Edge
+    edges : tuple of Edge
         Every boundary of the passive set, enclosed to ``rtol`` relative width.
-    undecided : list of (float, float)
+    undecided : tuple of (float, float)
         Sub-intervals (each narrower than the tolerance) the certification could not
         settle away from the edges; empty in all but near-degenerate cases.
     max_passive : float or None
         Largest proven passive value.
-    partition : list of (float, float, str)
-        The whole range as proven boxes and leaves: ``(lo, hi, status)``.
+    partition : tuple of (float, float, Outcome)
+        The whole range as proven boxes and leaves: ``(lo, hi, outcome)``.
     loop : SampledLoop
         The sampled loop (``period``, ``delay`` and ``velocity_filter`` are its).
+    design_passive : bool or None
+        The design value lies in a proven passive interval (None: no design value);
+        `design_outcome` tells not passive from undecided.
     """
 
     param: str
     loop: SampledLoop
     lo: float
     hi: float
-    intervals: list[tuple[float, float]]
+    intervals: tuple[tuple[float, float], ...]
     max_passive: float | None
-    edges: list[Edge] = field(default_factory=list)
-    undecided: list[tuple[float, float]] = field(default_factory=list)
-    partition: list[tuple[float, float, str]] = field(default_factory=list)
+    edges: tuple[Edge, ...] = ()
+    undecided: tuple[tuple[float, float], ...] = ()
+    partition: tuple[tuple[float, float, Outcome], ...] = ()
     rtol: float = 1e-9
     design_value: float | None = None
     design_passive: bool | None = None
@@ -84,6 +102,21 @@ class SampledBoundResult(LoopAttributes):
     @property
     def period(self) -> float:
         return self.loop.period
+
+    @property
+    def design_outcome(self) -> Outcome | None:
+        """The certified outcome at ``design_value`` (None without one).
+
+        ``PASSIVE`` inside a proven passive interval, ``UNDECIDED`` inside an edge
+        enclosure or an undecided sliver, else ``NOT_PASSIVE``.
+        """
+        v = self.design_value
+        if v is None:
+            return None
+        if self.design_passive:
+            return Outcome.PASSIVE
+        unsure = [(e.lo, e.hi) for e in self.edges] + list(self.undecided)
+        return Outcome.UNDECIDED if any(a <= v <= b for a, b in unsure) else Outcome.NOT_PASSIVE
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -149,15 +182,18 @@ class SampledBoundResult(LoopAttributes):
             ("largest passive value", "none" if self.max_passive is None else self.max_passive),
         ]
         rows += [
-            (f"edge ({e.kind.replace('_', ' ')})", f"[{e.lo:.10g}, {e.hi:.10g}]")
+            (f"edge ({e.kind.value.replace('_', ' ')})", f"[{e.lo:.10g}, {e.hi:.10g}]")
             for e in self.edges[:20]
         ]
         if self.undecided:
             rows.append(("undecided", intervals_text(self.undecided, most=20)))
         if self.design_value is not None:
-            verdict = {True: "passive", False: "not passive", None: "not decided"}
+            outcome = self.design_outcome
             rows.append(
-                (f"design {self.param} = {self.design_value:.6g}", verdict[self.design_passive])
+                (
+                    f"design {self.param} = {self.design_value:.6g}",
+                    "not decided" if outcome is None else outcome.label,
+                )
             )
         if self.low_frequency:
             rows.append(("low frequency", self.low_frequency))
@@ -177,33 +213,33 @@ def intervals_text(intervals: Sequence[tuple[float, float]], *, most: int) -> st
     return text + (f" ∪ {rest} more" if rest > 0 else "")
 
 
-def _merge_status(boxes: list[BoxVerdict]) -> list[tuple[Fraction, Fraction, str, str]]:
-    out: list[tuple[Fraction, Fraction, str, str]] = []
+def _merge_status(
+    boxes: list[BoxVerdict],
+) -> list[tuple[Fraction, Fraction, Outcome, SampledReason]]:
+    out: list[tuple[Fraction, Fraction, Outcome, SampledReason]] = []
     for b in boxes:
-        if out and out[-1][2] == b.status and out[-1][1] == b.lo and b.status != "undecided":
-            out[-1] = (out[-1][0], b.hi, b.status, out[-1][3])
+        same = out and out[-1][2] is b.outcome and out[-1][1] == b.lo
+        if same and b.outcome is not Outcome.UNDECIDED:
+            out[-1] = (out[-1][0], b.hi, b.outcome, out[-1][3])
         else:
-            out.append((b.lo, b.hi, b.status, b.reason))
+            out.append((b.lo, b.hi, b.outcome, b.reason))
     return out
 
 
-def _edge_kind(sea: SEA, param: str, left: float, right: float, loop: SampledLoop) -> str:
+def _edge_kind(sea: SEA, param: str, left: float, right: float, loop: SampledLoop) -> EdgeKind:
     """Which condition flips across an edge (from certified verdicts just outside it)."""
-    kinds = []
+    reasons = set()
     for v in (left, right):
         try:
             r = sampled_passivity(sea, loop=loop, values={param: v}, continuous_gate=False)
         except SeapassError:  # no deployable controller just outside the edge
-            return "interior"
-        kinds.append(r.reason)
-    reasons = set(kinds) - {""}
-    if "unstable" in reasons:
-        return "stability"
-    if "low_frequency" in reasons:
-        return "low_frequency"
-    if "negative_power" in reasons:
-        return "interior"
-    return "interior"
+            return EdgeKind.INTERIOR
+        reasons.add(r.reason)
+    if SampledReason.UNSTABLE in reasons:
+        return EdgeKind.STABILITY
+    if SampledReason.LOW_FREQUENCY in reasons:
+        return EdgeKind.LOW_FREQUENCY
+    return EdgeKind.INTERIOR
 
 
 def sampled_passive_bound(
@@ -335,7 +371,7 @@ def _assemble(
 ) -> SampledBoundResult:
     merged = _merge_status(boxes)
     # passive pieces as exact ends, then the special points overriding
-    pieces: list[tuple[Fraction, Fraction]] = [(a, b) for a, b, st, _r in merged if st == "passive"]
+    pieces = [(a, b) for a, b, outcome, _r in merged if outcome is Outcome.PASSIVE]
     for v, ok in points.items():
         if ok and not any(a <= v <= b for a, b in pieces):
             pieces.append((v, v))
@@ -358,38 +394,38 @@ def _assemble(
             joined.append((a, b))
     edges: list[Edge] = []
     undecided: list[tuple[float, float]] = []
-    for a, b, st, reason in merged:
-        if st != "undecided":
+    for a, b, outcome, reason in merged:
+        if outcome is not Outcome.UNDECIDED:
             continue
-        if reason == "edge":
+        if reason is SampledReason.EDGE:
             kind = _edge_kind(
                 sea, param, float(a) - (float(b - a) or 1e-300), float(b) + float(b - a), loop
             )
-            edges.append(Edge(float(a), float(b), kind))
+            edges.append(Edge(lo=float(a), hi=float(b), kind=kind))
         else:
             undecided.append((float(a), float(b)))
     for v, ok in points.items():
         inside = any(a < v < b for a, b in joined)
         if not inside and any(a <= v <= b for a, b in joined) != ok:
-            edges.append(Edge(float(v), float(v), "special"))
+            edges.append(Edge(lo=float(v), hi=float(v), kind=EdgeKind.SPECIAL))
     edges.sort(key=lambda e: e.lo)
     intervals = [(float(a), float(b)) for a, b in joined]
     design_passive = None
     if design_value is not None:
         design_passive = any(a <= design_value <= b for a, b in intervals)
     low = None
-    if any(e.kind == "low_frequency" for e in edges) and loop.method != "zoh":
+    if any(e.kind is EdgeKind.LOW_FREQUENCY for e in edges) and loop.method != "zoh":
         low = low_frequency_limit(sea, param, delay=loop.delay, period=loop.period, lo=lo, hi=hi)
     return SampledBoundResult(
         param=param,
         loop=loop,
         lo=lo,
         hi=hi,
-        intervals=intervals,
+        intervals=tuple(intervals),
         max_passive=intervals[-1][1] if intervals else None,
-        edges=edges,
-        undecided=undecided,
-        partition=[(float(a), float(b), st) for a, b, st, _r in merged],
+        edges=tuple(edges),
+        undecided=tuple(undecided),
+        partition=tuple((float(a), float(b), outcome) for a, b, outcome, _r in merged),
         rtol=rtol,
         design_value=design_value,
         design_passive=design_passive,

@@ -23,7 +23,7 @@ from .controllers import DiscreteTF, controller_tfs, state_space
 __all__ = ["CoupledCheck", "coupled_check", "coupled_closed_loop", "worst_sampled_environment"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CoupledCheck:
     """Sampled closed loop coupled to a mass–spring–damper environment at the port.
 
@@ -142,7 +142,12 @@ def coupled_check(
         **kw,
     )
     rho = float(np.max(np.abs(np.linalg.eigvals(acl))))
-    return CoupledCheck(float(env_mass), float(env_stiffness), float(env_damping), rho)
+    return CoupledCheck(
+        env_mass=float(env_mass),
+        env_stiffness=float(env_stiffness),
+        env_damping=float(env_damping),
+        spectral_radius=rho,
+    )
 
 
 def worst_sampled_environment(

@@ -43,12 +43,11 @@ References
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -63,6 +62,7 @@ from .power import power_values
 from .verdict import (
     PRECISIONS,
     Outcome,
+    SampledReason,
     alias_injection,
     cached_sums,
     decide,
@@ -71,10 +71,14 @@ from .verdict import (
     theta_of,
 )
 
+if TYPE_CHECKING:
+    from ..analysis.passivity import PassivityResult
+
 __all__ = [
     "METHOD",
     "PRECISION_RANGE",
     "SampledPassivityResult",
+    "SampledReason",
     "SampledStatus",
     "check_precision",
     "check_values",
@@ -93,33 +97,36 @@ VALUE_RANGE = (1e-100, 1e100)
 PRECISION_RANGE = (64, 65536)
 
 SampledStatus = Outcome
+"""The former name of [`Outcome`][seapass.outcome.Outcome] here (the same class)."""
 
 _DETAILS = {
-    "no_control": "no control: passive physics",
-    "unstable": "the sampled loop with the port held is unstable",
-    "alias_injection": (
+    SampledReason.NO_CONTROL: "no control: passive physics",
+    SampledReason.UNSTABLE: "the sampled loop with the port held is unstable",
+    SampledReason.ALIAS_INJECTION: (
         "the port has vanishing dissipation at high frequency (undamped transmission) and the "
         "controller samples the load position: aliased motion injects energy"
     ),
-    "undecided": (
+    SampledReason.UNDECIDED: (
         "undecided at the precision cap: the design is within the balls' resolution of the "
         "passivity boundary (treat as not passive)"
     ),
 }
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class SampledPassivityResult(LoopAttributes):
     """Certified verdict of `sampled_passivity`.
 
     Attributes
     ----------
-    status : SampledStatus
-        ``PASSIVE``, ``NOT_PASSIVE`` or ``UNDECIDED`` (never reported as passive).
-    reason : str
-        ``""``, ``"unstable"``, ``"alias_injection"``, ``"negative_power"``,
-        ``"low_frequency"`` (``N < 0`` as ``ω → 0``), ``"continuous_not_passive"``
-        (policy gate, see `sampled_passivity`) or ``"undecided"``.
+    outcome : Outcome
+        ``PASSIVE``, ``NOT_PASSIVE`` or ``UNDECIDED`` (never reported as passive);
+        ``status`` is the same value (its former name), ``passive`` is ``outcome.passive``.
+    reason : SampledReason
+        ``""``, ``"no_control"``, ``"unstable"``, ``"alias_injection"``,
+        ``"negative_power"``, ``"low_frequency"`` (``N < 0`` as ``ω → 0``),
+        ``"continuous_not_passive"`` (policy gate, see `sampled_passivity`) or
+        ``"undecided"``.
     detail : str
     omega : float or None
         A frequency (rad/s, in ``(0, π/T]``) where ``N(ω) < 0`` is proven.
@@ -137,8 +144,8 @@ class SampledPassivityResult(LoopAttributes):
         The closed-form low-frequency resistance ``R_lf`` (``R_lf ≥ 0`` is necessary).
     """
 
-    status: SampledStatus
-    reason: str = ""
+    outcome: Outcome
+    reason: SampledReason = SampledReason.NONE
     detail: str = ""
     omega: float | None = None
     loop: SampledLoop | None = None
@@ -149,8 +156,13 @@ class SampledPassivityResult(LoopAttributes):
     low_frequency: LowFrequency | None = None
 
     @property
+    def status(self) -> Outcome:
+        """The former name of `outcome`."""
+        return self.outcome
+
+    @property
     def passive(self) -> bool:
-        return self.status is SampledStatus.PASSIVE
+        return self.outcome.passive
 
     @property
     def period(self) -> float:
@@ -158,13 +170,17 @@ class SampledPassivityResult(LoopAttributes):
 
     @property
     def marginal(self) -> bool:
-        """Within the certification resolution of the boundary (``UNDECIDED``)."""
-        return self.status is SampledStatus.UNDECIDED
+        """Always False: the certified verdict states no relative margin.
+
+        An answer the balls could not decide is ``outcome is Outcome.UNDECIDED``, never
+        marginal (the one meaning of [`seapass.outcome`][seapass.outcome]).
+        """
+        return False
 
     def to_dict(self) -> dict[str, Any]:
         return {
             "passive": self.passive,
-            "status": self.status.value,
+            "status": self.outcome.value,
             "reason": self.reason,
             "detail": self.detail,
             "omega": self.omega,
@@ -183,8 +199,8 @@ class SampledPassivityResult(LoopAttributes):
         return short_repr(
             "SampledPassivityResult",
             {
-                "status": self.status.value,
-                "reason": self.reason or None,
+                "status": self.outcome.value,
+                "reason": str(self.reason) or None,
                 "omega": self.omega,
                 "period": self.period,
                 "delay": self.delay,
@@ -194,7 +210,7 @@ class SampledPassivityResult(LoopAttributes):
 
     def _repr_html_(self) -> str:
         rows: list[tuple[str, Any]] = [
-            ("verdict", self.status.value.replace("_", " ")),
+            ("verdict", self.outcome.label),
             ("detail", self.detail),
             ("loop", "none" if self.loop is None else self.loop.summary),
         ]
@@ -293,8 +309,8 @@ def sampled_passivity(
     True
     >>> slow = SEA(D1="k1 + b1*s", CL="kd", values=dict(m=1, b=10, k1=1000, b1=1e6, kd=950))
     >>> r = sampled_passivity(slow, loop=SampledLoop(period=0.002))
-    >>> r.passive, r.reason
-    (False, 'low_frequency')
+    >>> print(r.outcome, r.reason)
+    not_passive low_frequency
     """
     loop = loop_argument(loop, old, where="sampled_passivity")
     max_precision = check_precision(max_precision)
@@ -313,7 +329,12 @@ def sampled_passivity(
     plant_of(sea)  # validates the physical plant (ModelError outside the supported class)
     d = decide(key, ka, kl, loop.exact_period, max_precision=max_precision)
     lf = low_frequency_of(
-        sea, ka, kl, delay=loop.delay, method=loop.method, explain=d.reason == "low_frequency"
+        sea,
+        ka,
+        kl,
+        delay=loop.delay,
+        method=loop.method,
+        explain=d.reason is SampledReason.LOW_FREQUENCY,
     )
     base: dict[str, Any] = {
         "loop": loop,
@@ -323,42 +344,60 @@ def sampled_passivity(
         "low_frequency": lf,
     }
     omega = _omega(d.witness, loop.period)
-    if d.outcome is Outcome.PASSIVE:
+    gate = None
+    if d.outcome is Outcome.PASSIVE and continuous_gate and not sea.free_parameters:
+        gate = _continuous_gate(sea)
+    if gate is not None:
+        nyquist = math.pi / loop.period
         result = SampledPassivityResult(
-            Outcome.PASSIVE,
-            d.reason,
-            _DETAILS.get(d.reason, "passive at this sampling period"),
+            outcome=Outcome.NOT_PASSIVE,
+            reason=SampledReason.CONTINUOUS_NOT_PASSIVE,
+            detail=f"not passive in continuous time ({gate.detail}); seapass does not deploy "
+            "it sampled either",
+            omega=gate.omega if gate.omega is not None and gate.omega <= nyquist else None,
             **base,
         )
-        if continuous_gate and not sea.free_parameters:
-            result = _continuous_gate(sea, result)
+    elif d.outcome is Outcome.PASSIVE:
+        result = SampledPassivityResult(
+            outcome=Outcome.PASSIVE,
+            reason=d.reason,
+            detail=_DETAILS.get(d.reason, "passive at this sampling period"),
+            **base,
+        )
     elif d.outcome is Outcome.UNDECIDED:
         result = SampledPassivityResult(
-            Outcome.UNDECIDED, "undecided", _DETAILS["undecided"], **base
+            outcome=Outcome.UNDECIDED,
+            reason=SampledReason.UNDECIDED,
+            detail=_DETAILS[SampledReason.UNDECIDED],
+            **base,
         )
     else:
         detail = _DETAILS.get(d.reason, "")
-        if d.reason in ("negative_power", "low_frequency") and omega is not None:
+        proven = (SampledReason.NEGATIVE_POWER, SampledReason.LOW_FREQUENCY)
+        if d.reason in proven and omega is not None:
             detail = (
                 f"the sampled loop can deliver net energy at w = {omega:.6g} rad/s "
                 f"({omega / (2 * math.pi):.4g} Hz)"
             )
-            if d.reason == "low_frequency":
+            if d.reason is SampledReason.LOW_FREQUENCY:
                 detail += "; N(0) < 0, so slow enough motions extract energy"
                 detail += f" ({lf.explanation})" if lf is not None and lf.explanation else ""
-        elif d.reason == "unstable":
+        elif d.reason is SampledReason.UNSTABLE:
             detail += f" (spectral radius about {d.spectral_radius:.6g})"
-        result = SampledPassivityResult(Outcome.NOT_PASSIVE, d.reason, detail, omega, **base)
+        result = SampledPassivityResult(
+            outcome=Outcome.NOT_PASSIVE, reason=d.reason, detail=detail, omega=omega, **base
+        )
     if throw and not result.passive:
         raise NotPassiveError(f"not passive at T = {loop.period:g} s: {result.detail}")
     return result
 
 
-def _continuous_gate(sea: SEA, result: SampledPassivityResult) -> SampledPassivityResult:
+def _continuous_gate(sea: SEA) -> PassivityResult | None:
     """Deployment policy: a design that is not passive in continuous time is not deployed.
 
     Not part of the sampled-data verdict (which stands on its own): an extra necessary
     condition seapass imposes, so a "passive" answer always means passive both ways.
+    Returns the failing continuous verdict, or None when the design passes the gate.
     """
     from ..analysis.passivity import is_passive
     from .plant import continuous_impedance
@@ -367,17 +406,7 @@ def _continuous_gate(sea: SEA, result: SampledPassivityResult) -> SampledPassivi
     cont = is_passive(
         tuple([Fraction(int(c.p), int(c.q)) for c in reversed(p.coeffs())] for p in (num, den))
     )
-    if cont.passive:
-        return result
-    nyquist = math.pi / result.period
-    omega = cont.omega if cont.omega is not None and cont.omega <= nyquist else None
-    return dataclasses.replace(
-        result,
-        status=Outcome.NOT_PASSIVE,
-        reason="continuous_not_passive",
-        detail=f"not passive in continuous time ({cont.detail}); seapass does not deploy it sampled either",
-        omega=omega,
-    )
+    return None if cont.passive else cont
 
 
 def sampled_power_curve(

@@ -22,8 +22,9 @@ from __future__ import annotations
 
 import io
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -53,7 +54,7 @@ def default_setups(loop: SampledLoop) -> tuple[SampledLoop, ...]:
     return tuple(out)
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class ZWidthMap:
     """Certified passive sets of ``p1`` for each value of ``p2`` and each loop setup.
 
@@ -61,7 +62,7 @@ class ZWidthMap:
     ----------
     setups : tuple of SampledLoop
         The loops overlaid (one period); each is named by its ``label``.
-    rows : dict of str to list of SampledBoundResult
+    rows : mapping of str to tuple of SampledBoundResult
         ``rows[setup.label][i]`` is the passive set of ``p1`` at ``p2 = p2_values[i]``.
     """
 
@@ -70,7 +71,7 @@ class ZWidthMap:
     p1_range: tuple[float, float]
     p2_values: tuple[float, ...]
     setups: tuple[SampledLoop, ...]
-    rows: dict[str, list[SampledBoundResult]]
+    rows: Mapping[str, tuple[SampledBoundResult, ...]]
 
     @property
     def period(self) -> float:
@@ -256,5 +257,8 @@ def sampled_region(
             done += 1
             if progress is not None:
                 progress(done, total)
-    return ZWidthMap(p1, p2, (float(p1_range[0]), float(p1_range[1])),
-                     tuple(float(v) for v in values), setups, rows)  # fmt: skip
+    return ZWidthMap(
+        p1=p1, p2=p2, p1_range=(float(p1_range[0]), float(p1_range[1])),
+        p2_values=tuple(float(v) for v in values), setups=setups,
+        rows=MappingProxyType({k: tuple(v) for k, v in rows.items()}),
+    )  # fmt: skip

@@ -186,7 +186,7 @@ class SimulatedClock(FakeClock):
             self.advance(t - self.t)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LoopRecord:
     """What one run of `ControlLoop.run` did; arrays have one entry per serviced tick.
 

@@ -12,6 +12,7 @@ import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from enum import StrEnum
 from fractions import Fraction
 
 import numpy as np
@@ -25,7 +26,7 @@ from .certified import Sign, precision, schur_stable, schur_stable_exact, sign_o
 from .plant import plant_from_key
 from .power import ControllerFamily, polynomial_degree, power_values, weighted_polynomials
 
-__all__ = ["Decision", "Outcome", "decide", "precision_ladder"]
+__all__ = ["Decision", "Outcome", "SampledReason", "decide", "precision_ladder"]
 
 #: Working precisions tried in turn (bits); the last one is the default cap.
 PRECISIONS = (128, 256, 512, 1024, 2048, 4096)
@@ -33,10 +34,33 @@ PRECISIONS = (128, 256, 512, 1024, 2048, 4096)
 MAX_POWER_DEGREE = 400
 
 
-@dataclass(frozen=True)
+class SampledReason(StrEnum):
+    """Why a sampled-data verdict came out as it did (the JSON value is the string)."""
+
+    NONE = ""
+    """Passive with control (or an undecided box leaf that is not an edge)."""
+    NO_CONTROL = "no_control"
+    """No control at all: the passive physics."""
+    UNSTABLE = "unstable"
+    """The sampled loop with the port held is unstable."""
+    ALIAS_INJECTION = "alias_injection"
+    """The controller samples the load position of an undamped transmission."""
+    NEGATIVE_POWER = "negative_power"
+    """``N(ω) < 0`` is proven at some ``ω > 0``."""
+    LOW_FREQUENCY = "low_frequency"
+    """``N < 0`` as ``ω → 0``: slow enough motions extract energy."""
+    CONTINUOUS_NOT_PASSIVE = "continuous_not_passive"
+    """The deployment policy's continuous-time gate (see `sampled_passivity`)."""
+    UNDECIDED = "undecided"
+    """Not decided at the precision cap (or the box budget of a bound)."""
+    EDGE = "edge"
+    """An undecided box leaf between proven boxes of opposite verdicts (bounds only)."""
+
+
+@dataclass(frozen=True, kw_only=True)
 class Decision:
     outcome: Outcome
-    reason: str = ""
+    reason: SampledReason = SampledReason.NONE
     witness: Fraction | None = None  # x = cos(theta) with a proven negative power
     precision: int = 0
     degree: int = 0
@@ -166,14 +190,22 @@ def decide(
     ka_zero, kl_zero = ka.is_zero, kl.is_zero  # type: ignore[attr-defined]
     if ka_zero and kl_zero:
         return Decision(
-            Outcome.PASSIVE, "no_control", spectral_radius=loop_radius(key, ka, kl, period)
+            outcome=Outcome.PASSIVE,
+            reason=SampledReason.NO_CONTROL,
+            spectral_radius=loop_radius(key, ka, kl, period),
         )
     if not kl_zero and not schur_stable_exact(list(reversed(kl.den))):  # type: ignore[attr-defined]
         rho = loop_radius(key, ka, kl, period)
-        return Decision(Outcome.NOT_PASSIVE, "unstable", spectral_radius=max(rho, 1.0))
+        return Decision(
+            outcome=Outcome.NOT_PASSIVE,
+            reason=SampledReason.UNSTABLE,
+            spectral_radius=max(rho, 1.0),
+        )
     if not kl_zero and alias_injection(key):
         rho = loop_radius(key, ka, kl, period)
-        return Decision(Outcome.NOT_PASSIVE, "alias_injection", spectral_radius=rho)
+        return Decision(
+            outcome=Outcome.NOT_PASSIVE, reason=SampledReason.ALIAS_INJECTION, spectral_radius=rho
+        )
     names = needed_sums(ka_zero, kl_zero)
     if "Sg" not in names:
         names = (*names, "Sg")  # the modes with the port held, for the stability test
@@ -194,18 +226,39 @@ def decide(
             stable = schur_stable(chi)
             rho = _radius(chi)
             if stable is False:
-                return Decision(Outcome.NOT_PASSIVE, "unstable", None, prec, degree, max(rho, 1.0))
+                return Decision(
+                    outcome=Outcome.NOT_PASSIVE,
+                    reason=SampledReason.UNSTABLE,
+                    precision=prec,
+                    degree=degree,
+                    spectral_radius=max(rho, 1.0),
+                )
             (poly,) = weighted_polynomials(sums, family)
             result = sign_on(
                 [poly], Fraction(-1), Fraction(1), budget=60 if prec < ladder[-1] else 2000
             )
             if result.sign is Sign.NEGATIVE:
-                reason = "low_frequency" if poly(arb(1)) < 0 else "negative_power"
+                low = poly(arb(1)) < 0
+                reason = SampledReason.LOW_FREQUENCY if low else SampledReason.NEGATIVE_POWER
                 witness = result.witness if result.witness is not None else Fraction(1)
                 if witness == 1:
                     witness = _below_one(poly) or witness
                 witness = _deepest_witness(sums, family, poly, witness)
-                return Decision(Outcome.NOT_PASSIVE, reason, witness, prec, degree, rho)
+                return Decision(
+                    outcome=Outcome.NOT_PASSIVE,
+                    reason=reason,
+                    witness=witness,
+                    precision=prec,
+                    degree=degree,
+                    spectral_radius=rho,
+                )
             if result.sign is Sign.POSITIVE and stable:
-                return Decision(Outcome.PASSIVE, "", None, prec, degree, rho)
-    return Decision(Outcome.UNDECIDED, "undecided", None, ladder[-1], degree)
+                return Decision(
+                    outcome=Outcome.PASSIVE, precision=prec, degree=degree, spectral_radius=rho
+                )
+    return Decision(
+        outcome=Outcome.UNDECIDED,
+        reason=SampledReason.UNDECIDED,
+        precision=ladder[-1],
+        degree=degree,
+    )

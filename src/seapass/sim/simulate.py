@@ -76,7 +76,7 @@ _DIVERGENCE = 1e8  # |state| above this multiple of the problem scale counts as 
 # --------------------------------------------------------------------------- simulation
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class SimulationResult:
     """Sampled response of a closed-loop simulation.
 

@@ -38,6 +38,7 @@ __all__ = [
     "QUICK_OPTIONS",
     "DesignLike",
     "Objective",
+    "ResolvedTuning",
     "TuningOptions",
     "TuningProblem",
     "default_box",
@@ -199,6 +200,19 @@ QUICK_OPTIONS = TuningOptions(maxiter=12, popsize=6, dt_search=1e-2)
 """A small optimizer budget for tests and previews (about 10x cheaper)."""
 
 
+@dataclass(frozen=True, kw_only=True)
+class ResolvedTuning(TuningOptions):
+    """`TuningOptions` with the design-dependent settings resolved (`resolve_problem`).
+
+    ``load_mass``, ``step`` and ``horizon`` are numbers: the option when given, else the
+    design file's ``[simulation]``, else the paper's experiment (10 kg, 0.5 m, 10 s).
+    """
+
+    load_mass: float = DEFAULT_LOAD_MASS
+    step: float = DEFAULT_STEP
+    horizon: float = DEFAULT_HORIZON
+
+
 @dataclass(frozen=True)
 class TuningProblem:
     """A validated tuning problem (from `resolve_problem`).
@@ -214,7 +228,7 @@ class TuningProblem:
         The tuned gains, in search order.
     box : mapping of str to (float, float)
         The search box of every tuned gain.
-    options : TuningOptions
+    options : ResolvedTuning
         With ``load_mass``, ``step``, ``horizon`` resolved to numbers.
     """
 
@@ -222,7 +236,7 @@ class TuningProblem:
     sea: SEA
     gains: tuple[str, ...]
     box: Mapping[str, tuple[float, float]] = field(default_factory=dict)
-    options: TuningOptions = field(default_factory=TuningOptions)
+    options: ResolvedTuning = field(default_factory=ResolvedTuning)
 
     def candidate(self, x: Iterable[float]) -> SEA:
         """The design with the tuned gains set to ``x`` (in the order of `gains`)."""
@@ -399,14 +413,18 @@ def resolve_problem(
     box = {name: _gain_box(name, given, boxes, sea) for name, given in wanted.items()}
     gains = tuple(box)
     file = design if isinstance(design, Design) else None
-    resolved = replace(
-        opts,
-        load_mass=PAPER_EXPERIMENT.pick("load_mass", opts.load_mass, file and file.tuning_mass),
-        step=PAPER_EXPERIMENT.pick("step", opts.step, file and file.step),
-        horizon=PAPER_EXPERIMENT.pick("horizon", opts.horizon, file and file.horizon),
+    given = {f.name: getattr(opts, f.name) for f in fields(TuningOptions)}
+    resolved = ResolvedTuning(
+        **{
+            **given,
+            "load_mass": PAPER_EXPERIMENT.pick(
+                "load_mass", opts.load_mass, file and file.tuning_mass
+            ),
+            "step": PAPER_EXPERIMENT.pick("step", opts.step, file and file.step),
+            "horizon": PAPER_EXPERIMENT.pick("horizon", opts.horizon, file and file.horizon),
+        }
     )
-    horizon = float(resolved.horizon or DEFAULT_HORIZON)
-    if horizon < max(resolved.dt_search, resolved.dt_verify):
+    if resolved.horizon < max(resolved.dt_search, resolved.dt_verify):
         raise ParameterError("horizon is shorter than the time step")
     return TuningProblem(
         name=name, sea=sea, gains=gains, box=MappingProxyType(box), options=resolved

@@ -3,12 +3,15 @@
 Each ``stage_*`` returns a [`Section`][seapass.report.document.Section]:
 ``stage_zwidth(quick)`` for the paper's rig (Ours, ``kd`` against ``bd`` at 500 Hz) and
 ``stage_design_zwidth(design, quick)`` for a design file with a ``[control] rate``.
+Each computes its map, draws it with `zwidth_figures` and writes the section with
+`zwidth_section` (python-control's ``*_response`` / ``*_plot`` split).
 """
 
 from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -22,7 +25,7 @@ from ...rig.rigfile import paper_rig
 from ...sampled.region import ZWidthMap, sampled_region
 from ..document import FigureData, Finding, Section, SectionStatus, Table, Verdict, to_json
 
-__all__ = ["stage_design_zwidth", "stage_zwidth"]
+__all__ = ["stage_design_zwidth", "stage_zwidth", "zwidth_figures", "zwidth_section"]
 
 _TEXT = (
     "The Z-width (Colgate & Brown, 1994) is the range of impedances a haptic device renders "
@@ -40,9 +43,21 @@ def _with_filter(loop: SampledLoop) -> SampledLoop:
     return loop.replace(velocity_filter=min(50.0, 0.4 * loop.nyquist))
 
 
-def _section(
-    key: str, title: str, zmap: ZWidthMap, text: str, findings: tuple[Finding, ...]
+def zwidth_figures(key: str, zmap: ZWidthMap) -> tuple[FigureData, ...]:
+    return (
+        FigureData.of(key, f"Z-width: passive {zmap.p1} against {zmap.p2}.", plot_zwidth(zmap)),
+    )
+
+
+def zwidth_section(
+    key: str,
+    title: str,
+    zmap: ZWidthMap,
+    text: str,
+    findings: tuple[Finding, ...],
+    figures: Sequence[FigureData],
 ) -> Section:
+    """The section of a Z-width map with the figures of `zwidth_figures`."""
     bounds = [zmap.upper_boundary(s.label) for s in zmap.setups]
     rows = tuple(
         (v, *(None if math.isnan(b[i]) else float(b[i]) for b in bounds))
@@ -55,13 +70,12 @@ def _section(
         rows=rows,
         note="Full passive sets (islands included) per row in the CSV and JSON files.",
     )
-    fig = FigureData.of(key, f"Z-width: passive {zmap.p1} against {zmap.p2}.", plot_zwidth(zmap))
     return Section(
         key=key,
         title=title,
         text=text,
         tables=(table,),
-        figures=(fig,),
+        figures=tuple(figures),
         findings=findings,
         files={f"{key}.csv": zmap.to_csv(), f"{key}.json": to_json(zmap.to_dict())},
     )
@@ -89,8 +103,8 @@ def stage_zwidth(quick: bool) -> Section:
         f"{real[i]:.5g} N/m",
     )
     text = _TEXT.format(p1="kd", p2="bd", d=max(loop.delay, 1), f=loop.velocity_filter, n=n)
-    return _section("zwidth", f"Z-width of Ours at {1 / rig.period:g} Hz (beyond the paper)", zmap,
-                    text, (finding,))  # fmt: skip
+    title = f"Z-width of Ours at {1 / rig.period:g} Hz (beyond the paper)"
+    return zwidth_section("zwidth", title, zmap, text, (finding,), zwidth_figures("zwidth", zmap))
 
 
 def _first(text: str, name: str) -> int:
@@ -130,4 +144,4 @@ def stage_design_zwidth(design: Design, quick: bool) -> Section:
             f" (The design has no velocity filter; {loop.velocity_filter:g} Hz is shown for "
             "comparison.)"
         )
-    return _section("zwidth", title, zmap, text, ())
+    return zwidth_section("zwidth", title, zmap, text, (), zwidth_figures("zwidth", zmap))
