@@ -31,6 +31,7 @@ from seapass.analysis.witness import WitnessResult, WitnessStatus, find_destabil
 from seapass.analysis.witness_search import Growth
 from seapass.batch.verdicts import BatchPassivity, batch_is_passive
 from seapass.explore.reports import JobStatus
+from seapass.model.loop import SampledLoop
 from seapass.model.sea import SEA
 from seapass.outcome import Outcome
 from seapass.paper.tables import BoundStatus
@@ -59,9 +60,11 @@ def _results() -> dict[type, list[Any]]:
     return {
         PassivityResult: [is_passive("(s + 1)/(s + 2)"), is_passive("(s - 1)/(s + 2)")],
         SampledPassivityResult: [
-            sampled_passivity(sea, period=0.002),
-            sampled_passivity(_lp(b1=1e6, k1=1000, kd=950), period=0.002),
-            sampled_passivity(_lp(b1=1e6, k1=1000, kd=950), period=0.002, max_precision=64),
+            sampled_passivity(sea, loop=SampledLoop(period=0.002)),
+            sampled_passivity(_lp(b1=1e6, k1=1000, kd=950), loop=SampledLoop(period=0.002)),
+            sampled_passivity(
+                _lp(b1=1e6, k1=1000, kd=950), loop=SampledLoop(period=0.002), max_precision=64
+            ),
         ],
         CoupledResult: [
             coupled_stability("(s - 1)/(s + 1)", Environment(damping=0.5)),
@@ -153,7 +156,9 @@ def test_marginal_means_decided_near_the_boundary() -> None:
     assert near.marginal and near.outcome is Outcome.PASSIVE
     assert near.status == "passive (marginal)"
     assert not is_passive("(s + 1)/(s + 2)").marginal
-    undecided = sampled_passivity(_lp(b1=1e6, k1=1000, kd=950), period=0.002, max_precision=64)
+    undecided = sampled_passivity(
+        _lp(b1=1e6, k1=1000, kd=950), loop=SampledLoop(period=0.002), max_precision=64
+    )
     assert undecided.outcome is Outcome.UNDECIDED and not undecided.marginal
     assert undecided.to_dict()["marginal"] is False and undecided.to_dict()["status"] == "undecided"
 
@@ -161,7 +166,13 @@ def test_marginal_means_decided_near_the_boundary() -> None:
 @pytest.fixture(scope="module")
 def bound() -> SampledBoundResult:
     return sampled_passive_bound(
-        _lp(kd=None), "kd", period=0.002, lo=0.0, hi=2e4, rtol=1e-3, design_value=500.0
+        _lp(kd=None),
+        "kd",
+        loop=SampledLoop(period=0.002),
+        lo=0.0,
+        hi=2e4,
+        rtol=1e-3,
+        design_value=500.0,
     )
 
 

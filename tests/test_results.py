@@ -30,7 +30,7 @@ INPUTS = {
     "seapass.model.design_file.Design", "seapass.model.realization._Element",
     "seapass.rig.rigfile.Rig", "seapass.rig.log.RigLog", "seapass.paper.tables.PaperRow",
     # the rig file's declarative schema
-    "seapass.rig.schema.Field", "seapass.rig.schema.MotorSpec",
+    "seapass.files.schema.Field", "seapass.rig.schema.MotorSpec",
     "seapass.rig.schema.TransmissionSpec", "seapass.rig.schema.DamperSpec",
     "seapass.rig.schema.LoadSpec", "seapass.rig.schema.EncoderSpec",
     "seapass.rig.schema.ControlSpec", "seapass.rig.schema.ExperimentSpec",
@@ -160,6 +160,7 @@ def test_built_results_hold_tuples_at_run_time() -> None:
     from seapass.analysis.passivity import is_passive
     from seapass.analysis.region import passive_intervals, passive_map
     from seapass.explore.state import check_state
+    from seapass.model.loop import SampledLoop
     from seapass.model.sea import SEA
     from seapass.sampled.bound import sampled_passive_bound
     from seapass.sampled.passivity import sampled_passivity
@@ -170,8 +171,8 @@ def test_built_results_hold_tuples_at_run_time() -> None:
         passivity_indices("s/(s**2 + 0.2*s + 1)"),
         passive_intervals(lp, "kd", 0.0, 2000.0),
         passive_map(lp, "b1", np.array([10.0, 20.0]), "kd", (0.0, 2000.0), y_points=3),
-        sampled_passivity(lp.with_values(kd=500.0), period=0.002),
-        sampled_passive_bound(lp, "kd", period=0.002, lo=0.0, hi=2e4, rtol=1e-3),
+        sampled_passivity(lp.with_values(kd=500.0), loop=SampledLoop(period=0.002)),
+        sampled_passive_bound(lp, "kd", loop=SampledLoop(period=0.002), lo=0.0, hi=2e4, rtol=1e-3),
         check_state({"model": {"D1": "k1 +"}}),
     ]
     for result in built:

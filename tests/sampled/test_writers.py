@@ -7,6 +7,7 @@ import io
 from pathlib import Path
 
 from seapass.cli import main
+from seapass.model.loop import SampledLoop
 from seapass.model.sea import SEA
 from seapass.sampled.bound import sampled_passive_bound
 from seapass.sampled.passivity import power_curve_csv, sampled_power_curve
@@ -21,7 +22,7 @@ def _rows(text: str) -> list[list[str]]:
 
 
 def test_power_curve_csv_holds_plain_exact_numbers() -> None:
-    w, n = sampled_power_curve(OURS.with_values(kd=2000), period=0.002, n=5)
+    w, n = sampled_power_curve(OURS.with_values(kd=2000), loop=SampledLoop(period=0.002), n=5)
     rows = _rows(power_curve_csv(w, n))
     assert rows[0] == ["omega_rad_s", "N"] and len(rows) == 6
     assert [[float(a), float(b)] for a, b in rows[1:]] == [
@@ -30,7 +31,7 @@ def test_power_curve_csv_holds_plain_exact_numbers() -> None:
 
 
 def test_bound_csv_is_the_partition() -> None:
-    res = sampled_passive_bound(OURS, "kd", period=0.002, lo=0, hi=2e4, rtol=1e-3)
+    res = sampled_passive_bound(OURS, "kd", loop=SampledLoop(period=0.002), lo=0, hi=2e4, rtol=1e-3)
     rows = _rows(res.to_csv())
     assert rows[0] == ["kd_lo", "kd_hi", "status"]
     assert [(float(a), float(b), s) for a, b, s in rows[1:]] == [
@@ -47,5 +48,5 @@ def test_the_cli_writes_the_library_csvs(tmp_path: Path) -> None:
     argv = ["sampled", "bound", "kd", "--period", "0.002", *ARGS, "--range", "0:2e4",
             "--rtol", "1e-3", "--out", str(out)]  # fmt: skip
     assert main(argv) == 0
-    res = sampled_passive_bound(OURS, "kd", period=0.002, lo=0, hi=2e4, rtol=1e-3)
+    res = sampled_passive_bound(OURS, "kd", loop=SampledLoop(period=0.002), lo=0, hi=2e4, rtol=1e-3)
     assert (out / "sampled_bound_kd.csv").read_text() == res.to_csv()

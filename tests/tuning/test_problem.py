@@ -17,5 +17,5 @@ def test_did_you_mean_falls_back_to_the_case_insensitive_match() -> None:
 def test_tuning_names_use_it() -> None:
     with pytest.raises(ParameterError, match=r"tune\['KD'\].*did you mean 'kd'"):
         resolve_problem("LP", {"KD": (0.0, 1.0)})
-    with pytest.raises(ParameterError, match=r"unknown tuning option 'PERIOD'.*'period'"):
-        TuningOptions().replace(PERIOD=0.002)
+    with pytest.raises(ParameterError, match=r"unknown tuning option 'LOOP'.*'loop'"):
+        TuningOptions().replace(LOOP=None)
