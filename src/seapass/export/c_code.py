@@ -24,6 +24,7 @@ from ..errors import ParameterError
 from ..files.atomic import atomic_write_text
 from ..model.design_file import Design, load_design
 from ..version import __version__
+from .ctext import C_KEYWORDS, c_code, c_comment, c_identifier, c_number, c_string, finalize
 from .deployment import Deployment, plan_deployment
 from .realization import FilterSpec
 
@@ -36,13 +37,6 @@ __all__ = [
     "export_c",
     "render_c",
 ]
-
-#: C99 keywords: a gain named like one cannot be a field of ``seapass_ctrl_gains``.
-C_KEYWORDS = frozenset(
-    "auto break case char const continue default do double else enum extern float for goto if "
-    "inline int long register restrict return short signed sizeof static struct switch typedef "
-    "union unsigned void volatile while _Bool _Complex _Imaginary".split()
-)
 
 HEADER = "seapass_ctrl.h"
 SOURCE = "seapass_ctrl.c"
@@ -114,14 +108,19 @@ def _environment() -> jinja2.Environment:
     def load(name: str) -> str:
         return folder.joinpath(name).read_text(encoding="utf-8")
 
-    return jinja2.Environment(
+    env = jinja2.Environment(
         loader=jinja2.FunctionLoader(load),
         undefined=jinja2.StrictUndefined,
         trim_blocks=True,
         lstrip_blocks=True,
         keep_trailing_newline=True,
-        autoescape=False,  # C source, not HTML
+        autoescape=False,  # C source, not HTML: seapass.export.ctext escapes instead
+        finalize=finalize,  # every printed value went through one of the filters below
     )
+    env.filters.update(
+        c_comment=c_comment, c_string=c_string, c_identifier=c_identifier, c_number=c_number
+    )
+    return env
 
 
 def _tf_formula(f: FilterSpec) -> str:
@@ -156,7 +155,9 @@ def _filters(dep: Deployment) -> list[dict[str, Any]]:
                 "b": [c_literal(c) for c in num],
                 "a": [c_literal(c) for c in den],
                 "input": _INPUTS[f.signal][0],
-                "gain_expr": None if f.gain is None else f"s->gains.{f.gain}",
+                "gain_expr": None
+                if f.gain is None
+                else c_code(f"s->gains.{c_identifier(f.gain, 'gain name')}"),
             }
         )
         offset += f.order
@@ -224,10 +225,13 @@ def _banner(dep: Deployment) -> list[str]:
 
 
 def check_c_names(design: Design) -> None:
-    """Refuse gain names that cannot be C identifiers of the generated API."""
+    """Refuse gain names that cannot be C identifiers of the generated API.
+
+    See [`c_identifier`][seapass.export.ctext.c_identifier]: C and C++ keywords,
+    reserved names, macros of the included headers and the ``seapass_`` prefix.
+    """
     for g in design.gains:
-        if g in C_KEYWORDS:
-            raise ParameterError(f"gain name {g!r} is a C keyword; rename it in the design")
+        c_identifier(g, "gain name")
 
 
 def render_c(dep: Deployment) -> dict[str, str]:
@@ -236,7 +240,7 @@ def render_c(dep: Deployment) -> dict[str, str]:
     filters = _filters(dep)
     used = {f.signal for f in dep.filters}
     signals = [
-        {"var": _INPUTS[s][0], "expr": _INPUTS[s][1], "comment": _INPUTS[s][2]}
+        {"var": _INPUTS[s][0], "expr": c_code(_INPUTS[s][1]), "comment": _INPUTS[s][2]}
         for s in ("error_A", "measurement_A", "error_L", "measurement_L")
         if s in used
     ]
