@@ -11,6 +11,7 @@ from typing import Any
 from ..errors import ParameterError
 from ..files.limits import MAX_DELAY_SAMPLES, MIN_RTOL
 from .common import (
+    add_force_option,
     add_json_option,
     add_model_options,
     add_out_dir_option,
@@ -76,6 +77,7 @@ def _loop_options(
     )
     add_json_option(p)
     add_out_dir_option(p, "figures, CSV and JSON")
+    add_force_option(p)
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
@@ -178,20 +180,25 @@ def run_check(args: argparse.Namespace) -> int:
     from ..sampled.passivity import sampled_passivity, sampled_power_curve
 
     kw = _loop_kw(args)
-    d = check_out_dir(args.out)
+    names = ("sampled_check.json", "sampled_power.csv", "sampled_power.png")
+    d = check_out_dir(args.out, files=names, force=args.force)
     sea = model_from_args(args)
     warn_unrealizable(sea)
     res = sampled_passivity(sea, **kw)
     if d is not None:
         from ..plot.sampled import plot_power_curve
 
-        write_text(d / "sampled_check.json", json_text(res.to_dict()))
+        write_text(d / "sampled_check.json", json_text(res.to_dict()), force=args.force)
         if res.reason in ("", "negative_power", "low_frequency", "undecided"):
             curve = {k: v for k, v in kw.items() if k != "max_precision"}
             w, n = sampled_power_curve(sea, **curve)
             rows = "".join(f"{a!r},{b!r}\n" for a, b in zip(w, n, strict=True))
-            write_text(d / "sampled_power.csv", "omega_rad_s,N\n" + rows)
-            save_plot(lambda: plot_power_curve(w, n, period=args.period), d / "sampled_power.png")
+            write_text(d / "sampled_power.csv", "omega_rad_s,N\n" + rows, force=args.force)
+            save_plot(
+                lambda: plot_power_curve(w, n, period=args.period),
+                d / "sampled_power.png",
+                force=args.force,
+            )
     if args.json:
         print_json(res.to_dict())
     else:
@@ -218,7 +225,10 @@ def run_bound(args: argparse.Namespace) -> int:
     lo, hi = _range(args.range)
     kw = _loop_kw(args)
     check_rtol(args.rtol)
-    d = check_out_dir(args.out)
+    stem = f"sampled_bound_{args.param}"
+    d = check_out_dir(
+        args.out, files=[f"{stem}.{x}" for x in ("csv", "json", "png")], force=args.force
+    )
     sea = model_from_args(args, extra_free={args.param: f"sampled bound {args.param}"})
     warn_unrealizable(sea)
     res = sampled_passive_bound(sea, args.param, lo=lo, hi=hi, rtol=args.rtol, progress=True, **kw)
@@ -226,9 +236,9 @@ def run_bound(args: argparse.Namespace) -> int:
     if d is not None:
         from ..plot.sampled import plot_bound
 
-        write_text(d / f"sampled_bound_{args.param}.csv", _partition_csv(args.param, res))
-        write_text(d / f"sampled_bound_{args.param}.json", json_text(out))
-        save_plot(lambda: plot_bound(res), d / f"sampled_bound_{args.param}.png")
+        write_text(d / f"{stem}.csv", _partition_csv(args.param, res), force=args.force)
+        write_text(d / f"{stem}.json", json_text(out), force=args.force)
+        save_plot(lambda: plot_bound(res), d / f"{stem}.png", force=args.force)
     if args.json:
         print_json(out)
         return 0
@@ -250,7 +260,10 @@ def run_region(args: argparse.Namespace) -> int:
     lo2, hi2 = _range(args.range2, "--range2")
     kw = _loop_kw(args)
     check_rtol(args.rtol)
-    out = check_out_dir(args.out)
+    stem = f"sampled_region_{args.p1}_{args.p2}"
+    out = check_out_dir(
+        args.out, files=[f"{stem}.{x}" for x in ("csv", "json", "png")], force=args.force
+    )
     if args.p1 == args.p2:
         raise ParameterError(f"sampled region: give two different parameters, got {args.p1} twice")
     sea = model_from_args(
@@ -275,10 +288,9 @@ def run_region(args: argparse.Namespace) -> int:
     if out is not None:
         from ..plot.sampled import plot_zwidth
 
-        stem = f"sampled_region_{args.p1}_{args.p2}"
-        write_text(out / f"{stem}.csv", zmap.to_csv())
-        write_text(out / f"{stem}.json", json_text(zmap.to_dict()))
-        save_plot(lambda: plot_zwidth(zmap), out / f"{stem}.png")
+        write_text(out / f"{stem}.csv", zmap.to_csv(), force=args.force)
+        write_text(out / f"{stem}.json", json_text(zmap.to_dict()), force=args.force)
+        save_plot(lambda: plot_zwidth(zmap), out / f"{stem}.png", force=args.force)
     if args.json:
         print_json(zmap.to_dict())
         return 0

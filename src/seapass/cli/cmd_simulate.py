@@ -10,6 +10,7 @@ from ..errors import FileFormatError, SeapassError
 from ..files.limits import MAX_TRAJECTORY_BYTES, MAX_TRAJECTORY_SAMPLES
 from ..files.textfile import read_text_file
 from .common import (
+    add_force_option,
     add_json_option,
     add_model_options,
     add_plot_option,
@@ -76,6 +77,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     add_json_option(p, "the metrics")
     add_plot_option(p, "the response")
+    add_force_option(p)
     p.set_defaults(func=run)
 
 
@@ -129,7 +131,7 @@ def run(args: argparse.Namespace) -> int:
     from ..sim.metrics import tracking_metrics
     from ..sim.simulate import simulate
 
-    figure = plot_path(args.plot)
+    figure = plot_path(args.plot, force=args.force)
     check_step(args.step)
     sea = model_from_args(args)
     scenario = scenario_from_args(args)
@@ -168,7 +170,7 @@ def run(args: argparse.Namespace) -> int:
     if figure is not None:
         from ..plot.sim import plot_simulation
 
-        save_plot(lambda: plot_simulation(result, met), figure)
+        save_plot(lambda: plot_simulation(result, met), figure, force=args.force, flag="--plot")
     if args.json:
         print_json(out)
     else:
