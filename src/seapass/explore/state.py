@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
-from ..errors import SeapassError
+from ..errors import ParameterError, SeapassError
 from ..model.catalog import REFERENCE_VALUES
 from ..model.design_file import Design, parse_design
 from ..model.expr import STANDARD_SYMBOLS, parse_expression
@@ -124,6 +124,16 @@ class ExploreState:
     delay: int = 0
     velocity_filter: float | None = None
     new_parameters: tuple[str, ...] = field(default=(), compare=False)
+
+    def __post_init__(self) -> None:
+        # every panel looks these names up: one that is not a parameter is a bug here
+        named = (self.gain, *self.region)
+        missing = [n for n in named if n not in self.values or n not in self.ranges]
+        if missing or len(self.region) != 2 or self.region[0] == self.region[1]:
+            raise ParameterError(
+                f"gain {self.gain!r} and region {self.region!r} must be two different "
+                f"parameters of the model ({', '.join(self.values)})"
+            )
 
     @property
     def parameters(self) -> tuple[str, ...]:
@@ -454,9 +464,10 @@ def check_state(data: Any) -> StateCheck:
         or region[0] == region[1]
     ):
         x = gain
-        rest = [g for g in gains if g != x] + [
-            p for p in ("k1", *params) if p != x and p not in gains
-        ]
+        # the other gains, then the spring k1 (if the model has one), the other plant
+        # parameters, and m, b last
+        plant = [p for p in ("k1", *params) if p in params and p not in ("m", "b")] + ["m", "b"]
+        rest = [g for g in gains if g != x] + [p for p in plant if p != x and p not in gains]
         region = (x, rest[0])
     try:
         state = ExploreState(

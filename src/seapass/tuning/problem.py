@@ -24,6 +24,7 @@ from types import MappingProxyType
 from typing import Any, TypeAlias
 
 from ..errors import ParameterError
+from ..files.limits import MAX_HORIZON, MAX_SIM_STEPS
 from ..model.catalog import PAPER_VALUES, CatalogDesign
 from ..model.catalog import design as catalog_design
 from ..model.design_file import Design
@@ -135,6 +136,12 @@ class TuningOptions:
         for name in ("load_mass", "horizon", "force_limit", "period", "velocity_filter"):
             if getattr(self, name) is not None:
                 finite_number(getattr(self, name), name, positive=True)
+        if self.horizon is not None and self.horizon > MAX_HORIZON:
+            raise ParameterError(
+                f"horizon: {self.horizon:g} s is longer than the limit of {MAX_HORIZON:g} s of "
+                "simulated time (seapass.files.limits.MAX_HORIZON); give a shorter horizon",
+                argument="horizon",
+            )
         if self.step is not None and not (finite_number(self.step, "step") != 0):
             raise ParameterError("step must be nonzero")
         if (
@@ -378,6 +385,13 @@ def resolve_problem(
     horizon = float(resolved.horizon or DEFAULT_HORIZON)
     if horizon < max(resolved.dt_search, resolved.dt_verify):
         raise ParameterError("horizon is shorter than the time step")
+    dt = min(resolved.dt_search, resolved.dt_verify)
+    if horizon / dt > MAX_SIM_STEPS:
+        raise ParameterError(
+            f"horizon / dt = {horizon:g} s / {dt:g} s is {horizon / dt:.3g} time steps, over the "
+            f"limit of {MAX_SIM_STEPS:,} of one simulation; shorten the horizon or enlarge "
+            "dt_search/dt_verify"
+        )
     return TuningProblem(
         name=name, sea=sea, gains=gains, box=MappingProxyType(box), options=resolved
     )
