@@ -401,7 +401,7 @@ def test_files_not_written_by_seapass_are_never_replaced(tmp_path: Path) -> None
     export_c(design("LP"), tmp_path, force_limit=FORCE_LIMIT, force=True)
     assert mine.read_text().startswith("/* seapass_ctrl.c")
     (tmp_path / "seapass_ctrl.h").write_text("/* edited */\n")
-    with pytest.raises(OutputPathError, match="seapass_ctrl.h exists and was not written"):
+    with pytest.raises(OutputPathError, match=r"seapass_ctrl\.h exists and was not written"):
         export_c(design("LP"), tmp_path, force_limit=FORCE_LIMIT)
     assert (tmp_path / "seapass_ctrl.h").read_text() == "/* edited */\n"
 

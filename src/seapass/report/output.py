@@ -154,9 +154,7 @@ def _carry_over(old: Path, new: Path, rels: list[str]) -> None:
                 shutil.copy2(src, dst)
 
 
-def write_report(
-    report: Report, out: str | os.PathLike[str], *, force: bool = False
-) -> list[Path]:
+def write_report(report: Report, out: str | os.PathLike[str], *, force: bool = False) -> list[Path]:
     """Write ``report.html``, ``report.md``, ``data/`` and ``figures/`` into ``out``.
 
     Everything is written into a temporary sibling directory first; only when
