@@ -10,7 +10,7 @@ forced; the manifest of what seapass wrote) and [`toml`][seapass.files.toml]
 (read design and rig files; every error names the file; write the flat tables
 seapass writes back).
 
-May import: [`seapass.errors`][seapass.errors] and [`seapass.version`][seapass.version].
+May import: [`seapass.errors`][seapass.errors] and `seapass.version`.
 """
 
 from .atomic import atomic_save, atomic_write, atomic_write_text
