@@ -125,11 +125,8 @@ class ExploreState:
     velocity_filter: float | None = None
     new_parameters: tuple[str, ...] = field(default=(), compare=False)
 
-    def __post_init__(self) -> None:
-        # every panel looks these names up: one that is not a parameter is a bug here
-        named = (self.gain, *self.region)
-        missing = [n for n in named if n not in self.values or n not in self.ranges]
-        if missing or len(self.region) != 2 or self.region[0] == self.region[1]:
+    def __post_init__(self) -> None:  # every panel looks these names up
+        if len(set(self.region)) != 2 or not {self.gain, *self.region} <= {*self.ranges}:
             raise ParameterError(
                 f"gain {self.gain!r} and region {self.region!r} must be two different "
                 f"parameters of the model ({', '.join(self.values)})"
@@ -464,8 +461,7 @@ def check_state(data: Any) -> StateCheck:
         or region[0] == region[1]
     ):
         x = gain
-        # the other gains, then the spring k1 (if the model has one), the other plant
-        # parameters, and m, b last
+        # the other gains, then k1 (if the model has one), the other plant parameters, m, b
         plant = [p for p in ("k1", *params) if p in params and p not in ("m", "b")] + ["m", "b"]
         rest = [g for g in gains if g != x] + [p for p in plant if p != x and p not in gains]
         region = (x, rest[0])
