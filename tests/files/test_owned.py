@@ -357,7 +357,11 @@ COMMANDS = {
         "witness.json",
         "seapass.analysis.witness.find_destabilizing_environment",
     ),
-    "tables": (["tables", "--out", "{d}"], "mech_pure-spring.png", None),
+    "tables": (
+        ["tables", "--out", "{d}"],
+        "mech_pure-spring.png",
+        "seapass.paper.tables.build_tables",
+    ),
     "figure": (["figure", "sims", "--out", "{d}"], "sims.csv", None),
     "sampled check": (
         ["sampled", "check", "--period", "0.002", *LP, "--set", "kd=500", "--out", "{d}"],

@@ -46,9 +46,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 def run(args: argparse.Namespace) -> int:
     from ..paper.tablefmt import format_latex, format_markdown, format_text
-    from ..paper.tables import build_tables
+    from ..paper.tables import PAPER_ROWS, build_tables
 
-    out = check_out_dir(deprecated_alias(args, "plots", "out"))
+    out = check_out_dir(
+        deprecated_alias(args, "plots", "out"),
+        files=[_row_file(r.name) for r in PAPER_ROWS],
+        force=args.force,
+    )
     rows = build_tables()
     if out is not None:
         write_row_plots(rows, out, force=args.force)
@@ -75,13 +79,13 @@ def write_row_plots(rows: list[TableRow], out: Path, *, force: bool = False) -> 
     from ..plot.response import plot_stiffness_response
 
     for r in rows:
-        check_replaceable(out / _row_file(r), force=force, argument="--out")
+        check_replaceable(out / _row_file(r.paper.name), force=force, argument="--out")
     paths = []
     for r in rows:
         vals = {k: REFERENCE_VALUES[k] for k in r.sea.parameters}
         resp = stiffness_response(r.sea, values=vals, label=r.paper.name)
         shown = ", ".join(f"{k}={v:g}" for k, v in vals.items())
-        path = out / _row_file(r)
+        path = out / _row_file(r.paper.name)
         draw = functools.partial(
             plot_stiffness_response,
             resp,
@@ -93,5 +97,5 @@ def write_row_plots(rows: list[TableRow], out: Path, *, force: bool = False) -> 
     return paths
 
 
-def _row_file(r: TableRow) -> str:
-    return f"{r.paper.name.replace('/', '_')}.png"
+def _row_file(name: str) -> str:
+    return f"{name.replace('/', '_')}.png"

@@ -103,7 +103,7 @@ def c_comment(text: Any) -> CText:
     >>> print(c_comment("t */ #define double float /*"))
     t *\x2f #define double float /\x2a
     >>> print(c_comment("a??/\r\nb \\ é"))
-    a?\x3f/\x0d\x0ab \x5c \u00e9
+    a?\x3f/\x0d\x0ab \x5c \xe9
     """
     s = str(text)
     out = []
