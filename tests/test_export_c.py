@@ -25,7 +25,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import seapass
-from seapass.errors import NotPassiveError, ParameterError
+from seapass.errors import NotPassiveError, OutputPathError, ParameterError
 from seapass.export import (
     c_literal,
     compile_c,
@@ -393,10 +393,17 @@ def test_bad_options_fail_before_any_work(change, kwargs, match, tmp_path: Path)
 def test_files_not_written_by_seapass_are_never_replaced(tmp_path: Path) -> None:
     mine = tmp_path / "seapass_ctrl.c"
     mine.write_text("int main(void) { return 0; }\n")
-    with pytest.raises(ParameterError, match="not written by seapass"):
+    with pytest.raises(OutputPathError, match="not written by seapass"):
         export_c(design("LP"), tmp_path, force_limit=FORCE_LIMIT)
     assert mine.read_text() == "int main(void) { return 0; }\n"
     assert not (tmp_path / "seapass_ctrl.h").exists()
+    # a file seapass wrote and the user then edited is the user's too
+    export_c(design("LP"), tmp_path, force_limit=FORCE_LIMIT, force=True)
+    assert mine.read_text().startswith("/* seapass_ctrl.c")
+    (tmp_path / "seapass_ctrl.h").write_text("/* edited */\n")
+    with pytest.raises(OutputPathError, match=r"seapass_ctrl\.h exists and was not written"):
+        export_c(design("LP"), tmp_path, force_limit=FORCE_LIMIT)
+    assert (tmp_path / "seapass_ctrl.h").read_text() == "/* edited */\n"
 
 
 def test_export_is_deterministic_and_replaces_its_own_files(tmp_path: Path) -> None:
@@ -404,7 +411,11 @@ def test_export_is_deterministic_and_replaces_its_own_files(tmp_path: Path) -> N
     texts = (first.header.read_text(), first.source.read_text())
     again = export_c(design("APD"), tmp_path, force_limit=FORCE_LIMIT)
     assert (again.header.read_text(), again.source.read_text()) == texts
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["seapass_ctrl.c", "seapass_ctrl.h"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        ".seapass-written",  # the manifest of what seapass wrote here
+        "seapass_ctrl.c",
+        "seapass_ctrl.h",
+    ]
 
 
 def test_generated_files_carry_the_envelope(tmp_path: Path) -> None:

@@ -159,7 +159,7 @@ def test_built_results_hold_tuples_at_run_time() -> None:
     from seapass.analysis.indices import passivity_indices
     from seapass.analysis.passivity import is_passive
     from seapass.analysis.region import passive_intervals, passive_map
-    from seapass.explore.state import check_state
+    from seapass.explore.validation import check_state
     from seapass.model.loop import SampledLoop
     from seapass.model.sea import SEA
     from seapass.sampled.bound import sampled_passive_bound

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from seapass.explore.state import check_state
+from seapass.explore.validation import check_state
 from seapass.model.design_file import load_design
 from seapass.model.loop import SampledLoop
 

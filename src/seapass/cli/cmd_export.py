@@ -7,12 +7,13 @@ from typing import Any
 
 from ..errors import CompilerError, ParameterError, SeapassError
 from ..files.limits import MAX_RTOL, MIN_RTOL, check_rtol
-from .common import add_json_option, announce, check_out_dir, print_json
+from .common import add_force_option, add_json_option, announce, check_out_dir, print_json
 
 EXAMPLE = """examples:
   seapass export c examples/ours.toml --out firmware/
   seapass export c examples/ours.toml --out firmware/ --hardware-delay 1 --verify
   seapass export c design.toml --out firmware/ --force-limit 120 --set-gains --tunable kd
+  seapass export c design.toml --out firmware/ --force   # replace files seapass did not write
 
 exit status: 0 written (and verified); 1 --verify found the compiled C and the Python
 controller more than 1e-12 apart; 2 bad input, a design that is not passive, or no
@@ -95,12 +96,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="compile the files with the system C compiler and compare them with the Python "
         "controller on 10,000 steps",
     )
+    add_force_option(c)
     add_json_option(c)
     c.set_defaults(func=run_c)
 
 
 def run_c(args: argparse.Namespace) -> int:
-    from ..export.c_code import export_c
+    from ..export.c_code import HEADER, SOURCE, export_c
     from ..export.compiled import find_c_compiler, verify_c
 
     tunable = None
@@ -109,7 +111,7 @@ def run_c(args: argparse.Namespace) -> int:
         if not tunable:
             raise ParameterError("--tunable needs gain names, e.g. --tunable kd,bd")
     check_rtol(args.rtol)
-    check_out_dir(args.out)
+    check_out_dir(args.out, files=(HEADER, SOURCE), force=args.force)
     if args.verify and find_c_compiler() is None:  # before anything is written
         raise CompilerError("--verify needs a C compiler: none found (set CC or install gcc)")
     try:
@@ -123,6 +125,7 @@ def run_c(args: argparse.Namespace) -> int:
             allow_nonpassive=args.allow_nonpassive,
             rtol=args.rtol,
             progress=True,
+            force=args.force,
         )
     except SeapassError as exc:
         text = str(exc)

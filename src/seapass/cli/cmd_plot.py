@@ -11,7 +11,15 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING, Any
 
-from .common import add_model_options, parse_range, print_json, system_from_args, write_figure
+from .common import (
+    add_force_option,
+    add_model_options,
+    parse_range,
+    plot_path,
+    print_json,
+    system_from_args,
+    write_figure,
+)
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     import numpy as np
@@ -61,6 +69,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "--plot", metavar="FILE", help="write the figure; .png, .svg or .pdf (default .png)"
     )
     p.add_argument("--json", action="store_true", help="print the curve and the bands as JSON")
+    add_force_option(p)
     p.set_defaults(func=run)
 
 
@@ -78,6 +87,7 @@ def run(args: argparse.Namespace) -> int:
     from ..analysis.portresponse import impedance_response
     from ..model.sea import SEA
 
+    plot_path(args.plot, force=args.force)  # before the work
     system = system_from_args(args)
     grid = _frequencies(args.omega, args.points)
     label = "Z" if args.Z is not None else "Z_L"
@@ -89,6 +99,7 @@ def run(args: argparse.Namespace) -> int:
             write_figure(
                 lambda: fr.plot(title=args.title, reference=k1, bands=resp.negative_bands),
                 args.plot,
+                force=args.force,
             )
         if args.json:
             print_json({**fr.to_dict(), "negative_real_bands": _bands(resp)})
@@ -96,7 +107,7 @@ def run(args: argparse.Namespace) -> int:
             _print_bode(fr, resp)
         return 0
     if args.plot:
-        write_figure(lambda: resp.plot(args.kind, title=args.title), args.plot)
+        write_figure(lambda: resp.plot(args.kind, title=args.title), args.plot, force=args.force)
     if args.json:
         print_json(resp.to_dict())
     else:

@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from .common import (
+    add_force_option,
     add_jobs_argument,
     add_json_option,
     announce_report,
@@ -51,6 +52,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     )
     add_jobs_argument(p)
     p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
+    add_force_option(p)
     add_json_option(p, "a summary (files, sections, findings)")
     p.set_defaults(func=run)
 
@@ -70,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
     from ..report.reproduce import reproduce
 
     out = Path(args.out)
-    check_output_dir(out)  # fail now, not after minutes of work
+    check_output_dir(out, force=args.force)  # fail now, not after minutes of work
     t0 = time.perf_counter()
     report = reproduce(
         quick=args.quick,
@@ -79,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
         log=lambda line: print(line, file=sys.stderr),
         jobs=args.jobs,
     )
-    written = write_report(report, out)
+    written = write_report(report, out, force=args.force)
     announce_report(out, written)
     counts = report.summary().counts
     agrees, differs = counts[Verdict.AGREES], counts[Verdict.DIFFERS]

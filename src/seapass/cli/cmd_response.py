@@ -6,6 +6,7 @@ import argparse
 
 from ..files.limits import MAX_FREQUENCY_POINTS
 from .common import (
+    add_force_option,
     add_json_option,
     add_model_options,
     add_plot_option,
@@ -42,6 +43,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help=f"number of frequencies (2 to {MAX_FREQUENCY_POINTS})",
     )
     add_plot_option(p, "the magnitude plot")
+    add_force_option(p)
     p.add_argument("--out", help=argparse.SUPPRESS)  # before 0.3: the figure; now --plot
     add_json_option(p)
     p.set_defaults(func=run)
@@ -53,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
     from ..analysis.freqresp import log_frequencies, stiffness_response
 
     omega = log_frequencies(*parse_range(args.omega, "--omega"), args.points)
-    figure = plot_path(deprecated_alias(args, "out", "plot"))
+    figure = plot_path(deprecated_alias(args, "out", "plot"), force=args.force)
     sea = model_from_args(args)
     warn_unrealizable(sea)
     resp = stiffness_response(sea, omega)
@@ -62,7 +64,10 @@ def run(args: argparse.Namespace) -> int:
 
         k1 = sea.values.get("k1")
         save_plot(
-            lambda: plot_stiffness_response(resp, title="rendered stiffness", reference=k1), figure
+            lambda: plot_stiffness_response(resp, title="rendered stiffness", reference=k1),
+            figure,
+            force=args.force,
+            flag="--plot",
         )
     if args.json:
         print_json(resp.to_dict())

@@ -10,6 +10,7 @@ from typing import Any
 from ..errors import ParameterError
 from ..files.limits import MAX_RTOL, MIN_RTOL, check_rtol
 from .common import (
+    add_force_option,
     add_json_option,
     add_model_options,
     add_out_dir_option,
@@ -53,6 +54,7 @@ def _loop_options(
     )
     add_json_option(p)
     add_out_dir_option(p, "figures, CSV and JSON")
+    add_force_option(p)
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
@@ -135,14 +137,15 @@ def run_check(args: argparse.Namespace) -> int:
     )
 
     loop = loop_from_args(args)
-    d = check_out_dir(args.out)
+    names = ("sampled_check.json", "sampled_power.csv", "sampled_power.png")
+    d = check_out_dir(args.out, files=names, force=args.force)
     sea = model_from_args(args)
     warn_unrealizable(sea)
     res = sampled_passivity(sea, loop=loop, max_precision=args.max_precision)
     if d is not None:
         from ..plot.sampled import plot_power_curve
 
-        write_text(d / "sampled_check.json", json_text(res.to_dict()))
+        write_text(d / "sampled_check.json", json_text(res.to_dict()), force=args.force)
         curved = (
             SampledReason.NONE,
             SampledReason.NEGATIVE_POWER,
@@ -151,8 +154,12 @@ def run_check(args: argparse.Namespace) -> int:
         )
         if res.reason in curved:
             w, n = sampled_power_curve(sea, loop=loop)
-            write_text(d / "sampled_power.csv", power_curve_csv(w, n))
-            save_plot(lambda: plot_power_curve(w, n, period=loop.period), d / "sampled_power.png")
+            write_text(d / "sampled_power.csv", power_curve_csv(w, n), force=args.force)
+            save_plot(
+                lambda: plot_power_curve(w, n, period=loop.period),
+                d / "sampled_power.png",
+                force=args.force,
+            )
     if args.json:
         print_json(res.to_dict())
     else:
@@ -168,7 +175,10 @@ def run_bound(args: argparse.Namespace) -> int:
     lo, hi = _range(args.range)
     loop = loop_from_args(args)
     check_rtol(args.rtol)
-    d = check_out_dir(args.out)
+    stem = f"sampled_bound_{args.param}"
+    d = check_out_dir(
+        args.out, files=[f"{stem}.{x}" for x in ("csv", "json", "png")], force=args.force
+    )
     sea = model_from_args(args, extra_free={args.param: f"sampled bound {args.param}"})
     warn_unrealizable(sea)
     res = sampled_passive_bound(
@@ -179,9 +189,9 @@ def run_bound(args: argparse.Namespace) -> int:
     if d is not None:
         from ..plot.sampled import plot_bound
 
-        write_text(d / f"sampled_bound_{args.param}.csv", res.to_csv())
-        write_text(d / f"sampled_bound_{args.param}.json", json_text(out))
-        save_plot(lambda: plot_bound(res), d / f"sampled_bound_{args.param}.png")
+        write_text(d / f"{stem}.csv", res.to_csv(), force=args.force)
+        write_text(d / f"{stem}.json", json_text(out), force=args.force)
+        save_plot(lambda: plot_bound(res), d / f"{stem}.png", force=args.force)
     if args.json:
         print_json(out)
         return 0
@@ -203,7 +213,10 @@ def run_region(args: argparse.Namespace) -> int:
     lo2, hi2 = _range(args.range2, "--range2")
     loop = loop_from_args(args)
     check_rtol(args.rtol)
-    out = check_out_dir(args.out)
+    stem = f"sampled_region_{args.p1}_{args.p2}"
+    out = check_out_dir(
+        args.out, files=[f"{stem}.{x}" for x in ("csv", "json", "png")], force=args.force
+    )
     if args.p1 == args.p2:
         raise ParameterError(f"sampled region: give two different parameters, got {args.p1} twice")
     sea = model_from_args(
@@ -220,10 +233,9 @@ def run_region(args: argparse.Namespace) -> int:
     if out is not None:
         from ..plot.sampled import plot_zwidth
 
-        stem = f"sampled_region_{args.p1}_{args.p2}"
-        write_text(out / f"{stem}.csv", zmap.to_csv())
-        write_text(out / f"{stem}.json", json_text(zmap.to_dict()))
-        save_plot(lambda: plot_zwidth(zmap), out / f"{stem}.png")
+        write_text(out / f"{stem}.csv", zmap.to_csv(), force=args.force)
+        write_text(out / f"{stem}.json", json_text(zmap.to_dict()), force=args.force)
+        save_plot(lambda: plot_zwidth(zmap), out / f"{stem}.png", force=args.force)
     if args.json:
         print_json(zmap.to_dict())
         return 0

@@ -6,6 +6,7 @@ import argparse
 from typing import TYPE_CHECKING
 
 from .common import (
+    add_force_option,
     add_json_option,
     add_model_options,
     add_plot_option,
@@ -77,6 +78,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     add_json_option(p, "the metrics")
     add_plot_option(p, "the response")
+    add_force_option(p)
     p.set_defaults(func=run)
 
 
@@ -97,7 +99,7 @@ def scenario_from_args(args: argparse.Namespace) -> Scenario:
 def run(args: argparse.Namespace) -> int:
     from ..sim.summary import simulation_summary
 
-    figure = plot_path(args.plot)
+    figure = plot_path(args.plot, force=args.force)
     check_step(args.step)
     sea = model_from_args(args)
     summary = simulation_summary(
@@ -110,7 +112,7 @@ def run(args: argparse.Namespace) -> int:
     )
     error = None if summary.passive_error is None else cli_words(summary.passive_error)
     if figure is not None:
-        save_plot(summary.plot, figure)
+        save_plot(summary.plot, figure, force=args.force, flag="--plot")
     if args.json:
         out = summary.to_dict()
         if error is not None:

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 
 from ..errors import ParameterError
 from .common import (
+    add_force_option,
     add_json_option,
     add_model_options,
     add_out_dir_option,
@@ -66,6 +67,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
                    help="any passive mass-spring-damper (may find physically meaningless ones)")  # fmt: skip
     add_json_option(p)
     add_out_dir_option(p, "witness.png and witness.json")
+    add_force_option(p)
     p.set_defaults(func=run)
 
 
@@ -85,7 +87,7 @@ def bounds_from_args(args: argparse.Namespace) -> EnvironmentBounds | None:
 def run(args: argparse.Namespace) -> int:
     from ..analysis.witness import find_destabilizing_environment
 
-    out = check_out_dir(args.out)
+    out = check_out_dir(args.out, files=("witness.png", "witness.json"), force=args.force)
     system = system_from_args(args)
     warn_unrealizable(system)
     bounds = bounds_from_args(args)
@@ -96,9 +98,9 @@ def run(args: argparse.Namespace) -> int:
         if result.found and result.simulation is not None:
             from ..plot.witness import plot_witness
 
-            save_plot(lambda: plot_witness(result), out / "witness.png")
+            save_plot(lambda: plot_witness(result), out / "witness.png", force=args.force)
             data["figure"] = str(out / "witness.png")
-        write_text(out / "witness.json", json_text(data))
+        write_text(out / "witness.json", json_text(data), force=args.force)
     if args.json:
         print_json(data)
     elif result.found:

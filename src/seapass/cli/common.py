@@ -32,6 +32,7 @@ from typing import Any
 
 from ..errors import ParameterError, SeapassError, did_you_mean
 from .output import (
+    add_force_option,
     add_json_option,
     add_out_dir_option,
     add_plot_option,
@@ -40,6 +41,7 @@ from .output import (
     atomic_write,
     atomic_write_text,
     check_out_dir,
+    check_out_file,
     json_text,
     plot_path,
     print_json,
@@ -51,6 +53,7 @@ from .output import (
 __all__ = [
     "EXIT_CODES",
     "HelpFormatter",
+    "add_force_option",
     "add_jobs_argument",
     "add_json_option",
     "add_model_options",
@@ -63,6 +66,7 @@ __all__ = [
     "atomic_write_text",
     "check_names",
     "check_out_dir",
+    "check_out_file",
     "check_period",
     "check_step",
     "cli_flag",
@@ -423,15 +427,17 @@ def report_summary(report: Any, out: Path, written: Sequence[Path]) -> dict[str,
     }
 
 
-def write_figure(draw: Callable[[], Any], path: str | os.PathLike[str]) -> Path:
+def write_figure(
+    draw: Callable[[], Any], path: str | os.PathLike[str], *, force: bool = False
+) -> Path:
     """`save_plot` for a ``--plot FILE`` option: one file, checked by `plot_path`, announced.
 
     The suffix picks the format (``.png``, ``.svg`` or ``.pdf``); a path without
-    one gets ``.png``.
+    one gets ``.png``.  A file seapass did not write is replaced only with ``force``.
     """
-    p = plot_path(os.fspath(path))
+    p = plot_path(os.fspath(path), force=force)
     assert p is not None
-    (written,) = save_plot(draw, p)
+    (written,) = save_plot(draw, p, force=force, flag="--plot")
     return written
 
 

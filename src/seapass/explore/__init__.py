@@ -17,6 +17,7 @@ May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files]
 from .panels import KINDS, compute
 from .pool import PanelPool
 from .presets import presets
-from .state import ExploreState, StateCheck, check_state
+from .state import ExploreState
+from .validation import StateCheck, check_state
 
 __all__ = ["KINDS", "ExploreState", "PanelPool", "StateCheck", "check_state", "compute", "presets"]

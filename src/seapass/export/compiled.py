@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 
 from ..errors import CompilerError, ParameterError
 from .c_code import ExportResult
+from .ctext import c_identifier
 from .deployment import Deployment
 
 __all__ = [
@@ -82,7 +83,7 @@ void seapass_shim_run(seapass_ctrl_state *s, long n, const double *x_A, const do
 def _shim(dep: Deployment) -> str:
     text = _SHIM
     if dep.set_gains:
-        names = [g.name for g in dep.gains]
+        names = [c_identifier(g.name, "gain name") for g in dep.gains]
         sets = "".join(f"    g.{n} = v[{i}];\n" for i, n in enumerate(names))
         gets = "".join(f"    v[{i}] = s->gains.{n};\n" for i, n in enumerate(names))
         text += (

@@ -25,6 +25,8 @@ __all__ = [
     "MAX_KD_GAINS",
     "MAX_KD_GAINS_CLI",
     "MAX_LIST_LENGTH",
+    "MAX_LOG_BYTES",
+    "MAX_LOG_ROWS",
     "MAX_MODEL_DEGREE",
     "MAX_MODEL_TERMS",
     "MAX_NAME_CHARS",
@@ -34,6 +36,7 @@ __all__ = [
     "MAX_RIG_SAMPLES",
     "MAX_RTOL",
     "MAX_SIM_STEPS",
+    "MAX_SWEEP_MANIFEST_BYTES",
     "MAX_S_DEGREE",
     "MAX_TERMS",
     "MAX_TEXT_FILE_BYTES",
@@ -61,6 +64,16 @@ MAX_TRAJECTORY_BYTES = 64 << 20
 
 MAX_TRAJECTORY_SAMPLES = 1_000_000
 """Samples (rows) of a reference trajectory."""
+
+MAX_LOG_BYTES = 256 << 20
+"""A logged rig run (``rig fit LOG.csv``): 256 MiB, read as a stream (memory grows with the
+rows kept, 32 bytes each, not with the file)."""
+
+MAX_LOG_ROWS = 2_000_000
+"""Samples (rows) of a logged rig run (over an hour at 500 Hz)."""
+
+MAX_SWEEP_MANIFEST_BYTES = 64 << 20
+"""A sweep's ``_manifest.json`` (its journal of finished chunks; a real one is a few kB)."""
 
 # --------------------------------------------------------------------------- text fields
 

@@ -23,6 +23,7 @@ from types import MappingProxyType
 from typing import Any, TypeAlias
 
 from ..errors import ParameterError, did_you_mean
+from ..files.limits import MAX_HORIZON, MAX_SIM_STEPS
 from ..model.catalog import PAPER_VALUES, CatalogDesign
 from ..model.catalog import design as catalog_design
 from ..model.design_file import Design
@@ -149,6 +150,12 @@ class TuningOptions:
         for name in ("load_mass", "horizon", "force_limit"):
             if getattr(self, name) is not None:
                 _positive(self, name)
+        if self.horizon is not None and self.horizon > MAX_HORIZON:
+            raise ParameterError(
+                f"horizon: {self.horizon:g} s is longer than the limit of {MAX_HORIZON:g} s of "
+                "simulated time (seapass.files.limits.MAX_HORIZON); give a shorter horizon",
+                argument="horizon",
+            )
         if self.step is not None and not (finite_number(self.step, "step") != 0):
             raise ParameterError("step must be nonzero")
         if (
@@ -424,8 +431,16 @@ def resolve_problem(
             "horizon": PAPER_EXPERIMENT.pick("horizon", opts.horizon, file and file.horizon),
         }
     )
-    if resolved.horizon < max(resolved.dt_search, resolved.dt_verify):
+    horizon = resolved.horizon
+    if horizon < max(resolved.dt_search, resolved.dt_verify):
         raise ParameterError("horizon is shorter than the time step")
+    dt = min(resolved.dt_search, resolved.dt_verify)
+    if horizon / dt > MAX_SIM_STEPS:
+        raise ParameterError(
+            f"horizon / dt = {horizon:g} s / {dt:g} s is {horizon / dt:.3g} time steps, over the "
+            f"limit of {MAX_SIM_STEPS:,} of one simulation; shorten the horizon or enlarge "
+            "dt_search/dt_verify"
+        )
     return TuningProblem(
         name=name, sea=sea, gains=gains, box=MappingProxyType(box), options=resolved
     )
