@@ -23,10 +23,12 @@ from pathlib import Path
 from typing import Any
 
 from _util import Row, timed
+from seapass.model.loop import SampledLoop
 from seapass.model.sea import SEA
 from seapass.sampled import boxes
 from seapass.sampled.bound import sampled_passive_bound
 from seapass.sampled.passivity import sampled_passivity
+from seapass.sampled.verdict import SampledReason
 
 OLD = Path(os.environ.get("SEAPASS_OLD", "/work/base"))
 
@@ -78,18 +80,19 @@ _CLASSIFY = boxes._classify
 
 def _split_only(*args: Any, **kwargs: Any) -> Any:
     """`boxes._classify` as the search before issue 20 used it: never more bits for a box."""
-    status, reason, part = _CLASSIFY(*args, **kwargs)
-    return status, "" if reason == "precision" else reason, part
+    outcome, reason, part = _CLASSIFY(*args, **kwargs)
+    return outcome, SampledReason.NONE if reason is SampledReason.PRECISION else reason, part
 
 
 def _short_period_rows(quick: bool) -> list[Row]:
     rows = []
     cases = list(SHORT_PERIOD.items())[: 2 if quick else None]
-    for name, (elements, values, period, loop) in cases:
+    for name, (elements, values, period, options) in cases:
         sea = SEA(**elements, values={**values, "kd": None})
+        loop = SampledLoop(period=period, **options)
 
-        def bound(sea: SEA = sea, period: float = period, loop: dict = loop, **kw: Any) -> Any:
-            return sampled_passive_bound(sea, "kd", period=period, lo=0.0, hi=20000.0, **loop, **kw)
+        def bound(sea: SEA = sea, loop: SampledLoop = loop, **kw: Any) -> Any:
+            return sampled_passive_bound(sea, "kd", loop=loop, lo=0.0, hi=20000.0, **kw)
 
         t_new = timed(bound)
         boxes._classify = _split_only
@@ -179,7 +182,7 @@ def run(quick: bool) -> tuple[list[Row], list[str]]:
         sea = SEA(
             D1="k1 + b1*s", CA="kd + bd*s", values={**RIG, "b1": b1, "bd": 25.0, "kd": 2000.0}
         )
-        return sampled_passivity(sea, period=0.002).passive
+        return sampled_passivity(sea, loop=SampledLoop(period=0.002)).passive
 
     fresh_check()  # imports outside the timing
     t_new = timed(fresh_check, repeat=repeat)
@@ -196,7 +199,7 @@ def run(quick: bool) -> tuple[list[Row], list[str]]:
     for name, (elements, gains, loop, (lo, hi)) in BOUNDS.items():
         sea = SEA(**elements, values={**RIG, **gains, "kd": None})
         t_b = timed(lambda sea=sea, loop=loop, lo=lo, hi=hi: sampled_passive_bound(
-            sea, "kd", period=0.002, lo=lo, hi=hi, **loop), repeat=1 if quick else 3)  # fmt: skip
+            sea, "kd", loop=SampledLoop(period=0.002, **loop), lo=lo, hi=hi), repeat=1 if quick else 3)  # fmt: skip
         r = t_b.result
         job = {"kind": "bound", "elements": elements, "values": {**RIG, **gains, "kd": None},
                "lo": lo, "hi": hi, "loop": loop}  # fmt: skip

@@ -61,7 +61,7 @@ def res_text(a: float, b: float) -> tuple[str, str]:
 def test_issue_design_reports_passive_end_points():
     sea = SEA(**ISSUE_ELEMENTS, values=ISSUE)
     res = passive_intervals(sea, "kd", 0, 20000)
-    assert res.intervals == [(0.0, 118.46721557324217), (1309.9473633290556, 20000.0)]
+    assert res.intervals == ((0.0, 118.46721557324217), (1309.9473633290556, 20000.0))
     assert not passive(sea, "kd", 118.46721557324219)  # the double printed before
     assert not passive(sea, "kd", 1309.9473633290554)
     assert not res.contains(118.46721557324219) and not res.contains(118.4672156)
@@ -93,10 +93,10 @@ def test_rational_passive_ends_are_exact_and_points_stay():
     # load-side P on a pure spring: passive iff kd <= k1, a rational end
     sea = SEA(D1="k1", CL="kd", values=dict(m=1.0, b=10.0, k1=1000.0))
     res = passive_intervals(sea, "kd", 0, 1e5)
-    assert res.intervals == [(0.0, 1000.0)] and res.edges == [((0.0, 0.0), (1000.0, 1000.0))]
+    assert res.intervals == ((0.0, 1000.0),) and res.edges == (((0.0, 0.0), (1000.0, 1000.0)),)
     # an isolated passive value keeps its width-0 interval
     pd = SEA(D1="k1", CL="kd + bd*s", values=dict(m=1.0, b=10.0, k1=1000.0, kd=100.0))
-    assert passive_intervals(pd, "bd", 0, 100).intervals == [(0.0, 0.0)]
+    assert passive_intervals(pd, "bd", 0, 100).intervals == ((0.0, 0.0),)
 
 
 def test_map_columns_are_rounded_inward():

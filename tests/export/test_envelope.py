@@ -41,10 +41,9 @@ velocity_filter = 50.0
 
 def passive_at(dsg, gain: str, value: float) -> bool:
     r = sampled_passivity(
-        dsg.sea(), values={gain: float(value)}, period=float(dsg.period),
-        delay=dsg.control_delay, velocity_filter=dsg.velocity_filter, continuous_gate=False,
-    )  # fmt: skip
-    return r.status is Outcome.PASSIVE
+        dsg.sea(), loop=dsg.loop, values={gain: float(value)}, continuous_gate=False
+    )
+    return r.outcome is Outcome.PASSIVE
 
 
 @pytest.mark.parametrize("rtol", [1e-2, 1e-6])

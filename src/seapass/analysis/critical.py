@@ -128,7 +128,7 @@ def critical_polynomials(
     return list(out)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class CriticalValue:
     """A critical value: the rational ``lo`` (``lo == hi``) or the only root of the
     irreducible ``poly`` (degree >= 2, so irrational) in ``(lo, hi]``."""
@@ -151,7 +151,7 @@ class CriticalValue:
             return self
         lo, hi = (ep.rational(x) for x in (self.lo, self.hi))
         lo, hi = ep.refine(self.poly, (lo, hi), (hi - lo) / 2)
-        return CriticalValue(ep.to_fraction(lo), ep.to_fraction(hi), self.poly)
+        return CriticalValue(lo=ep.to_fraction(lo), hi=ep.to_fraction(hi), poly=self.poly)
 
 
 def critical_values(
@@ -171,14 +171,14 @@ def critical_values(
         if q.degree() == 1:
             r = ep.to_fraction(-q[0] / q[1])
             if lo <= r <= hi:
-                out[r, r] = CriticalValue(r, r)
+                out[r, r] = CriticalValue(lo=r, hi=r)
             continue
         for a, b in ep.isolate_real_roots(q, lo, hi):
             a, b = ep.refine(q, (a, b), max(abs(b), fmpq(1)) / fmpq(2) ** 40)
             scale_ = min(abs(a), abs(b)) or fmpq(1, 2**40)
             a, b = ep.refine(q, (a, b), scale_ / fmpq(2) ** 60)
             lo_, hi_ = ep.to_fraction(a), ep.to_fraction(b)
-            out[lo_, hi_] = CriticalValue(lo_, hi_, q)
+            out[lo_, hi_] = CriticalValue(lo=lo_, hi=hi_, poly=q)
     points = sorted(out.values(), key=lambda c: (c.lo, c.hi))
     for i in range(len(points) - 1):  # roots closer than 2^-60: narrow both
         if points[i + 1].lo <= points[i].hi:

@@ -32,7 +32,7 @@ no rational number, hence no double, lies on that value.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
@@ -68,7 +68,7 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class PassiveIntervals:
     """Exact passive set of one parameter within ``[lo, hi]``.
 
@@ -77,26 +77,26 @@ class PassiveIntervals:
     param : str
     lo, hi : float
         The search range.
-    intervals : list of (float, float)
+    intervals : tuple of (float, float)
         Disjoint closed intervals of doubles, sorted: every double in them is
         passive, and every passive double is in them (a single passive point
         appears as ``(v, v)``).  The ends are the true end points rounded
         inward to doubles.
-    edges : list of ((float, float), (float, float))
+    critical_values : tuple of float
+        Every value in the range where the verdict may change (nearest doubles,
+        for information).
+    edges : tuple of ((float, float), (float, float))
         For each interval, certified enclosures ``(lo, hi)`` of its true lower and
         upper end points (rounded outward; ``(v, v)`` for an end that is the
         double ``v`` exactly).
-    critical_values : list of float
-        Every value in the range where the verdict may change (nearest doubles,
-        for information).
     """
 
     param: str
     lo: float
     hi: float
-    intervals: list[tuple[float, float]] = field(default_factory=list)
-    critical_values: list[float] = field(default_factory=list)
-    edges: list[tuple[tuple[float, float], tuple[float, float]]] = field(default_factory=list)
+    intervals: tuple[tuple[float, float], ...] = ()
+    critical_values: tuple[float, ...] = ()
+    edges: tuple[tuple[tuple[float, float], tuple[float, float]], ...] = ()
 
     def contains(self, value: float) -> bool:
         return any(a <= value <= b for a, b in self.intervals)
@@ -148,7 +148,7 @@ def _intervals_text(intervals: Sequence[tuple[float, float]], limit: int = 4) ->
     return text + (f" and {more} more" if more > 0 else "")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class _Piece:
     """A cell of ``[lo, hi]``: an open gap between two critical values (or the range
     ends, which belong to it when they are not critical) or one rational critical value."""
@@ -237,17 +237,24 @@ def passive_intervals(
 
     # one exact test per open gap and at each rational critical value
     pieces: list[_Piece] = []
-    cursor, closed = CriticalValue(lo_q, lo_q), True  # the range end belongs to its gap
+    cursor, closed = CriticalValue(lo=lo_q, hi=lo_q), True  # the range end belongs to its gap
     for c in crit:
         if c.lo > cursor.hi:
-            mid = (cursor.hi + c.lo) / 2
-            pieces.append(_Piece(cursor, c, closed, False, verdict(mid)))
+            gap = verdict((cursor.hi + c.lo) / 2)
+            pieces.append(
+                _Piece(left=cursor, right=c, left_closed=closed, right_closed=False, passive=gap)
+            )
         if c.poly is None:
-            pieces.append(_Piece(c, c, True, True, verdict(c.lo)))
+            point = verdict(c.lo)
+            pieces.append(
+                _Piece(left=c, right=c, left_closed=True, right_closed=True, passive=point)
+            )
         cursor, closed = c, False
     if hi_q > cursor.hi or not pieces:
-        end = CriticalValue(hi_q, hi_q)
-        pieces.append(_Piece(cursor, end, closed, True, verdict((cursor.hi + hi_q) / 2)))
+        end, gap = CriticalValue(lo=hi_q, hi=hi_q), verdict((cursor.hi + hi_q) / 2)
+        pieces.append(
+            _Piece(left=cursor, right=end, left_closed=closed, right_closed=True, passive=gap)
+        )
     # consecutive passive pieces share their critical value: one interval
     runs: list[list[_Piece]] = []
     previous_passive = False
@@ -267,12 +274,16 @@ def passive_intervals(
             edges.append(shown[1])
     crit_f = [float((c.lo + c.hi) / 2) for c in crit]
     return PassiveIntervals(
-        param=param, lo=float(lo_q), hi=float(hi_q), intervals=result, critical_values=crit_f,
-        edges=edges,
-    )  # fmt: skip
+        param=param,
+        lo=float(lo_q),
+        hi=float(hi_q),
+        intervals=tuple(result),
+        critical_values=tuple(crit_f),
+        edges=tuple(edges),
+    )
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class PassiveMap:
     """Passive region over two parameters.
 
@@ -284,7 +295,7 @@ class PassiveMap:
     param_y: str
     x: np.ndarray
     y: np.ndarray
-    intervals: list[list[tuple[float, float]]]
+    intervals: tuple[tuple[tuple[float, float], ...], ...]
     mask: np.ndarray
 
     def to_dict(self) -> dict[str, Any]:
@@ -341,7 +352,7 @@ def passive_map(
     if xs.ndim != 1 or xs.size == 0:
         raise ParameterError(f"x_values must be a non-empty 1-D sequence, got shape {xs.shape}")
     ys = np.linspace(float(y_range[0]), float(y_range[1]), y_points)
-    ivs: list[list[tuple[float, float]]] = []
+    ivs: list[tuple[tuple[float, float], ...]] = []
     mask = np.zeros((ys.size, xs.size), dtype=bool)
     for i, xv in enumerate(xs):
         res = passive_intervals(
@@ -350,4 +361,4 @@ def passive_map(
         ivs.append(res.intervals)
         for a, b in res.intervals:
             mask[:, i] |= (ys >= a) & (ys <= b)
-    return PassiveMap(param_x=param_x, param_y=param_y, x=xs, y=ys, intervals=ivs, mask=mask)
+    return PassiveMap(param_x=param_x, param_y=param_y, x=xs, y=ys, intervals=tuple(ivs), mask=mask)

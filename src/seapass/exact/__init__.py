@@ -11,8 +11,7 @@ to decimal text in a chosen direction: reported ends of passive sets round inwar
 here decides in floating point: every decision is exact, or certified by ball
 arithmetic and re-checked exactly.
 
-May import: [`seapass.errors`][seapass.errors] and python-flint only (it knows
-nothing of SEAs).
+May import: nothing else in seapass; python-flint only (it knows nothing of SEAs).
 """
 
 from . import axis, halfline, poly, rounding
