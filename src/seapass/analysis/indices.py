@@ -46,9 +46,8 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import sympy as sp
 from flint import fmpq
 
 from ..exact import poly as ep
@@ -58,6 +57,9 @@ from ..model.display import html_card, short_repr
 from ..model.sea import SEA, Impedance
 from .impedance import evaluate_system
 from .passivity import Reason, positive_real_test
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = ["PassivityIndex", "PassivityIndices", "index_of", "passivity_indices"]
 

@@ -33,10 +33,9 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from enum import StrEnum
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import sympy as sp
 from flint import fmpq, fmpq_poly
 
 from ..errors import NotPassiveError, ParameterError
@@ -55,6 +54,9 @@ from ..model.display import html_card, poly_text, short_repr
 from ..model.sea import SEA, Impedance
 from .impedance import evaluate_system
 from .portresponse import ImpedanceResponse, response_of
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = [
     "TOLERANCE_POLICY",

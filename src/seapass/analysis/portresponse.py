@@ -22,10 +22,9 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import sympy as sp
 from flint import fmpq_poly
 
 from ..errors import ParameterError
@@ -34,6 +33,9 @@ from ..exact.axis import negative_bands, real_part_polynomial, safe_float
 from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA, Impedance
 from .impedance import evaluate_system
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = [
     "Band",

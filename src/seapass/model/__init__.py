@@ -12,11 +12,30 @@ designs: LP, APD, Ours and every Table I/II row) and
 May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact].
 """
 
-from .catalog import CATALOG, PAPER_VALUES, REFERENCE_VALUES, CatalogDesign, design
-from .design_file import Design, load_design
-from .realization import ClosedLoop, closed_loop
-from .sea import SEA, Impedance
-from .stiffness import derive_stiffness, load_impedance, paper_eq4_stiffness, passivity_polynomial
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+_LAZY: dict[str, str] = {
+    "CATALOG": "catalog",
+    "PAPER_VALUES": "catalog",
+    "REFERENCE_VALUES": "catalog",
+    "CatalogDesign": "catalog",
+    "design": "catalog",
+    "Design": "design_file",
+    "load_design": "design_file",
+    "ClosedLoop": "realization",
+    "closed_loop": "realization",
+    "SEA": "sea",
+    "Impedance": "sea",
+    "derive_stiffness": "stiffness",
+    "load_impedance": "stiffness",
+    "paper_eq4_stiffness": "stiffness",
+    "passivity_polynomial": "stiffness",
+}
+"""Public name -> the module that defines it (loaded on first use, so importing a
+module of this package does not import every other one)."""
 
 __all__ = [
     "CATALOG",
@@ -35,3 +54,28 @@ __all__ = [
     "paper_eq4_stiffness",
     "passivity_polynomial",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        value = getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_LAZY})
+
+
+if TYPE_CHECKING:  # what type checkers and IDEs see
+    from .catalog import CATALOG, PAPER_VALUES, REFERENCE_VALUES, CatalogDesign, design
+    from .design_file import Design, load_design
+    from .realization import ClosedLoop, closed_loop
+    from .sea import SEA, Impedance
+    from .stiffness import (
+        derive_stiffness,
+        load_impedance,
+        paper_eq4_stiffness,
+        passivity_polynomial,
+    )
