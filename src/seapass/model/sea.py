@@ -36,7 +36,7 @@ from .rational import RatFunc, context, univariate, variables
 if TYPE_CHECKING:
     import sympy as sp
 
-__all__ = ["SEA", "ExprLike", "Impedance", "check_used", "exact_values"]
+__all__ = ["SEA", "ExprLike", "Impedance", "check_used", "exact_values", "unrealizable_controllers"]
 
 ExprLike: TypeAlias = "str | sp.Expr | int | float"
 
@@ -435,3 +435,26 @@ def _impedance_sympy(obj: Impedance) -> Any:
 
 def _rebuild_impedance(expr: Any, num: Any, den: Any, values: dict[str, Any]) -> Impedance:
     return Impedance(expr=expr, num=num, den=den, values=values)
+
+
+def unrealizable_controllers(sea: SEA) -> dict[str, int]:
+    """Controllers that need more than one derivative: ``{name: zeros minus poles}``.
+
+    The controllers see measured positions and velocities, so ``C(s)`` may have
+    at most one more zero than poles (``kd + bd*s``).  ``kd*s**3`` needs the
+    third derivative of a measurement: it is not realizable, and a verdict on it
+    describes an ideal model only.  Degrees are those for generic parameter values.
+
+    >>> unrealizable_controllers(SEA(D1="k1", CA="kd*s**3"))
+    {'CA': 3}
+    """
+    out: dict[str, int] = {}
+    exact = sea.exact_elements()
+    for name in ("CA", "CL"):
+        if exact[name].is_zero:
+            continue
+        num, den = exact[name].degrees_in_s()
+        if num - den > 1:
+            out[name] = num - den
+    return out
+
