@@ -25,7 +25,13 @@ from ..model.sea import SEA, Impedance, exact_values
 if TYPE_CHECKING:
     import sympy as sp
 
-__all__ = ["evaluate_system", "exact_rational_function", "structural_support"]
+__all__ = [
+    "compiled_impedance",
+    "evaluate_system",
+    "exact_rational_function",
+    "exact_support",
+    "structural_support",
+]
 
 
 def exact_rational_function(
@@ -69,7 +75,7 @@ def evaluate_system(
         system = system.with_values(**values)
     if not isinstance(system, SEA | Impedance):
         raise TypeError(f"cannot test passivity of {type(system).__name__}")
-    num_c, den_c, support = _compiled(system)
+    num_c, den_c, support = compiled_impedance(system)
     missing = system.free_parameters
     if missing:
         raise ParameterError(
@@ -83,7 +89,7 @@ def evaluate_system(
     return n, d, support
 
 
-def _compiled(system: SEA | Impedance) -> tuple[fmpq_mpoly, fmpq_mpoly, tuple[bool, ...]]:
+def compiled_impedance(system: SEA | Impedance) -> tuple[fmpq_mpoly, fmpq_mpoly, tuple[bool, ...]]:
     """``N`` and ``D`` in sympy's normal form and the structural support of ``P``.
 
     Cached on the parsed elements, so repeated tests of one configuration cost only the

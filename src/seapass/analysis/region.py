@@ -25,19 +25,19 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import sympy as sp
-from flint import fmpq, fmpq_poly
 
 from ..errors import ParameterError
-from ..exact import poly as ep
 from ..model.display import Shown, html_card, short_repr
-from ..model.expr import S, symbol, to_fraction
-from ..model.sea import SEA, Impedance
-from ..model.stiffness import load_impedance
-from .passivity import is_passive
+from ..model.expr import to_fraction
+from ..model.sea import SEA, Impedance, exact_values
+from .critical import critical_polynomials_in, critical_values_in, exact_with
+from .passivity import positive_real_test
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = [
     "PassiveIntervals",
@@ -47,8 +47,12 @@ __all__ = [
     "passive_map",
 ]
 
-_X = sp.Symbol("x")
-_OM = sp.Symbol("omega")
+
+def _symbols() -> tuple[sp.Symbol, sp.Symbol]:
+    """``x = ω²`` and ``ω`` of the symbolic critical polynomials."""
+    import sympy as sp
+
+    return sp.Symbol("x"), sp.Symbol("omega")
 
 
 @dataclass(frozen=True, repr=False)
@@ -122,17 +126,13 @@ def _intervals_text(intervals: Sequence[tuple[float, float]], limit: int = 4) ->
     return text + (f" and {more} more" if more > 0 else "")
 
 
-def _univariate(expr: sp.Expr, p: sp.Symbol) -> fmpq_poly:
-    """Exact polynomial in ``p`` (zero if identically zero)."""
-    expr = sp.expand(expr)
-    if expr == 0:
-        return fmpq_poly([])
-    poly = sp.Poly(expr, p, domain="QQ")
-    return fmpq_poly([fmpq(int(c.p), int(c.q)) for c in poly.all_coeffs()[::-1]])
-
-
 def _re_im_at_jw(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
     """Real and imaginary parts of ``expr(jω)`` for a polynomial in ``s`` with real coefficients."""
+    import sympy as sp
+
+    from ..model.expr import S
+
+    _X, _OM = _symbols()
     coeffs = sp.Poly(expr, S).all_coeffs()[::-1]
     re = sum((c * (-1) ** (k // 2) * _OM**k for k, c in enumerate(coeffs) if k % 2 == 0), sp.S.Zero)
     im = sum((c * (-1) ** (k // 2) * _OM**k for k, c in enumerate(coeffs) if k % 2 == 1), sp.S.Zero)
@@ -140,6 +140,11 @@ def _re_im_at_jw(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
 
 
 def _critical_polys(z: sp.Expr, p: sp.Symbol) -> list[sp.Expr]:
+    import sympy as sp
+
+    from ..model.expr import S
+
+    _X, _OM = _symbols()
     num, den = sp.fraction(sp.cancel(sp.together(z)))
     # clear denominators in p so both are polynomials in (s, p)
     num, den = sp.expand(num), sp.expand(den)
@@ -199,6 +204,9 @@ def critical_polynomials(
     described in the module docstring, with all of ``params`` symbolic (used
     for 2-D regions by [`seapass.analysis.boundary`][seapass.analysis.boundary]).
     """
+    from ..model.expr import symbol
+    from ..model.stiffness import load_impedance
+
     base = _with(system, {**(values or {}), **dict.fromkeys(params)})
     free = [n for n in base.parameters if n not in params and base.values.get(n) is None]
     if free:
@@ -209,33 +217,6 @@ def critical_polynomials(
     for name in params:
         out.update(dict.fromkeys(_critical_polys(z, symbol(name))))
     return list(out)
-
-
-def _critical_values(
-    polys: list[sp.Expr], p: sp.Symbol, lo: Fraction, hi: Fraction
-) -> list[tuple[Fraction, Fraction]]:
-    """Sorted critical values in ``[lo, hi]``: ``(r, r)`` for rational roots, tight
-    isolating intervals ``(a, b]`` (relative width 2^-60) for irrational ones."""
-    factors: set[sp.Expr] = set()
-    for e in polys:
-        if not e.has(p):
-            continue
-        for f, _mult in sp.factor_list(sp.Poly(e, p, domain="QQ"))[1]:
-            factors.add(f.monic().as_expr())
-    out: list[tuple[Fraction, Fraction]] = []
-    for f in factors:
-        q = _univariate(f, p)
-        if q.degree() == 1:
-            r = ep.to_fraction(-q[0] / q[1])
-            if lo <= r <= hi:
-                out.append((r, r))
-            continue
-        for a, b in ep.isolate_real_roots(q, lo, hi):
-            a, b = ep.refine(q, (a, b), max(abs(b), fmpq(1)) / fmpq(2) ** 40)
-            scale_ = min(abs(a), abs(b)) or fmpq(1, 2**40)
-            a, b = ep.refine(q, (a, b), scale_ / fmpq(2) ** 60)
-            out.append((ep.to_fraction(a), ep.to_fraction(b)))
-    return sorted(set(out))
 
 
 def passive_intervals(
@@ -279,14 +260,15 @@ def passive_intervals(
             f"no value for parameter(s) {', '.join(free)}: give them, "
             f"e.g. values={{{free[0]!r}: 1.0}}"
         )
-    p = symbol(param)
-    base = _with(system, {**merged, param: None})
-    z = load_impedance(base) if isinstance(base, SEA) else base.expr
-    z = z.xreplace(base.substitutions())
-    crit = _critical_values(_critical_polys(z, p), p, lo_q, hi_q)
+    fixed = {k: v for k, v in merged.items() if v is not None}
+    polys = critical_polynomials_in(system, param, exact_values(fixed))
+    crit = critical_values_in(polys, lo_q, hi_q)
 
     def verdict(x: Fraction) -> bool:
-        return is_passive(_with(system, {**merged, param: x})).passive
+        num, den, support = exact_with(system, fixed, param, x)
+        if den.is_zero():
+            raise ParameterError("the impedance has a zero denominator for these values")
+        return positive_real_test(num, den, support=support).passive
 
     # one exact test per open gap and at each rational critical value
     pieces: list[tuple[Fraction, Fraction, bool]] = []
@@ -315,6 +297,11 @@ def passive_intervals(
 
 
 def _with(system: SEA | Impedance, values: Mapping[str, Any]) -> SEA | Impedance:
+    import sympy as sp
+
+    from ..model.expr import symbol
+    from ..model.stiffness import load_impedance
+
     vals = {k: (float(v) if isinstance(v, Fraction) else v) for k, v in values.items()}
     exact = {k: v for k, v in values.items() if isinstance(v, Fraction)}
     if exact and any(Fraction(float(v)) != v for v in exact.values()):
