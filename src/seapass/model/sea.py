@@ -457,4 +457,3 @@ def unrealizable_controllers(sea: SEA) -> dict[str, int]:
         if num - den > 1:
             out[name] = num - den
     return out
-
