@@ -137,7 +137,7 @@ def test_the_solution_satisfies_the_three_free_body_equations():
         fb = derive(sea)
         # X_L = 1: X_A = motion, F_L = stiffness, F_A from the controller law
         xa, fl = fb.actuator_motion, fb.stiffness
-        newton, port, control = fb.equations
+        _newton, _port, control = fb.equations
         one = fl / fl
         fa = -(control["X_A"] * xa + control["X_L"] * one)
         sol = {"X_A": xa, "X_L": one, "F_A": fa, "F_L": fl}

@@ -125,8 +125,8 @@ def _in_lambda(e: fmpq_mpoly) -> fmpq_poly:
     in ``λ`` (where all its coefficients in ``s`` vanish together)."""
     parts = _in_var(e, _S)
     g = _CTX.constant(0)
-    for c in parts.values():
-        g = g.gcd(c) if not g.is_zero() else c
+    for part in parts.values():
+        g = g.gcd(part) if not g.is_zero() else part
     coeffs: dict[int, fmpq] = {}
     for exps, c in zip(g.monoms(), g.coeffs(), strict=True):
         coeffs[exps[_L]] = c
@@ -136,10 +136,10 @@ def _in_lambda(e: fmpq_mpoly) -> fmpq_poly:
 def _bivariate(system: SEA | Impedance, param: str, fixed: Mapping[str, fmpq]) -> RatFunc:
     """``Z`` with every parameter but ``param`` replaced by its value, in ``Q[s, λ]``, reduced."""
     num, den, _support = compiled_impedance(system)
-    subs = {k: v for k, v in fixed.items() if k != param}
+    subs: dict[str | int, fmpq] = {k: v for k, v in fixed.items() if k != param}
     if subs:
         num, den = num.subs(subs), den.subs(subs)
-    mapping = {S_NAME: S_NAME, param: _LAM}
+    mapping: dict[str | int, str | int] = {S_NAME: S_NAME, param: _LAM}
     n, d = (p.project_to_context(_CTX, mapping=mapping) for p in (num, den))
     return RatFunc.from_polys(n, d)
 
@@ -187,10 +187,11 @@ def exact_with(
     (``Z`` reduced for every value of every parameter); a rational that is not a float is
     substituted into ``Z`` first and ``Z`` reduced again in the remaining parameters.
     """
-    env = exact_values(fixed)
-    at = {param: fmpq(x.numerator, x.denominator)}
+    value = fmpq(x.numerator, x.denominator)
+    env = {**exact_values(fixed), param: value}
     num, den, support = compiled_impedance(system)
     if Fraction(float(x)) != x:
+        at: dict[str | int, fmpq] = {param: value}
         num, den = RatFunc.from_polys(num.subs(at), den.subs(at)).canonical()
         support = exact_support(num, den)
-    return univariate(num, {**env, **at}), univariate(den, {**env, **at}), support
+    return univariate(num, env), univariate(den, env), support

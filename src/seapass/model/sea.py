@@ -137,8 +137,8 @@ class SEA:
         known = exact_values(vals)
         m = exact["m"]
         if m.parameters() <= set(known):
-            num, den = m.evaluate(known)
-            mass = num[0] / den[0]
+            m_num, m_den = m.evaluate(known)
+            mass = m_num[0] / m_den[0]
             if mass <= 0:
                 raise ParameterError(f"actuator mass m must be positive, got {float(mass):g}")
         for attr in _ELEMENTS:

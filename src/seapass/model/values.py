@@ -17,6 +17,7 @@ import re
 import unicodedata
 from collections.abc import Mapping
 from fractions import Fraction
+from typing import Any
 
 from ..errors import ExpressionError, ParameterError
 
@@ -143,7 +144,8 @@ def to_fraction(value: float | int | Fraction | numbers.Real, name: str = "value
     if isinstance(value, numbers.Rational):
         return Fraction(int(value.numerator), int(value.denominator))
     if type(value).__name__ == "fmpq":  # flint's rationals are not registered as numbers
-        return Fraction(int(value.p), int(value.q))  # type: ignore[attr-defined]
+        flint_q: Any = value
+        return Fraction(int(flint_q.p), int(flint_q.q))
     try:
         f = float(value)
     except (TypeError, ValueError):

@@ -256,7 +256,10 @@ def _paths(
     num, den = in_lowest_terms(*c.evaluate(env))
     a = filter_pole(velocity_filter, float(period))
     err, meas = emulate(num, den, period, method=method, filter_pole=a)
-    return DiscreteTF(*map(_ascending, err), period), DiscreteTF(*map(_ascending, meas), period)
+    return (
+        DiscreteTF(_ascending(err[0]), _ascending(err[1]), period),
+        DiscreteTF(_ascending(meas[0]), _ascending(meas[1]), period),
+    )
 
 
 def _ascending(p: fmpq_poly) -> tuple[Fraction, ...]:

@@ -29,6 +29,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "Plant",
+    "PlantKey",
     "RationalFunction",
     "continuous_impedance",
     "numeric_element",
