@@ -286,22 +286,20 @@ class RatFunc:
         return f"RatFunc('({self.num})/({self.den})')"
 
 
+_S_ONLY = fmpq_mpoly_ctx.get((S_NAME,), "lex")
+
+
 def univariate(p: fmpq_mpoly, values: Mapping[str, fmpq]) -> fmpq_poly:
     """``p`` with every variable but ``s`` replaced by ``values[name]``, as an ``fmpq_poly``."""
-    names = p.context().names()
-    i = names.index(S_NAME) if S_NAME in names else -1
-    coeffs: dict[int, fmpq] = {}
-    env = [values.get(n, fmpq(0)) if k != i else fmpq(1) for k, n in enumerate(names)]
-    for exps, c in zip(p.monoms(), p.coeffs(), strict=True):
-        term = c
-        for k, e in enumerate(exps):
-            if e and k != i:
-                term *= env[k] ** e
-        power = exps[i] if i >= 0 else 0
-        coeffs[power] = coeffs.get(power, fmpq(0)) + term
-    if not coeffs:
+    args = [
+        _S_ONLY.gen(0) if n == S_NAME else _S_ONLY.constant(values.get(n, 0))
+        for n in p.context().names()
+    ]
+    q = p.compose(*args, ctx=_S_ONLY)
+    if q.is_zero():
         return fmpq_poly([])
-    return fmpq_poly([coeffs.get(k, fmpq(0)) for k in range(max(coeffs) + 1)])
+    coeffs = {e[0]: c for e, c in zip(q.monoms(), q.coeffs(), strict=True)}
+    return fmpq_poly([coeffs.get(k, 0) for k in range(max(coeffs) + 1)])
 
 
 def _check_product(a: fmpq_mpoly, b: fmpq_mpoly) -> None:

@@ -14,7 +14,7 @@ import functools
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, TypeAlias
+from typing import TYPE_CHECKING, Any, NamedTuple, TypeAlias
 
 from ..errors import DegenerateModelError, ExpressionError, ParameterError
 from .display import html_card, short_repr
@@ -68,6 +68,36 @@ def _model_elements(sources: tuple[Source, ...], allowed: frozenset[str]) -> tup
         names |= f.parameters()
     ctx = context(variables(names))
     return tuple(f.to_context(ctx) for f in parts)
+
+
+class _Facts(NamedTuple):
+    """What the checks of a model need, computed once per model (cached on its sources)."""
+
+    parameters: tuple[str, ...]
+    s_in_mass_or_damping: str
+    port_unconnected: bool
+    mass: RatFunc
+    denominators: tuple[tuple[str, Any, frozenset[str]], ...]  # with parameters only
+
+
+@functools.lru_cache(maxsize=512)
+def _model_facts(sources: tuple[Source, ...], allowed: frozenset[str]) -> _Facts:
+    exact = dict(zip(_ATTRS, _model_elements(sources, allowed), strict=True))
+    used: set[str] = set()
+    for f in exact.values():
+        used |= f.parameters()
+    dens = []
+    for attr in _ELEMENTS:
+        names = frozenset(poly_names(exact[attr].den) - {"s"})
+        if names:  # a denominator in s alone is nonzero: the fraction is reduced
+            dens.append((attr, exact[attr].den, names))
+    return _Facts(
+        parameters=tuple(sorted(used)),
+        s_in_mass_or_damping=next((a for a in ("m", "b") if "s" in exact[a].names()), ""),
+        port_unconnected=exact["D1"].is_zero and exact["D2"].is_zero,
+        mass=exact["m"],
+        denominators=tuple(dens),
+    )
 
 
 def _rebuild(given: dict[str, Any], values: dict[str, float | None], name: str) -> SEA:
@@ -124,26 +154,23 @@ class SEA:
         state["_allowed"] = allowed
         for attr in _ATTRS:
             state[f"_source_{attr}"] = element_source(state[f"_given_{attr}"], allowed, attr)
-        exact = self.exact_elements()
-        for attr in ("m", "b"):
-            if "s" in exact[attr].names():
-                raise ExpressionError(f"{attr} must not depend on s")
-        if exact["D1"].is_zero and exact["D2"].is_zero:
+        facts = _model_facts(self.sources(), allowed)
+        if facts.s_in_mass_or_damping:
+            raise ExpressionError(f"{facts.s_in_mass_or_damping} must not depend on s")
+        if facts.port_unconnected:
             raise DegenerateModelError(
                 "degenerate model: D1 = D2 = 0 leaves the load port connected to nothing; "
                 "give a transmission, e.g. --D1 'k1'"
             )
-        check_used(vals, self.parameters)
+        check_used(vals, facts.parameters)
         known = exact_values(vals)
-        m = exact["m"]
-        if m.parameters() <= set(known):
-            m_num, m_den = m.evaluate(known)
+        if facts.mass.parameters() <= set(known):
+            m_num, m_den = facts.mass.evaluate(known)
             mass = m_num[0] / m_den[0]
             if mass <= 0:
                 raise ParameterError(f"actuator mass m must be positive, got {float(mass):g}")
-        for attr in _ELEMENTS:
-            den = exact[attr].den
-            if poly_names(den) <= set(known) | {"s"} and univariate(den, known).is_zero():
+        for attr, den, names in facts.denominators:
+            if names <= set(known) and univariate(den, known).is_zero():
                 raise DegenerateModelError(f"{attr} has a denominator that is identically zero")
 
     def __reduce__(self) -> tuple[Any, ...]:
@@ -179,10 +206,7 @@ class SEA:
     @property
     def parameters(self) -> tuple[str, ...]:
         """Names of all parameters the model uses, sorted."""
-        used: set[str] = set()
-        for f in self.exact_elements().values():
-            used |= f.parameters()
-        return tuple(sorted(used))
+        return _model_facts(self.sources(), self.__dict__["_allowed"]).parameters
 
     @property
     def free_parameters(self) -> tuple[str, ...]:
