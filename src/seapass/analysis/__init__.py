@@ -1,9 +1,10 @@
 """Continuous-time analysis: exact passivity, conditions, passive sets, responses, witnesses.
 
 What lives here: [`passivity`][seapass.analysis.passivity] (the exact positive-real
-test), [`conditions`][seapass.analysis.conditions] (symbolic necessary-and-sufficient
+test), [`impedance`][seapass.analysis.impedance] (the exact ``N/D`` at given values),
+[`conditions`][seapass.analysis.conditions] (symbolic necessary-and-sufficient
 conditions), [`region`][seapass.analysis.region] (exact passive intervals and 2-D
-maps), [`boundary`][seapass.analysis.boundary] (the exact 2-D passive region and its
+maps) with [`critical`][seapass.analysis.critical] (critical values of one parameter), [`boundary`][seapass.analysis.boundary] (the exact 2-D passive region and its
 boundary curves), [`freqresp`][seapass.analysis.freqresp] (the stiffness frequency response),
 [`coupled`][seapass.analysis.coupled] (coupled stability with an environment),
 [`indices`][seapass.analysis.indices] (the passivity indices ν and ρ, exact),

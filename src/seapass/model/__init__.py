@@ -1,10 +1,15 @@
 """The model: safe expressions, the immutable SEA, its stiffness, its realization, the catalog.
 
-What lives here: [`expr`][seapass.model.expr] (the safe parser and value
-checks), [`budget`][seapass.model.budget] (size bounds and a time limit for the
-symbolic work), [`sea`][seapass.model.sea] (`SEA`, `Impedance`),
-[`stiffness`][seapass.model.stiffness] (the rendered stiffness ``F_L/X_L`` derived
-from first principles), [`realization`][seapass.model.realization] (the closed loop as
+What lives here: [`expr`][seapass.model.expr] (the safe parser: a checked tree
+folded by one dispatch table), [`values`][seapass.model.values] (value and name
+checks), [`rational`][seapass.model.rational] (exact rational functions of ``s`` and
+the parameters, on flint, within a size budget), [`symbolic`][seapass.model.symbolic]
+(the sympy side of the parser), [`budget`][seapass.model.budget] (size bounds and a
+time limit for the symbolic work), [`elements`][seapass.model.elements] (elements as
+given, their exact and sympy forms), [`sea`][seapass.model.sea] (`SEA`, `Impedance`),
+[`freebody`][seapass.model.freebody] (``Z_L`` solved exactly from the free-body
+equations, without sympy), [`stiffness`][seapass.model.stiffness] (the rendered
+stiffness ``F_L/X_L`` derived in sympy, for people and the symbolic analyses), [`realization`][seapass.model.realization] (the closed loop as
 a state-space system), [`catalog`][seapass.model.catalog] (the one catalog of named
 designs: LP, APD, Ours and every Table I/II row) and
 [`design_file`][seapass.model.design_file] (a user's design as a strict TOML file).

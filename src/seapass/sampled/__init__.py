@@ -1,7 +1,8 @@
 """Sampled-data control: discrete controllers, certified sampled passivity, the runtime.
 
 What lives here: [`controllers`][seapass.sampled.controllers] (exact discretization and
-the deployable difference equations); the certified sampled-data passivity analysis:
+the deployable difference equations, with [`emulation`][seapass.sampled.emulation] for
+numeric controllers); the certified sampled-data passivity analysis:
 [`plant`][seapass.sampled.plant] (exact plant rationals), [`alias`][seapass.sampled.alias]
 (alias sums as arb balls), [`power`][seapass.sampled.power] (the weighted power polynomial),
 [`certified`][seapass.sampled.certified] (sign and stability decisions on ball polynomials),
