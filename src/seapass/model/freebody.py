@@ -124,9 +124,9 @@ def derive(sea: SEA) -> FreeBody:
 
     Examples
     --------
-    >>> fb = derive(SEA(D1="k1", CL="kd"))
-    >>> fb.stiffness
-    RatFunc('(s^2*m*k1 + s*b*k1 + k1*kd)/(s^2*m + s*b + k1)')
+    >>> num, den = derive(SEA(D1="k1", CL="kd")).stiffness.canonical()
+    >>> print(num, "/", den)
+    s^2*k1*m + s*b*k1 + k1*kd / s^2*m + s*b + k1
     """
     key = sea.sources()
     found = _CACHE.get(key)

@@ -122,10 +122,10 @@ def emulate(
 
     Examples
     --------
-    >>> (e, m) = emulate(fmpq_poly([100, 2]), fmpq_poly([1]), Fraction(1, 100),
-    ...                  method="backward", filter_pole=Fraction(0))
-    >>> e, m
-    ((100, 1), (-200*x + 200, 1))
+    >>> e, m = emulate(fmpq_poly([100, 2]), fmpq_poly([1]), Fraction(1, 100),
+    ...                method="backward", filter_pole=Fraction(0))
+    >>> e[0] / e[1][0], m[0] / m[1][0]  # 100 on the error, 2 (1 - q)/T on the measurement
+    (100, (-200)*x + 200)
     """
     num, den = in_lowest_terms(num, den)
     quo, rem = divmod(num, den)
