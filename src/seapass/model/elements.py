@@ -16,6 +16,7 @@ May import: [`seapass.errors`][seapass.errors] and the modules of
 
 from __future__ import annotations
 
+import ast
 import functools
 from collections.abc import Iterable, Mapping
 from fractions import Fraction
@@ -38,6 +39,7 @@ __all__ = [
     "freeze_values",
     "is_sympy",
     "poly_names",
+    "source_names",
     "sympy_of",
 ]
 
@@ -160,6 +162,21 @@ def exact_values(values: Mapping[str, float | None]) -> dict[str, fmpq]:
             q = to_fraction(v, k)
             out[k] = fmpq(q.numerator, q.denominator)
     return out
+
+
+def source_names(source: Source, allowed: frozenset[str]) -> frozenset[str]:
+    """The parameter names an element uses *as written* (before anything cancels).
+
+    ``k*s/(k*s + k)`` uses ``k`` although ``k`` cancels from it, as sympy's free
+    symbols of the expression say; a value given for ``k`` is therefore not a typo.
+    """
+    kind, value = source
+    if kind == "text":
+        tree = parse_tree(value, allowed)
+        return frozenset(n.id for n in ast.walk(tree) if isinstance(n, ast.Name)) - {"s"}
+    if kind == "number":
+        return frozenset()
+    return frozenset(str(x) for x in value.free_symbols) - {"s"}
 
 
 def poly_names(p: Any) -> set[str]:

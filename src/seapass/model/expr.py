@@ -24,13 +24,12 @@ from fractions import Fraction
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Generic, Protocol, TypeVar
 
-from ..errors import ExpressionError, SymbolicLimitError, did_you_mean
+from ..errors import ExpressionError, ParameterError, SymbolicLimitError, did_you_mean
 from ..files.limits import MAX_EXPONENT, MAX_EXPRESSION_LENGTH, MAX_NODES
 from .values import (
     check_ascii,
     check_name,
     finite_number,
-    parse_assignment,
     parse_value,
     to_fraction,
     underflows,
@@ -392,3 +391,18 @@ def check_rational_in_s(expr: sp.Expr, allowed: Iterable[str], what: str) -> sp.
     from .symbolic import check_sympy_input
 
     return check_sympy_input(expr, allowed, what)
+
+
+def parse_assignment(text: str) -> tuple[str, float]:
+    """Parse ``NAME=VALUE`` as given to ``--set``."""
+    if "=" not in text:
+        raise ParameterError(f"--set {text!r}: expected NAME=VALUE, e.g. --set kd=5000")
+    name, _, raw = text.partition("=")
+    name = name.strip()
+    if not raw.strip():
+        raise ParameterError(f"--set {text!r}: missing value after '=', e.g. --set {name}=1.5")
+    try:
+        check_name(name)
+    except ExpressionError as exc:
+        raise ParameterError(f"--set {text!r}: {exc}") from None
+    return name, parse_value(raw.strip(), name)

@@ -28,6 +28,7 @@ from .elements import (
     freeze_values,
     is_sympy,
     poly_names,
+    source_names,
     sympy_of,
 )
 from .expr import STANDARD_SYMBOLS, to_fraction, validate_values
@@ -84,8 +85,8 @@ class _Facts(NamedTuple):
 def _model_facts(sources: tuple[Source, ...], allowed: frozenset[str]) -> _Facts:
     exact = dict(zip(_ATTRS, _model_elements(sources, allowed), strict=True))
     used: set[str] = set()
-    for f in exact.values():
-        used |= f.parameters()
+    for src in sources:  # as written: a name that cancels out is still a parameter
+        used |= source_names(src, allowed)
     dens = []
     for attr in _ELEMENTS:
         names = frozenset(poly_names(exact[attr].den) - {"s"})
@@ -415,16 +416,19 @@ def _impedance_parts(
     """``Z`` in lowest terms and the names its parts use before cancelling (cached)."""
     if sources[0] == "expr":
         whole = exact_of(sources[1], allowed, "Z")
-        return whole, whole.parameters()
+        return whole, source_names(sources[1], allowed)
     parts = {
         what: [exact_of(src, allowed, f"{what}[{i}]") for i, src in enumerate(srcs)]
         for what, srcs in (("num", sources[1]), ("den", sources[2]))
     }
     names: set[str] = set()
+    for src in (*sources[1], *sources[2]):
+        names |= source_names(src, allowed)
+    exact_names: set[str] = set()
     for fs in parts.values():
         for f in fs:
-            names |= f.parameters()
-    ctx = context(variables(names))
+            exact_names |= f.parameters()
+    ctx = context(variables(exact_names))
     s = RatFunc.variable(ctx, "s")
     total = {}
     for what, fs in parts.items():

@@ -4,7 +4,7 @@ A value (``--set kd=5000``, a design file's number, ``values={"kd": 5e3}``) must
 finite, ASCII, and not underflow to zero; a float converts to the rational it
 represents exactly.  A parameter name must be a plain identifier that is not reserved.
 
-What lives here: `check_ascii`, `check_name`, `parse_value`, `parse_assignment`,
+What lives here: `check_ascii`, `check_name`, `parse_value`,
 `to_fraction`, `validate_values`, `finite_number`, `underflows` (all re-exported by
 [`seapass.model.expr`][seapass.model.expr]).  May import: [`seapass.errors`][seapass.errors].
 """
@@ -26,7 +26,6 @@ __all__ = [
     "check_ascii",
     "check_name",
     "finite_number",
-    "parse_assignment",
     "parse_value",
     "to_fraction",
     "underflows",
@@ -112,21 +111,6 @@ def parse_value(text: str, name: str = "value") -> float:
             "give 0 or a value above 1e-308"
         )
     return val
-
-
-def parse_assignment(text: str) -> tuple[str, float]:
-    """Parse ``NAME=VALUE`` as given to ``--set``."""
-    if "=" not in text:
-        raise ParameterError(f"--set {text!r}: expected NAME=VALUE, e.g. --set kd=5000")
-    name, _, raw = text.partition("=")
-    name = name.strip()
-    if not raw.strip():
-        raise ParameterError(f"--set {text!r}: missing value after '=', e.g. --set {name}=1.5")
-    try:
-        check_name(name)
-    except ExpressionError as exc:
-        raise ParameterError(f"--set {text!r}: {exc}") from None
-    return name, parse_value(raw.strip(), name)
 
 
 def to_fraction(value: float | int | Fraction | numbers.Real, name: str = "value") -> Fraction:
