@@ -9,6 +9,7 @@ evaluation costs only rational arithmetic.
 
 from __future__ import annotations
 
+import threading
 from collections import OrderedDict
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
@@ -96,20 +97,24 @@ def compiled_impedance(system: SEA | Impedance) -> tuple[fmpq_mpoly, fmpq_mpoly,
     exact evaluation at the values.
     """
     key = ("sea", system.sources()) if isinstance(system, SEA) else ("z", system.sources())
-    found = _CACHE.get(key)
-    if found is None:
-        num, den = exact_impedance(system).canonical()
-        found = _CACHE[key] = (num, den, exact_support(num, den))
+    with _LOCK:
+        found = _CACHE.get(key)
+        if found is not None:
+            _CACHE.move_to_end(key)
+            return found
+    num, den = exact_impedance(system).canonical()
+    found = (num, den, exact_support(num, den))
+    with _LOCK:
+        _CACHE[key] = found
         if len(_CACHE) > _CACHE_SIZE:
             _CACHE.popitem(last=False)
-    else:
-        _CACHE.move_to_end(key)
     return found
 
 
 _CACHE: OrderedDict[tuple[Any, ...], tuple[fmpq_mpoly, fmpq_mpoly, tuple[bool, ...]]]
 _CACHE = OrderedDict()
 _CACHE_SIZE = 512
+_LOCK = threading.Lock()
 
 
 def _in_s(p: fmpq_mpoly) -> dict[int, fmpq_mpoly]:

@@ -23,6 +23,7 @@ and the modules of [`seapass.model`][seapass.model] below it (`rational`, `sea`)
 
 from __future__ import annotations
 
+import threading
 from collections import OrderedDict
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -129,25 +130,28 @@ def derive(sea: SEA) -> FreeBody:
     s^2*k1*m + s*b*k1 + k1*kd / s^2*m + s*b + k1
     """
     key = sea.sources()
-    found = _CACHE.get(key)
-    if found is not None:
-        _CACHE.move_to_end(key)
-        return found
+    with _LOCK:
+        found = _CACHE.get(key)
+        if found is not None:
+            _CACHE.move_to_end(key)
+            return found
     try:
         result = _solve(free_body_equations(sea.exact_elements()))
     except SymbolicLimitError as exc:
         raise SymbolicLimitError(
             f"model too large for exact derivation ({exc}): use lower-order elements"
         ) from None
-    _CACHE[key] = result
-    if len(_CACHE) > _CACHE_SIZE:
-        _CACHE.popitem(last=False)
+    with _LOCK:
+        _CACHE[key] = result
+        if len(_CACHE) > _CACHE_SIZE:
+            _CACHE.popitem(last=False)
     return result
 
 
 # the derivation depends on the elements only (not on values): cached on their sources
 _CACHE: OrderedDict[tuple[object, ...], FreeBody] = OrderedDict()
 _CACHE_SIZE = 256
+_LOCK = threading.Lock()
 
 
 def exact_impedance(system: SEA | Impedance) -> RatFunc:
