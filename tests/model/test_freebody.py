@@ -26,7 +26,7 @@ from hypothesis import strategies as st
 from seapass.analysis.impedance import compiled_impedance, evaluate_system, exact_support
 from seapass.analysis.impedance import structural_support as sympy_support
 from seapass.analysis.passivity import is_passive, positive_real_test
-from seapass.errors import DegenerateModelError
+from seapass.errors import DegenerateModelError, SymbolicLimitError
 from seapass.files.limits import MAX_MODEL_TERMS
 from seapass.model.catalog import CATALOG, REFERENCE_VALUES
 from seapass.model.expr import STANDARD_SYMBOLS, S, symbol
@@ -275,3 +275,35 @@ def test_random_structures_and_values_agree_with_sympy(d1, d2, ca, cl, data):
         ref.den,
         ref.omega,
     )
+
+
+# ---------------------------------------------------------------- size budget of the derivation
+
+
+@pytest.mark.parametrize(
+    "elements",
+    [
+        {"D1": "k1 + b1*s", "CA": "(s + k1 + k2 + b1 + b2 + kd + bd)**4/(s + k1 + kd + bd + b1)**4",
+         "CL": "(kd + bd*s + ki/s)**4/(s + k2 + b2)**3"},
+        {"D1": "(k1 + b1*s)**6/(s + k2)**6", "D2": "(b2*s + k2)**6/(s + kd)**5",
+         "CA": "(kd + bd*s + ki/s)**6", "CL": "(s + m + b)**6/(s + k1)**6"},
+    ],
+)  # fmt: skip
+def test_models_over_the_exact_budget_are_refused(elements):
+    with pytest.raises(SymbolicLimitError, match="model too large for exact derivation"):
+        derive(SEA(**elements))
+
+
+def test_large_models_within_the_budget_are_decided():
+    """Degree 25 over 26 with thousands of terms: derived, and decided at values."""
+    elements = {
+        "D1": "k1",
+        "CA": "(s**3 + kd*s**2 + bd*s + ki)**5/(s**2 + k2*s + b2)**5",
+        "CL": "(s**3 + kd*s**2 + bd*s + ki)**5/(s**2 + k1*s + b1)**5",
+    }
+    z = derive(SEA(**elements)).impedance
+    assert z.degrees_in_s() == (25, 26) and len(z.num) > 1000
+    values = dict(
+        m=1.0, b=10.0, k1=1000.0, kd=500.0, bd=25.0, ki=100.0, k2=1000.0, b2=20.0, b1=20.0
+    )
+    assert is_passive(SEA(**elements, values=values)).reason == "rhp_pole"

@@ -23,7 +23,7 @@ from fractions import Fraction
 from flint import fmpq, fmpq_mpoly, fmpq_mpoly_ctx, fmpq_poly
 
 from ..exact import poly as ep
-from ..model.rational import S_NAME, RatFunc, univariate
+from ..model.rational import S_NAME, RatFunc, on_axis, univariate
 from ..model.sea import SEA, Impedance, exact_values
 from .impedance import compiled_impedance, exact_support
 
@@ -54,17 +54,6 @@ def _lc(p: fmpq_mpoly, var: int = _S) -> fmpq_mpoly:
     return parts[max(parts)]
 
 
-def _at_j_omega(p: fmpq_mpoly) -> tuple[fmpq_mpoly, fmpq_mpoly]:
-    """``Re p(jω)``, ``Im p(jω)`` as polynomials in ``(ω, λ)`` (ω in the slot of ``s``)."""
-    re: dict[tuple[int, ...], fmpq] = {}
-    im: dict[tuple[int, ...], fmpq] = {}
-    for exps, c in zip(p.monoms(), p.coeffs(), strict=True):
-        k = exps[_S]
-        sign = -1 if (k // 2) % 2 else 1
-        (re if k % 2 == 0 else im)[tuple(exps)] = c * sign
-    return _CTX.from_dict(re), _CTX.from_dict(im)
-
-
 def _halve(p: fmpq_mpoly) -> fmpq_mpoly:
     """An even polynomial in ω as a polynomial in ``x = ω²``."""
     return _CTX.from_dict(
@@ -87,8 +76,8 @@ def _critical(num: fmpq_mpoly, den: fmpq_mpoly) -> list[fmpq_mpoly]:
         out.append(num.resultant(den, S_NAME))
     else:
         out += [num, den] if _degree(num) <= 0 else [den]
-    re_d, im_d = _at_j_omega(den)
-    re_n, im_n = _at_j_omega(num)
+    re_d, im_d = on_axis(den)
+    re_n, im_n = on_axis(num)
     g = re_d.gcd(im_d) if not im_d.is_zero() else re_d
     if not im_d.is_zero():
         r1, r2 = re_d / g, im_d / g
@@ -100,7 +89,7 @@ def _critical(num: fmpq_mpoly, den: fmpq_mpoly) -> list[fmpq_mpoly]:
         out += [_lc(g), g.subs({S_NAME: 0})]
         if _degree(g) > 1:
             out.append(g.discriminant(S_NAME))
-        ddr, ddi = _at_j_omega(den.derivative(S_NAME))
+        ddr, ddi = on_axis(den.derivative(S_NAME))
         for res in (re_n * ddr + im_n * ddi, im_n * ddr - re_n * ddi):
             if not res.is_zero():
                 out.append(g.resultant(res, S_NAME))

@@ -18,6 +18,7 @@ from flint import fmpq, fmpq_mpoly, fmpq_poly
 
 from ..errors import ParameterError
 from ..exact import poly as ep
+from ..exact.axis import at_j_omega, even_to_x
 from ..model.expr import to_fraction
 from ..model.freebody import exact_impedance
 from ..model.rational import S_NAME, univariate
@@ -129,20 +130,34 @@ def _in_s(p: fmpq_mpoly) -> dict[int, fmpq_mpoly]:
 
 
 def exact_support(num: fmpq_mpoly, den: fmpq_mpoly) -> tuple[bool, ...]:
-    """`structural_support` of ``N/D`` given as polynomials in ``s`` and the parameters."""
+    """`structural_support` of ``N/D`` given as polynomials in ``s`` and the parameters.
+
+    A power of ``x`` whose coefficient is nonzero at one point of the parameters is
+    nonzero for generic values; only the powers that vanish there are decided by forming
+    their coefficient, ``Σ ± n_k d_l`` over ``k + l = 2i``, as a polynomial.
+    """
+    names = [n for n in num.context().names() if n != S_NAME]
+    point = {n: fmpq(2 * j + 3, 5 * j + 7) for j, n in enumerate(names)}  # any point will do
+    nr, ni = at_j_omega(univariate(num, point))
+    dr, di = at_j_omega(univariate(den, point))
+    at_point = even_to_x(nr * dr + ni * di)
     n, d = _in_s(num), _in_s(den)
     zero = num.context().constant(0)
-    coeffs: dict[int, fmpq_mpoly] = {}
-    for k, nk in n.items():
-        for j, dj in d.items():
-            if (k + j) % 2:
-                continue
-            # Re N(jω) D(−jω): j^k (−j)^j = (−1)^j j^(k+j) = (−1)^(j + (k+j)/2)
-            sign = -1 if (j + (k + j) // 2) % 2 else 1
-            coeffs[(k + j) // 2] = coeffs.get((k + j) // 2, zero) + sign * nk * dj
-    nonzero = [i for i, c in coeffs.items() if not c.is_zero()]
-    top = max(nonzero, default=-1)
-    return tuple(not coeffs.get(i, zero).is_zero() for i in range(top + 1))
+    top = (max(n, default=0) + max(d, default=0)) // 2
+    support = []
+    for i in range(top + 1):
+        if i <= at_point.degree() and at_point[i] != 0:
+            support.append(True)
+            continue
+        coeff = zero
+        for k, nk in n.items():
+            j = 2 * i - k
+            if j in d:  # Re of j^k (−j)^j = (−1)^(j + i)
+                coeff = coeff + (-1 if (j + i) % 2 else 1) * nk * d[j]
+        support.append(not coeff.is_zero())
+    while support and not support[-1]:
+        support.pop()
+    return tuple(support)
 
 
 def structural_support(num: sp.Expr, den: sp.Expr) -> tuple[bool, ...]:

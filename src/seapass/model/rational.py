@@ -35,7 +35,7 @@ from flint import fmpq, fmpq_mpoly, fmpq_mpoly_ctx, fmpq_poly, fmpz
 from ..errors import SymbolicLimitError
 from ..files.limits import MAX_EXACT_BITS, MAX_EXACT_DEGREE, MAX_EXACT_TERMS, MAX_EXACT_WORK
 
-__all__ = ["S_NAME", "RatFunc", "context", "sympy_order", "variables"]
+__all__ = ["S_NAME", "RatFunc", "context", "on_axis", "sympy_order", "univariate", "variables"]
 
 S_NAME = "s"
 """Name of the Laplace variable."""
@@ -284,6 +284,19 @@ class RatFunc:
 
     def __repr__(self) -> str:
         return f"RatFunc('({self.num})/({self.den})')"
+
+
+def on_axis(p: fmpq_mpoly) -> tuple[fmpq_mpoly, fmpq_mpoly]:
+    """``Re p(jω)`` and ``Im p(jω)`` for real ``ω``, as polynomials in ``ω`` (in the place of
+    ``s``) and the parameters."""
+    ctx = p.context()
+    i = ctx.variable_to_index(S_NAME)
+    re: dict[tuple[int, ...], fmpq] = {}
+    im: dict[tuple[int, ...], fmpq] = {}
+    for exps, c in zip(p.monoms(), p.coeffs(), strict=True):
+        k = exps[i]
+        (re if k % 2 == 0 else im)[tuple(exps)] = -c if (k // 2) % 2 else c
+    return ctx.from_dict(re), ctx.from_dict(im)
 
 
 _S_ONLY = fmpq_mpoly_ctx.get((S_NAME,), "lex")
