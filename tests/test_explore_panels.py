@@ -10,7 +10,7 @@ import pytest
 from seapass.analysis.freqresp import stiffness_response
 from seapass.analysis.passivity import is_passive
 from seapass.explore.panels import compute, slider_grid
-from seapass.explore.state import check_state
+from seapass.explore.validation import check_state
 from seapass.model.catalog import SIMULATION_DESIGNS, TABLE_ROWS, design
 from seapass.model.sea import SEA
 

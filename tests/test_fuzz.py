@@ -922,9 +922,11 @@ def test_atomic_write_replaces_and_cleans_up(tmp_path):
 
 def test_interrupted_cli_output_leaves_previous_files(tmp_path, monkeypatch):
     """A KeyboardInterrupt while the witness figure is saved: old files stay, no leftovers."""
+    from seapass.files.owned import MANIFEST, write_output_bytes
+
     out = tmp_path / "w"
     out.mkdir()
-    (out / "witness.png").write_bytes(b"old png")
+    write_output_bytes(out / "witness.png", b"old png")  # seapass's: it may be replaced
     import matplotlib.figure
 
     def interrupted(self, *a, **k):
@@ -937,4 +939,4 @@ def test_interrupted_cli_output_leaves_previous_files(tmp_path, monkeypatch):
         code = main(argv)
     assert code == 130 and "interrupted" in err.getvalue()
     assert (out / "witness.png").read_bytes() == b"old png"
-    assert sorted(p.name for p in out.iterdir()) == ["witness.png"]
+    assert sorted(p.name for p in out.iterdir()) == [MANIFEST, "witness.png"]

@@ -25,11 +25,12 @@ import pytest
 from seapass.cli import main
 from seapass.errors import FileFormatError, OutputPathError, ParameterError
 from seapass.files import limits
+from seapass.files.owned import file_digest, read_manifest, write_manifest
 from seapass.files.textfile import read_text_file
 from seapass.files.toml import loads_strict
 from seapass.model.design_file import load_design
 from seapass.report.document import Report, Section
-from seapass.report.output import MARKER, check_output_dir, write_report
+from seapass.report.output import LEGACY_MARKER, check_output_dir, write_report
 from seapass.report.render import render_markdown
 from seapass.rig.rigfile import load_rig, paper_rig
 from seapass.sweep.cluster import probe_scheduler
@@ -375,10 +376,9 @@ def test_symlinked_out_is_updated_through_the_link(tmp_path: Path) -> None:
     link = tmp_path / "link"
     write_report(tiny_report(text="first"), real)
     (real / "data" / "stale.csv").write_text("seapass wrote this once")  # listed below
-    manifest = (real / MARKER).read_text()
-    (real / MARKER).write_text(
-        manifest.replace('"data/findings.json"', '"data/stale.csv", "data/findings.json"')
-    )
+    listed = read_manifest(real)
+    assert listed is not None and "data/findings.json" in listed
+    write_manifest(real, {**listed, "data/stale.csv": file_digest(real / "data" / "stale.csv")})
     link.symlink_to(real, target_is_directory=True)
     write_report(tiny_report(text="second"), link)
     assert link.is_symlink() and os.readlink(link) == str(real)
@@ -424,7 +424,7 @@ def test_old_marker_without_manifest_keeps_files_outside_the_report_names(tmp_pa
     (out / "data").mkdir(parents=True)
     (out / "data" / "old.csv").write_text("old")
     (out / "report.md").write_text("old")
-    (out / MARKER).write_text("written by seapass; this directory is replaced as a whole\n")
+    (out / LEGACY_MARKER).write_text("written by seapass; this directory is replaced as a whole\n")
     (out / "notes.txt").write_text("mine")
     write_report(tiny_report(), out)
     assert (out / "notes.txt").read_text() == "mine"

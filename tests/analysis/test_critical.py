@@ -101,5 +101,5 @@ def test_verdicts_at_rational_points_match_sympy(elements):
 def test_the_readme_bound():
     sea = SEA(D1="k1 + b1*s", CL="kd", values=dict(m=1, b=10, k1=1000, b1=20, kd=None))
     res = passive_intervals(sea, "kd", 0, 1e5)
-    assert res.critical_values == [0.0, 300.0, 849.1933384829667, 1000.0]
-    assert res.intervals == [(0.0, 849.1933384829667)]
+    assert res.critical_values == (0.0, 300.0, 849.1933384829667, 1000.0)
+    assert res.intervals == ((0.0, 849.1933384829667),)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import threading
 from collections import OrderedDict
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 from flint import fmpq, fmpq_mpoly, fmpq_poly
 
@@ -28,6 +28,7 @@ if TYPE_CHECKING:
     import sympy as sp
 
 __all__ = [
+    "SystemLike",
     "compiled_impedance",
     "evaluate_system",
     "exact_rational_function",
@@ -35,9 +36,13 @@ __all__ = [
     "structural_support",
 ]
 
+SystemLike: TypeAlias = "SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]]"
+"""A system the exact analyses accept: an `SEA`, an `Impedance`, an expression in ``s``
+(a string or a sympy expression) or a ``(num, den)`` pair of descending coefficients."""
+
 
 def exact_rational_function(
-    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    system: SystemLike,
     values: Mapping[str, float] | None = None,
 ) -> tuple[fmpq_poly, fmpq_poly]:
     """Exact ``(N, D)`` of the impedance of ``system``, as `flint.fmpq_poly`.
@@ -51,7 +56,7 @@ def exact_rational_function(
 
 
 def evaluate_system(
-    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    system: SystemLike,
     values: Mapping[str, float] | None,
 ) -> tuple[fmpq_poly, fmpq_poly, tuple[bool, ...] | None]:
     """`exact_rational_function` plus the structural support of ``P`` (None for raw coefficients).

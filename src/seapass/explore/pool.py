@@ -21,7 +21,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from .panels import REGION_RESOLUTIONS, compute, error_message
-from .state import check_state
+from .validation import check_state
 
 __all__ = ["AFFINITY", "PanelPool", "run_panel"]
 

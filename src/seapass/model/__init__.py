@@ -11,10 +11,12 @@ given, their exact and sympy forms), [`sea`][seapass.model.sea] (`SEA`, `Impedan
 equations, without sympy), [`stiffness`][seapass.model.stiffness] (the rendered
 stiffness ``F_L/X_L`` derived in sympy, for people and the symbolic analyses), [`realization`][seapass.model.realization] (the closed loop as
 a state-space system), [`catalog`][seapass.model.catalog] (the one catalog of named
-designs: LP, APD, Ours and every Table I/II row) and
-[`design_file`][seapass.model.design_file] (a user's design as a strict TOML file).
+designs: LP, APD, Ours and every Table I/II row), [`experiment`][seapass.model.experiment]
+(the paper's step-response experiment: step, horizon, load masses), [`loop`][seapass.model.loop]
+(`SampledLoop`, the digital controller's period, delay, velocity filter and discretization)
+and [`design_file`][seapass.model.design_file] (a user's design as a strict TOML file).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact].
+May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files].
 """
 
 from __future__ import annotations
@@ -30,6 +32,9 @@ _LAZY: dict[str, str] = {
     "design": "catalog",
     "Design": "design_file",
     "load_design": "design_file",
+    "PAPER_EXPERIMENT": "experiment",
+    "Experiment": "experiment",
+    "SampledLoop": "loop",
     "ClosedLoop": "realization",
     "closed_loop": "realization",
     "SEA": "sea",
@@ -44,13 +49,16 @@ module of this package does not import every other one)."""
 
 __all__ = [
     "CATALOG",
+    "PAPER_EXPERIMENT",
     "PAPER_VALUES",
     "REFERENCE_VALUES",
     "SEA",
     "CatalogDesign",
     "ClosedLoop",
     "Design",
+    "Experiment",
     "Impedance",
+    "SampledLoop",
     "closed_loop",
     "derive_stiffness",
     "design",
@@ -76,6 +84,8 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:  # what type checkers and IDEs see
     from .catalog import CATALOG, PAPER_VALUES, REFERENCE_VALUES, CatalogDesign, design
     from .design_file import Design, load_design
+    from .experiment import PAPER_EXPERIMENT, Experiment
+    from .loop import SampledLoop
     from .realization import ClosedLoop, closed_loop
     from .sea import SEA, Impedance
     from .stiffness import (

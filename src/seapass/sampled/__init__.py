@@ -16,8 +16,8 @@ passive sets of one parameter), [`region`][seapass.sampled.region] (Z-width maps
 a simulation check) and [`runtime`][seapass.sampled.runtime] (a fixed-rate control loop
 with safety, for hardware or the twin).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model],
-[`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim], [`seapass.batch`][seapass.batch].
+May import: [`seapass.errors`][seapass.errors], ``seapass.outcome``, [`seapass.files`][seapass.files],
+[`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis].
 """
 
 from __future__ import annotations
@@ -35,6 +35,7 @@ _LAZY: dict[str, str] = {
     "OursController": "controllers",
     "discretize": "controllers",
     "SampledPassivityResult": "passivity",
+    "SampledReason": "passivity",
     "SampledStatus": "passivity",
     "sampled_passivity": "passivity",
     "ZWidthMap": "region",
@@ -56,6 +57,7 @@ __all__ = [
     "OursController",
     "SampledBoundResult",
     "SampledPassivityResult",
+    "SampledReason",
     "SampledStatus",
     "SimulatedHardware",
     "ZWidthMap",
@@ -88,6 +90,11 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
         OursController,
         discretize,
     )
-    from .passivity import SampledPassivityResult, SampledStatus, sampled_passivity
+    from .passivity import (
+        SampledPassivityResult,
+        SampledReason,
+        SampledStatus,
+        sampled_passivity,
+    )
     from .region import ZWidthMap, sampled_region
     from .runtime import ControlLoop, HardwareInterface, SimulatedHardware

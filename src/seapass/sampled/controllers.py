@@ -31,13 +31,14 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from flint import fmpq_poly
 
 from ..errors import ParameterError, UnrealizableError
 from ..model.expr import STANDARD_SYMBOLS, exact_expression
+from ..model.loop import METHODS, Method, SampledLoop
 from ..model.rational import RatFunc, context, variables
 from ..model.sea import SEA, exact_values
 from .emulation import emulate, in_lowest_terms
@@ -59,9 +60,6 @@ __all__ = [
     "state_space",
     "zoh_discretize",
 ]
-
-Method = Literal["tustin", "zoh", "backward"]
-_METHODS = ("tustin", "zoh", "backward")
 
 
 def _zinv() -> sp.Symbol:
@@ -302,8 +300,8 @@ def discretize(
     >>> [float(c) for c in k.num], [float(c) for c in k.den]
     ([300.0, -200.0], [1.0])
     """
-    if method not in _METHODS:
-        raise ParameterError(f"method must be one of {', '.join(_METHODS)}, got {method!r}")
+    if method not in METHODS:
+        raise ParameterError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     T = _check_period(period)
     vals = dict(values or {})
     if isinstance(expr, str):
@@ -375,8 +373,8 @@ class DiscreteController:
         values: Mapping[str, float] | None = None,
     ) -> DiscreteController:
         """Discretize ``sea.CA`` and ``sea.CL`` with the model's parameter values."""
-        if method not in _METHODS:
-            raise ParameterError(f"method must be one of {', '.join(_METHODS)}, got {method!r}")
+        if method not in METHODS:
+            raise ParameterError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         T = _check_period(period)
         vals = {k: v for k, v in sea.values.items() if v is not None}
         vals.update(values or {})
@@ -386,6 +384,19 @@ class DiscreteController:
             for attr in ("CA", "CL")
         ]
         return cls(parts[0], parts[1], float(period), sea.name)
+
+    @classmethod
+    def for_loop(
+        cls, sea: SEA, loop: SampledLoop, *, values: Mapping[str, float] | None = None
+    ) -> DiscreteController:
+        """`from_sea` at the period, discretization and velocity filter of ``loop``."""
+        return cls.from_sea(
+            sea,
+            loop.period,
+            method=loop.method,
+            velocity_filter=loop.velocity_filter,
+            values=values,
+        )
 
     def transfer_functions(self) -> tuple[DiscreteTF, DiscreteTF]:
         """Total ``(K_A(z), K_L(z))`` acting on ``−x`` when references are zero."""
@@ -455,17 +466,7 @@ def state_space(tf: DiscreteTF) -> tuple[np.ndarray, ...]:
     return A, B, C, np.array([[b[0]]])
 
 
-def controller_tfs(
-    sea: SEA,
-    *,
-    period: float,
-    delay: int = 0,
-    velocity_filter: float | None = None,
-    method: Method = "tustin",
-) -> tuple[DiscreteTF, DiscreteTF]:
-    """``(z^-d K_A(z), z^-d K_L(z))`` exactly as `DiscreteController` runs them."""
-    if int(delay) != delay or delay < 0:
-        raise ParameterError(f"delay must be a non-negative whole number of samples, got {delay!r}")
-    ctrl = DiscreteController.from_sea(sea, period, method=method, velocity_filter=velocity_filter)
-    ka, kl = ctrl.transfer_functions()
-    return ka.delayed(int(delay)), kl.delayed(int(delay))
+def controller_tfs(sea: SEA, loop: SampledLoop) -> tuple[DiscreteTF, DiscreteTF]:
+    """``(z^-d K_A(z), z^-d K_L(z))`` in ``loop`` exactly as `DiscreteController` runs them."""
+    ka, kl = DiscreteController.for_loop(sea, loop).transfer_functions()
+    return ka.delayed(loop.delay), kl.delayed(loop.delay)

@@ -20,6 +20,7 @@ from typing import Literal
 from flint import fmpq, fmpq_poly, fmpz
 
 from ..errors import ParameterError
+from ..exact.poly import as_poly, rational
 
 __all__ = ["Rational", "emulate", "in_lowest_terms", "sympy_scaled"]
 
@@ -27,10 +28,6 @@ Rational = tuple[fmpq_poly, fmpq_poly]
 """``(num, den)``, univariate."""
 
 _ONE = fmpq_poly([1])
-
-
-def _fmpq(x: Fraction) -> fmpq:
-    return fmpq(x.numerator, x.denominator)
 
 
 def in_lowest_terms(num: fmpq_poly, den: fmpq_poly) -> Rational:
@@ -94,8 +91,8 @@ def _zoh(num: fmpq_poly, den: fmpq_poly, period: Fraction) -> Rational:
     nd = np.concatenate([np.zeros(k - len(nd)), nd])
     dd = np.concatenate([np.zeros(k - len(dd)), dd])
     return (
-        fmpq_poly([_fmpq(Fraction(float(c))) for c in nd]),
-        fmpq_poly([_fmpq(Fraction(float(c))) for c in dd]),
+        as_poly([float(c) for c in nd]),
+        as_poly([float(c) for c in dd]),
     )
 
 
@@ -129,8 +126,8 @@ def emulate(
     """
     num, den = in_lowest_terms(num, den)
     quo, rem = divmod(num, den)
-    T = _fmpq(period)
-    a = _fmpq(filter_pole)
+    T = rational(period)
+    a = rational(filter_pole)
     coeffs = quo.coeffs()
     const: Rational = (fmpq_poly([coeffs[0]]) if coeffs else fmpq_poly([]), _ONE)
     # δ = (1 − q)/T · (1 − a)/(1 − a q)

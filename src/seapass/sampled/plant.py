@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any, cast
 from flint import acb, ctx, fmpq, fmpq_poly
 
 from ..errors import ModelError, ParameterError
+from ..exact.poly import as_poly, rational, to_fraction, to_fractions
 from ..model.sea import SEA, exact_values
 
 if TYPE_CHECKING:
@@ -47,19 +48,12 @@ _ONE = fmpq_poly([1])
 _S = fmpq_poly([0, 1])
 
 
-def _fmpq(x: sp.Expr) -> fmpq:
-    import sympy as sp
-
-    r = sp.Rational(x)
-    return fmpq(int(r.p), int(r.q))
-
-
 def _poly(expr: sp.Expr) -> fmpq_poly:
     import sympy as sp
 
     from ..model.expr import S
 
-    return fmpq_poly([_fmpq(c) for c in reversed(sp.Poly(expr, S).all_coeffs())])
+    return as_poly([sp.Rational(c) for c in reversed(sp.Poly(expr, S).all_coeffs())])
 
 
 def reduced(num: fmpq_poly, den: fmpq_poly) -> RationalFunction:
@@ -243,23 +237,15 @@ PlantKey = tuple[tuple[Fraction, ...], ...]
 """Cache key of a numeric plant: ``m``, ``b`` and the coefficients of ``D1``, ``D2``."""
 
 
-def _fractions(p: fmpq_poly) -> tuple[Fraction, ...]:
-    return tuple(Fraction(int(c.p), int(c.q)) for c in p.coeffs())
-
-
-def _poly_of(c: tuple[Fraction, ...]) -> fmpq_poly:
-    return fmpq_poly([fmpq(x.numerator, x.denominator) for x in c])
-
-
 @functools.lru_cache(maxsize=128)
 def plant_from_key(key: PlantKey) -> Plant:
     """The plant of a [`plant_key`][seapass.sampled.plant.plant_key] (cached)."""
     (m,), (b,), n1, d1, n2, d2 = key
     return plant_from_rationals(
-        fmpq(m.numerator, m.denominator),
-        fmpq(b.numerator, b.denominator),
-        (_poly_of(n1), _poly_of(d1)),
-        (_poly_of(n2), _poly_of(d2)),
+        rational(m),
+        rational(b),
+        (as_poly(n1), as_poly(d1)),
+        (as_poly(n2), as_poly(d2)),
     )
 
 
@@ -268,8 +254,8 @@ def plant_key(sea: SEA) -> PlantKey:
     m, b, d1, d2 = (numeric_element(sea, k) for k in ("m", "b", "D1", "D2"))
     mb = tuple((x[0][0] / x[1][0],) for x in (m, b))
     return (
-        *(tuple(Fraction(int(v.p), int(v.q)) for v in x) for x in mb),
-        *(_fractions(p) for p in (*d1, *d2)),
+        *(tuple(to_fraction(v) for v in x) for x in mb),
+        *(to_fractions(p) for p in (*d1, *d2)),
     )
 
 
