@@ -87,8 +87,10 @@ def test_every_default_is_the_experiments() -> None:
     assert (spec.step, spec.load_mass, spec.horizon) == (e.step, e.load_mass, e.screening_horizon)
     design = Design(name="d", D1="k1", CA="kd", values={"m": 1.0, "b": 10.0, "k1": 1.0, "kd": 1.0})
     assert (design.step, design.horizon, design.load_masses) == (e.step, e.horizon, e.load_masses)
-    box = {"kd": (0.0, 1.0), "k1": (0.0, 1.0)}
-    state = ExploreState(name="x", model={}, values={}, ranges=box, gain="kd", region=("kd", "k1"))
+    state = ExploreState(
+        name="x", model={"D1": "k1", "CL": "kd"}, values={"m": 1.0, "b": 10.0, "k1": 1.0, "kd": 1.0},
+        ranges={"k1": (0.0, 10.0), "kd": (0.0, 10.0)}, gain="kd", region=("kd", "k1"),
+    )  # fmt: skip
     assert (state.step, state.horizon, state.load_mass) == (e.step, e.horizon, e.load_mass)
     batch = inspect.signature(batch_step_metrics).parameters
     assert (batch["step"].default, batch["horizon"].default) == (e.step, e.screening_horizon)

@@ -2,7 +2,7 @@
 
 `check_state` checks every field with seapass's safe parser (an `ast`
 whitelist for expressions; numbers with finiteness and range checks, see
-[`LIMITS`][seapass.explore.state.LIMITS]) and returns a normalized
+`seapass.explore.state.LIMITS`) and returns a normalized
 [`ExploreState`][seapass.explore.state.ExploreState] or the messages, so each can
 be shown next to its box.  Nothing here evaluates user text.
 """
