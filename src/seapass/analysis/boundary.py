@@ -40,7 +40,7 @@ import sympy as sp
 from ..errors import ParameterError
 from ..model.expr import symbol
 from ..model.sea import SEA, Impedance
-from .critical import critical_polynomials
+from .region import critical_polynomials
 from .passivity import is_passive
 
 __all__ = ["PassiveRegion", "RegionCell", "passive_region"]

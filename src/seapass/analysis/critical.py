@@ -1,131 +1,146 @@
-"""Critical values of one parameter: where the passivity verdict of a design may change.
+"""Critical values of one free parameter, exactly, on bivariate flint polynomials (no sympy).
 
-With every parameter but one (``p``) fixed to exact rationals, each condition of the
-positive-real test can change its truth value only at a real root of one of the
-*critical polynomials* in ``p`` (`critical_polys`; the list is in the module docstring
-of [`seapass.analysis.region`][seapass.analysis.region]).  `critical_values` isolates
-their real roots in a range exactly: rational roots exactly, irrational ones by
-pairwise disjoint isolating intervals of an irreducible factor (`CriticalValue`).
+With every parameter but one (``λ``) fixed to exact rationals, ``Z = N/D`` has
+``N, D ∈ Q[s, λ]``.  The verdict of the positive-real test can change only at a real
+root of one of the polynomials in ``λ`` listed in
+[`seapass.analysis.region`][seapass.analysis.region] (leading coefficients,
+resultants, discriminants, the coefficients of ``P(x) = Re N(jω) D(−jω)``); this module
+forms them with ``flint.fmpq_mpoly`` (exact gcd, resultant, discriminant, square-free
+factorization), factors them over ``Q`` and isolates their roots in a range.  It
+computes the same polynomials as the symbolic version there, up to constant factors,
+so the critical values are the same numbers.
 
-May import: [`seapass.exact`][seapass.exact] and [`seapass.model`][seapass.model].
+What lives here: `CriticalValue`, `critical_polynomials_in`, `critical_values_in`,
+`exact_with`.  May import:
+[`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact],
+[`seapass.model`][seapass.model] and the modules of this package below it.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any
 
-import sympy as sp
-from flint import fmpq, fmpq_poly
+from flint import fmpq, fmpq_mpoly, fmpq_mpoly_ctx, fmpq_poly
 
-from ..errors import ParameterError
 from ..exact import poly as ep
-from ..model.expr import S, symbol
-from ..model.sea import SEA, Impedance
-from ..model.stiffness import load_impedance
+from ..model.rational import S_NAME, RatFunc, on_axis, univariate
+from ..model.sea import SEA, Impedance, exact_values
+from .impedance import compiled_impedance, exact_support
 
-__all__ = [
-    "CriticalValue",
-    "critical_polynomials",
-    "critical_polys",
-    "critical_values",
-    "substituted",
-]
+__all__ = ["CriticalValue", "critical_polynomials_in", "critical_values_in", "exact_with"]
 
-_X = sp.Symbol("x")
-_OM = sp.Symbol("omega")
+_LAM = "lam"
+_CTX = fmpq_mpoly_ctx.get((S_NAME, _LAM), "lex")  # s (or ω, or x = ω²) and the free λ
+_S, _L = 0, 1
 
 
-def _univariate(expr: sp.Expr, p: sp.Symbol) -> fmpq_poly:
-    """Exact polynomial in ``p`` (zero if identically zero)."""
-    expr = sp.expand(expr)
-    if expr == 0:
-        return fmpq_poly([])
-    poly = sp.Poly(expr, p, domain="QQ")
-    return fmpq_poly([fmpq(int(c.p), int(c.q)) for c in poly.all_coeffs()[::-1]])
+def _in_var(p: fmpq_mpoly, var: int) -> dict[int, fmpq_mpoly]:
+    """``p`` as ``{k: coefficient of var^k}``."""
+    parts: dict[int, dict[tuple[int, ...], fmpq]] = {}
+    for exps, c in zip(p.monoms(), p.coeffs(), strict=True):
+        rest = tuple(0 if j == var else e for j, e in enumerate(exps))
+        parts.setdefault(exps[var], {})[rest] = c
+    return {k: _CTX.from_dict(v) for k, v in parts.items()}
 
 
-def _re_im_at_jw(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
-    """Real and imaginary parts of ``expr(jω)`` for a polynomial in ``s`` with real coefficients."""
-    coeffs = sp.Poly(expr, S).all_coeffs()[::-1]
-    re = sum((c * (-1) ** (k // 2) * _OM**k for k, c in enumerate(coeffs) if k % 2 == 0), sp.S.Zero)
-    im = sum((c * (-1) ** (k // 2) * _OM**k for k, c in enumerate(coeffs) if k % 2 == 1), sp.S.Zero)
-    return sp.expand(re), sp.expand(im)
+def _degree(p: fmpq_mpoly, var: int = _S) -> int:
+    return -1 if p.is_zero() else int(p.degrees()[var])
 
 
-def critical_polys(z: sp.Expr, p: sp.Symbol) -> list[sp.Expr]:
-    """The critical polynomials in ``p`` of an impedance ``z`` (see the module docstring)."""
-    num, den = sp.fraction(sp.cancel(sp.together(z)))
-    # clear denominators in p so both are polynomials in (s, p)
-    num, den = sp.expand(num), sp.expand(den)
-    out: list[sp.Expr] = []
-    pn, pd = sp.Poly(num, S), sp.Poly(den, S)
-    out += [pn.LC(), pd.LC()]
-    if pn.degree() > 0 and pd.degree() > 0:
-        out.append(sp.resultant(num, den, S))
+def _lc(p: fmpq_mpoly, var: int = _S) -> fmpq_mpoly:
+    if p.is_zero():
+        return p
+    parts = _in_var(p, var)
+    return parts[max(parts)]
+
+
+def _halve(p: fmpq_mpoly) -> fmpq_mpoly:
+    """An even polynomial in ω as a polynomial in ``x = ω²``."""
+    return _CTX.from_dict(
+        {(e[_S] // 2, e[_L]): c for e, c in zip(p.monoms(), p.coeffs(), strict=True)}
+    )
+
+
+def _sqf_part(p: fmpq_mpoly) -> fmpq_mpoly:
+    _content, factors = p.factor_squarefree()
+    out = _CTX.constant(1)
+    for f, _m in factors:
+        out = out * f
+    return out
+
+
+def _critical(num: fmpq_mpoly, den: fmpq_mpoly) -> list[fmpq_mpoly]:
+    """The critical polynomials of ``N/D`` (coprime, in ``(s, λ)``), as in ``region._critical_polys``."""
+    out = [_lc(num), _lc(den)]
+    if _degree(num) > 0 and _degree(den) > 0:
+        out.append(num.resultant(den, S_NAME))
     else:
-        out += [pn.as_expr(), pd.as_expr()] if pn.degree() <= 0 else [pd.as_expr()]
-    re_d, im_d = _re_im_at_jw(den)
-    re_n, im_n = _re_im_at_jw(num)
-    g = sp.gcd(re_d, im_d) if im_d != 0 else re_d
-    g = sp.expand(g)
-    if im_d != 0:
-        r1, r2 = sp.cancel(re_d / g), sp.cancel(im_d / g)
-        if sp.Poly(r1, _OM).degree() > 0 and sp.Poly(r2, _OM).degree() > 0:
-            out.append(sp.resultant(r1, r2, _OM))
+        out += [num, den] if _degree(num) <= 0 else [den]
+    re_d, im_d = on_axis(den)
+    re_n, im_n = on_axis(num)
+    g = re_d.gcd(im_d) if not im_d.is_zero() else re_d
+    if not im_d.is_zero():
+        r1, r2 = re_d / g, im_d / g
+        if _degree(r1) > 0 and _degree(r2) > 0:
+            out.append(r1.resultant(r2, S_NAME))
         else:
-            out += [sp.Poly(r1, _OM).LC(), sp.Poly(r2, _OM).LC()]
-    if g.has(_OM):
-        gp = sp.Poly(g, _OM)
-        out += [gp.LC(), g.subs(_OM, 0)]
-        if gp.degree() > 1:
-            out.append(sp.discriminant(g, _OM))
-        ddr, ddi = _re_im_at_jw(sp.diff(den, S))
-        for res in (sp.expand(re_n * ddr + im_n * ddi), sp.expand(im_n * ddr - re_n * ddi)):
-            if res != 0:
-                out.append(sp.resultant(g, res, _OM) if gp.degree() > 0 else res)
-    # real part polynomial in x = ω²
-    pw = sp.expand(re_n * re_d + im_n * im_d)
-    if pw != 0:
-        px = sp.expand(pw.subs(_OM, sp.sqrt(_X)))
-        poly = sp.Poly(px, _X)
-        # remove the generic power of x and generic repeated factors
-        k = min(m[0] for m in poly.monoms())
-        q = sp.Poly(sp.cancel(px / _X**k), _X)
-        q = sp.Poly(sp.sqf_part(q.as_expr()), _X) if q.degree() > 0 else q
-        out += [poly.LC(), q.as_expr().subs(_X, 0)]
-        if q.degree() > 1:
-            out.append(sp.discriminant(q.as_expr(), _X))
-        # each coefficient of P matters where P may vanish identically
-        out += [c for c in poly.all_coeffs() if c.has(p)]
-    return [sp.expand(e) for e in out if sp.expand(e) != 0]
+            out += [_lc(r1), _lc(r2)]
+    if _degree(g) > 0:
+        out += [_lc(g), g.subs({S_NAME: 0})]
+        if _degree(g) > 1:
+            out.append(g.discriminant(S_NAME))
+        ddr, ddi = on_axis(den.derivative(S_NAME))
+        for res in (re_n * ddr + im_n * ddi, im_n * ddr - re_n * ddi):
+            if not res.is_zero():
+                out.append(g.resultant(res, S_NAME))
+    pw = re_n * re_d + im_n * im_d
+    if not pw.is_zero():
+        px = _halve(pw)
+        parts = _in_var(px, _S)
+        k = min(parts)
+        q = _CTX.from_dict(
+            {(e[_S] - k, e[_L]): c for e, c in zip(px.monoms(), px.coeffs(), strict=True)}
+        )
+        q = _sqf_part(q) if _degree(q) > 0 else q
+        out += [parts[max(parts)], q.subs({S_NAME: 0})]
+        if _degree(q) > 1:
+            out.append(q.discriminant(S_NAME))
+        out += [c for c in parts.values() if _degree(c, _L) > 0]
+    return [e for e in out if not e.is_zero()]
 
 
-def critical_polynomials(
-    system: SEA | Impedance,
-    params: Sequence[str],
-    *,
-    values: Mapping[str, float | None] | None = None,
-) -> list[sp.Expr]:
-    """Polynomials in ``params`` on whose real zero set the verdict of ``system`` may change.
+def _in_lambda(e: fmpq_mpoly) -> fmpq_poly:
+    """A polynomial of ``(s, λ)`` as one in ``λ``: itself when free of ``s``, else its content
+    in ``λ`` (where all its coefficients in ``s`` vanish together)."""
+    parts = _in_var(e, _S)
+    g = _CTX.constant(0)
+    for part in parts.values():
+        g = g.gcd(part) if not g.is_zero() else part
+    coeffs: dict[int, fmpq] = {}
+    for exps, c in zip(g.monoms(), g.coeffs(), strict=True):
+        coeffs[exps[_L]] = c
+    return fmpq_poly([coeffs.get(i, fmpq(0)) for i in range(max(coeffs, default=-1) + 1)])
 
-    Every parameter of ``system`` not in ``params`` must have a value (in
-    ``system`` or ``values``); the result holds the critical polynomials
-    described in the module docstring, with all of ``params`` symbolic (used
-    for 2-D regions by [`seapass.analysis.boundary`][seapass.analysis.boundary]).
-    """
-    base = substituted(system, {**(values or {}), **dict.fromkeys(params)})
-    free = [n for n in base.parameters if n not in params and base.values.get(n) is None]
-    if free:
-        raise ParameterError(f"no value for parameter(s) {', '.join(free)}")
-    z = load_impedance(base) if isinstance(base, SEA) else base.expr
-    z = z.xreplace(base.substitutions())
-    out: dict[sp.Expr, None] = {}
-    for name in params:
-        out.update(dict.fromkeys(critical_polys(z, symbol(name))))
-    return list(out)
+
+def _bivariate(system: SEA | Impedance, param: str, fixed: Mapping[str, fmpq]) -> RatFunc:
+    """``Z`` with every parameter but ``param`` replaced by its value, in ``Q[s, λ]``, reduced."""
+    num, den, _support = compiled_impedance(system)
+    subs: dict[str | int, fmpq] = {k: v for k, v in fixed.items() if k != param}
+    if subs:
+        num, den = num.subs(subs), den.subs(subs)
+    mapping: dict[str | int, str | int] = {S_NAME: S_NAME, param: _LAM}
+    n, d = (p.project_to_context(_CTX, mapping=mapping) for p in (num, den))
+    return RatFunc.from_polys(n, d)
+
+
+def critical_polynomials_in(
+    system: SEA | Impedance, param: str, fixed: Mapping[str, fmpq]
+) -> list[fmpq_poly]:
+    """The critical polynomials in ``param`` of ``system`` with the other values ``fixed``."""
+    z = _bivariate(system, param, fixed)
+    return [p for p in (_in_lambda(e) for e in _critical(z.num, z.den)) if p.degree() > 0]
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -147,6 +162,7 @@ class CriticalValue:
         raise ArithmeticError("critical values could not be separated")
 
     def halved(self) -> CriticalValue:
+        """The same value with its isolating interval halved (a rational one is exact)."""
         if self.poly is None:
             return self
         lo, hi = (ep.rational(x) for x in (self.lo, self.hi))
@@ -154,20 +170,18 @@ class CriticalValue:
         return CriticalValue(lo=ep.to_fraction(lo), hi=ep.to_fraction(hi), poly=self.poly)
 
 
-def critical_values(
-    polys: list[sp.Expr], p: sp.Symbol, lo: Fraction, hi: Fraction
-) -> list[CriticalValue]:
+def critical_values_in(polys: list[fmpq_poly], lo: Fraction, hi: Fraction) -> list[CriticalValue]:
     """Sorted critical values in ``[lo, hi]``: rational roots exactly, irrational ones by
-    tight isolating intervals ``(a, b]`` (relative width 2^-60), pairwise disjoint."""
-    factors: set[sp.Expr] = set()
+    tight isolating intervals ``(a, b]`` (relative width 2^-60) of their irreducible
+    factor, pairwise disjoint."""
+    factors: dict[tuple[fmpq, ...], fmpq_poly] = {}
     for e in polys:
-        if not e.has(p):
-            continue
-        for f, _mult in sp.factor_list(sp.Poly(e, p, domain="QQ"))[1]:
-            factors.add(f.monic().as_expr())
+        _c, fs = e.factor()
+        for f, _m in fs:
+            monic = f / f.leading_coefficient()
+            factors[tuple(monic.coeffs())] = monic
     out: dict[tuple[Fraction, Fraction], CriticalValue] = {}
-    for f in factors:
-        q = _univariate(f, p)
+    for q in factors.values():
         if q.degree() == 1:
             r = ep.to_fraction(-q[0] / q[1])
             if lo <= r <= hi:
@@ -186,19 +200,20 @@ def critical_values(
     return sorted(points, key=lambda c: (c.lo, c.hi))
 
 
-def substituted(system: SEA | Impedance, values: Mapping[str, Any]) -> SEA | Impedance:
-    """``system`` with ``values``; a `Fraction` that is not a double is substituted exactly."""
-    vals = {k: (float(v) if isinstance(v, Fraction) else v) for k, v in values.items()}
-    exact = {k: v for k, v in values.items() if isinstance(v, Fraction)}
-    if exact and any(Fraction(float(v)) != v for v in exact.values()):
-        # a rational test point that is not a float: substitute it exactly
-        subs = {symbol(k): sp.Rational(v.numerator, v.denominator) for k, v in exact.items()}
-        expr = load_impedance(system) if isinstance(system, SEA) else system.expr
-        rest = {k: v for k, v in vals.items() if k not in exact}
-        z = expr.xreplace(subs)
-        left = {str(x) for x in z.free_symbols}  # the substituted names are gone from z
-        merged = {**system.values, **rest}
-        return Impedance(expr=z, values={k: v for k, v in merged.items() if k in left})
-    if isinstance(system, SEA):
-        return system.with_values(**vals)
-    return Impedance(expr=system.expr, values={**system.values, **vals})
+def exact_with(
+    system: SEA | Impedance, fixed: Mapping[str, float | None], param: str, x: Fraction
+) -> tuple[fmpq_poly, fmpq_poly, tuple[bool, ...]]:
+    """``N``, ``D`` and the structural support of ``system`` at ``fixed`` and ``param = x``.
+
+    As the values are handed to the model: a value that is a float goes with the others
+    (``Z`` reduced for every value of every parameter); a rational that is not a float is
+    substituted into ``Z`` first and ``Z`` reduced again in the remaining parameters.
+    """
+    value = fmpq(x.numerator, x.denominator)
+    env = {**exact_values(fixed), param: value}
+    num, den, support = compiled_impedance(system)
+    if Fraction(float(x)) != x:
+        at: dict[str | int, fmpq] = {param: value}
+        num, den = RatFunc.from_polys(num.subs(at), den.subs(at)).canonical()
+        support = exact_support(num, den)
+    return univariate(num, env), univariate(den, env), support

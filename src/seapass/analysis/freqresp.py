@@ -8,14 +8,11 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import sympy as sp
 
 from ..errors import ParameterError
 from ..files.limits import MAX_FREQUENCY_POINTS
 from ..model.display import Shown, html_card, short_repr
-from ..model.expr import S
 from ..model.sea import SEA, Impedance
-from ..model.stiffness import derive_stiffness
 
 __all__ = [
     "FrequencyResponse",
@@ -105,6 +102,11 @@ def stiffness_coefficients(
 
     For a raw `Impedance` ``Z`` (force over velocity) the stiffness is ``s·Z``.
     """
+    import sympy as sp  # the symbolic stiffness; the frequency-grid checks need no sympy
+
+    from ..model.expr import S
+    from ..model.stiffness import derive_stiffness
+
     if isinstance(sea, Impedance):
         model: SEA | Impedance = (
             Impedance(expr=sea.expr, values={**sea.values, **values}) if values else sea

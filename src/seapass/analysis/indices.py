@@ -44,20 +44,18 @@ References
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-import sympy as sp
 from flint import fmpq
 
 from ..exact import poly as ep
 from ..exact.axis import real_part_polynomial, sqrt_float, squared_magnitude_polynomial
 from ..exact.halfline import minimum_on_half_line
 from ..model.display import html_card, short_repr
-from ..model.sea import SEA, Impedance
 from ..outcome import Outcome
-from .impedance import evaluate_system
+from .impedance import SystemLike, evaluate_system
 from .passivity import Reason, positive_real_test
 
 __all__ = ["PassivityIndex", "PassivityIndices", "index_of", "passivity_indices"]
@@ -277,7 +275,7 @@ def _sqrt(point: Any) -> float:
 
 
 def passivity_indices(
-    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    system: SystemLike,
     *,
     values: Mapping[str, float] | None = None,
 ) -> PassivityIndices:

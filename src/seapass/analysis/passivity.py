@@ -36,7 +36,6 @@ from enum import StrEnum
 from typing import Any
 
 import numpy as np
-import sympy as sp
 from flint import fmpq, fmpq_poly
 
 from ..errors import NotPassiveError, ParameterError
@@ -52,9 +51,8 @@ from ..exact.axis import (
     safe_float,
 )
 from ..model.display import html_card, poly_text, short_repr
-from ..model.sea import SEA, Impedance
 from ..outcome import Outcome
-from .impedance import evaluate_system
+from .impedance import SystemLike, evaluate_system
 from .portresponse import ImpedanceResponse, response_of
 
 __all__ = [
@@ -463,7 +461,7 @@ def _pole_defect(den: fmpq_poly) -> tuple[Reason, fmpq_poly]:
 
 
 def is_passive(
-    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    system: SystemLike,
     *,
     values: Mapping[str, float] | None = None,
     throw: bool = False,

@@ -25,16 +25,15 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-import sympy as sp
 from flint import fmpq_poly
 
 from ..errors import ParameterError
 from ..exact import poly as ep
 from ..exact.axis import negative_bands, real_part_polynomial, safe_float
 from ..model.display import Shown, html_card, short_repr
-from ..model.sea import SEA, Impedance
+from ..model.sea import SEA
 from .freqresp import check_points
-from .impedance import evaluate_system
+from .impedance import SystemLike, evaluate_system
 
 __all__ = [
     "Band",
@@ -222,7 +221,7 @@ def _bands_text(bands: Sequence[Band]) -> str:
 
 
 def impedance_response(
-    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    system: SystemLike,
     omega: Sequence[float] | np.ndarray | None = None,
     *,
     values: Mapping[str, float] | None = None,

@@ -34,7 +34,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -47,17 +47,13 @@ from ..exact.rounding import (
     interval_text,
 )
 from ..model.display import Shown, html_card, short_repr
-from ..model.expr import symbol, to_fraction
-from ..model.sea import SEA, Impedance
-from ..model.stiffness import load_impedance
-from .critical import (
-    CriticalValue,
-    critical_polynomials,
-    critical_polys,
-    critical_values,
-    substituted,
-)
-from .passivity import is_passive
+from ..model.expr import to_fraction
+from ..model.sea import SEA, Impedance, exact_values
+from .critical import CriticalValue, critical_polynomials_in, critical_values_in, exact_with
+from .passivity import positive_real_test
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = [
     "PassiveIntervals",
@@ -66,6 +62,13 @@ __all__ = [
     "passive_intervals",
     "passive_map",
 ]
+
+
+def _symbols() -> tuple[sp.Symbol, sp.Symbol]:
+    """``x = ω²`` and ``ω`` of the symbolic critical polynomials."""
+    import sympy as sp
+
+    return sp.Symbol("x"), sp.Symbol("omega")
 
 
 @dataclass(frozen=True, repr=False, kw_only=True)
@@ -185,6 +188,99 @@ def _inward(
     return (lo_f, hi_f), edges
 
 
+def _re_im_at_jw(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """Real and imaginary parts of ``expr(jω)`` for a polynomial in ``s`` with real coefficients."""
+    import sympy as sp
+
+    from ..model.expr import S
+
+    _X, _OM = _symbols()
+    coeffs = sp.Poly(expr, S).all_coeffs()[::-1]
+    re = sum((c * (-1) ** (k // 2) * _OM**k for k, c in enumerate(coeffs) if k % 2 == 0), sp.S.Zero)
+    im = sum((c * (-1) ** (k // 2) * _OM**k for k, c in enumerate(coeffs) if k % 2 == 1), sp.S.Zero)
+    return sp.expand(re), sp.expand(im)
+
+
+def _critical_polys(z: sp.Expr, p: sp.Symbol) -> list[sp.Expr]:
+    import sympy as sp
+
+    from ..model.expr import S
+
+    _X, _OM = _symbols()
+    num, den = sp.fraction(sp.cancel(sp.together(z)))
+    # clear denominators in p so both are polynomials in (s, p)
+    num, den = sp.expand(num), sp.expand(den)
+    out: list[sp.Expr] = []
+    pn, pd = sp.Poly(num, S), sp.Poly(den, S)
+    out += [pn.LC(), pd.LC()]
+    if pn.degree() > 0 and pd.degree() > 0:
+        out.append(sp.resultant(num, den, S))
+    else:
+        out += [pn.as_expr(), pd.as_expr()] if pn.degree() <= 0 else [pd.as_expr()]
+    re_d, im_d = _re_im_at_jw(den)
+    re_n, im_n = _re_im_at_jw(num)
+    g = sp.gcd(re_d, im_d) if im_d != 0 else re_d
+    g = sp.expand(g)
+    if im_d != 0:
+        r1, r2 = sp.cancel(re_d / g), sp.cancel(im_d / g)
+        if sp.Poly(r1, _OM).degree() > 0 and sp.Poly(r2, _OM).degree() > 0:
+            out.append(sp.resultant(r1, r2, _OM))
+        else:
+            out += [sp.Poly(r1, _OM).LC(), sp.Poly(r2, _OM).LC()]
+    if g.has(_OM):
+        gp = sp.Poly(g, _OM)
+        out += [gp.LC(), g.subs(_OM, 0)]
+        if gp.degree() > 1:
+            out.append(sp.discriminant(g, _OM))
+        ddr, ddi = _re_im_at_jw(sp.diff(den, S))
+        for res in (sp.expand(re_n * ddr + im_n * ddi), sp.expand(im_n * ddr - re_n * ddi)):
+            if res != 0:
+                out.append(sp.resultant(g, res, _OM) if gp.degree() > 0 else res)
+    # real part polynomial in x = ω²
+    pw = sp.expand(re_n * re_d + im_n * im_d)
+    if pw != 0:
+        px = sp.expand(pw.subs(_OM, sp.sqrt(_X)))
+        poly = sp.Poly(px, _X)
+        # remove the generic power of x and generic repeated factors
+        k = min(m[0] for m in poly.monoms())
+        q = sp.Poly(sp.cancel(px / _X**k), _X)
+        q = sp.Poly(sp.sqf_part(q.as_expr()), _X) if q.degree() > 0 else q
+        out += [poly.LC(), q.as_expr().subs(_X, 0)]
+        if q.degree() > 1:
+            out.append(sp.discriminant(q.as_expr(), _X))
+        # each coefficient of P matters where P may vanish identically
+        out += [c for c in poly.all_coeffs() if c.has(p)]
+    return [sp.expand(e) for e in out if sp.expand(e) != 0]
+
+
+def critical_polynomials(
+    system: SEA | Impedance,
+    params: Sequence[str],
+    *,
+    values: Mapping[str, float | None] | None = None,
+) -> list[sp.Expr]:
+    """Polynomials in ``params`` on whose real zero set the verdict of ``system`` may change.
+
+    Every parameter of ``system`` not in ``params`` must have a value (in
+    ``system`` or ``values``); the result holds the critical polynomials
+    described in the module docstring, with all of ``params`` symbolic (used
+    for 2-D regions by [`seapass.analysis.boundary`][seapass.analysis.boundary]).
+    """
+    from ..model.expr import symbol
+    from ..model.stiffness import load_impedance
+
+    base = _with(system, {**(values or {}), **dict.fromkeys(params)})
+    free = [n for n in base.parameters if n not in params and base.values.get(n) is None]
+    if free:
+        raise ParameterError(f"no value for parameter(s) {', '.join(free)}")
+    z = load_impedance(base) if isinstance(base, SEA) else base.expr
+    z = z.xreplace(base.substitutions())
+    out: dict[sp.Expr, None] = {}
+    for name in params:
+        out.update(dict.fromkeys(_critical_polys(z, symbol(name))))
+    return list(out)
+
+
 def passive_intervals(
     system: SEA | Impedance,
     param: str,
@@ -226,14 +322,15 @@ def passive_intervals(
             f"no value for parameter(s) {', '.join(free)}: give them, "
             f"e.g. values={{{free[0]!r}: 1.0}}"
         )
-    p = symbol(param)
-    base = substituted(system, {**merged, param: None})
-    z = load_impedance(base) if isinstance(base, SEA) else base.expr
-    z = z.xreplace(base.substitutions())
-    crit = critical_values(critical_polys(z, p), p, lo_q, hi_q)
+    fixed = {k: v for k, v in merged.items() if v is not None}
+    polys = critical_polynomials_in(system, param, exact_values(fixed))
+    crit = critical_values_in(polys, lo_q, hi_q)
 
     def verdict(x: Fraction) -> bool:
-        return is_passive(substituted(system, {**merged, param: x})).passive
+        num, den, support = exact_with(system, fixed, param, x)
+        if den.is_zero():
+            raise ParameterError("the impedance has a zero denominator for these values")
+        return positive_real_test(num, den, support=support).passive
 
     # one exact test per open gap and at each rational critical value
     pieces: list[_Piece] = []
@@ -281,6 +378,28 @@ def passive_intervals(
         critical_values=tuple(crit_f),
         edges=tuple(edges),
     )
+
+
+def _with(system: SEA | Impedance, values: Mapping[str, Any]) -> SEA | Impedance:
+    import sympy as sp
+
+    from ..model.expr import symbol
+    from ..model.stiffness import load_impedance
+
+    vals = {k: (float(v) if isinstance(v, Fraction) else v) for k, v in values.items()}
+    exact = {k: v for k, v in values.items() if isinstance(v, Fraction)}
+    if exact and any(Fraction(float(v)) != v for v in exact.values()):
+        # a rational test point that is not a float: substitute it exactly
+        subs = {symbol(k): sp.Rational(v.numerator, v.denominator) for k, v in exact.items()}
+        expr = load_impedance(system) if isinstance(system, SEA) else system.expr
+        rest = {k: v for k, v in vals.items() if k not in exact}
+        z = expr.xreplace(subs)
+        left = {str(x) for x in z.free_symbols}  # the substituted names are gone from z
+        merged = {**system.values, **rest}
+        return Impedance(expr=z, values={k: v for k, v in merged.items() if k in left})
+    if isinstance(system, SEA):
+        return system.with_values(**vals)
+    return Impedance(expr=system.expr, values={**system.values, **vals})
 
 
 @dataclass(frozen=True, repr=False, kw_only=True)

@@ -377,8 +377,7 @@ def model_from_args(
 
 def warn_unrealizable(system: Any) -> bool:
     """Warn for each controller that needs more than one derivative; True if realizable."""
-    from ..model.realization import unrealizable_controllers
-    from ..model.sea import SEA
+    from ..model.sea import SEA, unrealizable_controllers
 
     if not isinstance(system, SEA):
         return True

@@ -18,6 +18,10 @@ __all__ = [
     "MAX_DELAY_SAMPLES",
     "MAX_DESCRIPTION_CHARS",
     "MAX_DESIGNS",
+    "MAX_EXACT_BITS",
+    "MAX_EXACT_DEGREE",
+    "MAX_EXACT_TERMS",
+    "MAX_EXACT_WORK",
     "MAX_EXPONENT",
     "MAX_EXPRESSION_LENGTH",
     "MAX_FREQUENCY_POINTS",
@@ -169,6 +173,31 @@ of D1 ∈ {k1, k1 + b1 s}, D2 ∈ {0, k2, b2 s}, C_A ∈ {0, kd, kd + bd s, kd +
 C_L ∈ {0, kd, kd + bd s}: at most 24 terms; a cascaded torque/velocity-loop impedance
 controller on a damped spring: 36; filtered PD and PID on both sides with a spring-damper to
 ground: 96)."""
+
+# ------------------------------------------------ the exact path (no sympy), checked per operation
+
+MAX_EXACT_DEGREE = 48
+"""Degree in any one variable (``s`` or a parameter) of a polynomial the exact path forms
+(`seapass.model.rational`: parsing an element, deriving ``Z_L``), checked before each product.
+Numbers do not count: a PID force loop with a filtered derivative inside an impedance loop
+has ``Z_L`` of degree 6 over 5 in ``s``."""
+
+MAX_EXACT_TERMS = 5000
+"""Terms of one polynomial of the exact path, in ``s`` and every parameter.  The exact path
+keeps the parameters as variables so that cancellations are decided for every value (a
+factor that cancels only at the given values is a hidden mode); numbers are coefficients
+and cost nothing here.  Real designs are far below it: the 72 standard structures need at
+most 24 terms, the PID-in-impedance cascade 55, and flint derives either in about a
+millisecond."""
+
+MAX_EXACT_WORK = 250_000
+"""Term products of one polynomial multiplication of the exact path (``terms(a) ×
+terms(b)``), checked before multiplying: bounds the time of each operation (milliseconds)."""
+
+MAX_EXACT_BITS = 20_000
+"""Size in bits of the coefficients of one product of the exact path (numerator or
+denominator of a rational coefficient), checked before multiplying: ``1e300`` is a
+997-bit integer, ``(1e300*s + 1)**12`` about 12,000 bits."""
 
 SYMBOLIC_TIME_LIMIT = 20.0
 """CPU-time budget [s] of one symbolic derivation (``ITIMER_PROF``, main thread only): the

@@ -40,6 +40,7 @@ from .certified import (
     sign_on,
 )
 from .family import ControllerFamily, poly_product
+from .plant import PlantKey
 from .power import weighted_polynomials
 from .verdict import (
     PRECISIONS,
@@ -105,7 +106,7 @@ def _z_coeffs(polys: Sequence[fmpq_poly], e: int) -> list[list[arb]]:
 
 
 def _setup(
-    key: str, period: Fraction, fam: ControllerFamily, names: tuple[str, ...], prec: int
+    key: PlantKey, period: Fraction, fam: ControllerFamily, names: tuple[str, ...], prec: int
 ) -> _Setup:
     sums = cached_sums(key, period, names, prec)
     a, load = fam.actuator, fam.load
@@ -238,7 +239,7 @@ def _global_minimum(poly: arb_poly) -> list[Fraction]:
 
 
 def bound_boxes(
-    key: str,
+    key: PlantKey,
     period: Fraction,
     fam: ControllerFamily,
     lo: Fraction,

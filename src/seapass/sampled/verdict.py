@@ -23,7 +23,7 @@ from ..exact.poly import as_poly, rational
 from ..outcome import Outcome
 from .alias import AliasSums, alias_sums
 from .certified import Sign, precision, schur_stable, schur_stable_exact, sign_on
-from .plant import plant_from_key
+from .plant import PlantKey, plant_from_key
 from .power import ControllerFamily, polynomial_degree, power_values, weighted_polynomials
 
 __all__ = ["Decision", "Outcome", "SampledReason", "decide", "precision_ladder"]
@@ -94,13 +94,13 @@ def needed_sums(ka_zero: bool, kl_zero: bool) -> tuple[str, ...]:
 
 
 @functools.lru_cache(maxsize=64)
-def cached_sums(key: str, period: Fraction, names: tuple[str, ...], prec: int) -> AliasSums:
+def cached_sums(key: PlantKey, period: Fraction, names: tuple[str, ...], prec: int) -> AliasSums:
     plant = plant_from_key(key)
     summands = plant.summands()
     return alias_sums({k: summands[k] for k in names}, rational(period), prec)
 
 
-def alias_injection(key: str) -> bool:
+def alias_injection(key: PlantKey) -> bool:
     """``Σ 1/(|s_k|² Re Z0)`` diverges: sampled load feedback is never passive."""
     num, den = plant_from_key(key).summands()["S4"]
     return den.degree() - num.degree() < 2
@@ -170,7 +170,7 @@ def theta_of(x: Fraction) -> float:
     return 2.0 * math.asin(math.sqrt(max(0.0, min(1.0, float((1 - x) / 2)))))
 
 
-def loop_radius(key: str, ka: object, kl: object, period: Fraction) -> float:
+def loop_radius(key: PlantKey, ka: object, kl: object, period: Fraction) -> float:
     """Spectral radius (floating point, for information) of the loop with the port held:
     the roots of ``χ`` and the load-side controller's own poles."""
     sums = cached_sums(key, period, ("Sg",), PRECISIONS[0])
@@ -184,7 +184,7 @@ def loop_radius(key: str, ka: object, kl: object, period: Fraction) -> float:
 
 
 def decide(
-    key: str,
+    key: PlantKey,
     ka: object,
     kl: object,
     period: Fraction,
