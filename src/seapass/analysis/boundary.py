@@ -40,8 +40,8 @@ import sympy as sp
 from ..errors import ParameterError
 from ..model.expr import symbol
 from ..model.sea import SEA, Impedance
-from .region import critical_polynomials
 from .passivity import is_passive
+from .region import critical_polynomials
 
 __all__ = ["PassiveRegion", "RegionCell", "passive_region"]
 
