@@ -8,19 +8,22 @@ through the filtered backward difference ``δ = (1 − q)/T · (1 − a)/(1 − 
 ``q = z⁻¹``.  Everything is exact rational arithmetic on ``flint.fmpq_poly`` (ZOH
 only rounds where scipy's ``cont2discrete`` does, from the same floats as before).
 
-What lives here: `emulate`, `in_lowest_terms`.  May import: [`seapass.errors`][seapass.errors],
-[`seapass.model`][seapass.model] and the modules of this package below it.
+What lives here: `emulate` (the error and measurement paths of ``C`` in ``q``),
+`in_lowest_terms`, `sympy_scaled` (the scaling sympy's path gives, for bit-equal floats)
+and the `Rational` alias.  May import: [`seapass.errors`][seapass.errors],
+[`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model] and the modules of
+this package below it.
 """
 
 from __future__ import annotations
 
 from fractions import Fraction
-from typing import Literal
 
 from flint import fmpq, fmpq_poly, fmpz
 
 from ..errors import ParameterError
 from ..exact.poly import as_poly, rational
+from ..model.loop import Method
 
 __all__ = ["Rational", "emulate", "in_lowest_terms", "sympy_scaled"]
 
@@ -101,7 +104,7 @@ def emulate(
     den: fmpq_poly,
     period: Fraction,
     *,
-    method: Literal["tustin", "zoh", "backward"],
+    method: Method,
     filter_pole: Fraction,
 ) -> tuple[Rational, Rational]:
     """``(error path, measurement path)`` of ``C = num/den`` in ``q = z⁻¹``, in lowest terms.
