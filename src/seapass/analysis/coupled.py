@@ -201,6 +201,17 @@ class CoupledResult:
         """Largest real part of ``poles``; ``nan`` when the roots could not be computed."""
         return float(np.max(self.poles.real)) if self.poles.size else -math.inf
 
+    @property
+    def max_real_part_text(self) -> str:
+        """``max_real_part`` for people: the number when it is a finite double, else what
+        is known exactly (the verdict never rests on these floats)."""
+        value = self.max_real_part
+        if math.isfinite(value) or value == -math.inf:
+            return f"{value:.6g} 1/s"
+        if self.rhp:
+            return "beyond double precision (a right-half-plane pole, decided exactly)"
+        return "beyond double precision"
+
     def to_dict(self) -> dict[str, Any]:
         return {
             "status": self.status,

@@ -66,6 +66,13 @@ class CoupledSimulation:
     growth_rate: float
     growth_factor: float
 
+    @property
+    def growth_text(self) -> str:
+        """The growth for people; a simulation that over- or underflows doubles says so."""
+        if math.isfinite(self.growth_factor):
+            return f"grows x{self.growth_factor:.3g}"
+        return "not representable in double precision (the simulation overflowed)"
+
     def to_dict(self, *, samples: bool = False) -> dict[str, Any]:
         out: dict[str, Any] = {
             "output": self.output,

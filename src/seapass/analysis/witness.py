@@ -33,6 +33,7 @@ References
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from enum import StrEnum
@@ -216,11 +217,11 @@ class WitnessResult:
             rows.append(
                 (
                     "coupled system",
-                    f"{self.coupled.status}, max Re s = {self.coupled.max_real_part:.6g} 1/s",
+                    f"{self.coupled.status}, max Re s = {self.coupled.max_real_part_text}",
                 )
             )
         if self.simulation is not None:
-            rows.append(("growth over the run", f"×{self.simulation.growth_factor:.4g}"))
+            rows.append(("growth over the run", self.simulation.growth_text))
         if self.outside is not None:
             rows.append(("outside the bounds", _environment_text(self.outside)))
         if self.bounds is not None:
@@ -418,7 +419,11 @@ def _found(
         except (ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
             note = f" (no simulation: {exc})"
     kind = (
-        f"a pole at Re s = {coupled.max_real_part:.4g} 1/s"
+        (
+            f"a pole at Re s = {coupled.max_real_part:.4g} 1/s"
+            if math.isfinite(coupled.max_real_part)
+            else "a pole in the open right half-plane (decided exactly)"
+        )
         if coupled.rhp
         else "a repeated pole on the imaginary axis"
     )

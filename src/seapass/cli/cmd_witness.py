@@ -111,10 +111,10 @@ def run(args: argparse.Namespace) -> int:
             f"environment: m_e = {env.mass:.6g} kg, b_e = {env.damping:.6g} N*s/m, "
             f"k_e = {env.stiffness:.6g} N/m ({result.method})"
         )
-        print(f"max real part of the coupled poles: {result.coupled.max_real_part:.6g} 1/s")
+        print(f"max real part of the coupled poles: {result.coupled.max_real_part_text}")
         if result.simulation is not None:
             print(
-                f"simulated {result.simulation.output}: grows x{result.simulation.growth_factor:.3g} "
+                f"simulated {result.simulation.output}: {result.simulation.growth_text} "
                 f"over {result.simulation.t[-1]:.4g} s"
             )
     else:
