@@ -29,6 +29,7 @@ __all__ = [
     "MAX_MODEL_TERMS",
     "MAX_NAME_CHARS",
     "MAX_NODES",
+    "MAX_PORTS",
     "MAX_REGION_COLUMNS",
     "MAX_RIG_INTEGRATOR_STEPS",
     "MAX_RIG_SAMPLES",
@@ -150,6 +151,10 @@ of D1 ∈ {k1, k1 + b1 s}, D2 ∈ {0, k2, b2 s}, C_A ∈ {0, kd, kd + bd s, kd +
 C_L ∈ {0, kd, kd + bd s}: at most 24 terms; a cascaded torque/velocity-loop impedance
 controller on a damped spring: 36; filtered PD and PID on both sides with a spring-damper to
 ground: 96)."""
+
+MAX_PORTS = 6
+"""Ports of an n-port immittance matrix (``2^n − 1`` principal minors are decided; 6 ports:
+63 minors, the largest a 6×6 determinant of polynomial entries)."""
 
 SYMBOLIC_TIME_LIMIT = 20.0
 """Wall-clock budget [s] of one symbolic derivation (SIGALRM, main thread only)."""
