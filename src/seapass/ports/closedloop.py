@@ -11,12 +11,16 @@ realizations its characteristic polynomial is
 ``χ = h · χ_P · [e1 e2 det P + e1 t2 p11 + t1 e2 p22 + t1 t2]``
 
 with ``χ_P`` the McMillan pole polynomial of ``P`` (lcm of the denominators of
-all its minors) and ``h`` the modes hidden from the ports.  A factor shared by
-``χ_P`` and ``e_i`` (chiefly ``s``: the port position counted on both sides)
-is one mode counted twice and is removed, as
-[`coupled_polynomial`][seapass.analysis.coupled.coupled_polynomial] does for a
-one-port; ``e_i`` has its roots in the closed left half-plane, so this never
-hides a root in the right half-plane.  The verdict is exact
+all its minors) and ``h`` the modes hidden from the ports.  The formula is
+applied in the impedance form (converted exactly when the two-port is given in
+another form): there a factor of ``χ`` shared by ``χ_P`` and ``e1 e2`` (a port
+position, integrated on both sides) is one mode counted twice and is removed,
+as [`coupled_polynomial`][seapass.analysis.coupled.coupled_polynomial] does for
+a one-port.  When the impedance form does not exist, the form given is used and
+every factor ``s`` is removed (such duplicated position modes sit at ``s = 0``;
+a root there is then not counted).  Either way only factors with roots in the
+closed left half-plane are removed, so no root in the right half-plane is ever
+hidden.  The verdict is exact
 ([`classify_polynomial`][seapass.analysis.coupled.classify_polynomial]); the
 roots are floating-point evidence.
 
@@ -41,9 +45,18 @@ from ..analysis.coupled import (
 )
 from ..errors import DegenerateModelError
 from .forms import Form, form_of
-from .matrix import ExactMatrix
+from .matrix import ExactMatrix, from_polynomials
+from .ratfunc import Frac as RFrac
+from .ratfunc import context, to_fmpq_poly
 
-__all__ = ["ClosedLoop", "closed_loop", "closed_loop_polynomial", "input_immittance", "termination"]
+__all__ = [
+    "ClosedLoop",
+    "closed_loop",
+    "closed_loop_polynomial",
+    "impedance_form",
+    "input_immittance",
+    "termination",
+]
 
 Frac = tuple[fmpq_poly, fmpq_poly]
 
@@ -61,11 +74,62 @@ def _exact_div(a: fmpq_poly, b: fmpq_poly) -> fmpq_poly:
     return q
 
 
+def impedance_form(m: ExactMatrix, form: Form | str) -> ExactMatrix | None:
+    """The same two-port in impedance form, exactly (None when that form does not exist)."""
+    f = form_of(form)
+    if f is Form.Z:
+        return m
+    p = [[_frac(m.num[i][j], m.den[i][j]) for j in range(2)] for i in range(2)]
+    one, zero = _frac(fmpq_poly([1]), fmpq_poly([1])), _frac(fmpq_poly([]), fmpq_poly([1]))
+    # relation rows: out_r − Σ_c P_rc in_c = 0 over w = (F1, v1, F2, v2)
+    cols_out, cols_in = [], []
+    for port, imp in enumerate(f.impedance_ports):
+        cols_out.append(2 * port if imp else 2 * port + 1)
+        cols_in.append(2 * port + 1 if imp else 2 * port)
+    rel = [[zero] * 4 for _ in range(2)]
+    for r in range(2):
+        rel[r][cols_out[r]] = one
+        for c in range(2):
+            rel[r][cols_in[c]] = -p[r][c]
+    a = [[rel[r][0], rel[r][2]] for r in range(2)]  # the forces: outputs of z
+    b = [[rel[r][1], rel[r][3]] for r in range(2)]  # the velocities: inputs of z
+    det = a[0][0] * a[1][1] - a[0][1] * a[1][0]
+    if det.is_zero():
+        return None
+    inv = [[a[1][1] / det, -a[0][1] / det], [-a[1][0] / det, a[0][0] / det]]
+    z = [[-(inv[i][0] * b[0][j] + inv[i][1] * b[1][j]) for j in range(2)] for i in range(2)]
+    nums = [[to_fmpq_poly(z[i][j].num) for j in range(2)] for i in range(2)]
+    dens = [[to_fmpq_poly(z[i][j].den) for j in range(2)] for i in range(2)]
+    out = from_polynomials(nums, dens)
+    return ExactMatrix(num=out.num, den=out.den, hidden=m.hidden)
+
+
+def _frac(num: fmpq_poly, den: fmpq_poly) -> RFrac:
+    ctx = context(())
+    return RFrac.make(
+        ctx.from_dict({(i,): c for i, c in enumerate(num.coeffs()) if c != 0}),
+        ctx.from_dict({(i,): c for i, c in enumerate(den.coeffs()) if c != 0}),
+    )
+
+
 def closed_loop_polynomial(
     m: ExactMatrix, form: Form | str, env1: Environment, env2: Environment
 ) -> tuple[fmpq_poly, fmpq_poly]:
-    """Exact ``(χ, removed)``: the closed-loop characteristic polynomial and the removed common factor."""
-    imp = form_of(form).impedance_ports
+    """Exact ``(χ, removed)``: the closed-loop characteristic polynomial and the removed factor."""
+    z = impedance_form(m, form)
+    if z is not None:
+        return _polynomial(z, Form.Z, env1, env2)
+    chi, common = _polynomial(m, form_of(form), env1, env2)
+    while chi.degree() > 0 and chi[0] == 0:
+        chi = chi // fmpq_poly([0, 1])
+        common = common * fmpq_poly([0, 1])
+    return chi, common
+
+
+def _polynomial(
+    m: ExactMatrix, form: Form, env1: Environment, env2: Environment
+) -> tuple[fmpq_poly, fmpq_poly]:
+    imp = form.impedance_ports
     t1, e1 = termination(env1, imp[0])
     t2, e2 = termination(env2, imp[1])
     chi_p = m.pole_polynomial()
@@ -82,10 +146,10 @@ def closed_loop_polynomial(
         raise DegenerateModelError(
             "the terminations cancel the two-port exactly: the closed loop is undetermined"
         )
-    c1 = chi_p.gcd(e1) if not e1.is_zero() else fmpq_poly([1])
-    rest = chi_p // c1
-    c2 = rest.gcd(e2) if not e2.is_zero() else fmpq_poly([1])
-    common = c1 * c2
+    # a mode counted on both sides (the port position) divides χ_P, some e_i and the sum
+    ends = e1 * e2
+    shared = chi_p.gcd(ends) if not ends.is_zero() else fmpq_poly([1])
+    common = full.gcd(shared) if shared.degree() > 0 else fmpq_poly([1])
     chi = _exact_div(full, common) * m.hidden
     return chi, common
 
