@@ -17,6 +17,7 @@ import sympy as sp
 from ..errors import ExpressionError, ModelError, ParameterError
 from ..files.limits import MAX_PORTS
 from ..model.expr import check_name, check_rational_in_s, parse_expression, to_fraction
+from .ratfunc import cancelled
 
 __all__ = ["freeze_values", "parse_entry", "square_entries"]
 
@@ -59,7 +60,7 @@ def parse_entry(value: Any, allowed: set[str], what: str) -> sp.Expr:
             f"{what}: expected an expression (text, sympy or a number), got {type(value).__name__}",
             argument=what,
         )
-    return sp.cancel(sp.together(expr))
+    return cancelled(expr)
 
 
 def _is_row(r: Any) -> bool:

@@ -38,6 +38,7 @@ from enum import StrEnum
 import sympy as sp
 
 from ..errors import DegenerateModelError, ParameterError
+from .ratfunc import from_sympy, to_sympy, variables_of
 
 __all__ = ["Form", "convert_entries", "form_of", "reciprocity_sign"]
 
@@ -126,27 +127,30 @@ def convert_entries(
     (1/(s + 1), 1/(s + 1), -1/(s + 1), s/(s + 1))
     """
     source, target = form_of(source), form_of(target)
-    p = [sp.sympify(e) for e in entries]
+    exprs = [sp.sympify(e) for e in entries]
     if source == target:
-        return (p[0], p[1], p[2], p[3])
+        return (exprs[0], exprs[1], exprs[2], exprs[3])
+    names = variables_of(exprs)
+    p = [from_sympy(e, names) for e in exprs]
+    one, zero = from_sympy(sp.S.One, names), from_sympy(sp.S.Zero, names)
     out, inp = _columns(source)
-    rel = sp.zeros(2, 4)
+    rel = [[zero] * 4 for _ in range(2)]
     for r in range(2):
-        rel[r, out[r]] = sp.S.One
+        rel[r][out[r]] = one
         for c in range(2):
-            rel[r, inp[c]] = -p[2 * r + c]
+            rel[r][inp[c]] = -p[2 * r + c]
     t_out, t_in = _columns(target)
-    ro = rel.extract([0, 1], t_out)
-    ri = rel.extract([0, 1], t_in)
-    det = sp.cancel(sp.together(ro.det()))
-    if det == 0:
+    ro = [[rel[r][c] for c in t_out] for r in range(2)]
+    ri = [[rel[r][c] for c in t_in] for r in range(2)]
+    det = ro[0][0] * ro[1][1] - ro[0][1] * ro[1][0]
+    if det.is_zero():
         raise DegenerateModelError(
             f"the {target.value} form does not exist for this two-port: "
             f"{_missing(source, target)} vanishes identically; use another form"
         )
-    inv = ro.adjugate() / det
-    res = -(inv * ri)
-    return tuple(sp.cancel(sp.together(res[r, c])) for r in range(2) for c in range(2))  # type: ignore[return-value]
+    inv = [[ro[1][1] / det, -ro[0][1] / det], [-ro[1][0] / det, ro[0][0] / det]]
+    res = [-(inv[i][0] * ri[0][j] + inv[i][1] * ri[1][j]) for i in range(2) for j in range(2)]
+    return tuple(to_sympy(f) for f in res)  # type: ignore[return-value]
 
 
 def _missing(source: Form, target: Form) -> str:

@@ -18,7 +18,7 @@ import sympy as sp
 from flint import fmpq_poly
 
 from ..exact import poly as ep
-from .ratfunc import from_sympy, to_fmpq_poly, variables_of
+from .ratfunc import frac_of, to_fmpq_poly, variables_of
 
 __all__ = ["ExactMatrix", "exact_matrix", "from_polynomials", "lcm"]
 
@@ -138,7 +138,7 @@ def exact_matrix(entries: Sequence[sp.Expr], n: int, values: Mapping[str, float]
     nums: list[list[fmpq_poly]] = [[] for _ in range(n)]
     dens: list[list[fmpq_poly]] = [[] for _ in range(n)]
     for k, expr in enumerate(entries):
-        num, den = from_sympy(expr, names).substitute(exact, ())
+        num, den = frac_of(expr).substitute(exact, ())
         nums[k // n].append(to_fmpq_poly(num))
         dens[k // n].append(to_fmpq_poly(den))
     return from_polynomials(nums, dens)

@@ -24,7 +24,16 @@ from sympy.polys.polyutils import expr_from_dict
 
 from ..model.expr import S, symbol
 
-__all__ = ["Frac", "context", "from_sympy", "to_fmpq_poly", "to_sympy", "variables_of"]
+__all__ = [
+    "Frac",
+    "cancelled",
+    "context",
+    "frac_of",
+    "from_sympy",
+    "to_fmpq_poly",
+    "to_sympy",
+    "variables_of",
+]
 
 
 @functools.lru_cache(maxsize=256)
@@ -141,22 +150,33 @@ _KNOWN_MAX = 4096
 
 
 def from_sympy(expr: sp.Expr, names: tuple[str, ...]) -> Frac:
-    """``expr`` (rational in ``s`` and ``names``) as a reduced `Frac`.
+    """``expr`` (rational in ``s`` and ``names``) as a reduced `Frac` in ``context(names)``."""
+    known = _KNOWN.get(expr)
+    if known is not None and tuple(known.ctx.names()[1:]) == tuple(names):
+        return known
+    return _from_sympy(expr, names)
 
-    The context is ``context(names)``, or that of the `Frac` the expression was
-    made from by `to_sympy` (which may hold more parameters; they do not occur).
+
+def frac_of(expr: sp.Expr) -> Frac:
+    """``expr`` as a reduced `Frac` in any context holding its parameters (perhaps more).
+
+    A look-up when ``expr`` was made by `to_sympy`; else ``from_sympy`` over its own
+    parameters.
     """
     known = _KNOWN.get(expr)
     if known is not None:
         return known
-    return _from_sympy(expr, names)
+    return _from_sympy(expr, variables_of([expr]))
 
 
 @functools.lru_cache(maxsize=2048)
 def _from_sympy(expr: sp.Expr, names: tuple[str, ...]) -> Frac:
     ctx = context(names)
-    num, den = sp.fraction(sp.together(sp.sympify(expr)))
     gens = (S, *(symbol(n) for n in names))
+    expr = sp.sympify(expr)
+    num, den = sp.fraction(expr)
+    if not (num.is_polynomial(*gens) and den.is_polynomial(*gens)):
+        num, den = sp.fraction(sp.together(expr))
     polys = []
     for part in (num, den):
         poly = sp.Poly(sp.expand(part), *gens, domain="QQ")
@@ -192,3 +212,9 @@ def _remember(expr: sp.Expr, f: Frac) -> sp.Expr:
         _KNOWN.clear()
     _KNOWN[expr] = f
     return expr
+
+
+def cancelled(expr: sp.Expr) -> sp.Expr:
+    """``expr`` as one cancelled fraction (FLINT's gcd; sympy's ``cancel`` is far slower)."""
+    names = variables_of([expr])
+    return to_sympy(from_sympy(expr, names))
