@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from flint import fmpq, fmpq_poly
 
@@ -95,10 +96,11 @@ def axis_points(d: fmpq_poly) -> AxisPoles:
     return AxisPoles(tuple(pts), sf.degree() == g.degree())
 
 
-def residue_matrix(nmat: Sequence[Sequence[fmpq_poly]], d: fmpq_poly) -> list[list[CPoly]]:
+def residue_matrix(nmat: Sequence[Sequence[Any]], d: Any) -> list[list[CPoly]]:
     """``K̃(ω) = N(jω)·conj(d'(jω))``: at a simple axis pole ``jω0`` the residue matrix is
     ``K̃(ω0)/|d'(jω0)|²`` (a positive multiple, so signs and semidefiniteness agree)."""
-    return axis_matrix(nmat, d.derivative())
+    deriv = d.derivative() if isinstance(d, fmpq_poly) else d.derivative("s")
+    return axis_matrix(nmat, deriv)
 
 
 def infinity_residues(m: ExactMatrix) -> tuple[list[list[fmpq]], bool]:
