@@ -169,8 +169,18 @@ def test_python_control_ispassive_agrees_where_well_conditioned() -> None:
         entries = _exact_entries(a, b, c, d)
         ours = two_port_passivity(TwoPort.from_matrix([entries[:2], entries[2:]]))
         w = np.geomspace(1e-3, 1e4, 4000)
-        p = np.einsum("ik,wkl,lj->wij", c, np.linalg.inv(1j * w[:, None, None] * np.eye(len(a)) - a), b) + d
-        margin = float(np.min(min_eig_hermitian(p) / np.linalg.norm(p + np.conj(np.swapaxes(p, 1, 2)), axis=(1, 2))))
+        p = (
+            np.einsum(
+                "ik,wkl,lj->wij", c, np.linalg.inv(1j * w[:, None, None] * np.eye(len(a)) - a), b
+            )
+            + d
+        )
+        margin = float(
+            np.min(
+                min_eig_hermitian(p)
+                / np.linalg.norm(p + np.conj(np.swapaxes(p, 1, 2)), axis=(1, 2))
+            )
+        )
         if abs(margin) < 1e-2:
             continue  # the LMI is ill conditioned near the boundary
         with warnings.catch_warnings():

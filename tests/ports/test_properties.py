@@ -30,12 +30,20 @@ def _scaled(tp: TwoPort, a: float, c: float) -> TwoPort:
     """A transformer of ratio ``a`` on port 2 (F2 → a F2, v2 → v2/a) and impedance scaling ``c``."""
     z11, z12, z21, z22 = tp.entries
     ra, rc = sp.Rational(a), sp.Rational(c)
-    return TwoPort(entries=(rc * z11, rc * ra * z12, rc * ra * z21, rc * ra**2 * z22), values=tp.values)
+    return TwoPort(
+        entries=(rc * z11, rc * ra * z12, rc * ra * z21, rc * ra**2 * z22), values=tp.values
+    )
 
 
 def _summary(tp: TwoPort) -> tuple:
     ch = check_two_port(tp, witness=False)
-    return ch.stability.outcome, ch.passivity.outcome, ch.stability.eta.kind, ch.stability.eta.lower, ch.stability.eta.upper
+    return (
+        ch.stability.outcome,
+        ch.passivity.outcome,
+        ch.stability.eta.kind,
+        ch.stability.eta.lower,
+        ch.stability.eta.upper,
+    )
 
 
 @settings(max_examples=15)

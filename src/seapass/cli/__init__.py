@@ -34,6 +34,8 @@ COMMANDS: tuple[str, ...] = (
     "response",
     "plot",
     "witness",
+    "twoport",
+    "mimo",
     "tables",
     "simulate",
     "tune",

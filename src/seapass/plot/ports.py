@@ -13,11 +13,12 @@ from typing import Any
 
 import numpy as np
 
+from ..ports.bound import PortRegion
 from ..ports.passivity import MatrixPassivity
 from ..ports.stability import AbsoluteStability
 from .style import axes_grid
 
-__all__ = ["plot_eta", "plot_minors"]
+__all__ = ["plot_eta", "plot_minors", "plot_port_region"]
 
 _FAIL = "tab:red"
 
@@ -107,4 +108,39 @@ def plot_minors(result: MatrixPassivity, *, title: str = "", ax: Any = None) -> 
     ax.set_title(title or f"{result.n}-port: {result.outcome.label} (exact)", fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(loc="best", fontsize=8)
+    return ax
+
+
+def plot_port_region(region: PortRegion, *, title: str = "", ax: Any = None) -> Any:
+    """The exact set of the second parameter at each value of the first, as vertical bars.
+
+    Parameters
+    ----------
+    region : PortRegion
+        From [`port_region`][seapass.ports.bound.port_region].
+    title : str, optional
+        Axes title.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure if None.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    ax = axes_grid(ax, 1, 1, figsize=(6.0, 4.2))[0, 0]
+    xs = region.x
+    width = float(np.min(np.diff(xs))) * 0.9 if xs.size > 1 else 1.0
+    for i, (x, col) in enumerate(zip(xs, region.columns, strict=True)):
+        for j, (a, b) in enumerate(col.intervals):
+            ax.bar(x, b - a, bottom=a, width=width, color="tab:green", alpha=0.55, lw=0,
+                   label="holds (exact along y)" if i == 0 and j == 0 else None)  # fmt: skip
+    ax.set_xlim(xs[0] - width, xs[-1] + width)
+    ax.set_ylim(*region.y_range)
+    ax.set_xlabel(region.param_x)
+    ax.set_ylabel(region.param_y)
+    what = "absolutely stable" if region.criterion == "absolute" else "passive"
+    ax.set_title(title or f"{what} region (exact along {region.param_y})", fontsize=10)
+    ax.grid(True, alpha=0.3)
+    if any(col.intervals for col in region.columns):
+        ax.legend(loc="best", fontsize=9)
     return ax

@@ -21,7 +21,7 @@ from fractions import Fraction
 from typing import Any
 
 import numpy as np
-from flint import fmpq
+from flint import fmpq, fmpz
 
 from ..errors import ParameterError
 from ..exact import poly as ep
@@ -284,7 +284,7 @@ def port_intervals(
     crit = _critical_values(critical_polynomials(nums, dens, criterion), lo_f, hi_f)
 
     def decide(x: fmpq) -> Outcome:
-        at = {param: x}
+        at: dict[str | int, int | fmpz | fmpq] = {param: x}
         num = [[to_fmpq_poly(p.subs(at)) for p in row] for row in nums]
         den = [[to_fmpq_poly(p.subs(at)) for p in row] for row in dens]
         if any(d.is_zero() for row in den for d in row):

@@ -128,6 +128,7 @@ def equation(lhs: sp.Expr, rhs: sp.Expr) -> sp.Eq:
 def _derive(key: tuple[sp.Expr, ...], site: str) -> PortEquations:
     d1, d2, ca, cl, m, b = key
     alpha = m * S**2 + b * S
+    eqs: tuple[sp.Eq, ...]
     if site == "environment":
         eqs = (
             equation(alpha * _X_A, _F_A + d1 * (_X_L - _X_A)),

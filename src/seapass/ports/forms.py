@@ -150,7 +150,7 @@ def convert_entries(
         )
     inv = [[ro[1][1] / det, -ro[0][1] / det], [-ro[1][0] / det, ro[0][0] / det]]
     res = [-(inv[i][0] * ri[0][j] + inv[i][1] * ri[1][j]) for i in range(2) for j in range(2)]
-    return tuple(to_sympy(f) for f in res)  # type: ignore[return-value]
+    return to_sympy(res[0]), to_sympy(res[1]), to_sympy(res[2]), to_sympy(res[3])
 
 
 def _missing(source: Form, target: Form) -> str:

@@ -19,7 +19,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 import sympy as sp
-from flint import fmpq, fmpq_mpoly, fmpq_mpoly_ctx, fmpq_poly
+from flint import fmpq, fmpq_mpoly, fmpq_mpoly_ctx, fmpq_poly, fmpz
 from sympy.polys.polyutils import expr_from_dict
 
 from ..model.expr import S, symbol
@@ -119,7 +119,9 @@ class Frac:
         ]
         if missing:
             raise KeyError(missing[0])
-        subs = {n: values.get(n, fmpq(0)) for n in names if n not in keep}
+        subs: dict[str | int, int | fmpz | fmpq] = {
+            n: values.get(n, fmpq(0)) for n in names if n not in keep
+        }
         target = context(tuple(keep))
         out = []
         for p in (self.num, self.den):

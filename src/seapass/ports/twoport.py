@@ -101,7 +101,13 @@ class TwoPort:
         entries = tuple(parse_entry(v, allowed, lab) for v, lab in zip(raw, labels, strict=True))
         used = {str(x) for e in entries for x in e.free_symbols if x != S}
         check_used(vals, used, "the two-port")
-        return cls(entries=entries, form=f, values=vals, name=name, ports=ports)  # type: ignore[arg-type]
+        return cls(
+            entries=(entries[0], entries[1], entries[2], entries[3]),
+            form=f,
+            values=vals,
+            name=name,
+            ports=ports,
+        )
 
     # ------------------------------------------------------------ properties
 

@@ -197,7 +197,7 @@ def _search(
                     cands += [(e, w0) for e in _fit(z, w0, box_c)]
         extremes = _grid(box_c) if box_c is not None else [Environment()]
         cands += [(e, None) for e in extremes]
-        for env_c, w0 in cands:
+        for env_c, tuned in cands:
             zn, zd = input_immittance(m, form, attacked, env_c)
             if not imp[attacked]:  # the port sees an admittance: the witness wants an impedance
                 if zn.is_zero():
@@ -219,7 +219,7 @@ def _search(
                 except (ValueError, ArithmeticError):
                     continue
                 if loop.rhp:
-                    return (pair[0], pair[1], loop, w0 if w0 is not None else wa), count
+                    return (pair[0], pair[1], loop, tuned if tuned is not None else wa), count
     return None, count
 
 
