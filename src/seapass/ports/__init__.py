@@ -21,11 +21,11 @@ n coupled SEA axes and matrices of expressions
 [`matrixtext`][seapass.ports.matrixtext]) and the friction certificate
 ([`friction`][seapass.ports.friction]).
 
-Every verdict is a [`seapass.outcome.Outcome`][seapass.outcome.Outcome], decided
+Every verdict is a `seapass.outcome.Outcome`, decided
 exactly (rational arithmetic, certified root isolation); nothing is decided on a
 frequency grid or in unbounded floating point.
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome],
+May import: [`seapass.errors`][seapass.errors], `seapass.outcome`,
 [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact],
 [`seapass.model`][seapass.model] and [`seapass.analysis`][seapass.analysis].
 """
