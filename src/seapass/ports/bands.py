@@ -25,13 +25,22 @@ from flint import fmpq, fmpq_poly
 
 from ..exact import poly as ep
 from ..exact.axis import safe_float
-from ..exact.halfline import HalfLinePoint, half_line_cells
+from ..exact.halfline import HalfLinePoint
 from ..outcome import Outcome
 
-__all__ = ["Band", "Condition", "combine", "failing_bands", "omega_of", "root_point"]
+__all__ = [
+    "Band",
+    "Condition",
+    "combine",
+    "failing_bands",
+    "half_line_points",
+    "minimal_point",
+    "omega_of",
+    "root_point",
+]
 
-#: Relative width to which band edges are refined before rounding them to floats.
-EDGE_RTOL = fmpq(1, 2**64)
+#: Relative width to which band edges are refined before rounding them (outward) to floats.
+EDGE_RTOL = fmpq(1, 2**56)
 
 
 def _sqrt_down(q: fmpq) -> float:
@@ -58,11 +67,89 @@ def omega_of(point: HalfLinePoint) -> float:
         return math.inf
 
 
+def minimal_point(point: HalfLinePoint) -> HalfLinePoint:
+    """The same root held by the irreducible factor of its polynomial that vanishes there.
+
+    Refining by bisection costs one exact evaluation per step; on the factor alone
+    instead of a product of many polynomials it is far cheaper.
+    """
+    if point.is_rational or point.poly.degree() <= 2:
+        return point
+    _c, factors = point.poly.factor()
+    for f, _e in factors:
+        fq = fmpq_poly(f)
+        lo, hi = fq(point.lower), fq(point.upper)
+        if hi == 0:
+            return HalfLinePoint(point.upper, point.upper)
+        if lo * hi < 0:
+            return HalfLinePoint(point.lower, point.upper, fq)
+    return point  # pragma: no cover - one factor changes sign on an isolating interval
+
+
+def half_line_points(polys: Sequence[fmpq_poly]) -> list[HalfLinePoint]:
+    """One exact point per sign cell of ``polys`` on ``[0, ∞)``, as
+    [`half_line_cells`][seapass.exact.halfline.half_line_cells] gives them.
+
+    The roots are isolated on each irreducible factor separately and separated
+    across factors by bisecting the factors themselves, never their product
+    (whose exact evaluation is what makes the bisection slow); each root point
+    keeps its own factor, so later sign evaluations there are cheap too.
+    """
+    factors: dict[str, fmpq_poly] = {}
+    for p in polys:
+        if p.degree() < 1:
+            continue
+        _c, fs = p.factor()
+        for f, _e in fs:
+            fq = ep.monic(fmpq_poly(f))
+            factors[str(fq)] = fq
+    roots: list[list[Any]] = []  # [lo, hi, factor]
+    for f in factors.values():
+        if f.degree() == 1:
+            root = -f[0] / f[1]
+            if root > 0:
+                roots.append([root, root, f])
+            continue
+        for a, b in ep.isolate_real_roots(f, 0):
+            if f(b) == 0:
+                a = b
+            roots.append([a, b, f])
+    roots.sort(key=lambda x: x[0])
+    steps = 0
+    i = 0
+    while i < len(roots) - 1:  # separate neighbours held by different factors
+        left, right = roots[i], roots[i + 1]
+        if left[1] < right[0]:
+            i += 1
+            continue
+        wider = left if left[1] - left[0] >= right[1] - right[0] else right
+        if wider[0] == wider[1]:
+            raise ArithmeticError("roots of distinct irreducible factors coincide")
+        a, b = ep.refine(wider[2], (wider[0], wider[1]), (wider[1] - wider[0]) / 2)
+        wider[0], wider[1] = a, b
+        steps += 1
+        if steps > ep.MAX_BISECTIONS:
+            raise ArithmeticError("could not separate the roots within the bisection bound")
+        roots.sort(key=lambda x: x[0])
+        i = max(i - 1, 0)
+    out = [HalfLinePoint(fmpq(0), fmpq(0))]
+    prev = fmpq(0)
+    for lo, hi, f in roots:
+        if lo <= prev and lo != hi:  # room for a sample point after the previous root
+            lo, hi = ep.refine_past(f, (lo, hi), prev)
+        mid = (prev + lo) / 2
+        out.append(HalfLinePoint(mid, mid))
+        out.append(HalfLinePoint(lo, lo) if lo == hi else HalfLinePoint(lo, hi, f))
+        prev = hi
+    out.append(HalfLinePoint(prev + 1, prev + 1))
+    return out
+
+
 def _tight(point: HalfLinePoint) -> HalfLinePoint:
     if point.is_rational:
         return point
     width = max(abs(point.upper), fmpq(1, 2**200)) * EDGE_RTOL
-    return point.refined(width)
+    return minimal_point(point).refined(width)
 
 
 @dataclass(frozen=True)
@@ -118,7 +205,7 @@ def failing_bands(
     >>> band.lo, 2 <= band.hi < 2 + 1e-14
     (0.0, True)
     """
-    points = half_line_cells([p for p in polys if not p.is_zero()])
+    points = half_line_points([p for p in polys if not p.is_zero()])
     flags = [fails(tuple(pt.sign(p) for p in polys)) for pt in points]
     bands: list[Band] = []
     i, n = 0, len(points)

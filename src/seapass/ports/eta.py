@@ -37,13 +37,13 @@ from typing import Any
 
 from flint import fmpq, fmpq_poly, fmpz
 
-from ..exact.halfline import HalfLinePoint, enclose, half_line_cells
-from .bands import omega_of
+from ..exact.halfline import HalfLinePoint, enclose
+from .bands import half_line_points, minimal_point, omega_of
 
 __all__ = ["EtaMinimum", "eta_infimum", "sqrt_bounds"]
 
 #: Relative width of the enclosure of ``R`` at a candidate (below double precision).
-RTOL = fmpq(1, 2**64)
+RTOL = fmpq(1, 2**56)
 #: Refinement rounds spent separating candidates whose enclosures overlap.
 MAX_ROUNDS = 8
 
@@ -138,7 +138,7 @@ def _enclose_r(rn: fmpq_poly, rd: fmpq_poly, c: _Candidate, rtol: fmpq) -> tuple
     if c.point is None:
         assert c.r_at_inf is not None
         return c.r_at_inf, c.r_at_inf
-    pt = c.point
+    pt = minimal_point(c.point)
     if pt.is_rational:
         v = rn(pt.lower) / rd(pt.lower)
         return v, v
@@ -178,7 +178,7 @@ def eta_infimum(a: fmpq_poly, q: fmpq_poly) -> EtaMinimum:
         return EtaMinimum(fmpq(0), fmpq(0), "attained", omega=0.0)
     rn, rd = _reduced(a * a, q)
     crit = rn.derivative() * rd - rn * rd.derivative()
-    points = half_line_cells([a, q, rn, rd, crit])
+    points = half_line_points([a, q, rn, rd, crit])
     cands: list[_Candidate] = []
     n = len(points)
     for i in range(0, n, 2):  # x = 0 and every root (even indices)

@@ -48,7 +48,7 @@ from .onaxis import axis_matrix, cmul, llewellyn_polynomials, to_x
 from .passivity import axis_pole_condition, stable_entries_condition
 from .poles import axis_points, infinity_residues, residue_matrix
 
-__all__ = ["llewellyn_conditions", "llewellyn_eta"]
+__all__ = ["frequency_polynomials", "llewellyn_conditions", "llewellyn_eta"]
 
 
 def _sub(m: ExactMatrix, i: int) -> ExactMatrix:
@@ -66,9 +66,14 @@ def _frequency_polys(
     return to_x(r11), to_x(r22), to_x(a), to_x(disc), to_x(q[0] * q[0] + q[1] * q[1])
 
 
-def llewellyn_eta(m: ExactMatrix) -> EtaMinimum:
+def frequency_polynomials(m: ExactMatrix) -> tuple[fmpq_poly, ...]:
+    """``(Re G11, Re G22, a, a² − |q|², |q|²)`` in ``x = ω²`` (see `seapass.ports.onaxis`)."""
+    return _frequency_polys(m)
+
+
+def llewellyn_eta(m: ExactMatrix, polys: tuple[fmpq_poly, ...] | None = None) -> EtaMinimum:
     """The exact infimum of η over ω for the 2×2 exact matrix ``m``."""
-    _r11, _r22, a, _disc, qq = _frequency_polys(m)
+    _r11, _r22, a, _disc, qq = polys if polys is not None else _frequency_polys(m)
     return eta_infimum(a, qq)
 
 
@@ -114,7 +119,9 @@ def _axis_residue_condition(m: ExactMatrix, frequency_ok: bool, poles_ok: bool) 
     return cond(Outcome.PASSIVE)
 
 
-def llewellyn_conditions(m: ExactMatrix, letter: str = "p") -> list[Condition]:
+def llewellyn_conditions(
+    m: ExactMatrix, letter: str = "p", polys: tuple[fmpq_poly, ...] | None = None
+) -> list[Condition]:
     """The conditions of Llewellyn's criterion for the 2×2 exact matrix ``m`` (module docstring)."""
     if m.n != 2:
         raise ValueError("Llewellyn's criterion is for two-ports")
@@ -130,7 +137,7 @@ def llewellyn_conditions(m: ExactMatrix, letter: str = "p") -> list[Condition]:
                 detail=c.detail,
             )
         )
-    r11, r22, a, disc, _qq = _frequency_polys(m)
+    r11, r22, a, disc, _qq = polys if polys is not None else _frequency_polys(m)
     freq = []
     for i, r in ((1, r11), (2, r22)):
         bands = failing_bands([r], lambda s: s[0] < 0)

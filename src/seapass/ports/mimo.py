@@ -20,6 +20,7 @@ References
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -92,7 +93,7 @@ class NPort:
         check_used(vals, used, "the impedance matrix")
         return cls(entries=entries, n=n, values=vals, name=name)
 
-    @property
+    @functools.cached_property
     def parameters(self) -> tuple[str, ...]:
         return tuple(sorted({str(x) for e in self.entries for x in e.free_symbols if x != S}))
 

@@ -23,7 +23,7 @@ from ..model.sea import SEA
 from ..outcome import Outcome
 from .bands import Band, Condition, combine
 from .eta import EtaMinimum
-from .llewellyn import llewellyn_conditions, llewellyn_eta
+from .llewellyn import frequency_polynomials, llewellyn_conditions, llewellyn_eta
 from .matrix import ExactMatrix
 from .passivity import evaluate, frequency_grid
 from .twoport import TwoPort, two_port
@@ -209,9 +209,10 @@ def absolute_stability(
     """
     tp = as_two_port(system, values)
     m = tp.exact()
-    conds = llewellyn_conditions(m, tp.form.value)
+    polys = frequency_polynomials(m)
+    conds = llewellyn_conditions(m, tp.form.value, polys)
     outcome = combine([c.outcome for c in conds])
-    eta = llewellyn_eta(m)
+    eta = llewellyn_eta(m, polys)
     found = None
     if witness and outcome is Outcome.NOT_PASSIVE:
         bands = [b for c in conds for b in c.bands]

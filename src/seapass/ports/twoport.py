@@ -14,6 +14,7 @@ rational matrix at the values ([`ExactMatrix`][seapass.ports.matrix.ExactMatrix]
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -117,7 +118,7 @@ class TwoPort:
         e = self.entries
         return ((e[0], e[1]), (e[2], e[3]))
 
-    @property
+    @functools.cached_property
     def parameters(self) -> tuple[str, ...]:
         """Names of all parameters the entries use, sorted."""
         return tuple(sorted({str(x) for e in self.entries for x in e.free_symbols if x != S}))
