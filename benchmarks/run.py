@@ -102,7 +102,14 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     rows: list[Row] = []
     notes: list[str] = []
-    for mod in (bench_passivity, bench_metrics, bench_sweep, bench_export, bench_sampled, bench_ports):
+    for mod in (
+        bench_passivity,
+        bench_metrics,
+        bench_sweep,
+        bench_export,
+        bench_sampled,
+        bench_ports,
+    ):
         print(f"running {mod.__name__} ...", file=sys.stderr, flush=True)
         r, n = mod.run(args.quick)
         rows += r

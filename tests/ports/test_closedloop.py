@@ -102,3 +102,19 @@ def test_witness_for_a_lightly_damped_design() -> None:
     env = np.array([[max(w.port1.mass, 1e-12), w.port1.damping, w.port1.stiffness,
                      max(w.port2.mass, 1e-12), w.port2.damping, w.port2.stiffness]])  # fmt: skip
     assert sea_closed_loop_poles(par, env)[0].real.max() > 0
+
+
+def test_the_virtual_wall_of_the_docs_passes_the_one_port_test_yet_its_witness_is_unstable() -> (
+    None
+):
+    from seapass.analysis.passivity import is_passive
+
+    par = {**BASE, "kd": 2000.0, "bd": 40.0, "kl": 3500.0}  # kd, bd: the virtual coupling
+    sea = SEA(D1="k1 + b1*s", CA="kd + bd*s", CL="kl", values=par)
+    assert is_passive(sea).passive  # the environment held rigid: passive
+    r = absolute_stability(sea)
+    assert not r.absolutely_stable and r.witness is not None and r.witness.within_bounds
+    w = r.witness
+    env = np.array([[max(w.port1.mass, 1e-12), w.port1.damping, w.port1.stiffness,
+                     max(w.port2.mass, 1e-12), w.port2.damping, w.port2.stiffness]])  # fmt: skip
+    assert sea_closed_loop_poles(par, env)[0].real.max() > 0.1

@@ -40,12 +40,18 @@ from typing import Any
 
 import numpy as np
 
-from ..analysis.coupled import Environment
+from ..analysis.coupled import Environment, classify_polynomial
 from ..analysis.environment_box import HUMAN_LIMB, EnvironmentBounds
 from ..analysis.passivity import positive_real_test
 from ..analysis.witness_search import bounded_candidates, unbounded_candidates
 from .bands import Band
-from .closedloop import ClosedLoop, closed_loop, input_immittance
+from .closedloop import (
+    ClosedLoop,
+    closed_loop,
+    closed_loop_polynomial,
+    impedance_form,
+    input_immittance,
+)
 from .forms import Form, form_of
 from .matrix import ExactMatrix
 from .passivity import evaluate
@@ -57,8 +63,11 @@ VIRTUAL_ENVIRONMENT = EnvironmentBounds(
 )
 """Default box of the environment on port 2: a virtual object or wall."""
 
-MAX_PAIRS = 4000
+MAX_PAIRS = 600
 """Upper bound on the termination pairs verified exactly in one search (a bound on the work)."""
+
+MAX_ATTACKS = 30
+"""Terminations of the attacked port tried against one termination of the other port."""
 
 
 @dataclass(frozen=True)
@@ -149,6 +158,23 @@ def _targets(p: np.ndarray, port: int, w0: float, imp_other: bool) -> list[compl
     return targets
 
 
+def _rhp(m: ExactMatrix, form: Form, env1: Environment, env2: Environment) -> bool:
+    """A closed-loop root in the open right half-plane (exact; no roots computed)."""
+    try:
+        chi, _common = closed_loop_polynomial(m, form, env1, env2)
+        return classify_polynomial(chi)[1]
+    except (ValueError, ArithmeticError):
+        return False
+
+
+def _corners(box: EnvironmentBounds | None) -> list[Environment]:
+    if box is None:
+        return [Environment(), Environment(mass=1.0, damping=1.0, stiffness=1.0)]
+    lo = Environment(mass=box.mass[0], damping=box.damping[0], stiffness=box.stiffness[0])
+    hi = Environment(mass=box.mass[1], damping=box.damping[1], stiffness=box.stiffness[1])
+    return [lo, hi]
+
+
 def _frequencies(bands: Sequence[Band]) -> list[float]:
     ws: list[float] = []
     for b in bands:
@@ -180,10 +206,17 @@ def _search(
     bands: Sequence[Band],
     bounds: tuple[EnvironmentBounds | None, EnvironmentBounds | None],
     budget: int,
-) -> tuple[tuple[Environment, Environment, ClosedLoop, float | None] | None, int]:
+) -> tuple[tuple[Environment, Environment, float | None] | None, int]:
     """The first verified destabilizing pair (or None) and the number of pairs verified."""
     imp = form.impedance_ports
     count = 0
+    # corners of the boxes first: an unstable entry (or a hidden mode) shows with any pair
+    corners = [_corners(b) for b in bounds]
+    for env1 in corners[0]:
+        for env2 in corners[1]:
+            count += 1
+            if _rhp(m, form, env1, env2):
+                return (env1, env2, None), count
     for closed in (1, 0):  # close port 2 and attack port 1, then the other way round
         attacked = 1 - closed
         box_c, box_a = bounds[closed], bounds[attacked]
@@ -209,17 +242,13 @@ def _search(
                 attack = unbounded_candidates(zn, zd)
             else:
                 attack = bounded_candidates(zn, zd, box_a)
-            for env_a, wa in attack:
+            for env_a, wa in attack[:MAX_ATTACKS]:
                 if count >= budget:
                     return None, count
                 count += 1
                 pair = (env_a, env_c) if attacked == 0 else (env_c, env_a)
-                try:
-                    loop = closed_loop(m, form, *pair)
-                except (ValueError, ArithmeticError):
-                    continue
-                if loop.rhp:
-                    return (pair[0], pair[1], loop, tuned if tuned is not None else wa), count
+                if _rhp(m, form, *pair):
+                    return (pair[0], pair[1], tuned if tuned is not None else wa), count
     return None, count
 
 
@@ -241,14 +270,20 @@ def find_destabilizing_pair(
     if nothing was found, any passive mass–spring–damper.
     """
     f = form_of(form)
+    z = impedance_form(m, f)  # search in the impedance form when it exists (both ports alike)
+    if z is not None:
+        m, f = z, Form.Z
     tried = 0
     for within, boxes in ((True, bounds), (False, (None, None))):
         if not within and bounds == (None, None):
             break
-        hit, count = _search(m, f, bands, boxes, budget - tried)
+        # the unbounded search gets a share of the budget of its own
+        share = budget - tried if not within else (2 * budget) // 3
+        hit, count = _search(m, f, bands, boxes, share)
         tried += count
         if hit is not None:
-            e1, e2, loop, w0 = hit
+            e1, e2, w0 = hit
+            loop = closed_loop(m, f, e1, e2)  # the exact verdict again, with the poles
             where = "within the bounds" if within else "outside the bounds (none found inside)"
             return TerminationWitness(
                 found=True,
