@@ -84,14 +84,16 @@ def _axis_residue_condition(m: ExactMatrix, frequency_ok: bool, poles_ok: bool) 
     def cond(outcome: Outcome, detail: str = "") -> Condition:
         return Condition(name=name, outcome=outcome, description=desc, detail=detail)
 
-    if not poles_ok:  # a pole of p11 or p22 already fails; nothing more to learn here
-        return cond(Outcome.PASSIVE, "not examined: a pole of p11 or p22 fails")
+    if not poles_ok:  # a pole of p11 or p22 already fails: the verdict is known
+        return cond(Outcome.UNDECIDED, "not examined: a pole of p11 or p22 already fails")
     d = m.common_denominator()
     poles = axis_points(d)
     if not poles.simple:
         return cond(
-            Outcome.UNDECIDED if frequency_ok else Outcome.PASSIVE,
-            "p12 or p21 has a repeated pole on the imaginary axis" if frequency_ok else "",
+            Outcome.UNDECIDED,
+            "p12 or p21 has a repeated pole on the imaginary axis"
+            if frequency_ok
+            else "not examined: a frequency condition already fails",
         )
     kt = residue_matrix(m.numerator_matrix(d), d)
     f = cmul(kt[0][1], kt[1][0])
@@ -109,8 +111,12 @@ def _axis_residue_condition(m: ExactMatrix, frequency_ok: bool, poles_ok: bool) 
             return cond(Outcome.NOT_PASSIVE, f"k11 k22 < k12 k21 at the pole {where}")
     k, simple = infinity_residues(m)
     if not simple:
-        return cond(Outcome.UNDECIDED if frequency_ok else Outcome.PASSIVE,
-                    "an entry has a repeated pole at infinity" if frequency_ok else "")  # fmt: skip
+        return cond(
+            Outcome.UNDECIDED,
+            "an entry has a repeated pole at infinity"
+            if frequency_ok
+            else "not examined: a frequency condition already fails",
+        )
     f_inf = k[0][1] * k[1][0]
     if f_inf < 0 and frequency_ok:
         return cond(Outcome.UNDECIDED, "k12 k21 at infinity is negative")

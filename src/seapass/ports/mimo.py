@@ -107,10 +107,10 @@ class NPort:
 
     def exact(self, values: Mapping[str, float] | None = None) -> ExactMatrix:
         """The exact rational matrix at the parameter values."""
-        merged = {k: v for k, v in self.values.items() if v is not None}
+        merged: dict[str, Any] = {k: v for k, v in self.values.items() if v is not None}
         if values:
             check_used(values, self.parameters, "the impedance matrix")
-            merged.update({k: float(to_fraction(v, k)) for k, v in values.items()})
+            merged.update({k: to_fraction(v, k) for k, v in values.items()})
         missing = [p for p in self.parameters if p not in merged]
         if missing:
             raise ParameterError(
