@@ -121,3 +121,12 @@ def test_bad_arguments() -> None:
         port_intervals(SEA_KL.with_values(kd=None), "kl", 0, 1)
     nport = TwoPort.from_matrix([[1, 0], [0, "c"]], values={"c": None})
     assert port_intervals(nport, "c", -1, 1, criterion="passive").intervals == [(0.0, 1.0)]
+
+
+def test_a_mode_hidden_for_every_gain_is_critical_where_it_crosses_the_axis() -> None:
+    # with a = 1 the factor s − k cancels for every k: a hidden mode, unstable for k > 0
+    tp = TwoPort.from_matrix(
+        [["(s - k*a)/((s - k)*(s + 1)) + 1", "0"], ["0", "1"]], values={"k": None, "a": 1}
+    )
+    for criterion in ("passive", "absolute"):
+        assert port_intervals(tp, "k", -1, 1, criterion=criterion).intervals == [(-1.0, 0.0)]

@@ -7,6 +7,8 @@ only at a real root of one of these polynomials in ``k``:
 
 * per entry ``N/D``: the leading coefficients in ``s`` (a pole or zero to or
   from infinity) and ``Res_s(N, D)`` (a cancellation: a mode hidden or shown);
+  a factor common to ``N`` and ``D`` for every ``k`` is a hidden mode, and where
+  it crosses the imaginary axis is critical too;
 * the common denominator ``d``: ``Res_ω(Re d(jω), Im d(jω))`` after removing
   their generic common factor ``g`` (a pole crossing the imaginary axis), and
   the leading and constant coefficients and discriminant of ``g`` (poles on the
@@ -193,6 +195,8 @@ def critical_polynomials(
             num, den = nums[i][j], dens[i][j]
             if not num.is_zero():
                 g = num.gcd(den)
+                if _deg(g) > 0:  # a mode hidden for every k: where it crosses the axis matters
+                    _axis_crossings(g, out)
                 num, den = num / g, den / g
                 out += [_lc(num), _lc(den)]
                 if _deg(num) > 0 and _deg(den) > 0:
