@@ -5,12 +5,15 @@ What lives here: the SEA as a two-port between the person (port 1: ``F_L``,
 ``v_2 = s θ``), derived from the free-body equations
 ([`derive`][seapass.ports.derive]), any 2×2 immittance in the forms z, y, h, g
 with exact conversions ([`forms`][seapass.ports.forms],
-[`twoport`][seapass.ports.twoport]); the exact rational matrix at given values
+[`twoport`][seapass.ports.twoport], [`entries`][seapass.ports.entries]); exact
+rational functions on FLINT's multivariate polynomials
+([`ratfunc`][seapass.ports.ratfunc]); the exact rational matrix at given values
 and its poles ([`matrix`][seapass.ports.matrix], [`poles`][seapass.ports.poles]),
 polynomials on the imaginary axis and exact failing bands
 ([`onaxis`][seapass.ports.onaxis], [`bands`][seapass.ports.bands]); the verdicts:
 Llewellyn's absolute stability ([`llewellyn`][seapass.ports.llewellyn]) with
-Haddadi and Hashtrudi-Zaad's η ([`eta`][seapass.ports.eta]), passivity of an
+Haddadi and Hashtrudi-Zaad's η ([`eta`][seapass.ports.eta]) gathered in
+[`stability`][seapass.ports.stability], passivity of an
 n×n immittance (Raisbeck; [`passivity`][seapass.ports.passivity]), the closed
 loop with two terminations and a destabilizing pair of them
 ([`closedloop`][seapass.ports.closedloop], [`witness`][seapass.ports.witness]),

@@ -32,7 +32,7 @@ import itertools
 from collections.abc import Sequence
 from typing import Any, TypeAlias
 
-from flint import fmpq_mpoly, fmpq_poly
+from flint import fmpq_poly
 
 from ..exact.axis import at_j_omega, even_to_x
 
@@ -159,7 +159,3 @@ def llewellyn_polynomials(g: Sequence[Sequence[CPoly]]) -> tuple[Poly, Poly, Pol
     a = 2 * r11 * r22 - q[0]
     return r11, r22, a, a * a - (q[0] * q[0] + q[1] * q[1])
 
-
-def mpoly_is(p: Poly) -> bool:
-    """``p`` is a multivariate polynomial (free parameters kept)."""
-    return isinstance(p, fmpq_mpoly)
