@@ -158,4 +158,3 @@ def llewellyn_polynomials(g: Sequence[Sequence[CPoly]]) -> tuple[Poly, Poly, Pol
     q = cmul(g[0][1], g[1][0])
     a = 2 * r11 * r22 - q[0]
     return r11, r22, a, a * a - (q[0] * q[0] + q[1] * q[1])
-
