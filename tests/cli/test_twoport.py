@@ -140,7 +140,14 @@ def test_mimo(capsys: pytest.CaptureFixture[str]) -> None:
     assert {c["name"] for c in d["conditions"] if c["holds"] is False} == {"axis_poles", "minor_12"}
     code, out, _ = run(
         capsys,
-        ["mimo", "check", "--axes", str(REPO / "examples" / "two-axis.toml"), "--set", "kc=0"],
+        [
+            "mimo",
+            "check",
+            "--axes",
+            str(REPO / "examples" / "axes" / "two-axis.toml"),
+            "--set",
+            "kc=0",
+        ],
     )
     assert code == 0 and out.startswith("2-port: passive")
     code, out, _ = run(capsys, ["mimo", "bound", "c", "--Z", "[[b + k/s, c/s], [c/s, b + k/s]]", "--set", "b=10",
@@ -179,7 +186,7 @@ def test_bad_input_is_one_error_line(
 
 
 def test_bad_axes_files(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
-    text = (REPO / "examples" / "two-axis.toml").read_text()
+    text = (REPO / "examples" / "axes" / "two-axis.toml").read_text()
     bad = tmp_path / "bad.toml"
     bad.write_text(text.replace('B = [["bd", 0], [0, "bd"]]', 'B = [["bd", 0, 0], [0, "bd", 0]]'))
     one_error(capsys, ["mimo", "check", "--axes", str(bad)], "2×2")

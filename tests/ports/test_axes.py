@@ -48,7 +48,7 @@ def test_one_axis_is_the_one_port_impedance() -> None:
 def test_the_example_file_loads(tmp_path) -> None:
     from pathlib import Path
 
-    ca = load_axes(Path(__file__).resolve().parents[2] / "examples" / "two-axis.toml")
+    ca = load_axes(Path(__file__).resolve().parents[2] / "examples" / "axes" / "two-axis.toml")
     assert ca.n == 2 and ca.side == "actuator" and ca.values["kc"] == 100.0
     bad = tmp_path / "bad.toml"
     bad.write_text(

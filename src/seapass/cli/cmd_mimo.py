@@ -18,7 +18,7 @@ from .common import (
 
 EXAMPLE = """examples:
   seapass mimo check --Z "[[b + k/s, c/s], [-c/s, b + k/s]]" --set b=10 --set k=100 --set c=50
-  seapass mimo check --axes examples/two-axis.toml --json
+  seapass mimo check --axes examples/axes/two-axis.toml --json
   seapass mimo bound c --Z "[[b + k/s, c/s], [c/s, b + k/s]]" --set b=10 --set k=100 \\
       --range -200:200 --json
 
