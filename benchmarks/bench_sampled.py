@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from _util import Row, timed
+from seapass.model.loop import SampledLoop
 from seapass.model.sea import SEA
 from seapass.sampled.bound import sampled_passive_bound
 from seapass.sampled.passivity import sampled_passivity
@@ -112,7 +113,7 @@ def run(quick: bool) -> tuple[list[Row], list[str]]:
         sea = SEA(
             D1="k1 + b1*s", CA="kd + bd*s", values={**RIG, "b1": b1, "bd": 25.0, "kd": 2000.0}
         )
-        return sampled_passivity(sea, period=0.002).passive
+        return sampled_passivity(sea, loop=SampledLoop(period=0.002)).passive
 
     fresh_check()  # imports outside the timing
     t_new = timed(fresh_check, repeat=repeat)
@@ -129,7 +130,7 @@ def run(quick: bool) -> tuple[list[Row], list[str]]:
     for name, (elements, gains, loop, (lo, hi)) in BOUNDS.items():
         sea = SEA(**elements, values={**RIG, **gains, "kd": None})
         t_b = timed(lambda sea=sea, loop=loop, lo=lo, hi=hi: sampled_passive_bound(
-            sea, "kd", period=0.002, lo=lo, hi=hi, **loop), repeat=1 if quick else 3)  # fmt: skip
+            sea, "kd", loop=SampledLoop(period=0.002, **loop), lo=lo, hi=hi), repeat=1 if quick else 3)  # fmt: skip
         r = t_b.result
         job = {"kind": "bound", "elements": elements, "values": {**RIG, **gains, "kd": None},
                "lo": lo, "hi": hi, "loop": loop}  # fmt: skip

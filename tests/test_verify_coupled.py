@@ -182,7 +182,10 @@ def test_environment_validation_and_degenerate_coupling():
 
 def test_result_rejects_unknown_status():
     with pytest.raises(ValueError, match="status"):
-        CoupledResult("fine", False, False, (), (), np.zeros(0))
+        CoupledResult(
+            status="fine", rhp=False, repeated_axis=False, characteristic=(), common=(),
+            poles=np.zeros(0),
+        )  # fmt: skip
 
 
 # ---------------------------------------------------------------- witnesses

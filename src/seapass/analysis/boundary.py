@@ -44,7 +44,7 @@ from .region import critical_polynomials
 __all__ = ["PassiveRegion", "RegionCell", "passive_region"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class RegionCell:
     """One x-interval of the decomposition.
 
@@ -87,7 +87,7 @@ class RegionCell:
         return [j for j in range(self.branches.shape[0]) if self.passive[j] != self.passive[j + 1]]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PassiveRegion:
     """The exact passive region over ``param_x × param_y`` in a box.
 

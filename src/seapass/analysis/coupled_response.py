@@ -40,7 +40,7 @@ SAMPLES_PER_PERIOD = 24
 MAX_SAMPLES = 20000
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CoupledSimulation:
     """Impulse response of the coupled system (computed, not plotted).
 

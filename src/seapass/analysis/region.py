@@ -23,7 +23,7 @@ reported as floats rounded to nearest.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
@@ -51,7 +51,7 @@ _X = sp.Symbol("x")
 _OM = sp.Symbol("omega")
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class PassiveIntervals:
     """Exact passive set of one parameter within ``[lo, hi]``.
 
@@ -60,18 +60,18 @@ class PassiveIntervals:
     param : str
     lo, hi : float
         The search range.
-    intervals : list of (float, float)
+    intervals : tuple of (float, float)
         Disjoint closed intervals, sorted, whose union is the passive set
         (a single passive point appears as ``(v, v)``).
-    critical_values : list of float
+    critical_values : tuple of float
         Every value in the range where the verdict may change.
     """
 
     param: str
     lo: float
     hi: float
-    intervals: list[tuple[float, float]] = field(default_factory=list)
-    critical_values: list[float] = field(default_factory=list)
+    intervals: tuple[tuple[float, float], ...] = ()
+    critical_values: tuple[float, ...] = ()
 
     def contains(self, value: float) -> bool:
         return any(a <= value <= b for a, b in self.intervals)
@@ -310,7 +310,11 @@ def passive_intervals(
             result.append((a_f, b_f))
     crit_f = [float((a + b) / 2) for a, b in crit]
     return PassiveIntervals(
-        param=param, lo=float(lo_q), hi=float(hi_q), intervals=result, critical_values=crit_f
+        param=param,
+        lo=float(lo_q),
+        hi=float(hi_q),
+        intervals=tuple(result),
+        critical_values=tuple(crit_f),
     )
 
 
@@ -331,7 +335,7 @@ def _with(system: SEA | Impedance, values: Mapping[str, Any]) -> SEA | Impedance
     return Impedance(expr=system.expr, values={**system.values, **vals})
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class PassiveMap:
     """Passive region over two parameters.
 
@@ -343,7 +347,7 @@ class PassiveMap:
     param_y: str
     x: np.ndarray
     y: np.ndarray
-    intervals: list[list[tuple[float, float]]]
+    intervals: tuple[tuple[tuple[float, float], ...], ...]
     mask: np.ndarray
 
     def to_dict(self) -> dict[str, Any]:
@@ -400,7 +404,7 @@ def passive_map(
     if xs.ndim != 1 or xs.size == 0:
         raise ParameterError(f"x_values must be a non-empty 1-D sequence, got shape {xs.shape}")
     ys = np.linspace(float(y_range[0]), float(y_range[1]), y_points)
-    ivs: list[list[tuple[float, float]]] = []
+    ivs: list[tuple[tuple[float, float], ...]] = []
     mask = np.zeros((ys.size, xs.size), dtype=bool)
     for i, xv in enumerate(xs):
         res = passive_intervals(
@@ -409,4 +413,4 @@ def passive_map(
         ivs.append(res.intervals)
         for a, b in res.intervals:
             mask[:, i] |= (ys >= a) & (ys <= b)
-    return PassiveMap(param_x=param_x, param_y=param_y, x=xs, y=ys, intervals=ivs, mask=mask)
+    return PassiveMap(param_x=param_x, param_y=param_y, x=xs, y=ys, intervals=tuple(ivs), mask=mask)

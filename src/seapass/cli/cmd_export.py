@@ -6,7 +6,8 @@ import argparse
 from typing import Any
 
 from ..errors import CompilerError, ParameterError, SeapassError
-from .common import add_json_option, announce, check_out_dir, check_rtol, print_json
+from ..files.limits import MAX_RTOL, MIN_RTOL, check_rtol
+from .common import add_json_option, announce, check_out_dir, print_json
 
 EXAMPLE = """examples:
   seapass export c examples/ours.toml --out firmware/
@@ -17,9 +18,6 @@ exit status: 0 written (and verified); 1 --verify found the compiled C and the P
 controller more than 1e-12 apart; 2 bad input, a design that is not passive, or no
 working C compiler for --verify (nothing is written then).
 """
-
-#: Largest relative difference ``--verify`` accepts between the C and the Python commands.
-VERIFY_RTOL = 1e-12
 
 # the Python API's errors name its arguments; say the options here instead
 _OPTIONS = {
@@ -89,7 +87,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         type=float,
         default=1e-6,
         help="relative width of the certified edge enclosures of each tunable gain's "
-        "interval, in [1e-12, 1e-2] (default: 1e-6)",
+        f"interval, in [{MIN_RTOL:g}, {MAX_RTOL:g}] (default: 1e-6)",
     )
     c.add_argument(
         "--verify",
@@ -134,14 +132,14 @@ def run_c(args: argparse.Namespace) -> int:
     for path in (res.header, res.source):
         announce(path)
     ver = verify_c(res) if args.verify else None
-    ok = ver is None or ver.max_rel <= VERIFY_RTOL
+    ok = ver is None or ver.ok
     if args.json:
         out: dict[str, Any] = {
             "files": [str(res.header), str(res.source)],
             "deployment": res.deployment.to_dict(),
         }
         if ver is not None:
-            out["verify"] = {**ver.to_dict(), "rtol": VERIFY_RTOL, "ok": ok}
+            out["verify"] = ver.to_dict()
         print_json(out)
     else:
         _print_summary(res, ver, ok)
@@ -170,7 +168,7 @@ def _print_summary(res: Any, ver: Any, ok: bool) -> None:
         print(f"  note: {note}")
     if ver is not None:
         how = "identical to" if ver.identical else f"within {ver.max_rel:.3g} (relative) of"
-        verdict = "ok" if ok else f"FAILED (more than {VERIFY_RTOL:g} apart)"
+        verdict = "ok" if ok else f"FAILED (more than {ver.rtol:g} apart)"
         print(
             f"  verify: {ver.steps} steps of the compiled C are {how} the Python controller "
             f"({ver.saturated} saturated): {verdict}"

@@ -9,11 +9,9 @@ real-part polynomial), never read off the plotted grid.
 from __future__ import annotations
 
 import argparse
-import math
 from typing import TYPE_CHECKING, Any
 
-from ..errors import ParameterError
-from .common import add_model_options, print_json, system_from_args, write_figure
+from .common import add_model_options, parse_range, print_json, system_from_args, write_figure
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     import numpy as np
@@ -67,20 +65,12 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def _frequencies(text: str | None, points: int) -> np.ndarray | None:
-    import numpy as np
+    from ..analysis.freqresp import check_points, log_frequencies
 
-    from .cmd_bound import parse_range
-
-    if not 2 <= points <= 100_000:
-        raise ParameterError(f"--points {points}: use between 2 and 100000")
     if text is None:
+        check_points(points)
         return None
-    lo, hi = parse_range(text)
-    if not (lo > 0 and hi > lo and math.isfinite(hi)):
-        raise ParameterError(
-            f"--omega {text!r}: expected 0 < LO < HI (a log-spaced range), e.g. --omega 0.1:1e4"
-        )
-    return np.logspace(math.log10(lo), math.log10(hi), points)
+    return log_frequencies(*parse_range(text, "--omega"), points)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -65,6 +65,7 @@ def parse_stages(text: str | None) -> list[str] | None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..report.document import Verdict
     from ..report.output import check_output_dir, write_report
     from ..report.reproduce import reproduce
 
@@ -80,23 +81,15 @@ def run(args: argparse.Namespace) -> int:
     )
     written = write_report(report, out)
     announce_report(out, written)
+    counts = report.summary().counts
+    agrees, differs = counts[Verdict.AGREES], counts[Verdict.DIFFERS]
     if args.json:
-        n = {
-            v: sum(1 for _s, f in report.findings if f.verdict == v) for v in ("agrees", "differs")
-        }
-        print_json({**report_summary(report, out, written), "findings": n})
+        findings = {"agrees": agrees, "differs": differs}
+        print_json({**report_summary(report, out, written), "findings": findings})
     else:
-        _summary(report, time.perf_counter() - t0)
+        print(
+            f"report in {time.perf_counter() - t0:.1f} s: {len(report.sections)} sections, "
+            f"{agrees} findings agree with the paper, {differs} differ"
+        )
     print_section_problems(report)
     return 1 if report.failed else 0
-
-
-def _summary(report: object, seconds: float) -> None:
-    from ..report.document import Report
-
-    assert isinstance(report, Report)
-    n = {v: sum(1 for _s, f in report.findings if f.verdict == v) for v in ("agrees", "differs")}
-    print(
-        f"report in {seconds:.1f} s: {len(report.sections)} sections, {n['agrees']} findings "
-        f"agree with the paper, {n['differs']} differ"
-    )

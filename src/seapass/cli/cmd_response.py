@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-from ..errors import ParameterError
 from ..files.limits import MAX_FREQUENCY_POINTS
 from .common import (
     add_json_option,
@@ -51,17 +50,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from ..analysis.freqresp import stiffness_response
+    from ..analysis.freqresp import log_frequencies, stiffness_response
 
-    lo, hi = parse_range(args.omega, "--omega", strict=True)
-    if lo <= 0:
-        raise ParameterError("--omega: the lower frequency must be positive for a log scale")
-    if not 2 <= args.points <= MAX_FREQUENCY_POINTS:
-        raise ParameterError(f"--points {args.points}: use between 2 and {MAX_FREQUENCY_POINTS}")
+    omega = log_frequencies(*parse_range(args.omega, "--omega"), args.points)
     figure = plot_path(deprecated_alias(args, "out", "plot"))
     sea = model_from_args(args)
     warn_unrealizable(sea)
-    resp = stiffness_response(sea, np.logspace(np.log10(lo), np.log10(hi), args.points))
+    resp = stiffness_response(sea, omega)
     if figure is not None:
         from ..plot.response import plot_stiffness_response
 

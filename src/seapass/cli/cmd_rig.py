@@ -3,9 +3,7 @@
 from __future__ import annotations
 
 import argparse
-import csv
 import functools
-import io
 import math
 import sys
 from typing import TYPE_CHECKING, Any
@@ -18,6 +16,7 @@ from .common import (
     check_out_dir,
     print_json,
     save_plot,
+    warn,
     write_figure,
     write_text,
 )
@@ -164,7 +163,7 @@ def register(subparsers: Any) -> None:
     ft.add_argument(
         "--delay",
         type=int,
-        help="samples between a logged command and its action (default: the rig's delay_samples)",
+        help="samples between a logged command and its action (default: the rig's control.delay)",
     )
     ft.add_argument(
         "--confidence", type=float, default=0.95, help="level of the intervals (default: 0.95)"
@@ -181,17 +180,6 @@ def _rig(args: argparse.Namespace) -> Rig:
     from ..rig.rigfile import load_rig, paper_rig
 
     return load_rig(args.rig) if args.rig else paper_rig()
-
-
-def _csv(rows: list[dict[str, Any]]) -> str:
-    if not rows:
-        return ""
-    buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
-    w.writeheader()
-    for r in rows:
-        w.writerow({k: "" if v is None else v for k, v in r.items()})
-    return buf.getvalue()
 
 
 def _sweep(args: argparse.Namespace) -> int:
@@ -217,8 +205,7 @@ def _sweep(args: argparse.Namespace) -> int:
     if out is not None:
         from ..plot.rig import plot_rig_sweep, plot_traces
 
-        rows = [r for s in result.sweeps for r in s.rows()]
-        write_text(out / "sweep.csv", _csv(rows))
+        write_text(out / "sweep.csv", result.to_csv())
         save_plot(lambda: plot_rig_sweep(result), out / "sweep", formats=("png", "pdf"))
         for s in result.sweeps:
             stem = out / f"traces_{s.design}_{s.load_mass:g}kg"
@@ -261,11 +248,7 @@ def _impacts(args: argparse.Namespace) -> int:
     if out is not None:
         from ..plot.rig import plot_impacts
 
-        rows = [
-            {"impact": i, "force": float(f), "k_out": float(k)}
-            for i, (f, k) in enumerate(zip(result.forces, result.k_out, strict=True))
-        ]
-        write_text(out / "impacts.csv", _csv(rows))
+        write_text(out / "impacts.csv", result.to_csv())
         save_plot(lambda: plot_impacts(result), out / "impacts", formats=("png", "pdf"))
     if args.json:
         print_json(result.to_dict())
@@ -312,31 +295,16 @@ def _fit(args: argparse.Namespace) -> int:
 
     rig = load_rig(args.rig)
     log = load_log(args.log)
-    reach = float(max(abs(log.x_A).max(), abs(log.x_L).max()))
-    if reach > 1.0:
-        print(
-            f"warning: positions reach {reach:g} m; the log's positions must be in metres "
-            "(millimetres given?)",
-            file=sys.stderr,
-        )
+    for message in log.warnings:
+        warn(message)
     fit = fit_rig(log, rig, window=args.window, delay=args.delay, confidence=args.confidence)
     updated = fit.updated_rig() if args.rig_out else None
     if args.plot:
         write_figure(fit.plot, args.plot)
     if updated is not None:
         write_text(args.rig_out, updated.to_toml())
-    for name in fit.poorly_determined:
-        others = fit.confounded(name)
-        why = (
-            f"correlated with {', '.join(others)} beyond ±0.98"
-            if others
-            else f"standard error {fit[name].relative_error:.0%} of the estimate"
-        )
-        print(
-            f"warning: {name} is poorly determined by this log ({why}); log a chirp with the "
-            "load free to move",
-            file=sys.stderr,
-        )
+    for message in fit.warnings:
+        warn(message)
     if args.json:
         print_json(fit.to_dict())
         return 0

@@ -12,6 +12,7 @@ from .common import (
     add_out_dir_option,
     check_out_dir,
     json_text,
+    parse_range,
     print_json,
     save_plot,
     system_from_args,
@@ -66,22 +67,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     add_json_option(p)
     add_out_dir_option(p, "witness.png and witness.json")
     p.set_defaults(func=run)
-
-
-def parse_range(text: str, flag: str) -> tuple[float, float]:
-    """``LO:HI`` with ``0 <= LO <= HI``, both finite."""
-    from ..model.expr import parse_value
-
-    lo, sep, hi = text.partition(":")
-    if not sep:
-        raise ParameterError(f"{flag} {text!r}: expected LO:HI, e.g. {flag} 0.1:10")
-    a, b = (
-        parse_value(lo.strip(), f"{flag} lower bound"),
-        parse_value(hi.strip(), f"{flag} upper bound"),
-    )
-    if not 0 <= a <= b:
-        raise ParameterError(f"{flag} {text!r}: need 0 <= LO <= HI (a passive environment)")
-    return a, b
 
 
 def bounds_from_args(args: argparse.Namespace) -> EnvironmentBounds | None:

@@ -14,8 +14,6 @@
 from __future__ import annotations
 
 import argparse
-import json
-import math
 import os
 import sys
 from collections.abc import Callable, Sequence
@@ -24,9 +22,9 @@ from typing import Any
 
 from ..errors import ParameterError
 from ..files.atomic import atomic_save, atomic_write, atomic_write_text, check_writable
+from ..files.jsontext import json_text
 
 __all__ = [
-    "FIGURE_FORMATS",
     "add_json_option",
     "add_out_dir_option",
     "add_plot_option",
@@ -42,9 +40,6 @@ __all__ = [
     "write_bytes",
     "write_text",
 ]
-
-FIGURE_FORMATS = (".png", ".svg", ".pdf")
-"""Figure formats, picked by the suffix of ``--plot``."""
 
 
 def add_json_option(p: argparse.ArgumentParser, what: str = "the result") -> None:
@@ -75,13 +70,14 @@ def plot_path(text: str | None, flag: str = "--plot") -> Path | None:
     """
     if text is None:
         return None
+    from ..plot.style import FIGURE_FORMATS
+
     p = Path(text)
     if not p.suffix:
         p = p.with_name(p.name + ".png")
-    if p.suffix.lower() not in FIGURE_FORMATS:
-        raise ParameterError(
-            f"{flag} {text}: unknown figure format {p.suffix!r}; use {', '.join(FIGURE_FORMATS)}"
-        )
+    if p.suffix.lower().lstrip(".") not in FIGURE_FORMATS:
+        known = ", ".join(f".{f}" for f in FIGURE_FORMATS)
+        raise ParameterError(f"{flag} {text}: unknown figure format {p.suffix!r}; use {known}")
     check_writable(p, directory=False, argument=flag)
     return p
 
@@ -132,21 +128,6 @@ def write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
     return Path(path)
 
 
-def json_text(obj: Any) -> str:
-    """Strict JSON text (non-finite floats become null), with a final newline."""
-    return json.dumps(_clean(obj), indent=2, allow_nan=False) + "\n"
-
-
-def _clean(obj: Any) -> Any:
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    if isinstance(obj, dict):
-        return {k: _clean(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [_clean(v) for v in obj]
-    return obj
-
-
 def print_json(obj: Any) -> None:
-    """Print strict JSON (non-finite floats become null) on stdout."""
+    """Print strict JSON on stdout ([`json_text`][seapass.files.jsontext.json_text])."""
     sys.stdout.write(json_text(obj))

@@ -9,8 +9,7 @@ polynomial is negative) and [`halfline`][seapass.exact.halfline] (sign cells on
 here decides in floating point: every decision is exact, or certified by ball
 arithmetic and re-checked exactly.
 
-May import: [`seapass.errors`][seapass.errors] and python-flint only (it knows
-nothing of SEAs).
+May import: nothing else in seapass; python-flint only (it knows nothing of SEAs).
 """
 
 from . import axis, halfline, poly

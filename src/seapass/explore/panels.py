@@ -79,19 +79,14 @@ def _verdict(state: ExploreState) -> dict[str, Any]:
 
 
 def _sampled(state: ExploreState) -> dict[str, Any]:
-    if state.period is None:
+    loop = state.loop
+    if loop is None:
         return {"analysed": False, "detail": "no control period set: continuous control only"}
-    r = sampled_passivity(
-        state.sea(),
-        period=state.period,
-        delay=state.delay,
-        velocity_filter=state.velocity_filter,
-    )
+    r = sampled_passivity(state.sea(), loop=loop)
     return {
         "analysed": True,
         "passive": r.passive,
-        "status": ("passive" if r.passive else "not passive")
-        + (" (marginal)" if r.marginal else ""),
+        "status": r.outcome.label,
         "reason": r.reason,
         "detail": r.detail,
         "omega": r.omega,

@@ -23,7 +23,9 @@ from typing import Any
 from ..errors import SeapassError
 from ..model.catalog import REFERENCE_VALUES
 from ..model.design_file import Design, parse_design
+from ..model.experiment import PAPER_EXPERIMENT
 from ..model.expr import STANDARD_SYMBOLS, parse_expression
+from ..model.loop import SampledLoop
 from ..model.sea import SEA
 
 __all__ = [
@@ -57,7 +59,7 @@ LIMITS: Mapping[str, Any] = MappingProxyType(
     }
 )
 
-_DEFAULTS = {"load_mass": 10.0, "step": 0.5, "horizon": 10.0}
+_DEFAULTS = {k: getattr(PAPER_EXPERIMENT, k) for k in ("load_mass", "step", "horizon")}
 
 
 def slider_scale(lo: float, hi: float) -> str:
@@ -108,6 +110,8 @@ class ExploreState:
         Computational delay (samples).
     velocity_filter : float or None
         Cut-off (Hz) of the velocity low-pass, None for none.
+    loop : SampledLoop or None
+        The three as the sampled loop (None for continuous control only).
     """
 
     name: str
@@ -117,9 +121,9 @@ class ExploreState:
     gain: str
     region: tuple[str, str]
     title: str = ""
-    load_mass: float = 10.0
-    step: float = 0.5
-    horizon: float = 10.0
+    load_mass: float = PAPER_EXPERIMENT.load_mass
+    step: float = PAPER_EXPERIMENT.step
+    horizon: float = PAPER_EXPERIMENT.horizon
     period: float | None = None
     delay: int = 0
     velocity_filter: float | None = None
@@ -136,6 +140,11 @@ class ExploreState:
 
     def sea(self) -> SEA:
         return SEA(**dict(self.model), values=dict(self.values), name=self.name)
+
+    @property
+    def loop(self) -> SampledLoop | None:
+        p, d, f = self.period, self.delay, self.velocity_filter
+        return None if p is None else SampledLoop(period=p, delay=d, velocity_filter=f)
 
     def key(self, *, without: tuple[str, ...] = (), extra: tuple[str, ...] = ()) -> str:
         """Canonical text of the model, the values except ``without`` and the fields ``extra``."""
@@ -182,9 +191,7 @@ class ExploreState:
             step=self.step,
             horizon=self.horizon,
             tune_mass=self.load_mass,
-            control_rate=None if self.period is None else 1.0 / self.period,
-            control_delay=self.delay,
-            velocity_filter=self.velocity_filter,
+            loop=self.loop,
         )
 
     def design_toml(self) -> str:
@@ -214,11 +221,12 @@ class ExploreState:
             f"horizon = {_toml_float(d.horizon)}",
             f"tune_mass = {_toml_float(self.load_mass)}",
         ]
-        if d.control_rate is not None:
-            lines += ["", "[control]", f"rate = {_toml_float(d.control_rate)}"]
-            lines.append(f"delay = {d.control_delay}")
-            if d.velocity_filter is not None:
-                lines.append(f"velocity_filter = {_toml_float(d.velocity_filter)}")
+        if d.loop is not None:
+            lines += ["", "[control]"]
+            lines += [  # rate or period, delay, velocity filter: numbers (the method is Tustin)
+                f"{k} = {_toml_float(v) if isinstance(v, float) else v}"
+                for k, v in d.loop.to_table().items()
+            ]
         text = "\n".join(lines) + "\n"
         parse_design(tomllib.loads(text))  # what we write must load
         return text
@@ -251,7 +259,7 @@ def _names(text: str) -> list[str]:
     return list(dict.fromkeys(name for _, name in names if name != "s"))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class StateCheck:
     """Result of `check_state`: a state, or one message per offending field."""
 
@@ -328,12 +336,12 @@ def check_state(data: Any) -> StateCheck:
     >>> check = check_state({"model": {"D1": "k1", "CL": "kd"}, "values": {"kd": "2e3"}})
     >>> check.state.values["kd"], check.state.gain, check.state.ranges["kd"]
     (2000.0, 'kd', (0.0, 20000.0))
-    >>> check_state({"model": {"D1": "k1 +"}}).errors
+    >>> dict(check_state({"model": {"D1": "k1 +"}}).errors)
     {'model.D1': "cannot parse expression 'k1 +': invalid syntax"}
     """
     errors: dict[str, str] = {}
     if not isinstance(data, Mapping):
-        return StateCheck(None, {"state": "expected a JSON object"})
+        return StateCheck(state=None, errors=MappingProxyType({"state": "expected a JSON object"}))
     model_in = data.get("model", {})
     if not isinstance(model_in, Mapping):
         model_in = {}
@@ -438,7 +446,7 @@ def check_state(data: Any) -> StateCheck:
     )
 
     if errors:
-        return StateCheck(None, errors)
+        return StateCheck(state=None, errors=MappingProxyType(errors))
     name = _NAME.sub("-", str(data.get("name", "") or "custom")).strip("-.")[:64] or "custom"
     title = str(data.get("title", "") or "")[: LIMITS["title"]]
     params = list(values)
@@ -471,9 +479,13 @@ def check_state(data: Any) -> StateCheck:
             **conditions,
         )
         state.sea()
+        state.loop  # noqa: B018 - the filter below the Nyquist frequency of the period
     except SeapassError as exc:
-        return StateCheck(None, {_field_of(str(exc)): str(exc)})
-    return StateCheck(state, {})
+        arg = exc.argument or ""
+        if arg in ("period", "delay", "velocity_filter"):
+            return StateCheck(state=None, errors=MappingProxyType({arg: str(exc)[len(arg) + 2 :]}))
+        return StateCheck(state=None, errors=MappingProxyType({_field_of(str(exc)): str(exc)}))
+    return StateCheck(state=state, errors=MappingProxyType({}))
 
 
 def _field_of(message: str) -> str:

@@ -91,7 +91,7 @@ def c_literal(value: Fraction | float | int) -> CLiteral:
     return CLiteral(f"{mant}p{exp}", repr(d), comment)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ExportResult:
     """What [`export_c`][seapass.export.c_code.export_c] wrote.
 
@@ -360,4 +360,4 @@ def export_c(
     for t in targets:
         _check_target(t)
         atomic_write_text(t, files[t.name])
-    return ExportResult(targets[0], targets[1], dep)
+    return ExportResult(header=targets[0], source=targets[1], deployment=dep)

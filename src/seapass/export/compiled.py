@@ -31,6 +31,7 @@ from .deployment import Deployment
 
 __all__ = [
     "CFLAGS",
+    "VERIFY_RTOL",
     "CompiledController",
     "VerifyResult",
     "compile_c",
@@ -42,6 +43,10 @@ __all__ = [
 CFLAGS = ("-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic", "-O2", "-ffp-contract=off")
 _COMPILE_TIMEOUT = 120.0  # s
 _MAX_STEPS = 10_000_000
+
+VERIFY_RTOL = 1e-12
+"""Largest relative difference between the compiled C and the Python commands that
+[`verify_c`][seapass.export.compiled.verify_c] accepts (``VerifyResult.ok``)."""
 
 
 def find_c_compiler() -> str | None:
@@ -241,7 +246,7 @@ def compile_c(
         return CompiledController(lib, export.deployment, period=period)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class VerifyResult:
     """How closely the compiled C follows the Python controller ([`verify_c`][seapass.export.compiled.verify_c]).
 
@@ -256,6 +261,8 @@ class VerifyResult:
         Every command equal bit for bit.
     saturated : int
         Commands the C code clipped at the force limit.
+    rtol : float
+        The largest ``max_rel`` accepted (`VERIFY_RTOL`).
     """
 
     steps: int
@@ -263,6 +270,12 @@ class VerifyResult:
     max_rel: float
     identical: bool
     saturated: int
+    rtol: float = VERIFY_RTOL
+
+    @property
+    def ok(self) -> bool:
+        """The compiled C follows the Python controller within ``rtol``."""
+        return self.max_rel <= self.rtol
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -271,6 +284,8 @@ class VerifyResult:
             "max_rel": self.max_rel,
             "identical": self.identical,
             "saturated": self.saturated,
+            "rtol": self.rtol,
+            "ok": self.ok,
         }
 
 

@@ -4,9 +4,12 @@ What lives here: [`limits`][seapass.files.limits] (every size limit of seapass:
 files, arrays, step counts, expressions, text), [`textfile`][seapass.files.textfile]
 (read a user's file with a size cap: devices, FIFOs and huge files fail fast),
 [`atomic`][seapass.files.atomic] (write a file or a directory so that an
-interrupted run never leaves a half-written one) and [`toml`][seapass.files.toml]
+interrupted run never leaves a half-written one), [`toml`][seapass.files.toml]
 (read design and rig files; every error names the file; write the flat tables
-seapass writes back).
+seapass writes back), [`schema`][seapass.files.schema] (the declarative checker of
+design and rig files: a `Field` per key), [`jsontext`][seapass.files.jsontext] (strict
+JSON text of any result: non-finite numbers null, numpy values plain) and
+[`csvtext`][seapass.files.csvtext] (CSV text of result rows).
 
 May import: [`seapass.errors`][seapass.errors] only.
 """

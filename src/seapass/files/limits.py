@@ -33,6 +33,7 @@ __all__ = [
     "MAX_REGION_COLUMNS",
     "MAX_RIG_INTEGRATOR_STEPS",
     "MAX_RIG_SAMPLES",
+    "MAX_RTOL",
     "MAX_SIM_STEPS",
     "MAX_S_DEGREE",
     "MAX_TERMS",
@@ -45,6 +46,7 @@ __all__ = [
     "MIN_RTOL",
     "SYMBOLIC_TIME_LIMIT",
     "check_count",
+    "check_rtol",
 ]
 
 # --------------------------------------------------------------------------- files
@@ -117,7 +119,11 @@ MAX_DELAY_SAMPLES = 100
 each sample adds 2 to the degree of the sampled passivity polynomial."""
 
 MIN_RTOL = 1e-12
-"""Smallest relative tolerance of a bisection (``sampled bound --rtol``); 0 never ends."""
+"""Smallest relative width of a certified edge enclosure (``rtol`` of
+[`sampled_passive_bound`][seapass.sampled.bound.sampled_passive_bound]); 0 never ends."""
+
+MAX_RTOL = 1e-2
+"""Largest relative width of a certified edge enclosure (a coarser edge says little)."""
 
 # --------------------------------------------------------------------------- expressions
 
@@ -171,3 +177,31 @@ def check_count(value: int, limit: int, what: str, hint: str = "") -> int:
             f"{what}: {value:,} exceeds the limit of {limit:,}" + (f"; {hint}" if hint else "")
         )
     return value
+
+
+def check_rtol(rtol: float) -> float:
+    """Return ``rtol`` if it is a relative edge width in ``[MIN_RTOL, MAX_RTOL]``, else raise.
+
+    The one check of ``rtol`` (sampled bounds and regions, the C export's
+    envelope); the command line shows ``--rtol`` in place of ``rtol``.
+
+    >>> check_rtol(1e-6)
+    1e-06
+    >>> check_rtol(0.0)
+    Traceback (most recent call last):
+    ...
+    seapass.errors.ParameterError: rtol must be in [1e-12, 0.01], the relative width of a certified edge enclosure; got rtol=0.0
+    """
+    if (
+        isinstance(rtol, bool)
+        or not isinstance(rtol, int | float)
+        or not (
+            MIN_RTOL <= rtol <= MAX_RTOL  # False for nan
+        )
+    ):
+        raise ParameterError(
+            f"rtol must be in [{MIN_RTOL:g}, {MAX_RTOL:g}], the relative width of a certified "
+            f"edge enclosure; got rtol={rtol!r}",
+            argument="rtol",
+        )
+    return float(rtol)

@@ -6,27 +6,34 @@ symbolic work), [`sea`][seapass.model.sea] (`SEA`, `Impedance`),
 [`stiffness`][seapass.model.stiffness] (the rendered stiffness ``F_L/X_L`` derived
 from first principles), [`realization`][seapass.model.realization] (the closed loop as
 a state-space system), [`catalog`][seapass.model.catalog] (the one catalog of named
-designs: LP, APD, Ours and every Table I/II row) and
-[`design_file`][seapass.model.design_file] (a user's design as a strict TOML file).
+designs: LP, APD, Ours and every Table I/II row), [`experiment`][seapass.model.experiment]
+(the paper's step-response experiment: step, horizon, load masses), [`loop`][seapass.model.loop]
+(`SampledLoop`, the digital controller's period, delay, velocity filter and discretization)
+and [`design_file`][seapass.model.design_file] (a user's design as a strict TOML file).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact].
+May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files].
 """
 
 from .catalog import CATALOG, PAPER_VALUES, REFERENCE_VALUES, CatalogDesign, design
 from .design_file import Design, load_design
+from .experiment import PAPER_EXPERIMENT, Experiment
+from .loop import SampledLoop
 from .realization import ClosedLoop, closed_loop
 from .sea import SEA, Impedance
 from .stiffness import derive_stiffness, load_impedance, paper_eq4_stiffness, passivity_polynomial
 
 __all__ = [
     "CATALOG",
+    "PAPER_EXPERIMENT",
     "PAPER_VALUES",
     "REFERENCE_VALUES",
     "SEA",
     "CatalogDesign",
     "ClosedLoop",
     "Design",
+    "Experiment",
     "Impedance",
+    "SampledLoop",
     "closed_loop",
     "derive_stiffness",
     "design",

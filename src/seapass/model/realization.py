@@ -80,7 +80,7 @@ def _realize(num: np.ndarray, den: np.ndarray, name: str) -> _Element:
     return _Element(p0, p1, A, B, C)
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class ClosedLoop:
     """Closed-loop state space ``ẋ = A x + B u``, ``y = C x + D u``.
 

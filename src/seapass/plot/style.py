@@ -47,7 +47,8 @@ STYLE: dict[str, Any] = {
 """rcParams of every seapass figure (applied with `figure_style`, never globally)."""
 
 FIGURE_FORMATS: tuple[str, ...] = ("png", "svg", "pdf")
-"""File formats `save_figure` writes when the path has no suffix."""
+"""Every figure format seapass writes; `save_figure` writes all of them when the path has
+no suffix, and the command line's ``--plot FILE`` accepts these suffixes."""
 
 
 _BARE: ContextVar[bool] = ContextVar("seapass_bare_figures", default=False)
@@ -178,8 +179,8 @@ def _write_bytes(path: str, *, data: bytes) -> None:
 
 
 def _render(fig: Any, fmt: str, dpi: int) -> bytes:
-    if fmt not in ("png", "svg", "pdf"):
-        raise ValueError(f"unsupported figure format {fmt!r}; use png, svg or pdf")
+    if fmt not in FIGURE_FORMATS:
+        raise ValueError(f"unsupported figure format {fmt!r}; use {', '.join(FIGURE_FORMATS)}")
     buf = io.BytesIO()
     meta: dict[str, Any] = {"Software": None}
     if fmt == "svg":

@@ -202,7 +202,7 @@ def _md_cell(value: Any, flagged: bool) -> str:
 
 
 def _views(t: Table) -> list[tuple[str, tuple[int, ...]]]:
-    return list(t.views) or [("", tuple(range(len(t.columns))))]
+    return t.view_indices()
 
 
 def _indexed(section: Section) -> list[tuple[Section, int, Finding]]:

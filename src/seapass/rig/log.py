@@ -4,7 +4,7 @@ A log has four columns, one row per control sample: time [s], commanded
 actuator force [N], actuator position ``x_A`` [m] and load position ``x_L`` [m]
 (SI units).  A header row is optional; ``#`` starts a comment line.  Rows are
 uniformly sampled (the control loop's period); the command in a row acts from
-that row's time (after the rig's ``control.delay_samples``) until the next row,
+that row's time (after the rig's ``control.delay``) until the next row,
 as a zero-order hold.
 
 `twin_log` makes such a log on the digital twin
@@ -113,6 +113,18 @@ class RigLog:
     @property
     def size(self) -> int:
         return int(self.t.size)
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """What looks wrong in the log without being an error: positions beyond 1 m
+        (millimetres given for metres?)."""
+        reach = float(max(np.abs(self.x_A).max(), np.abs(self.x_L).max()))
+        if reach > 1.0:
+            return (
+                f"positions reach {reach:g} m; the log's positions must be in metres "
+                "(millimetres given?)",
+            )
+        return ()
 
     def to_csv(self) -> str:
         """The log as CSV text with a header, readable by `parse_log`."""
@@ -271,7 +283,7 @@ def twin_log(
     """Run ``command`` open loop on the twin of ``rig`` and log it like the bench would.
 
     Row ``k`` holds the time ``k·T``, ``command[k]`` and the encoder readings at
-    that time; ``command[k]`` acts ``rig.control.delay_samples`` later, held
+    that time; ``command[k]`` acts ``rig.control.delay`` later, held
     for one period and saturated at the rig's force limit.
 
     Parameters
@@ -291,7 +303,7 @@ def twin_log(
         raise ParameterError("command must be a 1-D array of at least 3 finite forces")
     twin = TwinPlant(rig, load_mass=load_mass, seed=seed, **plant)
     twin.reset()
-    period, delay = rig.period, rig.control.delay_samples
+    period, delay = rig.period, rig.control.delay
     xa, xl = np.empty(u.size), np.empty(u.size)
     for k in range(u.size):
         xa[k], xl[k] = twin.measured_positions()

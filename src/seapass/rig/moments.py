@@ -39,7 +39,7 @@ _CENTRAL = 0.75  # no velocity reversal in this central part of a window (where 
 
 def applied_force(log: RigLog, rig: Rig, delay: int | None = None) -> FloatArray:
     """The force acting in each sample period: the command ``delay`` samples earlier, saturated."""
-    d = rig.control.delay_samples if delay is None else int(delay)
+    d = rig.control.delay if delay is None else int(delay)
     if not 0 <= d < log.size:
         raise ParameterError(f"delay must be between 0 and the log length, got {delay}")
     shifted = np.concatenate([np.zeros(d), log.force[: log.size - d]])
@@ -116,7 +116,7 @@ def pack_windows(
     return np.asarray(starts, dtype=np.int64), np.asarray(sizes, dtype=np.int64)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Moments:
     """Window moments divided by ``∫φ`` (so in newtons): one row per window.
 

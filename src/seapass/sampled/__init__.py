@@ -15,8 +15,8 @@ passive sets of one parameter), [`region`][seapass.sampled.region] (Z-width maps
 a simulation check) and [`runtime`][seapass.sampled.runtime] (a fixed-rate control loop
 with safety, for hardware or the twin).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model],
-[`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim], [`seapass.batch`][seapass.batch].
+May import: [`seapass.errors`][seapass.errors], ``seapass.outcome``, [`seapass.files`][seapass.files],
+[`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis].
 """
 
 from .bound import SampledBoundResult, sampled_passive_bound
@@ -28,7 +28,7 @@ from .controllers import (
     OursController,
     discretize,
 )
-from .passivity import SampledPassivityResult, SampledStatus, sampled_passivity
+from .passivity import SampledPassivityResult, SampledReason, SampledStatus, sampled_passivity
 from .region import ZWidthMap, sampled_region
 from .runtime import ControlLoop, HardwareInterface, SimulatedHardware
 
@@ -42,6 +42,7 @@ __all__ = [
     "OursController",
     "SampledBoundResult",
     "SampledPassivityResult",
+    "SampledReason",
     "SampledStatus",
     "SimulatedHardware",
     "ZWidthMap",

@@ -28,6 +28,7 @@ from typing import Any
 
 from flint import arb, arb_poly, fmpq, fmpq_poly
 
+from ..outcome import Outcome
 from .alias import AliasSums
 from .certified import (
     Sign,
@@ -42,6 +43,7 @@ from .family import ControllerFamily, poly_product
 from .power import weighted_polynomials
 from .verdict import (
     PRECISIONS,
+    SampledReason,
     alias_injection,
     cached_sums,
     characteristic,
@@ -55,12 +57,14 @@ __all__ = ["BoxVerdict", "bound_boxes"]
 MAX_BOXES = 20000
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BoxVerdict:
+    """The certified outcome of every value of the parameter in ``[lo, hi]``."""
+
     lo: Fraction
     hi: Fraction
-    status: str  # "passive", "not_passive", "undecided"
-    reason: str = ""
+    outcome: Outcome
+    reason: SampledReason = SampledReason.NONE
 
 
 def _fq(x: Fraction) -> fmpq:
@@ -195,32 +199,32 @@ def _classify(
     hi: Fraction,
     load_zero: bool,
     start: Sequence[tuple[Fraction, Fraction]] = (),
-) -> tuple[str, str, tuple[tuple[Fraction, Fraction], ...]]:
+) -> tuple[Outcome, SampledReason, tuple[tuple[Fraction, Fraction], ...]]:
     with precision(s.prec):
         a = arb(_fq(lo))
         w = arb(_fq(hi - lo))
         stable = _stable_on_box(s.chi_family, s.chi_circle, a, w)
         if stable is False:
-            return "not_passive", "unstable", ()
+            return Outcome.NOT_PASSIVE, SampledReason.UNSTABLE, ()
         dl_ok = True if load_zero else _stable_on_box(s.dl_family, s.dl_circle, a, w)
         if dl_ok is False:
-            return "not_passive", "unstable", ()
+            return Outcome.NOT_PASSIVE, SampledReason.UNSTABLE, ()
         controls = bernstein(_shift(s.p_family, a), w)
         res = sign_on(controls, Fraction(-1), Fraction(1), budget=200, start=start)
         if res.sign is Sign.NEGATIVE:
-            return "not_passive", "negative_power", ()
+            return Outcome.NOT_PASSIVE, SampledReason.NEGATIVE_POWER, ()
         if res.sign is Sign.POSITIVE and stable and dl_ok:
-            return "passive", "", ()
+            return Outcome.PASSIVE, SampledReason.NONE, ()
         if res.sign is Sign.POSITIVE:
-            return "undecided", "", res.partition
+            return Outcome.UNDECIDED, SampledReason.NONE, res.partition
         # the centre alone: a deep negative point of the centre often holds for the box
         centre_poly = _shift(s.p_family, arb(_fq((lo + hi) / 2)))[0]
         centre = sign_on([centre_poly], Fraction(-1), Fraction(1), budget=60)
         if centre.sign is Sign.NEGATIVE and centre.witness is not None:
             for x in (_deepest(centre_poly, centre.witness), *_global_minimum(centre_poly)):
                 if negative_at(controls, x):
-                    return "not_passive", "negative_power", ()
-    return "undecided", "", ()
+                    return Outcome.NOT_PASSIVE, SampledReason.NEGATIVE_POWER, ()
+    return Outcome.UNDECIDED, SampledReason.NONE, ()
 
 
 def _global_minimum(poly: arb_poly) -> list[Fraction]:
@@ -249,9 +253,10 @@ def bound_boxes(
     """
     a_zero, l_zero = fam.actuator.is_zero, fam.load.is_zero
     if a_zero and l_zero:
-        return [BoxVerdict(lo, hi, "passive", "no_control")]
+        return [BoxVerdict(lo=lo, hi=hi, outcome=Outcome.PASSIVE, reason=SampledReason.NO_CONTROL)]
     if not l_zero and alias_injection(key):
-        return [BoxVerdict(lo, hi, "not_passive", "alias_injection")]
+        no = Outcome.NOT_PASSIVE
+        return [BoxVerdict(lo=lo, hi=hi, outcome=no, reason=SampledReason.ALIAS_INJECTION)]
     names = needed_sums(a_zero, l_zero)
     if "Sg" not in names:
         names = (*names, "Sg")
@@ -268,9 +273,9 @@ def bound_boxes(
         while stack:
             a, b, start = stack.pop()
             boxes += 1
-            status, reason, part = _classify(s, a, b, l_zero, start)
-            if status != "undecided":
-                done.append(BoxVerdict(a, b, status, reason))
+            outcome, reason, part = _classify(s, a, b, l_zero, start)
+            if outcome is not Outcome.UNDECIDED:
+                done.append(BoxVerdict(lo=a, hi=b, outcome=outcome, reason=reason))
                 if advance:
                     advance(float((b - a) / (hi - lo)))
                 continue
@@ -284,13 +289,22 @@ def bound_boxes(
         todo = []
         for group in _merge(leaves):
             if _is_edge(group, proven):
-                done.append(BoxVerdict(group[0], group[1], "undecided", "edge"))
+                done.append(
+                    BoxVerdict(
+                        lo=group[0],
+                        hi=group[1],
+                        outcome=Outcome.UNDECIDED,
+                        reason=SampledReason.EDGE,
+                    )
+                )
             else:
                 todo.append(group)
         if not todo or boxes > MAX_BOXES:
             break
     for a, b in todo:
-        done.append(BoxVerdict(a, b, "undecided", "undecided"))
+        done.append(
+            BoxVerdict(lo=a, hi=b, outcome=Outcome.UNDECIDED, reason=SampledReason.UNDECIDED)
+        )
     return sorted(done, key=lambda v: v.lo)
 
 
@@ -306,6 +320,6 @@ def _merge(leaves: list[tuple[Fraction, Fraction]]) -> list[tuple[Fraction, Frac
 
 def _is_edge(leaf: tuple[Fraction, Fraction], proven: list[BoxVerdict]) -> bool:
     a, b = leaf
-    left = next((v.status for v in reversed(proven) if v.hi == a), None)
-    right = next((v.status for v in proven if v.lo == b), None)
+    left = next((v.outcome for v in reversed(proven) if v.hi == a), None)
+    right = next((v.outcome for v in proven if v.lo == b), None)
     return left is not None and right is not None and left != right

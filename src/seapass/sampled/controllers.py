@@ -31,13 +31,14 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 import sympy as sp
 
 from ..errors import ParameterError, UnrealizableError
 from ..model.expr import S, to_fraction
+from ..model.loop import METHODS, Method, SampledLoop
 from ..model.sea import SEA
 
 __all__ = [
@@ -55,8 +56,6 @@ __all__ = [
     "zoh_discretize",
 ]
 
-Method = Literal["tustin", "zoh", "backward"]
-_METHODS = ("tustin", "zoh", "backward")
 _ZINV = sp.Symbol("q")  # stands for z^-1 inside this module
 
 
@@ -274,8 +273,8 @@ def discretize(
     >>> [float(c) for c in k.num], [float(c) for c in k.den]
     ([300.0, -200.0], [1.0])
     """
-    if method not in _METHODS:
-        raise ParameterError(f"method must be one of {', '.join(_METHODS)}, got {method!r}")
+    if method not in METHODS:
+        raise ParameterError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     T = _check_period(period)
     if isinstance(expr, str):
         from ..model.expr import parse_expression
@@ -372,6 +371,19 @@ class DiscreteController:
             parts.append(res)
         return cls(parts[0], parts[1], float(period), sea.name)
 
+    @classmethod
+    def for_loop(
+        cls, sea: SEA, loop: SampledLoop, *, values: Mapping[str, float] | None = None
+    ) -> DiscreteController:
+        """`from_sea` at the period, discretization and velocity filter of ``loop``."""
+        return cls.from_sea(
+            sea,
+            loop.period,
+            method=loop.method,
+            velocity_filter=loop.velocity_filter,
+            values=values,
+        )
+
     def transfer_functions(self) -> tuple[DiscreteTF, DiscreteTF]:
         """Total ``(K_A(z), K_L(z))`` acting on ``−x`` when references are zero."""
         return self.CA[0] + self.CA[1], self.CL[0] + self.CL[1]
@@ -440,17 +452,7 @@ def state_space(tf: DiscreteTF) -> tuple[np.ndarray, ...]:
     return A, B, C, np.array([[b[0]]])
 
 
-def controller_tfs(
-    sea: SEA,
-    *,
-    period: float,
-    delay: int = 0,
-    velocity_filter: float | None = None,
-    method: Method = "tustin",
-) -> tuple[DiscreteTF, DiscreteTF]:
-    """``(z^-d K_A(z), z^-d K_L(z))`` exactly as `DiscreteController` runs them."""
-    if int(delay) != delay or delay < 0:
-        raise ParameterError(f"delay must be a non-negative whole number of samples, got {delay!r}")
-    ctrl = DiscreteController.from_sea(sea, period, method=method, velocity_filter=velocity_filter)
-    ka, kl = ctrl.transfer_functions()
-    return ka.delayed(int(delay)), kl.delayed(int(delay))
+def controller_tfs(sea: SEA, loop: SampledLoop) -> tuple[DiscreteTF, DiscreteTF]:
+    """``(z^-d K_A(z), z^-d K_L(z))`` in ``loop`` exactly as `DiscreteController` runs them."""
+    ka, kl = DiscreteController.for_loop(sea, loop).transfer_functions()
+    return ka.delayed(loop.delay), kl.delayed(loop.delay)

@@ -39,7 +39,7 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LowFrequency:
     """``R_lf`` (N·s/m), its closed form, and whether it is violated (``R_lf < 0``)."""
 
@@ -83,8 +83,8 @@ def low_frequency_of(
             text = f"low-frequency resistance {form} < 0"
         else:
             text = f"{form} >= 0, but the aliases' share makes N(0) negative"
-        return LowFrequency(r, expr, text)
-    return LowFrequency(r)
+        return LowFrequency(resistance=r, closed_form=expr, explanation=text)
+    return LowFrequency(resistance=r)
 
 
 def _ratio(x: Any) -> tuple[int, int]:

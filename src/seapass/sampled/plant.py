@@ -22,6 +22,7 @@ import sympy as sp
 from flint import acb, ctx, fmpq, fmpq_poly
 
 from ..errors import ModelError, ParameterError
+from ..exact.poly import as_poly, rational
 from ..model.expr import S
 from ..model.sea import SEA
 
@@ -43,13 +44,8 @@ _ONE = fmpq_poly([1])
 _S = fmpq_poly([0, 1])
 
 
-def _fmpq(x: sp.Expr) -> fmpq:
-    r = sp.Rational(x)
-    return fmpq(int(r.p), int(r.q))
-
-
 def _poly(expr: sp.Expr) -> fmpq_poly:
-    return fmpq_poly([_fmpq(c) for c in reversed(sp.Poly(expr, S).all_coeffs())])
+    return as_poly([sp.Rational(c) for c in reversed(sp.Poly(expr, S).all_coeffs())])
 
 
 def reduced(num: fmpq_poly, den: fmpq_poly) -> RationalFunction:
@@ -231,7 +227,9 @@ def _numeric(sea: SEA, name: str) -> sp.Expr:
 def plant_from_key(key: str) -> Plant:
     """The plant of a [`plant_key`][seapass.sampled.plant.plant_key] (cached)."""
     m, b, d1, d2 = sp.sympify(key)
-    return plant_from_rationals(_fmpq(m), _fmpq(b), rational_of(d1), rational_of(d2))
+    return plant_from_rationals(
+        rational(sp.Rational(m)), rational(sp.Rational(b)), rational_of(d1), rational_of(d2)
+    )
 
 
 def plant_key(sea: SEA) -> str:

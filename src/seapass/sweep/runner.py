@@ -111,7 +111,7 @@ def _part_task(c: int, state: Mapping[str, Any], parts: Location) -> PartSummary
 # --------------------------------------------------------------------------- result
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class DesignSweepResult:
     """Summary of a finished sweep.
 

@@ -66,7 +66,7 @@ CONSOLIDATED_SUFFIXES = (".parquet", ".csv")
 JOURNAL_INTERVAL = 1.0
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PartSummary:
     """What the writer of one part reports: a few numbers, never the data.
 
