@@ -6,6 +6,7 @@ import argparse
 from typing import Any
 
 from ..errors import ParameterError, SeapassError
+from ..outcome import Outcome
 from .common import (
     add_json_option,
     add_model_options,
@@ -213,19 +214,9 @@ def _bands(bands: Any) -> str:
     return ", ".join(f"({b.lo:.6g}, {b.hi:.6g})" for b in bands)
 
 
-def _eta_line(eta: Any) -> str:
-    if eta.kind == "undefined":
-        return "eta: undefined (p12 p21 = 0)"
-    if eta.kind == "unbounded":
-        return f"inf eta = -inf (next to w = {eta.limit:.6g} rad/s)"
-    where = (
-        f"at w = {eta.omega:.6g} rad/s" if eta.kind == "attained" else f"as w -> {eta.limit:.6g}"
-    )
-    return f"inf eta = {eta.value:.6g} {where}"
-
-
 def run_check(args: argparse.Namespace) -> int:
     from ..ports.check import check_two_port
+    from ..ports.stability import eta_text
 
     figure = plot_path(args.plot)
     tp = two_port_from_args(args)
@@ -236,10 +227,10 @@ def run_check(args: argparse.Namespace) -> int:
     if args.json:
         print_json(result.to_dict())
     else:
-        if stab.outcome.value == "passive":
+        if stab.absolutely_stable:
             print("absolutely stable (Llewellyn, exact)")
         else:
-            word = "undecided" if stab.outcome.value == "undecided" else "not absolutely stable"
+            word = "undecided" if stab.outcome is Outcome.UNDECIDED else "not absolutely stable"
             parts = [
                 f"{c.name} fails for w in {_bands(c.bands)} rad/s"
                 if c.bands
@@ -255,7 +246,7 @@ def run_check(args: argparse.Namespace) -> int:
             + (f" ({failing})" if failing else "")
             + f"; reciprocal: {'yes' if result.reciprocal else 'no'}"
         )
-        print(_eta_line(stab.eta))
+        print(f"inf eta = {eta_text(stab.eta)}")
         if stab.witness is not None:
             print(f"witness: {stab.witness.detail}")
     return 0 if result.absolutely_stable else 1
@@ -270,7 +261,7 @@ def run_bound(args: argparse.Namespace) -> int:
     if args.json:
         print_json(result.to_dict())
     else:
-        what = "absolutely stable" if args.criterion == "absolute" else "passive"
+        what = result.criterion.label
         if not result.intervals:
             print(f"not {what} for any {args.param} in [{lo:g}, {hi:g}]")
         for a, b in result.intervals:

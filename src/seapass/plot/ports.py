@@ -138,7 +138,7 @@ def plot_port_region(region: PortRegion, *, title: str = "", ax: Any = None) -> 
     ax.set_ylim(*region.y_range)
     ax.set_xlabel(region.param_x)
     ax.set_ylabel(region.param_y)
-    what = "absolutely stable" if region.criterion == "absolute" else "passive"
+    what = region.criterion.label
     ax.set_title(title or f"{what} region (exact along {region.param_y})", fontsize=10)
     ax.grid(True, alpha=0.3)
     if any(col.intervals for col in region.columns):

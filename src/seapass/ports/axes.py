@@ -50,6 +50,7 @@ import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import MappingProxyType
 from typing import Any
 
 import sympy as sp
@@ -61,7 +62,7 @@ from ..model.display import html_card, short_repr
 from ..model.expr import STANDARD_SYMBOLS, S
 from ..model.sea import check_used
 from .derive import equation, solve_ports
-from .entries import freeze_values, parse_entry, square_entries
+from .entries import freeze_values, no_values, parse_entry, square_entries
 from .mimo import NPort
 
 __all__ = ["SIDES", "CoupledAxes", "load_axes", "parse_axes"]
@@ -76,7 +77,7 @@ class CoupledAxes:
 
     Attributes
     ----------
-    axes : tuple of dict
+    axes : tuple of mappings
         Per axis the elements ``m``, ``b``, ``D1``, ``D2`` (text, sympy or numbers).
     K, B : n×n nested sequences
         Stiffness and damping gain matrices (expressions or numbers).
@@ -91,7 +92,7 @@ class CoupledAxes:
     K: Any
     B: Any
     side: str = "actuator"
-    values: Mapping[str, float | None] = field(default_factory=dict)
+    values: Mapping[str, float | None] = field(default_factory=no_values)
     name: str = ""
 
     def __post_init__(self) -> None:
@@ -118,7 +119,7 @@ class CoupledAxes:
                 raise ParameterError(
                     f"axes[{i}]: D1 = D2 = 0 leaves the load port connected to nothing"
                 )
-            parsed.append(elems)
+            parsed.append(MappingProxyType(elems))
         object.__setattr__(self, "axes", tuple(parsed))
         for key in ("K", "B"):
             raw = square_entries(getattr(self, key), n)

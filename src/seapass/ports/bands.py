@@ -152,7 +152,7 @@ def _tight(point: HalfLinePoint) -> HalfLinePoint:
     return minimal_point(point).refined(width)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Band:
     """An open frequency band where a condition fails, with exact edges.
 

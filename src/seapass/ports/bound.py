@@ -16,7 +16,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from enum import StrEnum
 from fractions import Fraction
 from typing import Any
 
@@ -36,10 +37,44 @@ from .matrix import from_polynomials
 from .passivity import matrix_passivity
 from .ratfunc import frac_of, to_fmpq_poly
 
-__all__ = ["CRITERIA", "PortIntervals", "PortRegion", "port_intervals", "port_region"]
+__all__ = [
+    "CRITERIA",
+    "Criterion",
+    "PortIntervals",
+    "PortRegion",
+    "criterion_of",
+    "port_intervals",
+    "port_region",
+]
 
-CRITERIA = ("absolute", "passive")
+
+class Criterion(StrEnum):
+    """What a gain interval guarantees (the JSON value ``criterion`` is the string)."""
+
+    ABSOLUTE = "absolute"
+    """Llewellyn's absolute stability (two-ports only)."""
+    PASSIVE = "passive"
+    """Passivity (positive-realness) of the immittance matrix."""
+
+    @property
+    def label(self) -> str:
+        """Words for people: ``"absolutely stable"`` or ``"passive"``."""
+        return "absolutely stable" if self is Criterion.ABSOLUTE else "passive"
+
+
+CRITERIA = tuple(c.value for c in Criterion)
 """``absolute``: Llewellyn's absolute stability (two-ports); ``passive``: positive-realness."""
+
+
+def criterion_of(criterion: Criterion | str) -> Criterion:
+    """``criterion`` as a `Criterion` (`ParameterError` naming the choices otherwise)."""
+    try:
+        return Criterion(criterion)
+    except ValueError:
+        raise ParameterError(
+            f"criterion: {criterion!r} is not one of {', '.join(CRITERIA)}", argument="criterion"
+        ) from None
+
 
 #: Relative width of the isolating intervals of irrational critical values.
 CRITICAL_RTOL = fmpq(1, 2**64)
@@ -52,26 +87,29 @@ class PortIntervals:
     Attributes
     ----------
     param : str
-    criterion : str
-        ``"absolute"`` or ``"passive"``.
+    criterion : Criterion
+        Absolute stability or passivity.
     lo, hi : float
         The search range.
-    intervals : list of (float, float)
+    intervals : tuple of (float, float)
         Disjoint closed intervals, ends rounded inward (every printed end point
         satisfies the criterion); a single value appears as ``(v, v)``.
-    undecided : list of (float, float)
+    undecided : tuple of (float, float)
         Cells the exact test could not decide (never counted as passing).
-    critical_values : list of float
+    critical_values : tuple of float
         Every value in the range where the verdict may change.
     """
 
     param: str
-    criterion: str
+    criterion: Criterion
     lo: float
     hi: float
-    intervals: list[tuple[float, float]] = field(default_factory=list)
-    undecided: list[tuple[float, float]] = field(default_factory=list)
-    critical_values: list[float] = field(default_factory=list)
+    intervals: tuple[tuple[float, float], ...] = ()
+    undecided: tuple[tuple[float, float], ...] = ()
+    critical_values: tuple[float, ...] = ()
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "criterion", criterion_of(self.criterion))
 
     def contains(self, value: float) -> bool:
         return any(a <= value <= b for a, b in self.intervals)
@@ -79,7 +117,7 @@ class PortIntervals:
     def to_dict(self) -> dict[str, Any]:
         return {
             "param": self.param,
-            "criterion": self.criterion,
+            "criterion": self.criterion.value,
             "range": [self.lo, self.hi],
             "intervals": [list(iv) for iv in self.intervals],
             "undecided": [list(iv) for iv in self.undecided],
@@ -96,12 +134,12 @@ class PortIntervals:
         text = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in self.intervals[:4]) or "[] (nowhere)"
         return short_repr(
             "PortIntervals",
-            {"param": self.param, "criterion": self.criterion, "intervals": Shown(text)},
+            {"param": self.param, "criterion": self.criterion.value, "intervals": Shown(text)},
         )
 
     def _repr_html_(self) -> str:
         text = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in self.intervals) or "nowhere"
-        what = "absolutely stable" if self.criterion == "absolute" else "passive"
+        what = self.criterion.label
         return html_card(
             f"Exact set of {self.param} ({what})",
             [("search range", f"[{self.lo:g}, {self.hi:g}]"), (what + " for", text)],
@@ -194,7 +232,7 @@ def _pieces(
 
 def _merge(
     pieces: list[tuple[fmpq, bool, fmpq, bool, Outcome]], want: Outcome
-) -> list[tuple[float, float]]:
+) -> tuple[tuple[float, float], ...]:
     """Maximal runs of pieces with outcome ``want``, as floats rounded inward."""
     runs: list[list[tuple[fmpq, bool, fmpq, bool, Outcome]]] = []
     for p in pieces:
@@ -213,7 +251,7 @@ def _merge(
         b = _float_down(end, strict=not e_closed)
         if a <= b:
             out.append((a, b))
-    return out
+    return tuple(out)
 
 
 def port_intervals(
@@ -222,7 +260,7 @@ def port_intervals(
     lo: float,
     hi: float,
     *,
-    criterion: str = "absolute",
+    criterion: Criterion | str = Criterion.ABSOLUTE,
     values: Mapping[str, float] | None = None,
 ) -> PortIntervals:
     """Exact set of values of ``param`` in ``[lo, hi]`` for which the criterion holds.
@@ -235,7 +273,7 @@ def port_intervals(
         The free parameter, e.g. ``"kd"``.
     lo, hi : float
         The search range, ``lo <= hi``.
-    criterion : {"absolute", "passive"}
+    criterion : Criterion or {"absolute", "passive"}, default "absolute"
         Llewellyn's absolute stability (two-ports only) or passivity.
     values : mapping, optional
         Extra or overriding parameter values.
@@ -253,12 +291,9 @@ def port_intervals(
     >>> [(round(a, 3), round(b, 3)) for a, b in r.intervals]
     [(0.0, 1523.919)]
     """
-    if criterion not in CRITERIA:
-        raise ParameterError(
-            f"criterion: {criterion!r} is not one of {', '.join(CRITERIA)}", argument="criterion"
-        )
+    criterion = criterion_of(criterion)
     obj, n, form = _system(system, None)
-    if criterion == "absolute" and n != 2:
+    if criterion is Criterion.ABSOLUTE and n != 2:
         raise ParameterError(
             "criterion 'absolute' (Llewellyn) is for two-ports; use 'passive'", argument="criterion"
         )
@@ -290,7 +325,7 @@ def port_intervals(
         if any(d.is_zero() for row in den for d in row):
             return Outcome.NOT_PASSIVE  # an entry is undefined: no two-port there
         m = from_polynomials(num, den)
-        if criterion == "absolute":
+        if criterion is Criterion.ABSOLUTE:
             return combine([c.outcome for c in llewellyn_conditions(m, form)])
         return matrix_passivity(m, form=form).outcome
 
@@ -302,7 +337,7 @@ def port_intervals(
         hi=float(hi_f),
         intervals=_merge(pieces, Outcome.PASSIVE),
         undecided=_merge(pieces, Outcome.UNDECIDED),
-        critical_values=[float((a + b) / 2) for a, b in crit],
+        critical_values=tuple(float((a + b) / 2) for a, b in crit),
     )
 
 
@@ -312,20 +347,24 @@ class PortRegion:
 
     param_x: str
     param_y: str
-    criterion: str
+    criterion: Criterion
     x: np.ndarray
     y_range: tuple[float, float]
-    columns: list[PortIntervals]
+    columns: tuple[PortIntervals, ...]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "criterion", criterion_of(self.criterion))
+        object.__setattr__(self, "columns", tuple(self.columns))
 
     @property
-    def intervals(self) -> list[list[tuple[float, float]]]:
-        return [c.intervals for c in self.columns]
+    def intervals(self) -> tuple[tuple[tuple[float, float], ...], ...]:
+        return tuple(c.intervals for c in self.columns)
 
     def to_dict(self) -> dict[str, Any]:
         return {
             "param_x": self.param_x,
             "param_y": self.param_y,
-            "criterion": self.criterion,
+            "criterion": self.criterion.value,
             "x": self.x.tolist(),
             "y_range": list(self.y_range),
             "intervals": [[list(iv) for iv in c.intervals] for c in self.columns],
@@ -338,7 +377,7 @@ class PortRegion:
             {
                 "x": Shown(f"{self.param_x} ({self.x.size} values)"),
                 "y": self.param_y,
-                "criterion": self.criterion,
+                "criterion": self.criterion.value,
             },
         )
 
@@ -359,7 +398,7 @@ def port_region(
     param_y: str,
     y_range: tuple[float, float],
     *,
-    criterion: str = "absolute",
+    criterion: Criterion | str = Criterion.ABSOLUTE,
     values: Mapping[str, float] | None = None,
 ) -> PortRegion:
     """`port_intervals` of ``param_y`` at every value of ``param_x`` in ``x_values``."""
@@ -368,17 +407,17 @@ def port_region(
         raise ParameterError(f"x_values: 1 to {MAX_REGION_COLUMNS} values, got shape {xs.shape}")
     if param_x == param_y:
         raise ParameterError("param_x and param_y must be different parameters")
-    cols = [
+    cols = tuple(
         port_intervals(
             system, param_y, y_range[0], y_range[1], criterion=criterion,
             values={**(values or {}), param_x: float(x)},
         )
         for x in xs
-    ]  # fmt: skip
+    )  # fmt: skip
     return PortRegion(
         param_x=param_x,
         param_y=param_y,
-        criterion=criterion,
+        criterion=criterion_of(criterion),
         x=xs,
         y_range=(float(y_range[0]), float(y_range[1])),
         columns=cols,

@@ -84,6 +84,11 @@ class TwoPortCheck:
 
     Attributes
     ----------
+    outcome : Outcome
+        The two-port's passivity (``passivity.outcome``; ``passive`` is
+        ``outcome.passive``).  Absolute stability, which decides the exit code
+        of ``seapass twoport check``, is ``stability.outcome``
+        (``absolutely_stable`` is ``stability.outcome.passive``).
     stability : AbsoluteStability
         Llewellyn's criterion, η and the witness pair.
     passivity : MatrixPassivity
@@ -100,12 +105,16 @@ class TwoPortCheck:
     two_port: TwoPort = field(compare=False)
 
     @property
+    def outcome(self) -> Outcome:
+        return self.passivity.outcome
+
+    @property
     def absolutely_stable(self) -> bool:
         return self.stability.absolutely_stable
 
     @property
     def passive(self) -> bool:
-        return self.passivity.passive
+        return self.outcome.passive
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON of ``seapass twoport check``."""
@@ -114,7 +123,7 @@ class TwoPortCheck:
             {"criterion": "absolute_stability", **c.to_dict()} for c in self.stability.conditions
         ]
         conditions += [{"criterion": "passivity", **c.to_dict()} for c in self.passivity.conditions]
-        passive = None if self.passivity.outcome is Outcome.UNDECIDED else self.passive
+        passive = None if self.outcome is Outcome.UNDECIDED else self.passive
         return {
             "absolutely_stable": stab["absolutely_stable"],
             "passive": passive,

@@ -44,6 +44,7 @@ from ..analysis.coupled import (
     to_float,
 )
 from ..errors import DegenerateModelError
+from ..outcome import Outcome
 from .forms import Form, form_of
 from .matrix import ExactMatrix, from_polynomials
 from .ratfunc import Frac as RFrac
@@ -179,14 +180,18 @@ def input_immittance(m: ExactMatrix, form: Form | str, port: int, env: Environme
     return num / lead, den / lead
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ClosedLoop:
     """Exact stability of a two-port closed by a termination on each port.
 
     Attributes
     ----------
     status : Stability
-        ``"stable"``, ``"marginally stable"`` or ``"unstable"``, decided exactly.
+        Stable, marginally stable or unstable, decided exactly.
+    outcome : Outcome
+        What this one pair of passive terminations proves about absolute
+        stability: ``NOT_PASSIVE`` (not absolutely stable) when the loop is
+        unstable, else ``UNDECIDED`` (one stable pair proves nothing).
     rhp : bool
         A closed-loop pole lies in the open right half-plane.
     repeated_axis : bool
@@ -205,7 +210,11 @@ class ClosedLoop:
 
     @property
     def unstable(self) -> bool:
-        return self.status == Stability.UNSTABLE
+        return self.status is Stability.UNSTABLE
+
+    @property
+    def outcome(self) -> Outcome:
+        return Outcome.NOT_PASSIVE if self.unstable else Outcome.UNDECIDED
 
     @property
     def max_real_part(self) -> float:
@@ -213,7 +222,7 @@ class ClosedLoop:
 
     def to_dict(self) -> dict[str, Any]:
         return {
-            "status": str(self.status),
+            "status": self.status.value,
             "rhp": self.rhp,
             "repeated_axis": self.repeated_axis,
             "characteristic": list(self.characteristic),

@@ -59,7 +59,7 @@ FRICTION_SITES = ("actuator", "transmission")
 _X_A, _F_A, _F_L, _F_2, _X_L, _X_2 = sp.symbols("X_A F_A F_L F_2 X_L X_2")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PortEquations:
     """The free-body equations of a two-port and the impedance matrix they give.
 

@@ -19,7 +19,12 @@ from ..files.limits import MAX_PORTS
 from ..model.expr import check_name, check_rational_in_s, parse_expression, to_fraction
 from .ratfunc import cancelled
 
-__all__ = ["freeze_values", "parse_entry", "square_entries"]
+__all__ = ["freeze_values", "no_values", "parse_entry", "square_entries"]
+
+
+def no_values() -> Mapping[str, float | None]:
+    """A read-only empty mapping of parameter values (the default of the port models)."""
+    return MappingProxyType({})
 
 
 def freeze_values(values: Mapping[str, Any] | None) -> Mapping[str, float | None]:

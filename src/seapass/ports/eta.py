@@ -31,8 +31,10 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
+from enum import StrEnum
 from typing import Any
 
 from flint import fmpq, fmpq_poly, fmpz
@@ -40,7 +42,7 @@ from flint import fmpq, fmpq_poly, fmpz
 from ..exact.halfline import HalfLinePoint, enclose
 from .bands import half_line_points, minimal_point, omega_of
 
-__all__ = ["EtaMinimum", "eta_infimum", "sqrt_bounds"]
+__all__ = ["EtaKind", "EtaMinimum", "eta_infimum", "sqrt_bounds"]
 
 #: Relative width of the enclosure of ``R`` at a candidate (below double precision).
 RTOL = fmpq(1, 2**56)
@@ -69,7 +71,20 @@ def sqrt_bounds(q: fmpq, bits: int = 80) -> tuple[fmpq, fmpq]:
     return lo, hi
 
 
-@dataclass(frozen=True)
+class EtaKind(StrEnum):
+    """How ``inf η`` is reached (the JSON value ``eta_min_kind`` is the string)."""
+
+    ATTAINED = "attained"
+    """Attained at a frequency (``omega``)."""
+    LIMIT = "limit"
+    """Approached as ``ω → limit`` (``0``, ``∞`` or next to a pole), not attained."""
+    UNBOUNDED = "unbounded"
+    """``−∞``, next to ``limit``."""
+    UNDEFINED = "undefined"
+    """``p12 p21 ≡ 0``: η does not exist."""
+
+
+@dataclass(frozen=True, kw_only=True)
 class EtaMinimum:
     """``inf_ω η(ω)`` with a certified enclosure.
 
@@ -77,10 +92,10 @@ class EtaMinimum:
     ----------
     lower, upper : flint.fmpq or None
         ``lower <= inf η <= upper``; both None when ``inf η = −∞`` or η is undefined.
-    kind : str
-        ``"attained"`` (at ``omega``), ``"limit"`` (approached as ``ω → limit``,
-        not attained), ``"unbounded"`` (``−∞``, next to ``limit``) or
-        ``"undefined"`` (``p12 p21 ≡ 0``: η does not exist).
+    kind : EtaKind
+        ``ATTAINED`` (at ``omega``), ``LIMIT`` (approached as ``ω → limit``,
+        not attained), ``UNBOUNDED`` (``−∞``, next to ``limit``) or
+        ``UNDEFINED`` (``p12 p21 ≡ 0``: η does not exist).
     omega : float or None
         Where the infimum is attained [rad/s] (``kind == "attained"``).
     limit : float or None
@@ -89,14 +104,17 @@ class EtaMinimum:
 
     lower: fmpq | None
     upper: fmpq | None
-    kind: str
+    kind: EtaKind
     omega: float | None = None
     limit: float | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "kind", EtaKind(self.kind))
 
     @property
     def value(self) -> float:
         """The infimum as a float (``-inf`` when unbounded, ``nan`` when undefined)."""
-        if self.kind == "undefined":
+        if self.kind is EtaKind.UNDEFINED:
             return math.nan
         if self.lower is None or self.upper is None:
             return -math.inf
@@ -105,8 +123,8 @@ class EtaMinimum:
     def to_dict(self) -> dict[str, Any]:
         return {
             "eta_min": self.value,
-            "eta_min_frequency": self.omega if self.kind == "attained" else None,
-            "eta_min_kind": self.kind,
+            "eta_min_frequency": self.omega if self.kind is EtaKind.ATTAINED else None,
+            "eta_min_kind": self.kind.value,
             "eta_min_limit": self.limit,
             "eta_min_enclosure": None
             if self.lower is None or self.upper is None
@@ -114,13 +132,17 @@ class EtaMinimum:
         }
 
 
-@dataclass
+@dataclass(frozen=True, kw_only=True)
 class _Candidate:
     sigma: int  # sign of η there (−1, 0, 1)
     point: HalfLinePoint | None  # None: x → ∞
     infinite: bool  # R → ∞ there
     attained: bool  # η is defined at the point (not a limit)
     r_at_inf: fmpq | None = None
+
+
+#: A candidate with the enclosure ``[lo, hi]`` of ``R`` there (its point refined as needed).
+_Enclosed = tuple[_Candidate, fmpq, fmpq]
 
 
 def _reduced(p: fmpq_poly, q: fmpq_poly) -> tuple[fmpq_poly, fmpq_poly]:
@@ -134,14 +156,15 @@ def _sign_of_cell(a: fmpq_poly, cell: HalfLinePoint) -> int:
     return cell.sign(a)
 
 
-def _enclose_r(rn: fmpq_poly, rd: fmpq_poly, c: _Candidate, rtol: fmpq) -> tuple[fmpq, fmpq]:
+def _enclose_r(rn: fmpq_poly, rd: fmpq_poly, c: _Candidate, rtol: fmpq) -> _Enclosed:
+    """``R`` at ``c`` enclosed to ``rtol``; the candidate comes back with its refined point."""
     if c.point is None:
         assert c.r_at_inf is not None
-        return c.r_at_inf, c.r_at_inf
+        return c, c.r_at_inf, c.r_at_inf
     pt = minimal_point(c.point)
     if pt.is_rational:
         v = rn(pt.lower) / rd(pt.lower)
-        return v, v
+        return dataclasses.replace(c, point=pt), v, v
     width = pt.upper - pt.lower
     while True:
         lo_d, hi_d = enclose(rd, pt.lower, pt.upper)
@@ -150,14 +173,12 @@ def _enclose_r(rn: fmpq_poly, rd: fmpq_poly, c: _Candidate, rtol: fmpq) -> tuple
             corners = [lo_n / lo_d, lo_n / hi_d, hi_n / lo_d, hi_n / hi_d]
             lo, hi = max(min(corners), fmpq(0)), max(corners)
             if hi - lo <= rtol * max(hi, fmpq(1, 2**200)):
-                c.point = pt
-                return lo, hi
+                return dataclasses.replace(c, point=pt), lo, hi
         width /= 2**16
         pt = pt.refined(width)
         if pt.is_rational:
-            c.point = pt
             v = rn(pt.lower) / rd(pt.lower)
-            return v, v
+            return dataclasses.replace(c, point=pt), v, v
 
 
 def eta_infimum(a: fmpq_poly, q: fmpq_poly) -> EtaMinimum:
@@ -167,15 +188,15 @@ def eta_infimum(a: fmpq_poly, q: fmpq_poly) -> EtaMinimum:
     --------
     >>> x = fmpq_poly([0, 1])
     >>> m = eta_infimum(x + 2, x * 0 + 1)          # η = x + 2: least value 2 at ω = 0
-    >>> m.kind, float(m.lower), m.omega
+    >>> m.kind.value, float(m.lower), m.omega
     ('attained', 2.0, 0.0)
     >>> eta_infimum(fmpq_poly([1]), x).kind        # η = 1/√x → 0 as ω → ∞
-    'limit'
+    <EtaKind.LIMIT: 'limit'>
     """
     if q.is_zero():
-        return EtaMinimum(None, None, "undefined")
+        return EtaMinimum(lower=None, upper=None, kind=EtaKind.UNDEFINED)
     if a.is_zero():
-        return EtaMinimum(fmpq(0), fmpq(0), "attained", omega=0.0)
+        return EtaMinimum(lower=fmpq(0), upper=fmpq(0), kind=EtaKind.ATTAINED, omega=0.0)
     rn, rd = _reduced(a * a, q)
     crit = rn.derivative() * rd - rn * rd.derivative()
     points = half_line_points([a, q, rn, rd, crit])
@@ -185,33 +206,42 @@ def eta_infimum(a: fmpq_poly, q: fmpq_poly) -> EtaMinimum:
         pt = points[i]
         sides = [points[j] for j in (i - 1, i + 1) if 0 <= j < n]
         if pt.sign(q) != 0:
-            cands.append(_Candidate(pt.sign(a), pt, False, True))
+            cands.append(_Candidate(sigma=pt.sign(a), point=pt, infinite=False, attained=True))
             continue
         infinite = pt.sign(rd) == 0
         for side in sides:
-            cands.append(_Candidate(_sign_of_cell(a, side), pt, infinite, False))
+            cands.append(
+                _Candidate(
+                    sigma=_sign_of_cell(a, side), point=pt, infinite=infinite, attained=False
+                )
+            )
     last = points[-1]
     sigma_inf = last.sign(a)
     if rn.degree() > rd.degree():
-        cands.append(_Candidate(sigma_inf, None, True, False))
+        cands.append(_Candidate(sigma=sigma_inf, point=None, infinite=True, attained=False))
     else:
         lim = (
             rn.leading_coefficient() / rd.leading_coefficient()
             if rn.degree() == rd.degree()
             else fmpq(0)
         )
-        cands.append(_Candidate(sigma_inf, None, False, False, r_at_inf=lim))
+        cands.append(
+            _Candidate(sigma=sigma_inf, point=None, infinite=False, attained=False, r_at_inf=lim)
+        )
     sigma = min(c.sigma for c in cands)
     if sigma < 0 and any(c.sigma < 0 and c.infinite for c in cands):
         c = next(c for c in cands if c.sigma < 0 and c.infinite)
         return EtaMinimum(
-            None, None, "unbounded", limit=math.inf if c.point is None else omega_of(c.point)
+            lower=None,
+            upper=None,
+            kind=EtaKind.UNBOUNDED,
+            limit=math.inf if c.point is None else omega_of(c.point),
         )
     pool = [c for c in cands if c.sigma == sigma and not (sigma > 0 and c.infinite)]
     if sigma == 0:
         c = next(c for c in pool)
         return _result(fmpq(0), fmpq(0), c)
-    encl = [(c, *_enclose_r(rn, rd, c, RTOL)) for c in pool]
+    encl: list[_Enclosed] = [_enclose_r(rn, rd, c, RTOL) for c in pool]
     # the best candidate: largest R for σ = −1, smallest for σ = +1
     for _ in range(MAX_ROUNDS):
         if sigma < 0:
@@ -224,7 +254,7 @@ def eta_infimum(a: fmpq_poly, q: fmpq_poly) -> EtaMinimum:
             break
         tighter = RTOL / 2**32
         encl = [
-            (e[0], *_enclose_r(rn, rd, e[0], tighter)) if e is best or e in rivals else e
+            _enclose_r(rn, rd, e[0], tighter) if e is best or any(e is r for r in rivals) else e
             for e in encl
         ]
     if sigma < 0:
@@ -244,8 +274,8 @@ def eta_infimum(a: fmpq_poly, q: fmpq_poly) -> EtaMinimum:
 
 def _result(lo: fmpq, hi: fmpq, c: _Candidate) -> EtaMinimum:
     if c.point is None:
-        return EtaMinimum(lo, hi, "limit", limit=math.inf)
+        return EtaMinimum(lower=lo, upper=hi, kind=EtaKind.LIMIT, limit=math.inf)
     w = omega_of(c.point)
     if c.attained:
-        return EtaMinimum(lo, hi, "attained", omega=w)
-    return EtaMinimum(lo, hi, "limit", limit=w)
+        return EtaMinimum(lower=lo, upper=hi, kind=EtaKind.ATTAINED, omega=w)
+    return EtaMinimum(lower=lo, upper=hi, kind=EtaKind.LIMIT, limit=w)

@@ -33,6 +33,7 @@ from ..errors import ParameterError
 from ..model.display import html_card, short_repr
 from ..model.expr import S
 from ..model.sea import SEA
+from ..outcome import Outcome
 from .derive import FRICTION_SITES, port_equations
 from .forms import Form
 from .passivity import MatrixPassivity, matrix_passivity
@@ -71,8 +72,11 @@ class FrictionCertificate:
 
     Attributes
     ----------
+    outcome : Outcome
+        The exact passivity of the two-port around the friction (``passivity.outcome``).
     certified : bool
-        The two-port around the friction is passive: proven for every passive friction law.
+        ``outcome`` is ``PASSIVE``: the two-port around the friction is passive,
+        proven for every passive friction law.
     site : str
         ``"actuator"`` or ``"transmission"``.
     passivity : MatrixPassivity
@@ -83,17 +87,24 @@ class FrictionCertificate:
         What was shown, in words.
     """
 
-    certified: bool
     site: str
     passivity: MatrixPassivity
     two_port: TwoPort = field(compare=False)
     detail: str = ""
 
+    @property
+    def outcome(self) -> Outcome:
+        return self.passivity.outcome
+
+    @property
+    def certified(self) -> bool:
+        return self.outcome.passive
+
     def to_dict(self) -> dict[str, Any]:
         return {
             "certified": self.certified,
             "site": self.site,
-            "outcome": self.passivity.outcome.value,
+            "outcome": self.outcome.value,
             "detail": self.detail,
             "conditions": [c.to_dict() for c in self.passivity.conditions],
             "entries": self.two_port.to_dict()["entries"],
@@ -109,7 +120,7 @@ class FrictionCertificate:
     def _repr_html_(self) -> str:
         return html_card(
             f"Friction at the {self.site}: {'certified' if self.certified else 'not certified'}",
-            [("two-port", self.passivity.outcome.label), ("detail", self.detail)],
+            [("two-port", self.outcome.label), ("detail", self.detail)],
         )
 
 
@@ -137,11 +148,9 @@ def friction_certificate(
             "the SEA stays passive with every passive friction law there (Coulomb, Stribeck, "
             "stiction, viscous, ...)"
         )
-    elif result.outcome.value == "undecided":
+    elif result.outcome is Outcome.UNDECIDED:
         detail = "undecided: the exact test of the two-port could not decide"
     else:
         failing = ", ".join(c.name for c in result.failing)
         detail = f"{NOT_A_PROOF} (fails: {failing})"
-    return FrictionCertificate(
-        certified=result.passive, site=at, passivity=result, two_port=tp, detail=detail
-    )
+    return FrictionCertificate(site=at, passivity=result, two_port=tp, detail=detail)

@@ -40,7 +40,7 @@ def _reduced(n: fmpq_poly, d: fmpq_poly) -> tuple[fmpq_poly, fmpq_poly, fmpq_pol
     return n / lead, d / lead, g if g.degree() > 0 else fmpq_poly([1])
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ExactMatrix:
     """An n×n matrix of reduced exact rational functions of ``s``.
 

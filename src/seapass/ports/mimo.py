@@ -32,7 +32,7 @@ from ..errors import NotPassiveError, ParameterError
 from ..model.display import html_card, short_repr
 from ..model.expr import STANDARD_SYMBOLS, S, to_fraction
 from ..model.sea import check_used
-from .entries import freeze_values, parse_entry, square_entries
+from .entries import freeze_values, no_values, parse_entry, square_entries
 from .matrix import ExactMatrix, exact_matrix
 from .passivity import MatrixPassivity, matrix_passivity
 from .twoport import TwoPort
@@ -60,7 +60,7 @@ class NPort:
 
     entries: tuple[sp.Expr, ...]
     n: int
-    values: Mapping[str, float | None] = field(default_factory=dict)
+    values: Mapping[str, float | None] = field(default_factory=no_values)
     name: str = ""
 
     def __post_init__(self) -> None:

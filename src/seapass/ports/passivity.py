@@ -41,7 +41,7 @@ from ..outcome import Outcome
 from .bands import Band, Condition, combine, failing_bands
 from .matrix import ExactMatrix
 from .onaxis import axis_matrix, cdet, hermitian_part, principal_minors, to_x
-from .poles import axis_points, infinity_residues, pole_defect, residue_matrix
+from .poles import PoleDefect, axis_points, infinity_residues, pole_defect, residue_matrix
 
 __all__ = [
     "MatrixPassivity",
@@ -68,14 +68,14 @@ def stable_entries_condition(m: ExactMatrix, letter: str = "p") -> Condition:
     """No entry has a pole in the open right half-plane, no hidden mode in the closed one."""
     desc = "no entry has a pole in the open right half-plane"
     for i, j in itertools.product(range(m.n), repeat=2):
-        if pole_defect(m.den[i][j]) == "rhp_pole":
+        if pole_defect(m.den[i][j]) is PoleDefect.RHP_POLE:
             return Condition(
                 name="stable_entries",
                 outcome=Outcome.NOT_PASSIVE,
                 description=desc,
                 detail=f"{_entry_name(i, j, letter)} has a pole in the open right half-plane",
             )
-    if pole_defect(m.hidden):
+    if pole_defect(m.hidden) is not PoleDefect.NONE:
         return Condition(
             name="stable_entries",
             outcome=Outcome.NOT_PASSIVE,

@@ -1,7 +1,7 @@
 """Poles of an exact rational matrix: the right half-plane, the imaginary axis and infinity.
 
 * `pole_defect`: whether a polynomial has a root in the open right half-plane
-  or a repeated root on the imaginary axis (exact Routh–Hurwitz on the part off
+  or a repeated root on the imaginary axis (a `PoleDefect`) (exact Routh–Hurwitz on the part off
   the axis, certified real roots for the axis part);
 * `axis_points`: the imaginary-axis poles ``jω0``, ``ω0 ≥ 0``, of the common
   denominator ``d`` as exact points (a rational or a root in an isolating
@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from enum import StrEnum
 from typing import Any
 
 from flint import fmpq, fmpq_poly
@@ -34,6 +35,7 @@ from .onaxis import CPoly, axis_matrix
 
 __all__ = [
     "AxisPoles",
+    "PoleDefect",
     "axis_points",
     "infinity_residues",
     "pole_defect",
@@ -41,29 +43,39 @@ __all__ = [
 ]
 
 
-def pole_defect(p: fmpq_poly) -> str:
-    """``""`` when every root of ``p`` is in the open left half-plane or simple on the axis;
-    else ``"rhp_pole"`` or ``"repeated_axis_pole"``.
+class PoleDefect(StrEnum):
+    """What keeps the roots of a denominator from being those of a stable immittance."""
 
-    >>> pole_defect(fmpq_poly([1, 0, 1])), pole_defect(fmpq_poly([-1, 1]))
-    ('', 'rhp_pole')
+    NONE = ""
+    """Every root in the open left half-plane or simple on the imaginary axis."""
+    RHP_POLE = "rhp_pole"
+    """A root in the open right half-plane."""
+    REPEATED_AXIS_POLE = "repeated_axis_pole"
+    """A repeated root on the imaginary axis."""
+
+
+def pole_defect(p: fmpq_poly) -> PoleDefect:
+    """The `PoleDefect` of the roots of ``p``, decided exactly.
+
+    >>> pole_defect(fmpq_poly([1, 0, 1])) is PoleDefect.NONE, pole_defect(fmpq_poly([-1, 1]))
+    (True, <PoleDefect.RHP_POLE: 'rhp_pole'>)
     """
     if p.degree() <= 0:
-        return ""
+        return PoleDefect.NONE
     dr, di = at_j_omega(p)
     g = dr.gcd(di)
     rest, repeated = p, False
     if g.degree() > 0:
         if not all_real_roots(g):
-            return "rhp_pole"  # a root pair mirrored about the axis
+            return PoleDefect.RHP_POLE  # a root pair mirrored about the axis
         repeated = ep.squarefree_part(g).degree() != g.degree()
         rest = p // axis_factor(g)
     if not is_hurwitz(rest):
-        return "rhp_pole"
-    return "repeated_axis_pole" if repeated else ""
+        return PoleDefect.RHP_POLE
+    return PoleDefect.REPEATED_AXIS_POLE if repeated else PoleDefect.NONE
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class AxisPoles:
     """The imaginary-axis poles ``jω0`` (``ω0 ≥ 0``) of a common denominator.
 
@@ -82,18 +94,18 @@ class AxisPoles:
 def axis_points(d: fmpq_poly) -> AxisPoles:
     """The poles of ``1/d`` on the imaginary axis, exactly (``d`` free of open-RHP roots)."""
     if d.degree() <= 0:
-        return AxisPoles((), True)
+        return AxisPoles(points=(), simple=True)
     dr, di = at_j_omega(d)
     g = dr.gcd(di)
     if g.degree() <= 0:
-        return AxisPoles((), True)
+        return AxisPoles(points=(), simple=True)
     sf = ep.squarefree_part(g)
     pts: list[HalfLinePoint] = []
     if sf(0) == 0:
         pts.append(HalfLinePoint(fmpq(0), fmpq(0)))
     for iv in ep.isolate_real_roots(sf, 0):
         pts.append(root_point(sf, iv))
-    return AxisPoles(tuple(pts), sf.degree() == g.degree())
+    return AxisPoles(points=tuple(pts), simple=sf.degree() == g.degree())
 
 
 def residue_matrix(nmat: Sequence[Sequence[Any]], d: Any) -> list[list[CPoly]]:

@@ -47,7 +47,7 @@ def variables_of(exprs: Iterable[sp.Expr]) -> tuple[str, ...]:
     return tuple(sorted({str(x) for e in exprs for x in sp.sympify(e).free_symbols if x != S}))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Frac:
     """``num/den`` in lowest terms; ``den``'s leading term has a positive coefficient."""
 
@@ -59,15 +59,15 @@ class Frac:
         if den.is_zero():
             raise ZeroDivisionError("zero denominator")
         if num.is_zero():
-            return Frac(num, den.context().from_dict({(0,) * den.context().nvars(): 1}))
+            return Frac(num=num, den=den.context().from_dict({(0,) * den.context().nvars(): 1}))
         if den.is_constant():
             c = den.leading_coefficient()
-            return Frac(num / c, den / c)
+            return Frac(num=num / c, den=den / c)
         g = num.gcd(den)
         if not g.is_constant():
             num, den = num / g, den / g
         lead = den.leading_coefficient()
-        return Frac(num / lead, den / lead)
+        return Frac(num=num / lead, den=den / lead)
 
     def size(self) -> int:
         """Number of terms of numerator and denominator (a cost for choosing pivots)."""
@@ -96,7 +96,7 @@ class Frac:
         return Frac.make(self.num * other.den, self.den * other.num)
 
     def __neg__(self) -> Frac:
-        return Frac(-self.num, self.den)
+        return Frac(num=-self.num, den=self.den)
 
     def is_zero(self) -> bool:
         return bool(self.num.is_zero())

@@ -22,14 +22,14 @@ from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA
 from ..outcome import Outcome
 from .bands import Band, Condition, combine
-from .eta import EtaMinimum
+from .eta import EtaKind, EtaMinimum
 from .llewellyn import frequency_polynomials, llewellyn_conditions, llewellyn_eta
 from .matrix import ExactMatrix
 from .passivity import evaluate, frequency_grid
 from .twoport import TwoPort, two_port
 from .witness import VIRTUAL_ENVIRONMENT, TerminationWitness, find_destabilizing_pair
 
-__all__ = ["AbsoluteStability", "absolute_stability", "as_two_port"]
+__all__ = ["AbsoluteStability", "absolute_stability", "as_two_port", "eta_text"]
 
 
 def as_two_port(system: TwoPort | SEA, values: Mapping[str, float] | None = None) -> TwoPort:
@@ -144,7 +144,7 @@ class AbsoluteStability:
     def _repr_html_(self) -> str:
         label = {Outcome.PASSIVE: "absolutely stable", Outcome.NOT_PASSIVE: "not absolutely stable"}
         verdict = label.get(self.outcome, "undecided")
-        rows: list[tuple[str, Any]] = [("verdict", verdict), ("inf η", _eta_text(self.eta))]
+        rows: list[tuple[str, Any]] = [("verdict", verdict), ("inf η", eta_text(self.eta))]
         rows += [
             (
                 c.name,
@@ -157,13 +157,15 @@ class AbsoluteStability:
         return html_card(f"Absolute stability: {verdict}", rows, note="Exact verdict (Llewellyn).")
 
 
-def _eta_text(e: EtaMinimum) -> str:
-    if e.kind == "undefined":
+def eta_text(e: EtaMinimum) -> str:
+    """``inf η`` in words: its value and where it is attained or approached."""
+    if e.kind is EtaKind.UNDEFINED:
         return "undefined (p12 p21 = 0)"
-    if e.kind == "unbounded":
+    if e.kind is EtaKind.UNBOUNDED:
         return f"-inf (next to w = {e.limit:.6g} rad/s)"
-    where = f"at w = {e.omega:.6g} rad/s" if e.kind == "attained" else f"as w -> {e.limit:.6g}"
-    return f"{e.value:.6g} {where}"
+    if e.kind is EtaKind.ATTAINED:
+        return f"{e.value:.6g} at w = {e.omega:.6g} rad/s"
+    return f"{e.value:.6g} as w -> {e.limit:.6g}"
 
 
 def absolute_stability(

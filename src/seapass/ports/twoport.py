@@ -26,7 +26,7 @@ from ..model.display import html_card, short_repr
 from ..model.expr import STANDARD_SYMBOLS, S, to_fraction
 from ..model.sea import SEA, check_used
 from .derive import derive_two_port
-from .entries import freeze_values, parse_entry, square_entries
+from .entries import freeze_values, no_values, parse_entry, square_entries
 from .forms import Form, convert_entries, form_of, reciprocity_sign
 from .matrix import ExactMatrix, exact_matrix
 
@@ -57,7 +57,7 @@ class TwoPort:
 
     entries: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr]
     form: Form = Form.Z
-    values: Mapping[str, float | None] = field(default_factory=dict)
+    values: Mapping[str, float | None] = field(default_factory=no_values)
     name: str = ""
     ports: tuple[str, str] = ("port 1", "port 2")
 

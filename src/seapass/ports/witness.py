@@ -44,6 +44,7 @@ from ..analysis.coupled import Environment, classify_polynomial
 from ..analysis.environment_box import HUMAN_LIMB, EnvironmentBounds
 from ..analysis.passivity import positive_real_test
 from ..analysis.witness_search import bounded_candidates, unbounded_candidates
+from ..outcome import Outcome
 from .bands import Band
 from .closedloop import (
     ClosedLoop,
@@ -70,14 +71,18 @@ MAX_ATTACKS = 30
 """Terminations of the attacked port tried against one termination of the other port."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class TerminationWitness:
     """A destabilizing pair of passive terminations, verified exactly.
 
     Attributes
     ----------
+    outcome : Outcome
+        ``NOT_PASSIVE`` (proven not absolutely stable) when the closed loop of
+        the pair has a pole in the open right half-plane, else ``UNDECIDED``
+        (a search that finds nothing proves nothing).
     found : bool
-        A pair was found and its closed loop has a pole in the open right half-plane.
+        A pair was found and verified (``outcome`` is ``NOT_PASSIVE``).
     port1, port2 : Environment or None
         The terminations (mass, damping, stiffness) of ports 1 and 2.
     within_bounds : bool
@@ -92,7 +97,6 @@ class TerminationWitness:
         One plain sentence.
     """
 
-    found: bool
     port1: Environment | None = None
     port2: Environment | None = None
     within_bounds: bool = False
@@ -100,6 +104,15 @@ class TerminationWitness:
     closed_loop: ClosedLoop | None = None
     pairs: int = 0
     detail: str = ""
+
+    @property
+    def outcome(self) -> Outcome:
+        """Decided by the exact closed-loop verdict of the pair held."""
+        return self.closed_loop.outcome if self.closed_loop is not None else Outcome.UNDECIDED
+
+    @property
+    def found(self) -> bool:
+        return self.outcome is Outcome.NOT_PASSIVE
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -286,7 +299,6 @@ def find_destabilizing_pair(
             loop = closed_loop(m, f, e1, e2)  # the exact verdict again, with the poles
             where = "within the bounds" if within else "outside the bounds (none found inside)"
             return TerminationWitness(
-                found=True,
                 port1=e1,
                 port2=e2,
                 within_bounds=within,
@@ -297,7 +309,6 @@ def find_destabilizing_pair(
                 f"closed-loop pole at Re s = {loop.max_real_part:.4g} 1/s",
             )
     return TerminationWitness(
-        found=False,
         pairs=tried,
         detail="no destabilizing pair of mass-spring-damper terminations was found "
         f"(a search of {tried} pairs, not a proof)",
