@@ -158,9 +158,9 @@ def main(argv: list[str] | None = None) -> int:
         "## Explorer latency (`seapass explore`)",
         "",
         "Wall-clock time in headless Chromium from a click on the `kd` slider to the frame "
-        "after all seven panels were redrawn, measured by the page itself "
+        "after all eight panels were redrawn, measured by the page itself "
         "(`benchmarks/bench_explore.py`); the peer is one `seapass check` process on the "
-        "same design, which answers one of the seven panels.  Unlike the rows above this "
+        "same design, which answers one of the eight panels.  Unlike the rows above this "
         "is wall-clock time of several processes, so a busy machine slows it down.",
         "",
         explore,
