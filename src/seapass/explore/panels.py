@@ -37,9 +37,8 @@ from ..errors import SeapassError
 from ..exact import poly as ep
 from ..exact.axis import real_part_polynomial
 from ..ports.bands import Band
-from ..ports.check import check_two_port
-from ..ports.passivity import frequency_grid
-from ..ports.stability import eta_text
+from ..ports.check import reciprocity
+from ..ports.stability import absolute_stability, eta_text
 from ..ports.twoport import two_port
 from ..sampled import sampled_passivity
 from ..sim.metrics import tracking_metrics
@@ -293,13 +292,16 @@ def _band_list(bands: tuple[Band, ...]) -> list[list[float | None]]:
 
 
 def _twoport(state: ExploreState) -> dict[str, Any]:
-    check = check_two_port(two_port(state.sea()), witness=False)
-    stab = check.stability
-    assert stab.matrix is not None
+    stab = absolute_stability(two_port(state.sea()), witness=False)
+    m = stab.matrix
+    assert m is not None
     bands = stab.bands
     edges = [e for b in bands for e in (b.lo, b.hi) if 0 < e < math.inf]
-    span = frequency_grid(stab.matrix, bands)
-    w = np.unique(np.concatenate([np.geomspace(span[0], span[-1], FREQUENCY_POINTS), edges]))
+    poles = m.common_denominator()
+    d = np.array([float(c) for c in reversed(poles.coeffs())])
+    marks = [*edges, *(w for w in (stab.eta.omega, stab.eta.limit) if w and math.isfinite(w))]
+    w = _frequency_grid(d, np.ones(1), marks)
+    w = np.unique(np.concatenate([w, edges]))
     eta = stab.response(w)["eta"]
     finite = eta[np.isfinite(eta)]
     top = max(float(np.percentile(finite, 95)), 2.0) * 1.1 if finite.size else 2.0
@@ -308,9 +310,7 @@ def _twoport(state: ExploreState) -> dict[str, Any]:
     return {
         "outcome": stab.outcome.value,
         "absolutely_stable": stab.absolutely_stable,
-        "passive": check.passive,
-        "passivity": check.outcome.value,
-        "reciprocal": check.reciprocal,
+        "reciprocal": reciprocity(m, stab.form),
         "eta_min": eta_min if math.isfinite(eta_min) else None,
         "eta_kind": stab.eta.kind.value,
         "eta_text": eta_text(stab.eta),

@@ -363,8 +363,8 @@
       } else $("#plot-eta").innerHTML = `<text x="280" y="115" text-anchor="middle" class="tick">η does not exist: p12 p21 = 0 (no coupling between the ports)</text>`;
       const failing = d.failing.filter((c) => c.bands.length).map((c) => `${esc(c.name)} for ω ∈ ${c.bands.map(([a, b]) => `(${fmt(a, 5)}, ${b === null ? "∞" : fmt(b, 5)})`).join(" ∪ ")}`);
       $("#twoport-text").innerHTML = (failing.length ? `Fails (shaded, exact): ${failing.join("; ")} rad/s. ` : "") +
-        `Two-port <b>${d.passive ? "passive" : d.passivity.replace("_", " ")}</b>, ${d.reciprocal ? "reciprocal" : "not reciprocal"}. ` +
-        "A destabilizing pair of terminations: <code>seapass twoport check</code>.";
+        `${d.reciprocal ? "Reciprocal" : "Not reciprocal"} (z12 = z21: ${d.reciprocal ? "yes" : "no"}). ` +
+        "Two-port passivity and a destabilizing pair of terminations: <code>seapass twoport check</code>.";
     },
   };
 
