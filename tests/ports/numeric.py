@@ -10,6 +10,7 @@ second-order system ``M q'' + C q' + K q = 0``.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 
 import numpy as np
@@ -111,3 +112,108 @@ def sea_closed_loop_poles(par: dict[str, float], env: np.ndarray) -> np.ndarray:
     A[:, 3:, :3] = -K / M[:, :, None]
     A[:, 3:, 3:] = -C / M[:, :, None]
     return np.linalg.eigvals(A)
+
+
+TERMINATION = sp.symbols("m_h b_h k_h m_v b_v k_v")
+
+
+def sea_characteristic(
+    model: dict[str, str], values: dict[str, float]
+) -> tuple[Callable[[np.ndarray], np.ndarray], int]:
+    """The characteristic polynomial of any SEA held by a person and a virtual environment.
+
+    ``model`` holds the element expressions ``D1, D2, CA, CL`` (absent: 0).  Written
+    out by hand in ``(X_A, X_L, Θ)`` (Laplace domain), each row multiplied by ``s``:
+    actuator ``(m s² + b s + D1 + C_A) X_A + (C_L − D1) X_L − (C_A + C_L) Θ = 0``,
+    person ``(D1 + D2 + m_h s² + b_h s + k_h) X_L − D1 X_A = 0``,
+    environment ``−C_A X_A − C_L X_L + (C_A + C_L + m_v s² + b_v s + k_v) Θ = 0``
+    (``F_2 = f_A = −Z_v s Θ``).  The determinant is expanded with sympy and the powers
+    of ``s`` common to every termination are divided out.  Returns ``coeffs(env)``, the
+    coefficients (highest first) for each row ``env = (m_h, b_h, k_h, m_v, b_v, k_v)``,
+    shape ``(len(env), degree + 1)``, and the degree.
+    """
+    s = sp.Symbol("s")
+    m_h, b_h, k_h, m_v, b_v, k_v = TERMINATION
+    vals = {sp.Symbol(k): sp.Rational(v) for k, v in values.items()}
+    d1, d2, ca, cl = (
+        sp.sympify(model.get(k, "0")).xreplace(vals) for k in ("D1", "D2", "CA", "CL")
+    )
+    m, b = vals[sp.Symbol("m")], vals[sp.Symbol("b")]
+    mat = sp.Matrix(
+        [
+            [m * s**2 + b * s + d1 + ca, cl - d1, -(ca + cl)],
+            [-d1, d1 + d2 + m_h * s**2 + b_h * s + k_h, 0],
+            [-ca, -cl, ca + cl + m_v * s**2 + b_v * s + k_v],
+        ]
+    )
+    det = sp.cancel(sp.expand((s * mat).det(method="berkowitz")))
+    num, den = sp.fraction(det)
+    assert not den.free_symbols  # rows times s clear every 1/s of the catalog's elements
+    poly = sp.Poly(num, s)
+    coeffs = poly.all_coeffs()
+    while coeffs and sp.expand(coeffs[-1]) == 0:  # a root at 0 for every termination
+        coeffs.pop()
+    fns = [sp.lambdify(TERMINATION, c, "numpy") for c in coeffs]
+
+    def f(env: np.ndarray) -> np.ndarray:
+        env = np.atleast_2d(env)
+        cols = [env[:, i] for i in range(6)]
+        return np.stack([np.broadcast_to(np.asarray(fn(*cols), float), (env.shape[0],))
+                         for fn in fns], axis=1)  # fmt: skip
+
+    return f, len(coeffs) - 1
+
+
+def batched_roots(coeffs: np.ndarray) -> np.ndarray:
+    """Roots of each row of ``coeffs`` (highest first, nonzero leading coefficient)."""
+    c = coeffs / coeffs[:, :1]
+    n = c.shape[1] - 1
+    comp = np.zeros((c.shape[0], n, n))
+    comp[:, 0, :] = -c[:, 1:]
+    comp[:, np.arange(1, n), np.arange(n - 1)] = 1.0
+    return np.linalg.eigvals(comp)
+
+
+def exact_coefficients(model: dict[str, str], values: dict[str, float], env) -> list:
+    """`sea_characteristic`'s coefficients at one termination pair, as exact rationals."""
+    s = sp.Symbol("s")
+    m_h, b_h, k_h, m_v, b_v, k_v = TERMINATION
+    vals = {sp.Symbol(k): sp.Rational(v) for k, v in values.items()}
+    vals |= {t: sp.Rational(float(x)) for t, x in zip(TERMINATION, env, strict=True)}
+    d1, d2, ca, cl = (
+        sp.sympify(model.get(k, "0")).xreplace(vals) for k in ("D1", "D2", "CA", "CL")
+    )
+    m, b = vals[sp.Symbol("m")], vals[sp.Symbol("b")]
+    mat = sp.Matrix(
+        [
+            [m * s**2 + b * s + d1 + ca, cl - d1, -(ca + cl)],
+            [-d1, d1 + d2 + vals[m_h] * s**2 + vals[b_h] * s + vals[k_h], 0],
+            [-ca, -cl, ca + cl + vals[m_v] * s**2 + vals[b_v] * s + vals[k_v]],
+        ]
+    )
+    num, den = sp.fraction(sp.cancel(sp.expand((s * mat).det(method="berkowitz"))))
+    assert not den.free_symbols
+    coeffs = sp.Poly(num, s).all_coeffs()
+    while coeffs and coeffs[-1] == 0:
+        coeffs.pop()
+    return coeffs
+
+
+def routh_rhp_count(coeffs: list) -> int:
+    """Roots in the open right half-plane of an exact polynomial (highest first), by Routh's
+    array; raises ``ArithmeticError`` on a zero in the first column (a special case)."""
+    from fractions import Fraction
+
+    c = [Fraction(int(sp.numer(x)), int(sp.denom(x))) for x in coeffs]
+    rows = [c[0::2], c[1::2]]
+    width = len(rows[0])
+    rows = [r + [Fraction(0)] * (width - len(r)) for r in rows]
+    for _ in range(len(c) - 2):
+        a, b = rows[-2], rows[-1]
+        if b[0] == 0:
+            raise ArithmeticError("a zero in the first column of the Routh array")
+        rows.append(
+            [(b[0] * a[i + 1] - a[0] * b[i + 1]) / b[0] for i in range(width - 1)] + [Fraction(0)]
+        )
+    first = [r[0] for r in rows]
+    return sum((x > 0) != (y > 0) for x, y in itertools.pairwise(first))

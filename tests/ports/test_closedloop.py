@@ -10,12 +10,19 @@ import numpy as np
 import pytest
 
 from seapass.analysis.coupled import Environment
+from seapass.model.catalog import CATALOG, REFERENCE_VALUES
 from seapass.model.sea import SEA
 from seapass.ports import two_port
 from seapass.ports.closedloop import closed_loop
 from seapass.ports.stability import absolute_stability
 
-from .numeric import sea_closed_loop_poles
+from .numeric import (
+    batched_roots,
+    exact_coefficients,
+    routh_rhp_count,
+    sea_characteristic,
+    sea_closed_loop_poles,
+)
 
 BASE = dict(m=1.0, b=10.0, k1=1000.0, b1=20.0, kd=500.0, bd=25.0)
 PAIRS = 10_000
@@ -118,3 +125,30 @@ def test_the_virtual_wall_of_the_docs_passes_the_one_port_test_yet_its_witness_i
     env = np.array([[max(w.port1.mass, 1e-12), w.port1.damping, w.port1.stiffness,
                      max(w.port2.mass, 1e-12), w.port2.damping, w.port2.stiffness]])  # fmt: skip
     assert sea_closed_loop_poles(par, env)[0].real.max() > 0.1
+
+
+@pytest.mark.parametrize("key", sorted(CATALOG))
+def test_every_catalog_design_against_its_closed_loop_with_random_terminations(key: str) -> None:
+    """Absolutely stable ⇒ no unstable pair among PAIRS random passive terminations; not
+    absolutely stable ⇒ the witness pair is unstable; both in `numeric.sea_characteristic`,
+    a closed loop written out by hand for any D1, D2, C_A, C_L (shares nothing with ports)."""
+    design = CATALOG[key]
+    sea = design.sea()
+    values = {k: REFERENCE_VALUES[k] for k in sea.parameters}
+    sea = sea.with_values(**values)
+    model = {k: str(getattr(design, k)) for k in ("D1", "D2", "CA", "CL") if getattr(design, k)}
+    coeffs, degree = sea_characteristic(model, values)
+    r = absolute_stability(two_port(sea))
+    if r.absolutely_stable:
+        env = _random_terminations(np.random.default_rng(24), PAIRS)
+        poles = batched_roots(coeffs(env))
+        assert poles.shape == (PAIRS, degree)  # the work: PAIRS eigenvalue problems
+        assert not _unstable(poles).any()
+    else:
+        w = r.witness
+        assert w is not None and w.found, key
+        env = np.array([w.port1.mass, w.port1.damping, w.port1.stiffness,
+                        w.port2.mass, w.port2.damping, w.port2.stiffness])  # fmt: skip
+        assert routh_rhp_count(exact_coefficients(model, values, env)) > 0, key  # exact
+        poles = np.roots(coeffs(env)[0])
+        assert poles.real.max() == pytest.approx(w.closed_loop.max_real_part, rel=1e-2, abs=1e-9)
