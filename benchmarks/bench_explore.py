@@ -6,9 +6,9 @@ designs (LP, APD, Ours: the presets from the example design files, with their
 control period, delay and filter), clicks the ``kd`` slider track at seeded
 random positions, as a person would.  The page itself times each change: from
 the ``input`` event of the click (``event.timeStamp``) to the animation frame
-after the last of the seven panels (continuous and sampled verdicts, passive
+after the last of the eight panels (continuous and sampled verdicts, passive
 interval, 2-D region, frequency response, step response, destabilizing
-environment) has been drawn for the new value.  Every click lands at least a
+environment, two-port absolute stability with η) has been drawn for the new value.  Every click lands at least a
 fifth of the track away from the previous value, so no answer comes from the
 cache of the dragged gain itself (the interval and the region legitimately do).
 
@@ -16,7 +16,7 @@ The designs are the example files (``examples/lp.toml``, ``apd.toml``,
 ``ours.toml``): tuned gains, 500 Hz control, and for Ours the bench's
 one-sample delay and 50 Hz velocity filter.  The peer is the command line a
 designer used before: one ``seapass check`` process for the same design
-(start-up included, and it answers one of the seven panels), timed in the same run.
+(start-up included, and it answers one of the eight panels), timed in the same run.
 
 Usage::
 
@@ -44,7 +44,7 @@ LAUNCH = "import sys; from seapass.cli import main; sys.exit(main(sys.argv[1:]))
 #: The paper's designs as the example files give them: tuned gains, 500 Hz control (Ours
 #: with the bench's one-sample delay and 50 Hz velocity filter).
 DESIGNS = {"LP": "examples/lp.toml", "APD": "examples/apd.toml", "Ours": "examples/ours.toml"}
-PANELS = ("verdict", "sampled", "interval", "region", "frequency", "step", "witness")
+PANELS = ("verdict", "sampled", "interval", "region", "frequency", "step", "witness", "twoport")
 
 
 def _idle(page: Any, before: str) -> None:

@@ -31,6 +31,7 @@ import bench_explore  # noqa: E402
 import bench_export  # noqa: E402
 import bench_metrics  # noqa: E402
 import bench_passivity  # noqa: E402
+import bench_ports  # noqa: E402
 import bench_sampled  # noqa: E402
 import bench_startup  # noqa: E402
 import bench_sweep  # noqa: E402
@@ -102,7 +103,14 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     rows: list[Row] = []
     notes: list[str] = []
-    for mod in (bench_passivity, bench_metrics, bench_sweep, bench_export, bench_sampled):
+    for mod in (
+        bench_passivity,
+        bench_metrics,
+        bench_sweep,
+        bench_export,
+        bench_sampled,
+        bench_ports,
+    ):
         print(f"running {mod.__name__} ...", file=sys.stderr, flush=True)
         r, n = mod.run(args.quick)
         rows += r
@@ -156,9 +164,9 @@ def main(argv: list[str] | None = None) -> int:
         "## Explorer latency (`seapass explore`)",
         "",
         "Wall-clock time in headless Chromium from a click on the `kd` slider to the frame "
-        "after all seven panels were redrawn, measured by the page itself "
+        "after all eight panels were redrawn, measured by the page itself "
         "(`benchmarks/bench_explore.py`); the peer is one `seapass check` process on the "
-        "same design, which answers one of the seven panels.  Unlike the rows above this "
+        "same design, which answers one of the eight panels.  Unlike the rows above this "
         "is wall-clock time of several processes, so a busy machine slows it down.",
         "",
         explore,

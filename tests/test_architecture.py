@@ -30,6 +30,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("exact",),
     ("model",),
     ("analysis",),
+    ("ports",),
     ("sim",),
     ("batch",),
     ("sampled",),

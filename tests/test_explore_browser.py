@@ -155,7 +155,7 @@ def _set_slider(pg, name: str, value: float) -> None:
 def test_page_loads_offline_without_errors(page) -> None:
     assert page.title() == "seapass explore"
     assert _verdict(page) in ("passive", "not passive")
-    for plot in ("interval", "region", "magnitude", "phase", "rez", "step", "force"):
+    for plot in ("interval", "region", "magnitude", "phase", "rez", "step", "force", "eta"):
         assert page.locator(f"#plot-{plot} *").count() > 3, plot
     assert page.problems == []
 
@@ -189,6 +189,47 @@ def test_pick_lp_and_move_kd_across_k1(page) -> None:
 
     _set_slider(page, "kd", 300.0)
     assert _verdict(page) == "passive"
+    assert page.problems == []
+
+
+def _absolute(pg) -> str:
+    return pg.inner_text("#verdict-absolute .v")
+
+
+def test_twoport_panel_follows_the_design(page) -> None:
+    """Absolute stability and η live: the same verdict as seapass.ports on the page's view."""
+    from seapass.model.sea import SEA
+    from seapass.ports.stability import absolute_stability
+
+    def library() -> tuple[str, float]:
+        st = page.evaluate("window.seapass.state()")
+        r = absolute_stability(SEA(**st["model"], values=st["values"]), witness=False)
+        return (
+            "absolutely stable" if r.absolutely_stable else "not absolutely stable"
+        ), r.eta.value
+
+    before = _version(page)
+    page.select_option("#preset", "Ours")
+    _settle(page, before)
+    assert _absolute(page) == "absolutely stable" == library()[0]
+    assert page.locator("#plot-eta path[data-series]").count() == 1
+    assert float(page.inner_text("#verdict-eta .v")) == pytest.approx(library()[1], rel=1e-4)
+    # a load-side gain that renders the environment too stiffly: not absolutely stable
+    before = _version(page)
+    page.fill("#model-CL", "kl")
+    page.press("#model-CL", "Enter")
+    _settle(page, before)
+    before = _version(page)
+    page.fill("#box-kl", "50000")
+    page.press("#box-kl", "Enter")
+    _settle(page, before)
+    assert _absolute(page) == "not absolutely stable" == library()[0]
+    assert "llewellyn" in page.inner_text("#verdict-absolute .why")
+    assert page.locator("#plot-eta rect.band").count() >= 1  # the failing band is shaded
+    assert "seapass twoport check" in page.inner_text("#twoport-text")
+    before = _version(page)
+    page.select_option("#preset", "LP")
+    _settle(page, before)
     assert page.problems == []
 
 

@@ -12,6 +12,7 @@ subpackage          what lives there
 ``seapass.exact``   the exact polynomial kernel
 ``seapass.model``   ``SEA``, the safe parser, stiffness, catalog, design files
 ``seapass.analysis``  exact passivity, conditions, passive sets, witnesses
+``seapass.ports``   two-ports and n-ports: absolute stability, passivity
 ``seapass.sim``     simulation, tracking metrics
 ``seapass.batch``   vectorized verdicts and step metrics
 ``seapass.sampled``  discrete controllers, sampled-data passivity, runtime
@@ -60,6 +61,11 @@ _LAZY: dict[str, str] = {
     "exact_passivity_condition": "analysis.conditions",
     "stiffness_response": "analysis.freqresp",
     "find_destabilizing_environment": "analysis.witness",
+    "two_port": "ports.twoport",
+    "TwoPort": "ports.twoport",
+    "absolute_stability": "ports.stability",
+    "two_port_passivity": "ports.check",
+    "mimo_is_passive": "ports.mimo",
     "simulate": "sim.simulate",
     "Step": "sim.scenarios",
     "tracking_metrics": "sim.metrics",
@@ -77,7 +83,7 @@ _LAZY: dict[str, str] = {
 
 _SUBPACKAGES = frozenset(
     {"analysis", "batch", "cli", "errors", "exact", "explore", "export", "files", "model",
-     "outcome", "paper", "plot", "report", "rig", "sampled", "sim", "sweep", "tuning"}
+     "outcome", "paper", "plot", "ports", "report", "rig", "sampled", "sim", "sweep", "tuning"}
 )  # fmt: skip
 """Every subpackage and top-level module, loaded on first attribute access."""
 
@@ -90,7 +96,9 @@ __all__ = [
     "SeapassError",
     "Step",
     "TuningOptions",
+    "TwoPort",
     "__version__",
+    "absolute_stability",
     "analyze",
     "derive_stiffness",
     "exact_passivity_condition",
@@ -99,6 +107,7 @@ __all__ = [
     "is_passive",
     "load_design",
     "load_rig",
+    "mimo_is_passive",
     "paper_rig",
     "passive_intervals",
     "passive_map",
@@ -110,6 +119,8 @@ __all__ = [
     "stiffness_response",
     "tracking_metrics",
     "tune",
+    "two_port",
+    "two_port_passivity",
     "write_report",
 ]
 
@@ -140,6 +151,10 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
     from .model.loop import SampledLoop
     from .model.sea import SEA, Impedance
     from .model.stiffness import derive_stiffness
+    from .ports.check import two_port_passivity
+    from .ports.mimo import mimo_is_passive
+    from .ports.stability import absolute_stability
+    from .ports.twoport import TwoPort, two_port
     from .report.analyze import analyze
     from .report.output import write_report
     from .report.reproduce import reproduce

@@ -35,6 +35,8 @@ COMMANDS: tuple[str, ...] = (
     "response",
     "plot",
     "witness",
+    "twoport",
+    "mimo",
     "tables",
     "simulate",
     "tune",

@@ -34,8 +34,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "analyze",
         help="passivity, passive gain ranges, tuning, step response and sampled limits of a design file",
         description="Analyse a design given as a TOML file and write a self-contained HTML "
-        "report, a Markdown report and all data (stages: passivity, stiffness, ranges, "
-        "response, tuning, sampled).",
+        "report, a Markdown report and all data (stages: passivity, witness, stiffness, "
+        "frequency, ranges, twoport, response, tuning, sampled, zwidth, rig).",
         epilog=EXAMPLE,
     )
     p.add_argument("design", metavar="DESIGN.toml", help="design file")

@@ -10,7 +10,7 @@ process) and [`server`][seapass.explore.server] (the Starlette app on 127.0.0.1,
 
 May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact],
 [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis],
-[`seapass.sim`][seapass.sim], [`seapass.batch`][seapass.batch],
+[`seapass.ports`][seapass.ports], [`seapass.sim`][seapass.sim], [`seapass.batch`][seapass.batch],
 [`seapass.sampled`][seapass.sampled]; starlette and uvicorn in `server` only.
 """
 

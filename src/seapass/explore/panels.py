@@ -9,6 +9,13 @@ axes moves.
 
 Axes: every array is one-dimensional over its grid (frequency, time or
 slider position), ``region.passive`` is ``(len(y), len(x))``.
+
+The ``twoport`` panel is the SEA between the person and the virtual environment
+it renders ([`seapass.ports`][seapass.ports]): Llewellyn's absolute stability
+with its exact failing bands and the certified infimum of η, decided exactly;
+η(ω) is sampled only to draw it.  The search for a destabilizing pair of
+terminations is left to ``seapass twoport check`` (it is a search of up to
+hundreds of closed loops; the panel stays within the explorer's latency).
 """
 
 from __future__ import annotations
@@ -30,6 +37,10 @@ from ..errors import SeapassError
 from ..exact import poly as ep
 from ..exact.axis import real_part_polynomial
 from ..exact.rounding import inward_text
+from ..ports.bands import Band
+from ..ports.check import reciprocity
+from ..ports.stability import absolute_stability, eta_text
+from ..ports.twoport import two_port
 from ..sampled import sampled_passivity
 from ..sim.metrics import tracking_metrics
 from ..sim.scenarios import Step
@@ -279,6 +290,46 @@ def _witness(state: ExploreState) -> dict[str, Any]:
     return out
 
 
+def _band_list(bands: tuple[Band, ...]) -> list[list[float | None]]:
+    return [[b.lo, None if math.isinf(b.hi) else b.hi] for b in bands]
+
+
+def _twoport(state: ExploreState) -> dict[str, Any]:
+    stab = absolute_stability(two_port(state.sea()), witness=False)
+    m = stab.matrix
+    assert m is not None
+    bands = stab.bands
+    edges = [e for b in bands for e in (b.lo, b.hi) if 0 < e < math.inf]
+    poles = m.common_denominator()
+    d = np.array([float(c) for c in reversed(poles.coeffs())])
+    marks = [*edges, *(w for w in (stab.eta.omega, stab.eta.limit) if w and math.isfinite(w))]
+    w = _frequency_grid(d, np.ones(1), marks)
+    w = np.unique(np.concatenate([w, edges]))
+    eta = stab.response(w)["eta"]
+    finite = eta[np.isfinite(eta)]
+    top = max(float(np.percentile(finite, 95)), 2.0) * 1.1 if finite.size else 2.0
+    bottom = min(float(finite.min()), 0.5) if finite.size else 0.0
+    eta_min = stab.eta.value
+    return {
+        "outcome": stab.outcome.value,
+        "absolutely_stable": stab.absolutely_stable,
+        "reciprocal": reciprocity(m, stab.form),
+        "eta_min": eta_min if math.isfinite(eta_min) else None,
+        "eta_kind": stab.eta.kind.value,
+        "eta_text": eta_text(stab.eta),
+        "eta_min_frequency": stab.eta.to_dict()["eta_min_frequency"],
+        "failing": [
+            {"name": c.name, "detail": c.detail, "bands": _band_list(c.bands)}
+            for c in stab.conditions
+            if c.holds is not True
+        ],
+        "omega": w.tolist(),
+        "eta": _finite_list(eta),
+        "eta_range": [bottom - 0.1 * abs(bottom), top],
+        "bands": _band_list(bands),
+    }
+
+
 #: panel kind -> (function, cache key of the state)
 _PANELS: dict[str, tuple[Callable[..., dict[str, Any]], Callable[[ExploreState], str]]] = {
     "verdict": (_verdict, lambda s: s.key()),
@@ -294,6 +345,7 @@ _PANELS: dict[str, tuple[Callable[..., dict[str, Any]], Callable[[ExploreState],
     "frequency": (_frequency, lambda s: s.key()),
     "step": (_step, lambda s: s.key(extra=("load_mass", "step", "horizon"))),
     "witness": (_witness, lambda s: s.key()),
+    "twoport": (_twoport, lambda s: s.key()),
 }
 KINDS: tuple[str, ...] = tuple(_PANELS)
 _cache: OrderedDict[str, dict[str, Any]] = OrderedDict()

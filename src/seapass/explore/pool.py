@@ -30,6 +30,7 @@ __all__ = ["AFFINITY", "PanelPool", "run_panel"]
 AFFINITY: Mapping[str, int] = {
     "verdict": 0,
     "frequency": 0,
+    "twoport": 0,
     "step": 1,
     "interval": 1,
     "region": 1,

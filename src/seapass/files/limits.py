@@ -35,6 +35,7 @@ __all__ = [
     "MAX_MODEL_TERMS",
     "MAX_NAME_CHARS",
     "MAX_NODES",
+    "MAX_PORTS",
     "MAX_REGION_COLUMNS",
     "MAX_RIG_INTEGRATOR_STEPS",
     "MAX_RIG_SAMPLES",
@@ -198,6 +199,10 @@ MAX_EXACT_BITS = 20_000
 """Size in bits of the coefficients of one product of the exact path (numerator or
 denominator of a rational coefficient), checked before multiplying: ``1e300`` is a
 997-bit integer, ``(1e300*s + 1)**12`` about 12,000 bits."""
+
+MAX_PORTS = 6
+"""Ports of an n-port immittance matrix (``2^n − 1`` principal minors are decided; 6 ports:
+63 minors, the largest a 6×6 determinant of polynomial entries)."""
 
 SYMBOLIC_TIME_LIMIT = 20.0
 """CPU-time budget [s] of one symbolic derivation (``ITIMER_PROF``, main thread only): the

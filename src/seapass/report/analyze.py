@@ -21,6 +21,13 @@ returns a [`Report`][seapass.report.document.Report]:
     The exact passive set of every controller gain (and of every parameter with
     a ``[ranges]`` entry), the others held at their values
     ([`seapass.analysis.region.passive_intervals`][seapass.analysis.region.passive_intervals]).
+``twoport``
+    The SEA as a two-port between the person and the virtual environment it
+    renders: absolute stability (Llewellyn) with the exact failing bands and
+    the infimum of η, two-port passivity, reciprocity, a verified destabilizing
+    pair of passive terminations, the exact absolutely-stable set of every gain
+    and the friction certificate
+    ([`seapass.ports`][seapass.ports]; the stage is ``report.stages.design_twoport``).
 ``response``
     Step response at every load mass, with 2 % settling time and final error.
 ``tuning``
@@ -54,7 +61,14 @@ from .document import (
     to_json,
 )
 from .pipeline import Stage, run_stages, select_stages
-from .stages import design_dynamics, design_frequency, design_hardware, design_passivity, zwidth
+from .stages import (
+    design_dynamics,
+    design_frequency,
+    design_hardware,
+    design_passivity,
+    design_twoport,
+    zwidth,
+)
 from .stages.design_passivity import values_text
 
 __all__ = ["ANALYSIS_STAGES", "analyze", "design_file_section", "verdict_line"]
@@ -68,6 +82,11 @@ _STAGE_FUNCS: tuple[tuple[str, str, Callable[[Design, bool], Section]], ...] = (
     ("stiffness", "Stiffness frequency response", design_dynamics.stage_stiffness),
     ("frequency", "Passivity in the frequency domain", design_frequency.stage_frequency),
     ("ranges", "Exact passive ranges", design_passivity.stage_ranges),
+    (
+        "twoport",
+        "Two-port: any passive person, any passive virtual environment",
+        design_twoport.stage_twoport,
+    ),
     ("response", "Step response", design_dynamics.stage_response),
     ("tuning", "Tuned gains", design_dynamics.stage_tuning),
     ("sampled", "Sampled-data passivity", design_hardware.stage_sampled),
@@ -75,7 +94,10 @@ _STAGE_FUNCS: tuple[tuple[str, str, Callable[[Design, bool], Section]], ...] = (
     ("rig", "Digital twin of the rig", design_hardware.stage_rig),
 )
 
-_COSTS = {"zwidth": 5.3, "tuning": 4.8, "rig": 3.6, "witness": 1.5, "ranges": 1.1, "frequency": 1.1}
+_COSTS = {
+    "zwidth": 5.3, "tuning": 4.8, "rig": 3.6, "witness": 1.5, "twoport": 1.2, "ranges": 1.1,
+    "frequency": 1.1,
+}  # fmt: skip
 """Run times [s] of the costly stages on examples/ours.toml (2 cores; the pool starts the
 costliest first, so the two workers finish together); others count 1."""
 

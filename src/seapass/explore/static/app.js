@@ -281,7 +281,7 @@
   function panelError(kind, r) {
     const el = document.querySelector(`[data-panel-err="${kind}"]`);
     if (el) el.textContent = r.ok ? "" : r.error;
-    const panel = { verdict: "verdict", sampled: "verdict", interval: "interval", region: "region", frequency: "frequency", step: "step", witness: "witness" }[kind];
+    const panel = { verdict: "verdict", sampled: "verdict", interval: "interval", region: "region", frequency: "frequency", step: "step", witness: "witness", twoport: "twoport" }[kind];
     $("#panel-" + panel).classList.toggle("stale", !r.ok && kind !== "sampled");
   }
 
@@ -348,6 +348,24 @@
       } else svg.innerHTML = "";
       $("#witness-text").innerHTML = `The passive environment <b>m_e = ${fmt(e.mass, 4)} kg, b_e = ${fmt(e.damping, 4)} N·s/m, k_e = ${fmt(e.stiffness, 4)} N/m</b> makes the coupled system unstable: a pole at Re s = <b>${fmt(d.growth_rate, 4)} 1/s</b> (verified exactly${d.omega ? `; tuned at ω0 = ${fmt(d.omega, 4)} rad/s` : ""}).` +
         (d.simulation ? ` The response grows ×${fmt(d.simulation.growth_factor, 3)} from the first to the last quarter.` : "");
+    },
+    twoport(d) {
+      const words = { passive: ["passive", "absolutely stable"], not_passive: ["notpassive", "not absolutely stable"], undecided: ["off", "undecided"] }[d.outcome];
+      setVerdict($("#verdict-absolute"), words[0], words[1],
+        d.outcome === "passive" ? "stable with every passive person and every passive virtual environment"
+          : d.outcome === "undecided" ? "the exact test could not decide (never shown as stable)"
+            : "fails: " + d.failing.map((c) => c.name).join(", "));
+      const eta = d.eta_min === null ? (d.eta_kind === "undefined" ? "undefined" : "−∞") : fmt(d.eta_min, 5);
+      setVerdict($("#verdict-eta"), "eta", eta, d.eta_text);
+      const hasEta = d.eta.some((v) => v !== null);
+      if (hasEta) {
+        Plots.line($("#plot-eta"), { title: "η(ω)", x: { scale: "log", label: "ω [rad/s]" }, y: { scale: "lin", lo: d.eta_range[0], hi: d.eta_range[1] },
+          series: [{ x: d.omega, y: d.eta, color: "#0969da" }], bands: d.bands, hlines: [{ y: 1, color: "#cf222e", dash: "5 4" }] });
+      } else $("#plot-eta").innerHTML = `<text x="280" y="115" text-anchor="middle" class="tick">η does not exist: p12 p21 = 0 (no coupling between the ports)</text>`;
+      const failing = d.failing.filter((c) => c.bands.length).map((c) => `${esc(c.name)} for ω ∈ ${c.bands.map(([a, b]) => `(${fmt(a, 5)}, ${b === null ? "∞" : fmt(b, 5)})`).join(" ∪ ")}`);
+      $("#twoport-text").innerHTML = (failing.length ? `Fails (shaded, exact): ${failing.join("; ")} rad/s. ` : "") +
+        `${d.reciprocal ? "Reciprocal" : "Not reciprocal"} (z12 = z21: ${d.reciprocal ? "yes" : "no"}). ` +
+        "Two-port passivity and a destabilizing pair of terminations: <code>seapass twoport check</code>.";
     },
   };
 

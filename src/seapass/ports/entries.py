@@ -1,0 +1,103 @@
+"""Validated input of immittance matrices: parameter values, entries, square shapes.
+
+Entries are safe text (through [`seapass.model.expr`][seapass.model.expr], never
+``eval``), sympy expressions rational in ``s`` or numbers; each is cancelled for
+all parameter values.  The number of ports is capped at load time
+([`MAX_PORTS`][seapass.files.limits.MAX_PORTS]).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from types import MappingProxyType
+from typing import Any
+
+import sympy as sp
+
+from ..errors import ExpressionError, ModelError, ParameterError
+from ..files.limits import MAX_PORTS
+from ..model.expr import check_name, check_rational_in_s, parse_expression, to_fraction
+from .ratfunc import cancelled
+
+__all__ = ["freeze_values", "no_values", "parse_entry", "square_entries"]
+
+
+def no_values() -> Mapping[str, float | None]:
+    """A read-only empty mapping of parameter values (the default of the port models)."""
+    return MappingProxyType({})
+
+
+def freeze_values(values: Mapping[str, Any] | None) -> Mapping[str, float | None]:
+    """``values`` checked (names, finite numbers or None) and frozen."""
+    if values is not None and not isinstance(values, Mapping):
+        raise ParameterError(
+            f"values: expected a mapping of names to numbers, got {type(values).__name__}",
+            argument="values",
+        )
+    out: dict[str, float | None] = {}
+    for name, val in (values or {}).items():
+        if not isinstance(name, str):
+            raise ParameterError(f"values: parameter names must be strings, got {name!r}")
+        key = f"values[{name!r}]"
+        try:
+            check_name(name)
+        except ExpressionError as exc:
+            raise ParameterError(f"{key}: {exc}", argument=key) from None
+        out[name] = None if val is None else float(to_fraction(val, key))
+    return MappingProxyType(out)
+
+
+def parse_entry(value: Any, allowed: set[str], what: str) -> sp.Expr:
+    """One entry as a cancelled sympy expression (``what`` names it in errors, e.g. ``z12``)."""
+    if isinstance(value, bool):
+        raise ExpressionError(f"{what}: expected an expression, got a boolean", argument=what)
+    if isinstance(value, str):
+        try:
+            expr = parse_expression(value, allowed)
+        except ExpressionError as exc:
+            raise ExpressionError(f"{what}: {exc}", argument=what) from None
+    elif isinstance(value, int | float):
+        expr = sp.Rational(to_fraction(value, what))
+    elif isinstance(value, sp.Basic):
+        expr = check_rational_in_s(value, allowed, what)
+    else:
+        raise ExpressionError(
+            f"{what}: expected an expression (text, sympy or a number), got {type(value).__name__}",
+            argument=what,
+        )
+    return cancelled(expr)
+
+
+def _is_row(r: Any) -> bool:
+    return isinstance(r, Sequence) and not isinstance(r, str)
+
+
+def square_entries(matrix: Any, n: int | None = None) -> list[Any]:
+    """The entries of a square nested sequence, row-major (``n`` rows if given).
+
+    A flat sequence of ``n²`` entries is accepted too.
+
+    >>> square_entries([["a", "b"], ["c", "d"]])
+    ['a', 'b', 'c', 'd']
+    """
+    want = f"a {n}×{n} matrix" if n else "a square matrix"
+    if not _is_row(matrix):
+        raise ModelError(
+            f"matrix: expected {want} as nested rows [[...], [...]]", argument="matrix"
+        )
+    rows = list(matrix)
+    if n is not None and len(rows) == n * n and not any(_is_row(r) for r in rows):
+        return rows
+    size = len(rows)
+    if size > MAX_PORTS:
+        raise ModelError(
+            f"matrix: {size} ports; the limit is {MAX_PORTS} (every principal minor is decided)",
+            argument="matrix",
+        )
+    ok = size >= 1 and all(_is_row(r) and len(r) == size for r in rows)
+    if not ok or (n is not None and size != n):
+        shape = [len(r) if _is_row(r) else 1 for r in rows]
+        raise ModelError(
+            f"matrix: expected {want}; got {size} rows of lengths {shape}", argument="matrix"
+        )
+    return [x for r in rows for x in r]
