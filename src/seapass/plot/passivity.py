@@ -114,7 +114,7 @@ def plot_bode(
     ax_m.yaxis.set_minor_locator(NullLocator())
     if legend is None:
         legend = any(r.label for r in items) or reference is not None or bool(bands)
-    if legend:
+    if legend and ax_m.get_legend_handles_labels()[0]:
         ax_m.legend(loc="best", fontsize=9)
     if title:
         set_title(ax_m, title, fontsize=10)
