@@ -104,7 +104,7 @@ def test_nyquist_band_is_drawn_from_dense_points_inside_the_exact_band(system: o
         z = np.polyval(resp.num, 1j * inner) / np.polyval(resp.den, 1j * inner)
         assert np.all(z.real < 0)  # every inner point is in the left half-plane
     if isinstance(system, str):
-        (first, second) = curves
+        (_first, second) = curves
         re = _re_z(HARD_Z, second.omega[1:-1][::25])
         assert np.all(re < 0)
     with bare_figures():

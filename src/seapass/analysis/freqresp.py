@@ -26,8 +26,8 @@ __all__ = [
     "check_points",
     "log_frequencies",
     "phase_curve",
-    "stiffness_peak",
     "stiffness_coefficients",
+    "stiffness_peak",
     "stiffness_response",
     "wrap_phase",
 ]
@@ -162,7 +162,9 @@ def stiffness_peak(response: FrequencyResponse) -> StiffnessPeak:
     at = float(w[i]) if w.size else math.nan
     top = mag.size - 1
     if mag.size > 1 and i == top and finite[i] > finite[i - 1]:
-        kind = PeakKind.UNBOUNDED_HIGH if math.isinf(response.high_frequency) else PeakKind.EDGE_HIGH
+        kind = (
+            PeakKind.UNBOUNDED_HIGH if math.isinf(response.high_frequency) else PeakKind.EDGE_HIGH
+        )
         return StiffnessPeak(kind=kind, magnitude=value, omega=at, limit=response.high_frequency)
     if mag.size > 1 and i == 0 and finite[0] > finite[1]:
         kind = PeakKind.UNBOUNDED_LOW if math.isinf(response.static) else PeakKind.EDGE_LOW

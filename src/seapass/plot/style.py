@@ -35,8 +35,8 @@ __all__ = [
     "figure_style",
     "fit_text",
     "save_figure",
-    "set_title",
     "set_suptitle",
+    "set_title",
 ]
 
 STYLE: dict[str, Any] = {
