@@ -331,8 +331,9 @@ def test_overshoot_has_the_same_unit_in_text_and_json() -> None:
     argv = ["simulate", *OURS, "--set", "kd=2000", "--load-mass", "10", "--horizon", "2"]
     _, text, _ = cli(argv)
     _, js, _ = cli([*argv, "--json"])
-    shown = float(re.search(r"overshoot: (\S+) of the step", text).group(1))
-    assert shown == pytest.approx(json.loads(js)["overshoot"], rel=1e-3)
+    # text: percent (the one format of an overshoot shown to a person); JSON: the fraction
+    shown = float(re.search(r"overshoot: (\S+) % of the step", text).group(1))
+    assert shown == pytest.approx(100 * json.loads(js)["overshoot"], rel=1e-3)
 
 
 def test_missing_file_is_path_and_reason() -> None:

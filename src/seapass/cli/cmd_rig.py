@@ -60,6 +60,17 @@ examples:
 """
 
 
+def _examples(*epilogs: str) -> str:
+    """One ``examples:`` block with the example lines of several subcommands' epilogs."""
+    lines = [
+        ln
+        for e in epilogs
+        for ln in e.split("examples:\n", 1)[-1].splitlines()
+        if ln.startswith("  ")
+    ]
+    return "examples:\n" + "\n".join(lines) + "\n"
+
+
 def _positive(text: str) -> float:
     try:
         val = float(text)
@@ -93,7 +104,8 @@ def register(subparsers: Any) -> None:
         help="rig files, the digital twin (kd sweep, impacts) and fitting a rig to a log",
         description="Run the paper's Section VI experiment on the digital twin of a rig, "
         "write and check rig files, and fit a rig's actuator to a logged run.",
-        epilog=_SWEEP_EPILOG + _IMPACT_EPILOG,
+        epilog=_examples(_SWEEP_EPILOG, _IMPACT_EPILOG, _SHOW_EPILOG, _FIT_EPILOG),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     sub = rig.add_subparsers(dest="rig_command", metavar="ACTION")
     sub.required = True

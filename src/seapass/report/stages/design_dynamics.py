@@ -19,7 +19,7 @@ from ...errors import ParameterError, TuningWarning
 from ...model.design_file import Design
 from ...plot.sim import plot_step_responses
 from ...sampled.passivity import SampledPassivityResult, sampled_passivity
-from ...sim.metrics import tracking_metrics
+from ...sim.metrics import overshoot_percent, tracking_metrics
 from ...sim.simulate import Step, simulate
 from ...tuning.optimize import TuningResult, tune
 from ...tuning.problem import QUICK_OPTIONS, TuningOptions
@@ -128,11 +128,18 @@ def metrics_table(name: str, title: str, runs: Runs) -> Table:
             "status",
             "settling time [s]",
             "final error [m]",
-            "overshoot",
+            "overshoot [%]",
             "peak force [N]",
         ),
         rows=tuple(
-            (m, met.status, met.settling_time, met.final_error, met.overshoot, met.peak_force)
+            (
+                m,
+                met.status,
+                met.settling_time,
+                met.final_error,
+                overshoot_percent(met.overshoot),
+                met.peak_force,
+            )
             for m, _r, met in runs
         ),
     )

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from ...batch.step_metrics import batch_step_metrics
+from ...sim.metrics import overshoot_percent
 from ...batch.verdicts import batch_is_passive
 from ...model.catalog import PAPER_VALUES
 from ...model.catalog import design as catalog_design
@@ -67,7 +68,7 @@ def simulation_section(
         m = r.metrics
         gains = study.tuning[r.design].gains
         rows.append(
-            (r.design, r.load_mass, m.status, m.settling_time, m.final_error, m.overshoot,
+            (r.design, r.load_mass, m.status, m.settling_time, m.final_error, overshoot_percent(m.overshoot),
              m.peak_force, *[gains.get(g) for g in gnames])
         )  # fmt: skip
     table = Table(
@@ -79,7 +80,7 @@ def simulation_section(
             "status",
             "settling time [s]",
             "final error [m]",
-            "overshoot",
+            "overshoot [%]",
             "peak force [N]",
             *[f"{g} [SI]" for g in gnames],
         ),

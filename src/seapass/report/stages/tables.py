@@ -120,7 +120,7 @@ def _row_findings(r: TableRow) -> list[Finding]:
     if not findings:
         findings.append(
             Finding(name, Verdict.AGREES,
-                    f"transfer function, passivity polynomial and bound ({r.bound_status}) agree")
+                    f"transfer function, passivity polynomial and bound agree: {r.bound_status.phrase}")
         )  # fmt: skip
     return findings
 
