@@ -325,11 +325,16 @@ def _fit(args: argparse.Namespace) -> int:
     for message in log.warnings:
         warn(message)
     fit = fit_rig(log, rig, window=args.window, delay=args.delay, confidence=args.confidence)
-    updated = fit.updated_rig() if args.rig_out else None
+    updated = None
+    if args.rig_out:  # the rig file's own text, its comments kept; the log named relatively
+        from ..files.textfile import read_text_file
+
+        text = read_text_file(args.rig, what="rig file")
+        updated = fit.updated_rig_text(text, relative_to=args.rig_out)
     if plot is not None:
         write_figure(fit.plot, plot, force=args.force)
     if updated is not None:
-        write_text(args.rig_out, updated.to_toml(), force=args.force, flag="--rig-out")
+        write_text(args.rig_out, updated, force=args.force, flag="--rig-out")
     for message in fit.warnings:
         warn(message)
     if args.json:
