@@ -217,7 +217,6 @@ def _control_hint(file: Design | None, opts: TuningOptions) -> str:
 
 def _print_text(result: TuningResult) -> None:
     from ..sim.metrics import overshoot_text
-
     from ..tuning.problem import Objective
 
     m = result.metrics

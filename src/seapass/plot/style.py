@@ -124,7 +124,7 @@ def fit_text(text: str, width_pt: float, fontsize: float) -> str:
     extents).  Existing line breaks are kept.
 
     >>> fit_text("a long title that is wrapped", 60.0, 10.0)
-    'a long\ntitle that\nis wrapped'
+    'a long\\ntitle that\\nis wrapped'
     """
     chars = max(8, int(width_pt / (_EM * fontsize)))
     lines = []

@@ -14,13 +14,13 @@ from typing import Any
 import numpy as np
 
 from ...batch.step_metrics import batch_step_metrics
-from ...sim.metrics import overshoot_percent
 from ...batch.verdicts import batch_is_passive
 from ...model.catalog import PAPER_VALUES
 from ...model.catalog import design as catalog_design
 from ...model.experiment import PAPER_EXPERIMENT
 from ...paper.simstudy import SimulationStudy, run_simulation_study
 from ...plot.sim import plot_simulation_study, plot_tradeoff
+from ...sim.metrics import overshoot_percent
 from ..document import FigureData, Finding, Section, Table, Verdict
 from ..pipeline import stage_progress
 
