@@ -48,10 +48,21 @@ _TEMPLATE_EPILOG = """\
 example:
   seapass rig template > myrig.toml   # then edit it and check it with: seapass rig show --rig myrig.toml
 """
+_CHIRP_EPILOG = """\
+The file has '#' comment lines saying what to play (amplitude, band, duration, rate) and
+how to log it, then time [s], force [N], one row per control sample. Play it with the
+load free to move, log time, commanded force, x_A and x_L at the same rate, and fit:
+seapass rig fit LOG.csv --rig FILE.
+
+examples:
+  seapass rig chirp --rig myrig.toml --out command.csv
+  seapass rig chirp --rig myrig.toml --amplitude 20 --band 2:40 --duration 12 --out command.csv
+"""
 _FIT_EPILOG = """\
 The log is a CSV file with the columns time [s], commanded force [N], x_A [m], x_L [m],
-one row per control sample (a header row is optional). Log a chirp of force (e.g. 5-25 Hz)
-with the load free to move, at the rig's control rate. Only the actuator's equation is
+one row per control sample (a header row is optional). Log a chirp of force (e.g. 5-25 Hz;
+`seapass rig chirp` writes the command to play) with the load free to move, at the rig's
+control rate. Only the actuator's equation is
 fitted: the load side does not enter.
 
 examples:
@@ -104,7 +115,7 @@ def register(subparsers: Any) -> None:
         help="rig files, the digital twin (kd sweep, impacts) and fitting a rig to a log",
         description="Run the paper's Section VI experiment on the digital twin of a rig, "
         "write and check rig files, and fit a rig's actuator to a logged run.",
-        epilog=_examples(_SWEEP_EPILOG, _IMPACT_EPILOG, _SHOW_EPILOG, _FIT_EPILOG),
+        epilog=_examples(_SWEEP_EPILOG, _IMPACT_EPILOG, _SHOW_EPILOG, _CHIRP_EPILOG, _FIT_EPILOG),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     sub = rig.add_subparsers(dest="rig_command", metavar="ACTION")
@@ -159,6 +170,28 @@ def register(subparsers: Any) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     tp.set_defaults(func=_template)
+
+    ch = sub.add_parser(
+        "chirp",
+        help="write the chirp of force to play on a bench (then log it and run rig fit)",
+        description="Write the command that identifies a bench: a linear chirp of force, one "
+        "row per control sample, within the rig's force limit and below its Nyquist frequency.",
+        epilog=_CHIRP_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    ch.add_argument("--rig", metavar="FILE", help="rig TOML file (default: packaged paper rig)")
+    ch.add_argument("--out", metavar="FILE", help="write the command CSV (default: print it)")
+    ch.add_argument("--amplitude", type=_positive, metavar="N",
+                    help="peak force in N (default: 60, at most half the force limit)")  # fmt: skip
+    ch.add_argument("--band", metavar="LO:HI", default="5:25",
+                    help="start and stop frequency in Hz (default: 5:25)")  # fmt: skip
+    ch.add_argument("--duration", type=_positive, default=8.0, metavar="S",
+                    help="length in s (default: 8)")  # fmt: skip
+    ch.add_argument("--rate", type=_positive, metavar="HZ",
+                    help="samples per second (default: the rig's control.rate)")  # fmt: skip
+    ch.add_argument("--json", action="store_true", help="print the plan (without samples) as JSON")
+    add_force_option(ch)
+    ch.set_defaults(func=_chirp)
 
     ft = sub.add_parser(
         "fit",
@@ -310,6 +343,30 @@ def _template(args: argparse.Namespace) -> int:
     from ..rig.packaged import rig_template
 
     sys.stdout.write(rig_template())
+    return 0
+
+
+def _chirp(args: argparse.Namespace) -> int:
+    from ..rig.chirp import chirp_plan
+    from .common import parse_range
+
+    check_out_file(args.out, "--out", force=args.force)
+    plan = chirp_plan(
+        _rig(args),
+        amplitude=args.amplitude,
+        band=parse_range(args.band, "--band"),
+        duration=args.duration,
+        rate=args.rate,
+    )
+    if args.out:
+        write_text(args.out, plan.to_csv(), force=args.force, flag="--out")
+    elif not args.json:
+        sys.stdout.write(plan.to_csv())
+        return 0
+    if args.json:
+        print_json(plan.to_dict())
+    else:
+        print("\n".join(plan.header()))
     return 0
 
 
