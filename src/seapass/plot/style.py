@@ -137,7 +137,7 @@ def _fontsize(fontsize: float | str | None, key: str) -> float:
     from matplotlib import rcParams
     from matplotlib.font_manager import FontProperties
 
-    size = rcParams[key] if fontsize is None else fontsize
+    size = cast(Any, rcParams)[key] if fontsize is None else fontsize
     return float(FontProperties(size=size).get_size_in_points())
 
 
