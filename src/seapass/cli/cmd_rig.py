@@ -68,6 +68,7 @@ fitted: the load side does not enter.
 examples:
   seapass rig fit chirp.csv --rig myrig.toml
   seapass rig fit chirp.csv --rig myrig.toml --plot fit.png --rig-out fitted.toml --json
+  seapass rig fit response.csv --frf --rig myrig.toml --rig-out fitted.toml
 """
 
 
@@ -203,6 +204,12 @@ def register(subparsers: Any) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     ft.add_argument("log", metavar="LOG.csv", help="the logged run (time, force, x_A, x_L)")
+    ft.add_argument(
+        "--frf",
+        action="store_true",
+        help="LOG.csv is a measured frequency response instead: frequency [Hz], |x_A/F| [m/N], "
+        "phase [deg], |x_L/F| [m/N], phase [deg]; fits m, b, b1 (not Coulomb friction)",
+    )
     ft.add_argument(
         "--rig", metavar="FILE", required=True, help="rig TOML file (k1, encoders, rate, delay)"
     )
@@ -376,6 +383,8 @@ def _fit(args: argparse.Namespace) -> int:
     from ..rig.rigfile import load_rig
 
     rig = load_rig(args.rig)
+    if args.frf:
+        return _fit_frf(args, rig)
     plot = plot_path(args.plot, force=args.force)  # before the work
     check_out_file(args.rig_out, "--rig-out", force=args.force)
     log = load_log(args.log)
@@ -408,4 +417,33 @@ def _fit(args: argparse.Namespace) -> int:
             f"{p.unit}{bound}"
         )
     print(f"residual force: {fit.residual_std:.3g} N (standard deviation per window)")
+    return 0
+
+
+def _fit_frf(args: argparse.Namespace, rig: Rig) -> int:
+    from ..files.textfile import read_text_file
+    from ..rig.frf import fit_frf, load_frf
+    from ..rig.identify import rig_text
+
+    if args.plot:
+        raise ParameterError("--plot draws a time log's fit; it does not go with --frf")
+    check_out_file(args.rig_out, "--rig-out", force=args.force)
+    fit = fit_frf(load_frf(args.log), rig, delay=args.delay, confidence=args.confidence)
+    if args.rig_out:
+        text = read_text_file(args.rig, what="rig file")
+        write_text(args.rig_out, rig_text(rig, fit.updated_rig(), text), force=args.force,
+                   flag="--rig-out")  # fmt: skip
+    if args.json:
+        print_json(fit.to_dict())
+        return 0
+    pct = f"{fit.confidence * 100:g} %"
+    print(f"fit of the frequency response {fit.source}, k1 = {rig.damper.k1:g} N/m from the rig "
+          f"file; {pct} intervals (Coulomb friction is not seen in a frequency response):")  # fmt: skip
+    for p in fit.parameters:
+        print(
+            f"  {p.name:<4} = {p.value:<11.6g} ± {p.stderr:<9.2g} [{p.low:.6g}, {p.high:.6g}] {p.unit}"
+        )
+    print(
+        f"residual: {fit.residual_std:.3g} (standard deviation of the force equation, per unit force)"
+    )
     return 0

@@ -11,7 +11,8 @@ nonlinear plant: friction, saturation, encoders), [`twin`][seapass.rig.twin]
 [`log`][seapass.rig.log] (a logged run: the CSV loader, logs made on the twin),
 [`chirp`][seapass.rig.chirp] (the command to play on a bench to log such a run),
 [`moments`][seapass.rig.moments] and [`identify`][seapass.rig.identify] (fitting
-``m, b, b1`` and Coulomb friction to a log, with confidence intervals) and
+``m, b, b1`` and Coulomb friction to a log, with confidence intervals),
+[`frf`][seapass.rig.frf] (``m, b, b1`` from a measured frequency response) and
 [`mujoco_model`][seapass.rig.mujoco_model] (an optional MuJoCo cross-check; needs
 the ``mujoco`` extra).
 

@@ -55,7 +55,7 @@ from .log import RigLog
 from .moments import log_moments
 from .rigfile import Rig
 
-__all__ = ["FIT_PARAMETERS", "FitParameter", "RigFit", "fit_rig"]
+__all__ = ["FIT_PARAMETERS", "FitParameter", "RigFit", "fit_rig", "rig_text"]
 
 FloatArray = NDArray[np.float64]
 
@@ -271,19 +271,7 @@ class RigFit:
         ([`update_toml_text`][seapass.files.toml.update_toml_text]); without
         ``text``, or when it cannot be edited line by line, `Rig.to_toml`.
         """
-        rig = self.updated_rig(relative_to=relative_to)
-        if text is not None:
-            old, new = self.rig.to_dict(), rig.to_dict()
-            changes = {
-                (f"{sec}.{k}" if isinstance(body, dict) else sec): v
-                for sec, body in new.items()
-                for k, v in (body.items() if isinstance(body, dict) else [(sec, body)])
-                if (old[sec].get(k) if isinstance(body, dict) else old[sec]) != v
-            }
-            edited = update_toml_text(text, changes)
-            if edited is not None:
-                return edited
-        return rig.to_toml()
+        return rig_text(self.rig, self.updated_rig(relative_to=relative_to), text)
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -323,6 +311,27 @@ class RigFit:
 
 
 # ----------------------------------------------------------------------------- regression
+
+
+def rig_text(before: Rig, after: Rig, text: str | None = None) -> str:
+    """``after`` as rig-file TOML written into ``text`` (the file ``before`` was read from).
+
+    Only the values that differ change, every comment and line is kept
+    ([`update_toml_text`][seapass.files.toml.update_toml_text]); without ``text``,
+    or when it cannot be edited line by line, `Rig.to_toml`.
+    """
+    if text is not None:
+        old, new = before.to_dict(), after.to_dict()
+        changes = {
+            (f"{sec}.{k}" if isinstance(body, dict) else sec): v
+            for sec, body in new.items()
+            for k, v in (body.items() if isinstance(body, dict) else [(sec, body)])
+            if (old[sec].get(k) if isinstance(body, dict) else old[sec]) != v
+        }
+        edited = update_toml_text(text, changes)
+        if edited is not None:
+            return edited
+    return after.to_toml()
 
 
 def _solve(
