@@ -193,3 +193,11 @@ def test_fit_text_only_breaks_at_spaces() -> None:
     assert fit_text(text, 1e4, 10).count("\n") == 0
     wrapped = fit_text(text, 80, 10)
     assert wrapped.replace("\n", " ") == text and wrapped.count("\n") >= 2
+
+
+def test_cli_response_says_no_peak_at_the_edge() -> None:
+    lp = ["response", "--D1", "k1 + b1*s", "--CA", "kd"] + [
+        a for kv in ("m=1", "b=10", "k1=1000", "b1=20", "kd=500") for a in ("--set", kv)
+    ]
+    text = _run(lp)  # grows like b1*s: the largest value is the grid's right edge
+    assert "peak" not in text and "grows without bound as w -> inf" in text
