@@ -31,6 +31,8 @@ READ_ATTRIBUTES = frozenset(
 
 #: (module, enclosing function, called attribute) -> why it is not a read of a user path
 ALLOWED = {
+    ("cli/__init__.py", "_stdout_closed", "open"): "os.open of os.devnull for writing, put "
+    "over a standard output whose reader is gone",
     ("explore/reports.py", "ReportJob.log", "read_text"): "the log seapass's own analyze "
     "subprocess writes in the report directory the explorer created",
     ("explore/reports.py", "ReportJobs.start", "open"): "a write (wb) of that log",

@@ -23,7 +23,6 @@ def test_one_function_draws_every_bode_plot() -> None:
     assert users == [
         "analysis/freqresp.py",
         "plot/passivity.py",
-        "report/stages/design_dynamics.py",
         "report/stages/design_frequency.py",
         "report/stages/tables.py",
     ]

@@ -15,7 +15,7 @@ import pytest
 from markdown_it import MarkdownIt
 
 from seapass.cli import main
-from seapass.report.document import Report, Section
+from seapass.report.document import Report, Section, Table
 from seapass.report.render import render_markdown
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -65,3 +65,20 @@ def test_design_title_with_a_link_through_analyze(tmp_path: Path, capsys) -> Non
     assert "https://evil.example" not in "".join(re.findall(r'href="([^"]*)"', html))
     page = (out / "report.html").read_text()
     assert 'href="https://evil.example' not in page
+
+
+def test_an_empty_table_says_none() -> None:
+    from seapass.report.render import render_html
+
+    empty = Table(
+        name="bands", title="Bands where Re Z_L(jω) < 0 (exact)", columns=("a", "b"), rows=()
+    )
+    full = Table(name="full", title="Full", columns=("a",), rows=((1,),))
+    report = Report(title="t", intro="i", sections=(Section("a", "A", "t", tables=(empty, full)),))
+    md = render_markdown(report)
+    head = md.split("### Bands where")[1].split("###")[0]
+    assert "None." in head and "|" not in head
+    assert "| a |" in md.split("### Full")[1]
+    html = render_html(report)
+    part = html.split('id="table-bands"')[1].split('id="table-full"')[0]
+    assert "<p>None.</p>" in part and "<table>" not in part

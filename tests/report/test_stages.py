@@ -112,3 +112,18 @@ def test_tables_highlight_and_split_by_column_name() -> None:
         Table(name="t", title="T", columns=("a",), rows=((1,),), highlight=frozenset({(0, "d")}))
     with pytest.raises(ParameterError, match="unknown columns"):
         Table(name="t", title="T", columns=("a",), rows=((1,),), views=(("v", ("z",)),))
+
+
+def test_analyze_draws_one_bode_figure() -> None:
+    from seapass.model.design_file import load_design
+    from seapass.report.analyze import analyze
+
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    design = load_design(examples / "lp.toml")
+    report = analyze(design, quick=True, stages=["stiffness", "frequency"], progress=False)
+    names = [f.name for s in report.sections for f in s.figures]
+    assert names == ["bode", "real_part", "nyquist"]
+    bode = next(f for s in report.sections for f in s.figures if f.name == "bode")
+    assert "whole turns removed" in bode.caption
+    (table,) = next(s for s in report.sections if s.key == "stiffness").tables
+    assert [r[0] for r in table.rows][-1] == "peak over 0.1-1e4 rad/s"

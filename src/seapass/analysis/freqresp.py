@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from enum import StrEnum
 from typing import Any
 
 import numpy as np
@@ -15,12 +16,159 @@ from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA, Impedance
 
 __all__ = [
+    "PHASE_WINDOW",
     "FrequencyResponse",
+    "PeakKind",
+    "StiffnessPeak",
     "check_points",
     "log_frequencies",
+    "phase_curve",
     "stiffness_coefficients",
+    "stiffness_peak",
     "stiffness_response",
+    "wrap_phase",
 ]
+
+PHASE_WINDOW = (-90.0, 270.0)
+"""Where `wrap_phase` puts a phase [deg]: the passive band ``[0°, 180°]`` of a stiffness
+``s·Z`` (``Re Z ≥ 0`` is ``arg Z ∈ [−90°, 90°]``) sits in its middle, 90° from each end."""
+
+
+def wrap_phase(phase: Any) -> np.ndarray:
+    """``phase`` [deg] moved by whole turns into ``[-90°, 270°)`` (`PHASE_WINDOW`).
+
+    An unwrapped phase can drift by whole turns (a right-half-plane pole or a
+    high order adds them), so 449° would read as outside ``[0°, 180°]`` although
+    it is 89°.  Wrapped, a phase is inside ``[0°, 180°]`` exactly when its
+    angle is.
+
+    Examples
+    --------
+    >>> wrap_phase([449.0, -100.0, 0.0, 180.0, 270.0]).tolist()
+    [89.0, 260.0, 0.0, 180.0, -90.0]
+    """
+    p = np.asarray(phase, dtype=float)
+    lo = PHASE_WINDOW[0]
+    return np.asarray(np.mod(p - lo, 360.0) + lo)
+
+
+def phase_curve(omega: Any, phase: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The wrapped phase as a curve to draw: a NaN breaks it wherever it wraps.
+
+    Returns ``(omega, wrapped phase)``, one point longer per wrap, so a line
+    plot does not draw a vertical stroke across the window at a wrap.
+
+    Examples
+    --------
+    >>> w, p = phase_curve([1.0, 2.0, 3.0], [260.0, 280.0, 300.0])
+    >>> p.tolist()
+    [260.0, nan, -80.0, -60.0]
+    """
+    w = np.asarray(omega, dtype=float)
+    p = wrap_phase(phase)
+    jumps = np.flatnonzero(np.abs(np.diff(p)) > 180.0) + 1
+    return np.insert(w, jumps, np.nan), np.insert(p, jumps, np.nan)
+
+
+class PeakKind(StrEnum):
+    """Where the largest ``|F_L/X_L|`` on a grid lies."""
+
+    INTERIOR = "interior"
+    """A true maximum inside the grid."""
+    UNBOUNDED_HIGH = "unbounded_high"
+    """At the right edge, and ``|F_L/X_L| → ∞`` as ``ω → ∞`` (numerator degree is higher)."""
+    UNBOUNDED_LOW = "unbounded_low"
+    """At the left edge, and ``|F_L/X_L| → ∞`` as ``ω → 0`` (a pole at ``s = 0``)."""
+    EDGE_HIGH = "edge_high"
+    """At the right edge of the grid; it may grow beyond it to a finite limit or peak."""
+    EDGE_LOW = "edge_low"
+    """At the left edge of the grid."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class StiffnessPeak:
+    """The largest ``|F_L/X_L|`` on a grid, and whether it is a peak at all.
+
+    Attributes
+    ----------
+    kind : PeakKind
+    magnitude : float
+        Largest ``|F_L/X_L|`` on the grid [N/m].
+    omega : float
+        Where [rad/s].
+    limit : float
+        ``|F_L/X_L|`` in the limit beyond that edge (``inf``: without bound); for
+        ``INTERIOR`` the high-frequency limit.
+    """
+
+    kind: PeakKind
+    magnitude: float
+    omega: float
+    limit: float
+
+    @property
+    def is_peak(self) -> bool:
+        """The largest value is a true maximum inside the grid (not an edge)."""
+        return self.kind is PeakKind.INTERIOR
+
+    def describe(self) -> str:
+        """One line for a person (no ``peak`` when the maximum is at an edge)."""
+        at = f"{self.magnitude:.6g} N/m at w = {self.omega:.6g} rad/s"
+        if self.kind is PeakKind.INTERIOR:
+            return f"peak |F_L/X_L| = {at}"
+        if self.kind is PeakKind.UNBOUNDED_HIGH:
+            return f"|F_L/X_L| grows without bound as w -> inf ({at}, the grid's right edge)"
+        if self.kind is PeakKind.UNBOUNDED_LOW:
+            return f"|F_L/X_L| grows without bound as w -> 0 ({at}, the grid's left edge)"
+        side = "right" if self.kind is PeakKind.EDGE_HIGH else "left"
+        beyond = "w -> inf" if self.kind is PeakKind.EDGE_HIGH else "w -> 0"
+        return (
+            f"no peak on the grid: largest |F_L/X_L| = {at} (its {side} edge); "
+            f"limit as {beyond}: {self.limit:.6g} N/m"
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "kind": str(self.kind),
+            "magnitude": self.magnitude,
+            "omega": self.omega,
+            "limit": self.limit,
+        }
+
+
+def stiffness_peak(response: FrequencyResponse) -> StiffnessPeak:
+    """The largest ``|F_L/X_L|`` of ``response`` on its grid, classified by `PeakKind`.
+
+    A maximum at the right edge of the grid is not called a peak: when the
+    numerator's degree exceeds the denominator's the magnitude grows without
+    bound (``response.high_frequency`` is ``inf``), otherwise it continues
+    beyond the grid.  Likewise at the left edge with a pole at ``s = 0``.
+
+    Examples
+    --------
+    >>> from seapass.model.sea import Impedance
+    >>> r = stiffness_response(Impedance(expr="s + 1"), log_frequencies(1, 100, 50))
+    >>> stiffness_peak(r).kind
+    <PeakKind.UNBOUNDED_HIGH: 'unbounded_high'>
+    """
+    mag = np.asarray(response.magnitude, dtype=float)
+    w = np.asarray(response.omega, dtype=float)
+    finite = np.where(np.isfinite(mag), mag, -np.inf)
+    i = int(np.argmax(finite)) if finite.size else 0
+    value = float(mag[i]) if mag.size else math.nan
+    at = float(w[i]) if w.size else math.nan
+    top = mag.size - 1
+    if mag.size > 1 and i == top and finite[i] > finite[i - 1]:
+        kind = (
+            PeakKind.UNBOUNDED_HIGH if math.isinf(response.high_frequency) else PeakKind.EDGE_HIGH
+        )
+        return StiffnessPeak(kind=kind, magnitude=value, omega=at, limit=response.high_frequency)
+    if mag.size > 1 and i == 0 and finite[0] > finite[1]:
+        kind = PeakKind.UNBOUNDED_LOW if math.isinf(response.static) else PeakKind.EDGE_LOW
+        return StiffnessPeak(kind=kind, magnitude=value, omega=at, limit=abs(response.static))
+    return StiffnessPeak(
+        kind=PeakKind.INTERIOR, magnitude=value, omega=at, limit=response.high_frequency
+    )
 
 
 @dataclass(frozen=True, repr=False, kw_only=True)
@@ -57,6 +205,15 @@ class FrequencyResponse:
             "high_frequency": self.high_frequency,
         }
 
+    @property
+    def wrapped_phase(self) -> np.ndarray:
+        """`phase` moved by whole turns into ``[-90°, 270°)`` (`wrap_phase`): passive is ``[0°, 180°]``."""
+        return wrap_phase(self.phase)
+
+    def peak(self) -> StiffnessPeak:
+        """The largest ``|F_L/X_L|`` on the grid, and whether it is a peak (`stiffness_peak`)."""
+        return stiffness_peak(self)
+
     def plot(self, *, axes: Any = None, **kwargs: Any) -> Any:
         """Bode plot (magnitude and phase); returns the two Axes.
 
@@ -81,7 +238,6 @@ class FrequencyResponse:
 
     def _repr_html_(self) -> str:
         w = self.omega
-        i = int(np.argmax(self.magnitude)) if self.magnitude.size else None
         rows: list[tuple[str, Any]] = [
             (
                 "frequencies",
@@ -90,8 +246,8 @@ class FrequencyResponse:
             ("static stiffness F_L/X_L(0)", f"{self.static:.6g} N/m"),
             ("high-frequency stiffness", f"{self.high_frequency:.6g} N/m"),
         ]
-        if i is not None:
-            rows.append(("peak", f"{self.magnitude[i]:.6g} N/m at ω = {w[i]:.6g} rad/s"))
+        if w.size:
+            rows.append(("largest |F_L/X_L|", self.peak().describe()))
         return html_card(f"Rendered stiffness {self.label}".strip(), rows)
 
 

@@ -36,8 +36,12 @@ from .freqresp import check_points
 from .impedance import SystemLike, evaluate_system
 
 __all__ = [
+    "BAND_POINTS",
     "Band",
+    "BandCurve",
     "ImpedanceResponse",
+    "band_curves",
+    "band_frequencies",
     "default_frequencies",
     "impedance_response",
     "negative_real_bands",
@@ -208,6 +212,88 @@ class ImpedanceResponse:
                 ("Re Z(jω) < 0 (exact)", _bands_text(self.negative_bands)),
             ],
         )
+
+
+BAND_POINTS = 200
+"""Frequencies per failing band in `band_curves` (log- and linearly spaced, edges included)."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class BandCurve:
+    """``Z(jω)`` densely inside one exact band where ``Re Z(jω) < 0``, to draw it.
+
+    Attributes
+    ----------
+    band : (float, float)
+        The exact band (edges rounded to double precision; ``hi`` may be ``inf``).
+    omega : ndarray, shape (n,)
+        Frequencies in ``[lo, hi]``, increasing, both finite edges included.
+    value : ndarray, shape (n,), complex
+        ``Z(jω)`` there.
+    """
+
+    band: Band
+    omega: np.ndarray
+    value: np.ndarray
+
+
+def band_frequencies(band: Band, *, points: int = BAND_POINTS, top: float = 0.0) -> np.ndarray:
+    """Dense frequencies in the exact ``band``: log- and linearly spaced, its finite edges included.
+
+    ``top`` caps an unbounded band (default: 100 times its lower edge, at least 1 rad/s).
+
+    Examples
+    --------
+    >>> w = band_frequencies((0.0, 2.0), points=5)
+    >>> float(w[0]), float(w[-1]), bool(((w >= 0) & (w <= 2)).all())
+    (0.0, 2.0, True)
+    """
+    lo, hi = float(band[0]), float(band[1])
+    if math.isinf(hi):
+        hi = max(top, 100.0 * lo, 1.0)
+    if not hi > lo:
+        return np.array([lo])
+    parts = [np.linspace(lo, hi, points)]
+    start = lo if lo > 0 else hi * 1e-6
+    parts.append(np.geomspace(start, hi, points))
+    w = np.unique(np.concatenate(parts))
+    return w[(w >= lo) & (w <= hi)]
+
+
+def band_curves(response: ImpedanceResponse, *, points: int = BAND_POINTS) -> tuple[BandCurve, ...]:
+    """``Z(jω)`` sampled densely inside each exact failing band of ``response``.
+
+    The bands are ``response.negative_bands`` (the exact real roots of the
+    real-part polynomial, rounded to double precision), never read off the
+    response's grid, so a Nyquist plot draws each band from its own points
+    rather than from the few grid points that happen to fall inside it.
+
+    Parameters
+    ----------
+    response : ImpedanceResponse
+    points : int, default BAND_POINTS
+        Log-spaced and as many linearly spaced frequencies per band.
+
+    Returns
+    -------
+    tuple of BandCurve
+        One per band, in order.
+
+    Examples
+    --------
+    >>> (c,) = band_curves(impedance_response("(s - 1)/(s + 2)"), points=50)
+    >>> bool((c.value.real[1:-1] < 0).all()), c.omega.size >= 50
+    (True, True)
+    """
+    check_points(points)
+    top = float(response.omega.max()) if response.omega.size else 0.0
+    out = []
+    for band in response.negative_bands:
+        w = band_frequencies(band, points=points, top=top)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            z = np.polyval(response.num, 1j * w) / np.polyval(response.den, 1j * w)
+        out.append(BandCurve(band=band, omega=w, value=z))
+    return tuple(out)
 
 
 def _span(w: np.ndarray) -> str:

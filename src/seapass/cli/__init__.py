@@ -107,7 +107,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     Exit codes: 0 success, 1 a negative verdict of a check (``check``: not
     passive), 2 bad input or another error (one ``error:`` line on stderr),
-    130 interrupted.
+    130 interrupted, 141 standard output closed early (``seapass check … | head
+    -1``: quietly, as a command killed by ``SIGPIPE``).
     """
     parser = build_parser()
     try:
@@ -115,9 +116,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         with warnings.catch_warnings():  # an old spelling (a rig-file key) is one warning line
             warnings.simplefilter("default", SeapassDeprecationWarning)
             warnings.showwarning = _show_deprecation(warnings.showwarning)
-            return int(args.func(args) or 0)
+            code = int(args.func(args) or 0)
+        sys.stdout.flush()  # a closed pipe fails here, not in the interpreter's exit
+        return code
     except _UsageError as exc:
         print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except BrokenPipeError as exc:
+        if _stdout_closed():
+            return EXIT_STDOUT_CLOSED
+        print(f"error: {error_text(exc)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("error: interrupted; no partial output was written", file=sys.stderr)
@@ -137,6 +145,40 @@ def main(argv: Sequence[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 2
+
+
+EXIT_STDOUT_CLOSED = 141
+"""Exit code when the reader of standard output went away (128 + SIGPIPE, as a shell reports
+a command killed by the signal); nothing is printed."""
+
+
+def _stdout_closed() -> bool:
+    """Standard output's reader is gone: point it at ``os.devnull`` so nothing more fails.
+
+    A `BrokenPipeError` raised by writing some other file is not this: standard
+    output is polled for the error condition a pipe without reader reports.
+    """
+    try:
+        fd = sys.stdout.fileno()
+    except (OSError, ValueError, AttributeError):
+        return False
+    try:
+        import select
+
+        poller = select.poll()
+        poller.register(fd, select.POLLOUT)
+        events = dict(poller.poll(0)).get(fd, 0)
+        if not events & (select.POLLERR | select.POLLHUP):
+            return False
+    except (OSError, ValueError, AttributeError):  # no poll on this platform: trust the error
+        pass
+    try:  # the interpreter flushes stdout again at exit; let that write go nowhere
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, fd)
+        os.close(devnull)
+    except OSError:
+        pass
+    return True
 
 
 def _show_deprecation(show: Any) -> Any:

@@ -58,8 +58,8 @@ def run(args: argparse.Namespace) -> int:
         print_json({**result.to_dict(), "indices": indices.to_dict(), "realizable": realizable})
     else:
         print(f"{result.status}: {result.detail or result.reason.description}")
-        if result.omega is not None:
-            print(f"witness: Re Z(jw) < 0 at w = {result.omega:.6g} rad/s")
+        if result.omega is not None and "at w =" not in (result.detail or ""):
+            print(f"witness: Re Z(jw) < 0 at w = {result.omega:.6g} rad/s")  # once, not twice
         print(_indices_text(indices))
     return 0 if result.passive else 1
 

@@ -130,11 +130,10 @@ def _print_bands(resp: ImpedanceResponse, label: str) -> None:
 
 
 def _print_bode(fr: Any, resp: ImpedanceResponse) -> None:
-    import numpy as np
-
     print(f"static stiffness F_L/X_L(0) = {fr.static:.6g} N/m")
     print(f"high-frequency stiffness    = {fr.high_frequency:.6g} N/m")
-    i = int(np.argmax(fr.magnitude))
-    print(f"peak |F_L/X_L| = {fr.magnitude[i]:.6g} N/m at w = {fr.omega[i]:.6g} rad/s")
-    print(f"phase from {fr.phase.min():.4g} to {fr.phase.max():.4g} deg (passive: within 0..180)")
+    print(fr.peak().describe())
+    phase = fr.wrapped_phase
+    print(f"phase from {phase.min():.4g} to {phase.max():.4g} deg, whole turns removed "
+          "(passive: within 0..180)")  # fmt: skip
     _print_bands(resp, "Z")

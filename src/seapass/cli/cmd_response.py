@@ -50,7 +50,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def run(args: argparse.Namespace) -> int:
-    import numpy as np
 
     from ..analysis.freqresp import log_frequencies, stiffness_response
 
@@ -74,6 +73,5 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(f"static stiffness F_L/X_L(0) = {resp.static:.6g} N/m")
         print(f"high-frequency stiffness    = {resp.high_frequency:.6g} N/m")
-        i = int(np.argmax(resp.magnitude))
-        print(f"peak |F_L/X_L| = {resp.magnitude[i]:.6g} N/m at w = {resp.omega[i]:.6g} rad/s")
+        print(resp.peak().describe())  # "peak" only inside the grid, as plot bode
     return 0

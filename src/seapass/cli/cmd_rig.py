@@ -48,16 +48,39 @@ _TEMPLATE_EPILOG = """\
 example:
   seapass rig template > myrig.toml   # then edit it and check it with: seapass rig show --rig myrig.toml
 """
+_CHIRP_EPILOG = """\
+The file has '#' comment lines saying what to play (amplitude, band, duration, rate) and
+how to log it, then time [s], force [N], one row per control sample. Play it with the
+load free to move, log time, commanded force, x_A and x_L at the same rate, and fit:
+seapass rig fit LOG.csv --rig FILE.
+
+examples:
+  seapass rig chirp --rig myrig.toml --out command.csv
+  seapass rig chirp --rig myrig.toml --amplitude 20 --band 2:40 --duration 12 --out command.csv
+"""
 _FIT_EPILOG = """\
 The log is a CSV file with the columns time [s], commanded force [N], x_A [m], x_L [m],
-one row per control sample (a header row is optional). Log a chirp of force (e.g. 5-25 Hz)
-with the load free to move, at the rig's control rate. Only the actuator's equation is
+one row per control sample (a header row is optional). Log a chirp of force (e.g. 5-25 Hz;
+`seapass rig chirp` writes the command to play) with the load free to move, at the rig's
+control rate. Only the actuator's equation is
 fitted: the load side does not enter.
 
 examples:
   seapass rig fit chirp.csv --rig myrig.toml
   seapass rig fit chirp.csv --rig myrig.toml --plot fit.png --rig-out fitted.toml --json
+  seapass rig fit response.csv --frf --rig myrig.toml --rig-out fitted.toml
 """
+
+
+def _examples(*epilogs: str) -> str:
+    """One ``examples:`` block with the example lines of several subcommands' epilogs."""
+    lines = [
+        ln
+        for e in epilogs
+        for ln in e.split("examples:\n", 1)[-1].splitlines()
+        if ln.startswith("  ")
+    ]
+    return "examples:\n" + "\n".join(lines) + "\n"
 
 
 def _positive(text: str) -> float:
@@ -93,7 +116,8 @@ def register(subparsers: Any) -> None:
         help="rig files, the digital twin (kd sweep, impacts) and fitting a rig to a log",
         description="Run the paper's Section VI experiment on the digital twin of a rig, "
         "write and check rig files, and fit a rig's actuator to a logged run.",
-        epilog=_SWEEP_EPILOG + _IMPACT_EPILOG,
+        epilog=_examples(_SWEEP_EPILOG, _IMPACT_EPILOG, _SHOW_EPILOG, _CHIRP_EPILOG, _FIT_EPILOG),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     sub = rig.add_subparsers(dest="rig_command", metavar="ACTION")
     sub.required = True
@@ -148,6 +172,28 @@ def register(subparsers: Any) -> None:
     )
     tp.set_defaults(func=_template)
 
+    ch = sub.add_parser(
+        "chirp",
+        help="write the chirp of force to play on a bench (then log it and run rig fit)",
+        description="Write the command that identifies a bench: a linear chirp of force, one "
+        "row per control sample, within the rig's force limit and below its Nyquist frequency.",
+        epilog=_CHIRP_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    ch.add_argument("--rig", metavar="FILE", help="rig TOML file (default: packaged paper rig)")
+    ch.add_argument("--out", metavar="FILE", help="write the command CSV (default: print it)")
+    ch.add_argument("--amplitude", type=_positive, metavar="N",
+                    help="peak force in N (default: 60, at most half the force limit)")  # fmt: skip
+    ch.add_argument("--band", metavar="LO:HI", default="5:25",
+                    help="start and stop frequency in Hz (default: 5:25)")  # fmt: skip
+    ch.add_argument("--duration", type=_positive, default=8.0, metavar="S",
+                    help="length in s (default: 8)")  # fmt: skip
+    ch.add_argument("--rate", type=_positive, metavar="HZ",
+                    help="samples per second (default: the rig's control.rate)")  # fmt: skip
+    ch.add_argument("--json", action="store_true", help="print the plan (without samples) as JSON")
+    add_force_option(ch)
+    ch.set_defaults(func=_chirp)
+
     ft = sub.add_parser(
         "fit",
         help="fit m, b, b1 and Coulomb friction of a rig to a logged run",
@@ -158,6 +204,12 @@ def register(subparsers: Any) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     ft.add_argument("log", metavar="LOG.csv", help="the logged run (time, force, x_A, x_L)")
+    ft.add_argument(
+        "--frf",
+        action="store_true",
+        help="LOG.csv is a measured frequency response instead: frequency [Hz], |x_A/F| [m/N], "
+        "phase [deg], |x_L/F| [m/N], phase [deg]; fits m, b, b1 (not Coulomb friction)",
+    )
     ft.add_argument(
         "--rig", metavar="FILE", required=True, help="rig TOML file (k1, encoders, rate, delay)"
     )
@@ -301,23 +353,54 @@ def _template(args: argparse.Namespace) -> int:
     return 0
 
 
+def _chirp(args: argparse.Namespace) -> int:
+    from ..rig.chirp import chirp_plan
+    from .common import parse_range
+
+    check_out_file(args.out, "--out", force=args.force)
+    plan = chirp_plan(
+        _rig(args),
+        amplitude=args.amplitude,
+        band=parse_range(args.band, "--band"),
+        duration=args.duration,
+        rate=args.rate,
+    )
+    if args.out:
+        write_text(args.out, plan.to_csv(), force=args.force, flag="--out")
+    elif not args.json:
+        sys.stdout.write(plan.to_csv())
+        return 0
+    if args.json:
+        print_json(plan.to_dict())
+    else:
+        print("\n".join(plan.header()))
+    return 0
+
+
 def _fit(args: argparse.Namespace) -> int:
     from ..rig.identify import fit_rig
     from ..rig.log import load_log
     from ..rig.rigfile import load_rig
 
     rig = load_rig(args.rig)
+    if args.frf:
+        return _fit_frf(args, rig)
     plot = plot_path(args.plot, force=args.force)  # before the work
     check_out_file(args.rig_out, "--rig-out", force=args.force)
     log = load_log(args.log)
     for message in log.warnings:
         warn(message)
     fit = fit_rig(log, rig, window=args.window, delay=args.delay, confidence=args.confidence)
-    updated = fit.updated_rig() if args.rig_out else None
+    updated = None
+    if args.rig_out:  # the rig file's own text, its comments kept; the log named relatively
+        from ..files.textfile import read_text_file
+
+        text = read_text_file(args.rig, what="rig file")
+        updated = fit.updated_rig_text(text, relative_to=args.rig_out)
     if plot is not None:
         write_figure(fit.plot, plot, force=args.force)
     if updated is not None:
-        write_text(args.rig_out, updated.to_toml(), force=args.force, flag="--rig-out")
+        write_text(args.rig_out, updated, force=args.force, flag="--rig-out")
     for message in fit.warnings:
         warn(message)
     if args.json:
@@ -334,4 +417,33 @@ def _fit(args: argparse.Namespace) -> int:
             f"{p.unit}{bound}"
         )
     print(f"residual force: {fit.residual_std:.3g} N (standard deviation per window)")
+    return 0
+
+
+def _fit_frf(args: argparse.Namespace, rig: Rig) -> int:
+    from ..files.textfile import read_text_file
+    from ..rig.frf import fit_frf, load_frf
+    from ..rig.identify import rig_text
+
+    if args.plot:
+        raise ParameterError("--plot draws a time log's fit; it does not go with --frf")
+    check_out_file(args.rig_out, "--rig-out", force=args.force)
+    fit = fit_frf(load_frf(args.log), rig, delay=args.delay, confidence=args.confidence)
+    if args.rig_out:
+        text = read_text_file(args.rig, what="rig file")
+        write_text(args.rig_out, rig_text(rig, fit.updated_rig(), text), force=args.force,
+                   flag="--rig-out")  # fmt: skip
+    if args.json:
+        print_json(fit.to_dict())
+        return 0
+    pct = f"{fit.confidence * 100:g} %"
+    print(f"fit of the frequency response {fit.source}, k1 = {rig.damper.k1:g} N/m from the rig "
+          f"file; {pct} intervals (Coulomb friction is not seen in a frequency response):")  # fmt: skip
+    for p in fit.parameters:
+        print(
+            f"  {p.name:<4} = {p.value:<11.6g} ± {p.stderr:<9.2g} [{p.low:.6g}, {p.high:.6g}] {p.unit}"
+        )
+    print(
+        f"residual: {fit.residual_std:.3g} (standard deviation of the force equation, per unit force)"
+    )
     return 0

@@ -97,6 +97,7 @@ def scenario_from_args(args: argparse.Namespace) -> Scenario:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..sim.metrics import overshoot_text
     from ..sim.summary import simulation_summary
 
     figure = plot_path(args.plot, force=args.force)
@@ -127,7 +128,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"passivity: {error}")
         print(f"settling time: {'-' if ts is None else f'{ts:.6g} s'}")
         print(f"final error: {met.final_error:.3e} m")
-        if met.overshoot is not None:  # the same unit as in --json: a fraction of the step
-            print(f"overshoot: {met.overshoot:.4g} of the step")
+        if met.overshoot is not None:  # --json holds the fraction of the step
+            print(f"overshoot: {overshoot_text(met.overshoot)} of the step")
         print(f"peak actuator force: {met.peak_force:.6g} N, energy: {met.energy:.6g} J")
     return 0

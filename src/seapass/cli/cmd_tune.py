@@ -216,6 +216,7 @@ def _control_hint(file: Design | None, opts: TuningOptions) -> str:
 
 
 def _print_text(result: TuningResult) -> None:
+    from ..sim.metrics import overshoot_text
     from ..tuning.problem import Objective
 
     m = result.metrics
@@ -230,7 +231,7 @@ def _print_text(result: TuningResult) -> None:
             f"; passive at T = {loop.period:g} s: {'yes' if result.sampled_passive else 'NO'}"
         )
     print(verdicts)
-    overshoot = "-" if m.overshoot is None else f"{100 * m.overshoot:.3g} %"
+    overshoot = overshoot_text(m.overshoot)
     print(
         f"peak force {m.peak_force:.4g} N; overshoot {overshoot}; final error {m.final_error:.3e} m"
     )

@@ -20,7 +20,7 @@ from ..errors import FileFormatError
 from .limits import MAX_TEXT_FILE_BYTES, MAX_TOML_DEPTH
 from .textfile import read_text_file
 
-__all__ = ["dump_toml", "load_toml_file", "loads_strict", "nesting_depth"]
+__all__ = ["dump_toml", "load_toml_file", "loads_strict", "nesting_depth", "update_toml_text"]
 
 T = TypeVar("T")
 
@@ -195,3 +195,96 @@ def dump_toml(data: dict[str, Any], *, comments: dict[str, str] | None = None) -
                     f"{key} = {_toml_value(value, f'{table}.{key}')}",
                 ]
     return "\n".join(lines).lstrip("\n") + "\n"
+
+
+_HEADER = re.compile(r"^\s*\[([A-Za-z0-9_-]+)\]\s*(#.*)?$")
+_KEY = re.compile(r"^(\s*)([A-Za-z0-9_-]+)(\s*=\s*)(.*)$")
+
+
+def _value_end(text: str) -> int:
+    """Where the scalar value at the start of ``text`` ends (a string, or a bare token)."""
+    if text.startswith('"'):
+        i = 1
+        while i < len(text):
+            if text[i] == "\\":
+                i += 2
+                continue
+            if text[i] == '"':
+                return i + 1
+            i += 1
+        return -1
+    if text.startswith("'"):
+        j = text.find("'", 1)
+        return -1 if j < 0 else j + 1
+    m = re.match(r"[^\s#\[\]{}]+", text)
+    return m.end() if m else -1
+
+
+def update_toml_text(text: str, changes: dict[str, Any]) -> str | None:
+    """``text`` with the scalar values of ``changes`` replaced, every comment and line kept.
+
+    ``changes`` maps ``"key"`` (top level) or ``"table.key"`` to a value as
+    `dump_toml` writes it.  A key the text lacks is added at the end of its
+    table (or before the first table).  Returns None when the text cannot be
+    edited line by line faithfully (a multi-line value, a quoted or dotted key,
+    a missing table): the caller then writes `dump_toml` instead.  The result is
+    always re-read and compared with ``text``'s values plus ``changes``.
+
+    Examples
+    --------
+    >>> print(update_toml_text('a = 1  # one\\n[t]\\nb = "x" # why\\n', {"t.b": "y", "t.c": 2.5}), end="")
+    a = 1  # one
+    [t]
+    b = "y" # why
+    c = 2.5
+    """
+    try:
+        before = tomllib.loads(text)
+    except tomllib.TOMLDecodeError:
+        return None
+    lines = text.splitlines()
+    table = ""
+    ends: dict[str, int] = {
+        "": next((i for i, ln in enumerate(lines) if _HEADER.match(ln)), len(lines))
+    }
+    found: dict[str, int] = {}
+    for i, line in enumerate(lines):
+        head = _HEADER.match(line)
+        if head:
+            table = head.group(1)
+            ends[table] = i + 1
+            continue
+        key = _KEY.match(line)
+        if key:
+            found[f"{table}.{key.group(2)}" if table else key.group(2)] = i
+        if line.strip() and not line.lstrip().startswith("#"):
+            ends[table] = i + 1
+    added: dict[int, list[str]] = {}
+    for name, value in changes.items():
+        table, _, leaf = name.rpartition(".")
+        new = _toml_value(value, name)
+        if name in found:
+            i = found[name]
+            m = _KEY.match(lines[i])
+            assert m is not None
+            end = _value_end(m.group(4))
+            if end < 0:
+                return None
+            lines[i] = m.group(1) + m.group(2) + m.group(3) + new + m.group(4)[end:]
+        elif table in ends:
+            added.setdefault(ends[table], []).append(f"{leaf} = {new}")
+        else:
+            return None
+    for at in sorted(added, reverse=True):
+        lines[at:at] = added[at]
+    out = "\n".join(lines) + "\n"
+    expected = {k: (dict(v) if isinstance(v, dict) else v) for k, v in before.items()}
+    for name, value in changes.items():
+        table, _, leaf = name.rpartition(".")
+        (expected.setdefault(table, {}) if table else expected)[leaf] = (
+            list(value) if isinstance(value, tuple) else value
+        )
+    try:
+        return out if tomllib.loads(out) == expected else None
+    except tomllib.TOMLDecodeError:
+        return None

@@ -117,13 +117,25 @@ class SEA:
 
     Parameters
     ----------
-    D1, D2, CA, CL : str or sympy.Expr or number
-        Transmission, load-to-ground element, actuator-side and load-side controllers.
-    m, b : str or sympy.Expr or number
-        Actuator mass and damping, the symbols ``m`` and ``b`` by default.
+    D1 : str or sympy.Expr or number, default 0
+        Transmission from the actuator to the load port, e.g. ``"k1 + b1*s"``
+        (a spring with a damper in parallel).
+    D2 : str or sympy.Expr or number, default 0
+        Element from the load port to ground, e.g. ``"k2"``.
+    CA : str or sympy.Expr or number, default 0
+        Actuator-side controller, acting on the actuator error ``θ_A − x_A``,
+        e.g. ``"kd + bd*s"``.
+    CL : str or sympy.Expr or number, default 0
+        Load-side controller, acting on the load error ``θ_L − x_L``, e.g. ``"kd"``.
+    m : str or sympy.Expr or number, default "m"
+        Actuator mass [kg], the symbol ``m`` unless given.
+    b : str or sympy.Expr or number, default "b"
+        Actuator viscous damping to ground [N·s/m], the symbol ``b`` unless given.
     values : mapping of str to float or None
         Parameter values; ``None`` declares a free parameter.  Any name used in
         an expression must be one of ``m b k1 k2 b1 b2 kd bd ki`` or a key here.
+    name : str, default ""
+        A label for reports and legends.
 
     Raises
     ------

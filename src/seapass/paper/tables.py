@@ -60,6 +60,21 @@ class BoundStatus(StrEnum):
     CONSISTENT = "consistent"
     """No certified counterexample among the probes (sampling only)."""
 
+    @property
+    def phrase(self) -> str:
+        """The status in a sentence ("... agree: the bound is exact").
+
+        >>> BoundStatus.NEVER_PASSIVE.phrase
+        'never passive, as the paper says'
+        """
+        return {
+            BoundStatus.EXACT: "the bound is exact",
+            BoundStatus.SUFFICIENT: "the bound is sufficient only",
+            BoundStatus.UNSAFE: "the bound is unsafe",
+            BoundStatus.NEVER_PASSIVE: "never passive, as the paper says",
+            BoundStatus.CONSISTENT: "the bound is consistent with every probe",
+        }[self]
+
 
 @dataclass(frozen=True)
 class PaperRow:

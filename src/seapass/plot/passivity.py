@@ -16,9 +16,9 @@ from typing import Any
 
 import numpy as np
 
-from ..analysis.freqresp import FrequencyResponse
-from ..analysis.portresponse import ImpedanceResponse
-from .style import axes_grid
+from ..analysis.freqresp import FrequencyResponse, phase_curve
+from ..analysis.portresponse import BandCurve, ImpedanceResponse, band_curves
+from .style import axes_grid, set_title
 
 __all__ = ["PLOT_KINDS", "plot_bode", "plot_impedance", "plot_nyquist", "plot_real_part"]
 
@@ -54,7 +54,11 @@ def plot_bode(
     bands : sequence of (float, float), optional
         Exact bands where ``Re Z(jω) < 0`` (from an
         [`ImpedanceResponse`][seapass.analysis.portresponse.ImpedanceResponse]),
-        shaded on both panels: there the phase leaves ``[0°, 180°]``.
+        shaded on both panels: there the phase leaves ``[0°, 180°]``.  The
+        phase is drawn wrapped into ``[-90°, 270°)``
+        ([`wrap_phase`][seapass.analysis.freqresp.wrap_phase]), so a phase that
+        drifted by whole turns (a right-half-plane pole, a high order) still
+        reads against the passive band ``[0°, 180°]``.
     legend : bool, optional
         Draw the legend; by default when there is something to name (a label,
         the reference or the bands).  A grid of small panels passes False and
@@ -75,7 +79,7 @@ def plot_bode(
     )[:, 0]
     for r in items:
         (line,) = ax_m.loglog(r.omega, r.magnitude, lw=1.8, label=r.label or None)
-        ax_p.semilogx(r.omega, r.phase, lw=1.5, color=line.get_color())
+        ax_p.semilogx(*phase_curve(r.omega, r.phase), lw=1.5, color=line.get_color())
     if reference is not None:
         ax_m.axhline(reference, color="0.4", ls="--", lw=1, label=f"spring k1 = {reference:g} N/m")
     ax_m.set_ylabel("|F_L/X_L| [N/m]")
@@ -97,7 +101,7 @@ def plot_bode(
         ax.grid(True, which="major", alpha=0.3)
         # labelled 1-2-5 ticks; unlabelled minor ticks cost most of the drawing time
         ax.xaxis.set_minor_locator(NullLocator())
-    phases = np.concatenate([np.asarray(r.phase, dtype=float) for r in items] or [np.zeros(1)])
+    phases = np.concatenate([r.wrapped_phase for r in items] or [np.zeros(1)])
     phases = phases[np.isfinite(phases)]
     spread = float(phases.max() - phases.min()) if phases.size else 0.0
     ax_p.yaxis.set_major_locator(MultipleLocator(45.0 if spread <= 180.0 else 90.0))
@@ -110,10 +114,10 @@ def plot_bode(
     ax_m.yaxis.set_minor_locator(NullLocator())
     if legend is None:
         legend = any(r.label for r in items) or reference is not None or bool(bands)
-    if legend:
+    if legend and ax_m.get_legend_handles_labels()[0]:
         ax_m.legend(loc="best", fontsize=9)
     if title:
-        ax_m.set_title(title, fontsize=10)
+        set_title(ax_m, title, fontsize=10)
     return np.array([ax_m, ax_p])
 
 
@@ -166,7 +170,7 @@ def plot_real_part(
     ax.set_xlim(lo, hi)
     ax.set_xlabel("frequency ω [rad/s]")
     ax.set_ylabel("Re Z(jω) [N·s/m] (symlog)")
-    ax.set_title(title or _real_title(response), fontsize=10)
+    set_title(ax, title or _real_title(response), fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(loc="best", fontsize=9)
     return ax
@@ -195,17 +199,27 @@ def _label(response: ImpedanceResponse, default: str) -> str:
     return f"{response.label}: {default}" if response.label else default
 
 
-def plot_nyquist(response: ImpedanceResponse, *, title: str = "", ax: Any = None) -> Any:
+def plot_nyquist(
+    response: ImpedanceResponse,
+    *,
+    title: str = "",
+    bands: Sequence[BandCurve] | None = None,
+    ax: Any = None,
+) -> Any:
     """Nyquist plot of ``Z(jω)``: a passive port stays in the closed right half-plane.
 
     The curve for ``ω > 0`` is solid, its mirror image (``ω < 0``) dashed; the
-    part inside the exact failing bands is drawn in red.  Points far beyond the
-    bulk of the curve (near a pole on the axis) are left outside the view.
+    part inside the exact failing bands is drawn in red from its own dense
+    points ([`band_curves`][seapass.analysis.portresponse.band_curves]), not
+    from the grid points that fall inside a band.  Points far beyond the bulk
+    of the curve (near a pole on the axis) are left outside the view.
 
     Parameters
     ----------
     response : ImpedanceResponse
     title : str, optional
+    bands : sequence of BandCurve, optional
+        The failing bands to draw in red (default: ``band_curves(response)``).
     ax : matplotlib.axes.Axes, optional
         Where to draw; a new figure if None.
 
@@ -214,16 +228,17 @@ def plot_nyquist(response: ImpedanceResponse, *, title: str = "", ax: Any = None
     matplotlib.axes.Axes
     """
     ax = axes_grid(ax, 1, 1, figsize=(5.2, 5.0))[0, 0]
-    w, z = response.omega, response.value
+    curves = band_curves(response) if bands is None else tuple(bands)
+    w = np.concatenate([response.omega, *(c.omega for c in curves)])
+    z = np.concatenate([response.value, *(c.value for c in curves)])
+    order = np.argsort(w, kind="stable")
+    z = z[order]
     ok = np.isfinite(z)
     ax.plot(z.real, z.imag, lw=1.6, color="tab:blue", label=_label(response, "Z(jω), ω > 0"))
     ax.plot(z.real, -z.imag, lw=0.9, ls="--", color="tab:blue", alpha=0.6, label="ω < 0")
-    inside = np.zeros(w.size, dtype=bool)
-    for a, b in response.negative_bands:
-        inside |= (w >= a) & (w <= b)
-    if inside.any():
-        zz = np.where(inside, z, np.nan)
-        ax.plot(zz.real, zz.imag, lw=2.4, color=_FAIL, label="Re Z < 0 (exact bands)")
+    for i, c in enumerate(curves):
+        label = "Re Z < 0 (exact bands)" if i == 0 else None
+        ax.plot(c.value.real, c.value.imag, lw=2.4, color=_FAIL, label=label)
     _arrow(ax, z, ok)
     radius = _view_radius(z[ok])
     if radius > 0:
@@ -242,7 +257,7 @@ def plot_nyquist(response: ImpedanceResponse, *, title: str = "", ax: Any = None
     ax.set_xlabel("Re Z [N·s/m]")
     ax.set_ylabel("Im Z [N·s/m]")
     verdict = "inside" if not response.negative_bands else "NOT inside"
-    ax.set_title(title or f"Nyquist plot of Z: {verdict} the right half-plane", fontsize=10)
+    set_title(ax, title or f"Nyquist plot of Z: {verdict} the right half-plane", fontsize=10)
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best", fontsize=9)
     return ax

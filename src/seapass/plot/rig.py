@@ -15,12 +15,35 @@ from typing import Any
 
 import numpy as np
 
+from ..rig.chirp import ChirpPlan
 from ..rig.experiment import ExperimentResult, RigSweepResult
 from ..rig.identify import RigFit
 from ..rig.impacts import ImpactResult
 from .style import axes_grid
 
-__all__ = ["plot_deploy", "plot_impacts", "plot_rig_fit", "plot_rig_sweep", "plot_traces"]
+__all__ = [
+    "plot_chirp",
+    "plot_deploy",
+    "plot_impacts",
+    "plot_rig_fit",
+    "plot_rig_sweep",
+    "plot_traces",
+]
+
+
+def plot_chirp(plan: ChirpPlan, *, ax: Any = None) -> Any:
+    """The commanded force of a [`ChirpPlan`][seapass.rig.chirp.ChirpPlan] against time."""
+    ax = axes_grid(ax, 1, 1, figsize=(7.0, 3.0))[0, 0]
+    ax.plot(plan.time, plan.force, lw=0.6, color="tab:blue")
+    for level in (plan.amplitude, -plan.amplitude):
+        ax.axhline(level, color="0.5", ls=":", lw=1)
+    lo, hi = plan.band
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("commanded force [N]")
+    ax.set_title(f"chirp {lo:g}-{hi:g} Hz at {plan.rate:g} Hz, ±{plan.amplitude:g} N", fontsize=10)
+    ax.grid(True, alpha=0.3)
+    return ax
+
 
 _COLORS = {"LP": "tab:red", "ours": "tab:blue"}
 _LABEL = {"LP": "LP", "ours": "Ours"}

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import io
 import os
+import textwrap
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -32,7 +33,10 @@ __all__ = [
     "figure_paths",
     "figure_renders",
     "figure_style",
+    "fit_text",
     "save_figure",
+    "set_suptitle",
+    "set_title",
 ]
 
 STYLE: dict[str, Any] = {
@@ -106,6 +110,48 @@ def axes_grid(
     if grid.size != nrows * ncols:
         raise ValueError(f"axes: expected {nrows}×{ncols} Axes, got {grid.size}")
     return grid.reshape(nrows, ncols)
+
+
+_EM = 0.58
+"""Width of an average character of the default sans-serif font, in ems (slightly generous)."""
+
+
+def fit_text(text: str, width_pt: float, fontsize: float) -> str:
+    """``text`` wrapped at spaces so no line is wider than ``width_pt`` points.
+
+    The width of a line is estimated as ``_EM`` em per character, so a title
+    drawn at ``fontsize`` stays inside ``width_pt`` (the tests measure the drawn
+    extents).  Existing line breaks are kept.
+
+    >>> fit_text("a long title that is wrapped", 60.0, 10.0)
+    'a long\\ntitle that\\nis wrapped'
+    """
+    chars = max(8, int(width_pt / (_EM * fontsize)))
+    lines = []
+    for line in text.split("\n"):
+        lines.extend(textwrap.wrap(line, chars, break_on_hyphens=False) or [""])
+    return "\n".join(lines)
+
+
+def _fontsize(fontsize: float | str | None, key: str) -> float:
+    from matplotlib import rcParams
+    from matplotlib.font_manager import FontProperties
+
+    size = cast(Any, rcParams)[key] if fontsize is None else fontsize
+    return float(FontProperties(size=size).get_size_in_points())
+
+
+def set_title(ax: Any, text: str, *, fontsize: float | str | None = None) -> Any:
+    """``ax.set_title(text)``, wrapped to the Axes' width so it is never clipped."""
+    width = ax.get_position().width * ax.figure.get_figwidth() * 72.0
+    size = _fontsize(fontsize, "axes.titlesize")
+    return ax.set_title(fit_text(text, width, size), fontsize=size)
+
+
+def set_suptitle(fig: Any, text: str, *, fontsize: float | str | None = None) -> Any:
+    """``fig.suptitle(text)``, wrapped to the figure's width so it is never clipped."""
+    size = _fontsize(fontsize, "figure.titlesize")
+    return fig.suptitle(fit_text(text, 0.94 * fig.get_figwidth() * 72.0, size), fontsize=size)
 
 
 def figure_of(axes: Any) -> Any:

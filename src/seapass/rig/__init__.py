@@ -9,8 +9,10 @@ nonlinear plant: friction, saturation, encoders), [`twin`][seapass.rig.twin]
 [`impacts`][seapass.rig.impacts], [`predictions`][seapass.rig.predictions] and
 [`findings`][seapass.rig.findings] (the paper's Section VI on the twin),
 [`log`][seapass.rig.log] (a logged run: the CSV loader, logs made on the twin),
+[`chirp`][seapass.rig.chirp] (the command to play on a bench to log such a run),
 [`moments`][seapass.rig.moments] and [`identify`][seapass.rig.identify] (fitting
-``m, b, b1`` and Coulomb friction to a log, with confidence intervals) and
+``m, b, b1`` and Coulomb friction to a log, with confidence intervals),
+[`frf`][seapass.rig.frf] (``m, b, b1`` from a measured frequency response) and
 [`mujoco_model`][seapass.rig.mujoco_model] (an optional MuJoCo cross-check; needs
 the ``mujoco`` extra).
 
@@ -18,6 +20,7 @@ May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files]
 [`seapass.sim`][seapass.sim].
 """
 
+from .chirp import ChirpPlan, chirp_plan
 from .experiment import ExperimentResult, RigSweepResult, run_experiment, run_rig_sweep
 from .identify import FitParameter, RigFit, fit_rig
 from .impacts import ImpactResult, run_impacts
@@ -28,6 +31,7 @@ from .rigfile import Rig, load_rig, paper_rig
 from .twin import LoopResult, simulate_loop
 
 __all__ = [
+    "ChirpPlan",
     "ExperimentResult",
     "FitParameter",
     "ImpactResult",
@@ -38,6 +42,7 @@ __all__ = [
     "RigSweepResult",
     "TwinPlant",
     "chirp_command",
+    "chirp_plan",
     "fit_rig",
     "is_paper_hardware",
     "load_log",

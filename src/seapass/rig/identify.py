@@ -40,19 +40,22 @@ References
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ParameterError
+from ..files.toml import update_toml_text
 from ..model.display import html_card, short_repr
 from .log import RigLog
 from .moments import log_moments
 from .rigfile import Rig
 
-__all__ = ["FIT_PARAMETERS", "FitParameter", "RigFit", "fit_rig"]
+__all__ = ["FIT_PARAMETERS", "FitParameter", "RigFit", "fit_rig", "rig_text"]
 
 FloatArray = NDArray[np.float64]
 
@@ -208,11 +211,14 @@ class RigFit:
             if p.name not in ("m", "offset") and (p.at_bound or p.low <= 0.0)
         )
 
-    def updated_rig(self) -> Rig:
+    def updated_rig(self, *, relative_to: str | os.PathLike[str] | None = None) -> Rig:
         """The rig file's rig with the fitted ``m, b, b1`` and Coulomb levels.
 
         ``m`` goes into ``transmission.carriage_mass`` (the fitted mass minus the
-        rotor inertia the file reflects through gearbox and pulley).
+        rotor inertia the file reflects through gearbox and pulley).  The
+        ``description`` names the log; given ``relative_to`` (the file the rig
+        is written to), by its path relative to that file's directory, so the
+        written file holds no absolute path.
 
         Raises
         ------
@@ -228,7 +234,7 @@ class RigFit:
                 f"file reflects to the carriage ({reflected:.6g} kg): check motor.rotor_inertia, "
                 "transmission.gear_ratio and transmission.pulley_radius"
             )
-        note = f"m, b, b1 and Coulomb friction fitted from {self.source or 'a log'}"
+        note = f"m, b, b1 and Coulomb friction fitted from {self.log_name(relative_to) or 'a log'}"
         return rig.replace(
             transmission={
                 "carriage_mass": carriage,
@@ -238,6 +244,34 @@ class RigFit:
             damper={"b1": self["b1"].value, "coulomb": self["damper_coulomb"].value},
             description=f"{rig.description} ({note})" if rig.description else note,
         )
+
+    def log_name(self, relative_to: str | os.PathLike[str] | None = None) -> str:
+        """The log's path (`source`), relative to the directory of ``relative_to`` if given.
+
+        >>> fit = RigFit.__new__(RigFit)
+        >>> object.__setattr__(fit, "source", "/data/bench/chirp.csv")
+        >>> fit.log_name("/data/out/fitted.toml")
+        '../bench/chirp.csv'
+        """
+        if not self.source or relative_to is None or self.source == "twin":
+            return self.source
+        start = os.path.dirname(os.path.abspath(relative_to))
+        try:
+            return Path(os.path.relpath(os.path.abspath(self.source), start)).as_posix()
+        except ValueError:  # another drive
+            return Path(self.source).name
+
+    def updated_rig_text(
+        self, text: str | None = None, *, relative_to: str | os.PathLike[str] | None = None
+    ) -> str:
+        """`updated_rig` as rig-file TOML, written into ``text`` (the rig file as read).
+
+        Every comment and line of ``text`` is kept and only the fitted values
+        (and the description) change
+        ([`update_toml_text`][seapass.files.toml.update_toml_text]); without
+        ``text``, or when it cannot be edited line by line, `Rig.to_toml`.
+        """
+        return rig_text(self.rig, self.updated_rig(relative_to=relative_to), text)
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -277,6 +311,27 @@ class RigFit:
 
 
 # ----------------------------------------------------------------------------- regression
+
+
+def rig_text(before: Rig, after: Rig, text: str | None = None) -> str:
+    """``after`` as rig-file TOML written into ``text`` (the file ``before`` was read from).
+
+    Only the values that differ change, every comment and line is kept
+    ([`update_toml_text`][seapass.files.toml.update_toml_text]); without ``text``,
+    or when it cannot be edited line by line, `Rig.to_toml`.
+    """
+    if text is not None:
+        old, new = before.to_dict(), after.to_dict()
+        changes = {
+            (f"{sec}.{k}" if isinstance(body, dict) else sec): v
+            for sec, body in new.items()
+            for k, v in (body.items() if isinstance(body, dict) else [(sec, body)])
+            if (old[sec].get(k) if isinstance(body, dict) else old[sec]) != v
+        }
+        edited = update_toml_text(text, changes)
+        if edited is not None:
+            return edited
+    return after.to_toml()
 
 
 def _solve(

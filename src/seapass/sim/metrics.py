@@ -33,7 +33,34 @@ from scipy.optimize import brentq
 from ..errors import ParameterError, SimulationError
 from .simulate import SimulationResult, Stability
 
-__all__ = ["SETTLING_CODES", "Settling", "TrackingMetrics", "settling_time", "tracking_metrics"]
+__all__ = [
+    "SETTLING_CODES",
+    "Settling",
+    "TrackingMetrics",
+    "overshoot_percent",
+    "overshoot_text",
+    "settling_time",
+    "tracking_metrics",
+]
+
+
+def overshoot_percent(overshoot: float | None) -> float | None:
+    """An overshoot (a fraction of the step, as results and JSON hold it) in percent.
+
+    >>> overshoot_percent(0.8715), overshoot_percent(None)
+    (87.15, None)
+    """
+    return None if overshoot is None else round(100.0 * overshoot, 12)
+
+
+def overshoot_text(overshoot: float | None) -> str:
+    """The one way seapass shows an overshoot to a person: percent of the step.
+
+    >>> overshoot_text(0.8715), overshoot_text(0.68), overshoot_text(None)
+    ('87.15 %', '68 %', '-')
+    """
+    pct = overshoot_percent(overshoot)
+    return "-" if pct is None else f"{pct:.4g} %"
 
 
 class Settling(StrEnum):

@@ -40,7 +40,7 @@ from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA
 from ..outcome import Outcome
 from ..sampled.passivity import SampledPassivityResult, sampled_passivity
-from ..sim.metrics import TrackingMetrics, tracking_metrics
+from ..sim.metrics import TrackingMetrics, overshoot_text, tracking_metrics
 from ..sim.scenarios import Step
 from ..sim.simulate import SimulationResult, simulate
 from .cost import CandidateCost, ConstraintChecks, objective_value
@@ -236,7 +236,7 @@ class TuningResult:
                 )
             )
         settle = "-" if m.settling_time is None else f"{m.settling_time:.4g} s"
-        over = "-" if m.overshoot is None else f"{100 * m.overshoot:.3g} %"
+        over = overshoot_text(m.overshoot)
         rows += [
             (f"step {o.step:g} m, m_L = {o.load_mass:g} kg", f"{m.status}, settles in {settle}"),
             ("overshoot, peak force", f"{over}, {m.peak_force:.4g} N"),
@@ -468,6 +468,6 @@ def _limits(
     if opts.max_overshoot is not None and overshoot > opts.max_overshoot * (1 + 1e-9):
         violations.append("overshoot")
         notes.append(
-            f"overshoot {100 * overshoot:.3g} % exceeds the limit {100 * opts.max_overshoot:g} %"
+            f"overshoot {overshoot_text(overshoot)} exceeds the limit {100 * opts.max_overshoot:g} %"
         )
     return violations, notes

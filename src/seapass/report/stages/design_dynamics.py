@@ -14,13 +14,12 @@ from typing import Any
 
 import numpy as np
 
-from ...analysis.freqresp import FrequencyResponse, stiffness_response
+from ...analysis.freqresp import FrequencyResponse, PeakKind, stiffness_response
 from ...errors import ParameterError, TuningWarning
 from ...model.design_file import Design
-from ...plot.passivity import plot_bode
 from ...plot.sim import plot_step_responses
 from ...sampled.passivity import SampledPassivityResult, sampled_passivity
-from ...sim.metrics import tracking_metrics
+from ...sim.metrics import overshoot_percent, tracking_metrics
 from ...sim.simulate import Step, simulate
 from ...tuning.optimize import TuningResult, tune
 from ...tuning.problem import QUICK_OPTIONS, TuningOptions
@@ -55,15 +54,9 @@ def stiffness_data(design: Design, quick: bool) -> FrequencyResponse:
 
 
 def stiffness_figures(design: Design, r: FrequencyResponse) -> tuple[FigureData, ...]:
-    k1 = design.values.get("k1")
-    fig = plot_bode(
-        r, title=f"{design.name}: rendered stiffness"
-        + (" (dashed: spring stiffness k1)" if k1 is not None else ""), reference=k1,
-        legend=False,
-    )  # fmt: skip
-    return (
-        FigureData.of("stiffness", "Rendered stiffness of the design: magnitude and phase.", fig),
-    )
+    """No figure: the one Bode plot of ``F_L/X_L`` is the frequency stage's (with the bands)."""
+    del design, r
+    return ()
 
 
 def stiffness_section(r: FrequencyResponse, figures: Sequence[FigureData]) -> Section:
@@ -75,7 +68,7 @@ def stiffness_section(r: FrequencyResponse, figures: Sequence[FigureData]) -> Se
         rows=(
             ("static F_L/X_L(0)", r.static),
             ("high-frequency limit", r.high_frequency),
-            ("peak over 0.1-1e4 rad/s", float(np.max(r.magnitude))),
+            (_peak_quantity(r), r.peak().magnitude),
         ),
     )
     lines = ["omega_rad_s,magnitude_N_per_m,phase_deg"] + [
@@ -87,12 +80,26 @@ def stiffness_section(r: FrequencyResponse, figures: Sequence[FigureData]) -> Se
         title="Stiffness frequency response",
         text=(
             "`F_L/X_L(jω)`: the stiffness a person feels when moving the load at frequency ω "
-            "(magnitude), and how far the force leads the motion (phase)."
+            "(magnitude), and how far the force leads the motion (phase); the Bode plot is "
+            "in the section on passivity in the frequency domain."
         ),
         tables=(table,),
         figures=tuple(figures),
         files={"stiffness_response.csv": "\n".join(lines) + "\n"},
     )
+
+
+def _peak_quantity(r: FrequencyResponse) -> str:
+    """The table's name for the largest ``|F_L/X_L|``: a peak only when it is one."""
+    peak = r.peak()
+    if peak.kind is PeakKind.INTERIOR:
+        return "peak over 0.1-1e4 rad/s"
+    if peak.kind is PeakKind.UNBOUNDED_HIGH:
+        return "largest over 0.1-1e4 rad/s, at 1e4 (no peak: grows without bound)"
+    if peak.kind is PeakKind.UNBOUNDED_LOW:
+        return "largest over 0.1-1e4 rad/s, at 0.1 (no peak: grows without bound as ω → 0)"
+    edge = "1e4" if peak.kind is PeakKind.EDGE_HIGH else "0.1"
+    return f"largest over 0.1-1e4 rad/s, at {edge} (no peak inside the range)"
 
 
 def stage_stiffness(design: Design, quick: bool) -> Section:
@@ -121,11 +128,18 @@ def metrics_table(name: str, title: str, runs: Runs) -> Table:
             "status",
             "settling time [s]",
             "final error [m]",
-            "overshoot",
+            "overshoot [%]",
             "peak force [N]",
         ),
         rows=tuple(
-            (m, met.status, met.settling_time, met.final_error, met.overshoot, met.peak_force)
+            (
+                m,
+                met.status,
+                met.settling_time,
+                met.final_error,
+                overshoot_percent(met.overshoot),
+                met.peak_force,
+            )
             for m, _r, met in runs
         ),
     )

@@ -48,12 +48,20 @@ def frequency_data(design: Design, quick: bool) -> FrequencyData:
 
 
 def frequency_figures(data: FrequencyData) -> tuple[FigureData, ...]:
+    """The one Bode plot of the report (wrapped phase, exact bands), ``Re Z_L``, Nyquist."""
     resp = data.impedance
+    name = data.stiffness.label
+    title = f"{name}: rendered stiffness" if name else "Rendered stiffness"
+    if data.reference is not None:
+        title += " (dashed: spring stiffness k1)"
     return (
         FigureData.of(
             "bode",
-            "Rendered stiffness F_L/X_L(jω), magnitude and phase; shaded: Re Z_L(jω) < 0 (exact).",
-            plot_bode(data.stiffness, reference=data.reference, bands=resp.negative_bands),
+            "Rendered stiffness F_L/X_L(jω), magnitude and phase (whole turns removed: passive "
+            "is within [0°, 180°]); shaded: Re Z_L(jω) < 0 (exact).",
+            plot_bode(
+                data.stiffness, title=title, reference=data.reference, bands=resp.negative_bands
+            ),
         ),
         FigureData.of(
             "real_part",

@@ -20,6 +20,7 @@ from ...model.catalog import design as catalog_design
 from ...model.experiment import PAPER_EXPERIMENT
 from ...paper.simstudy import SimulationStudy, run_simulation_study
 from ...plot.sim import plot_simulation_study, plot_tradeoff
+from ...sim.metrics import overshoot_percent
 from ..document import FigureData, Finding, Section, Table, Verdict
 from ..pipeline import stage_progress
 
@@ -67,7 +68,7 @@ def simulation_section(
         m = r.metrics
         gains = study.tuning[r.design].gains
         rows.append(
-            (r.design, r.load_mass, m.status, m.settling_time, m.final_error, m.overshoot,
+            (r.design, r.load_mass, m.status, m.settling_time, m.final_error, overshoot_percent(m.overshoot),
              m.peak_force, *[gains.get(g) for g in gnames])
         )  # fmt: skip
     table = Table(
@@ -79,7 +80,7 @@ def simulation_section(
             "status",
             "settling time [s]",
             "final error [m]",
-            "overshoot",
+            "overshoot [%]",
             "peak force [N]",
             *[f"{g} [SI]" for g in gnames],
         ),

@@ -19,7 +19,7 @@ from ...model.catalog import REFERENCE_VALUES
 from ...paper.tablefmt import format_latex, format_markdown
 from ...paper.tables import PAPER_ROWS, BoundStatus, PaperRow, TableRow, build_tables
 from ...plot.passivity import plot_bode
-from ...plot.style import axes_grid
+from ...plot.style import axes_grid, set_suptitle
 from ..document import (
     Discrepancy,
     FigureData,
@@ -120,7 +120,7 @@ def _row_findings(r: TableRow) -> list[Finding]:
     if not findings:
         findings.append(
             Finding(name, Verdict.AGREES,
-                    f"transfer function, passivity polynomial and bound ({r.bound_status}) agree")
+                    f"transfer function, passivity polynomial and bound agree: {r.bound_status.phrase}")
         )  # fmt: skip
     return findings
 
@@ -211,7 +211,8 @@ def _stiffness_figure(title: str, group: Sequence[StiffnessRow]) -> Any:
         axes[2 * i, j].set_visible(False)
         axes[2 * i + 1, j].set_visible(False)
     fig = axes[0, 0].figure
-    fig.suptitle(
+    set_suptitle(
+        fig,
         f"{title}: rendered stiffness F_L/X_L(jω), magnitude and phase "
         "(m = 1 kg, b = 10 N·s/m; dashed: spring stiffness k1)",
         fontsize=11,
