@@ -33,6 +33,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("sim",),
     ("batch",),
     ("sampled",),
+    ("robust",),
     ("tuning",),
     ("rig",),
     ("export",),

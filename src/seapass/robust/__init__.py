@@ -11,19 +11,20 @@ the box, a verified worst-case plant, or undecided),
 [`intervals`][seapass.robust.intervals] (robust passive intervals of a gain) and
 [`api`][seapass.robust.api] (``is_passive`` and ``passive_intervals`` with ``box=``).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim], [`seapass.batch`][seapass.batch], [`seapass.sampled`][seapass.sampled].
+May import: [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis].
 """
 
 from .box import UncertainBox, uncertain_box
 
+from .intervals import RobustIntervals, robust_passive_intervals
 from .verdict import RobustResult, WorstCase, robust_check
 
 __all__ = [
-
+    "RobustIntervals",
     "RobustResult",
     "UncertainBox",
     "WorstCase",
     "robust_check",
-
+    "robust_passive_intervals",
     "uncertain_box",
 ]
