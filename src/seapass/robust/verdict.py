@@ -51,7 +51,7 @@ from .family import ConditionKind, family_conditions, fixed_values
 
 __all__ = ["DEFAULT_BUDGET", "RobustResult", "WorstCase", "robust_check"]
 
-DEFAULT_BUDGET = 20000
+DEFAULT_BUDGET = 5000
 """Boxes the certified branch and bound may examine (all conditions together)."""
 
 
