@@ -71,7 +71,9 @@ def _box_and_model(args: argparse.Namespace, extra_free: dict[str, str]) -> tupl
         )
     if getattr(args, "Z", None) is not None:
         if any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL")):
-            raise ParameterError("give either --Z or the model elements --D1/--D2/--CA/--CL, not both")
+            raise ParameterError(
+                "give either --Z or the model elements --D1/--D2/--CA/--CL, not both"
+            )
         values = values_from_args(args)
         for name in raw:
             if name in values:
@@ -103,7 +105,9 @@ def run_robust_check(args: argparse.Namespace) -> int:
         print_json(result.to_dict())
     else:
         span = ", ".join(f"{k} in [{lo:g}, {hi:g}]" for k, (lo, hi) in box.intervals.items())
-        print(f"{result.outcome.label} for every plant with {span} ({result.method}): {result.detail}")
+        print(
+            f"{result.outcome.label} for every plant with {span} ({result.method}): {result.detail}"
+        )
         if result.worst is not None:
             at = ", ".join(f"{k}={v:.10g}" for k, v in result.worst.values.items())
             w = result.worst.frequency
@@ -118,9 +122,7 @@ def run_robust_bound(args: argparse.Namespace) -> int:
     lo, hi = parse_range(args.range)
     system, box = _box_and_model(args, {args.param: f"bound {args.param}"})
     try:
-        result = robust_passive_intervals(
-            system, args.param, lo, hi, box=box, budget=args.budget
-        )
+        result = robust_passive_intervals(system, args.param, lo, hi, box=box, budget=args.budget)
     except ParameterError as exc:
         raise _cli_text(exc) from None
     if args.json:

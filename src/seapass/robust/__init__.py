@@ -15,7 +15,6 @@ May import: [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outc
 """
 
 from .box import UncertainBox, uncertain_box
-
 from .intervals import RobustIntervals, robust_passive_intervals
 from .verdict import RobustResult, WorstCase, robust_check
 

@@ -56,7 +56,9 @@ class UncertainBox:
     intervals: Mapping[str, tuple[float, float]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "intervals", MappingProxyType(dict(sorted(self.intervals.items()))))
+        object.__setattr__(
+            self, "intervals", MappingProxyType(dict(sorted(self.intervals.items())))
+        )
 
     def __repr__(self) -> str:
         return f"UncertainBox(intervals={dict(self.intervals)!r})"
@@ -76,7 +78,9 @@ class UncertainBox:
         return {k: [lo, hi] for k, (lo, hi) in self.intervals.items()}
 
 
-def parse_uncertain(items: Sequence[str], flag: str = "--uncertain") -> dict[str, tuple[float, float]]:
+def parse_uncertain(
+    items: Sequence[str], flag: str = "--uncertain"
+) -> dict[str, tuple[float, float]]:
     """``NAME=LO:HI`` texts as a box mapping (a repeated name or bad text is an error).
 
     >>> parse_uncertain(["m=0.9:1.1", "b=8:12"])
@@ -124,7 +128,9 @@ def uncertain_box(
     if isinstance(box, UncertainBox):
         box = dict(box.intervals)
     if not isinstance(box, Mapping) or not box:
-        raise ParameterError("box: give at least one uncertain parameter, e.g. box={'m': (0.9, 1.1)}")
+        raise ParameterError(
+            "box: give at least one uncertain parameter, e.g. box={'m': (0.9, 1.1)}"
+        )
     if len(box) > MAX_UNCERTAIN:
         raise ParameterError(
             f"box: {len(box)} uncertain parameters exceed the limit of {MAX_UNCERTAIN}; fix the "

@@ -184,7 +184,8 @@ def _g_critical(
         if q(lo) == 0:
             crit.add((g_box[0], g_box[0]))
         for a, b in ep.isolate_real_roots(q, lo, hi):
-            a, b = ep.refine(q, (a, b), max(abs(b), 1) * ep.rational(Fraction(1, 2**60)))
+            scale = abs(b) if abs(b) > 1 else ep.rational(1)
+            a, b = ep.refine(q, (a, b), scale * ep.rational(Fraction(1, 2**60)))
             crit.add((ep.to_fraction(a), ep.to_fraction(b)))
     return sorted(crit)
 
@@ -233,7 +234,9 @@ def _exact(
     runs = [list(grp) for ok, grp in itertools.groupby(cells, key=lambda c: c[2]) if ok]
     for run in runs:
         first, last = run[0], run[-1]
-        a_f = _strictly_above(first[0]) if first[0] in bad and first[0] != first[1] else _up(first[0])
+        a_f = (
+            _strictly_above(first[0]) if first[0] in bad and first[0] != first[1] else _up(first[0])
+        )
         b_f = _strictly_below(last[1]) if last[1] in bad and last[0] != last[1] else _down(last[1])
         if first[0] == lo:
             a_f = _up(lo)
@@ -360,8 +363,10 @@ def robust_passive_intervals(
         raise ParameterError(f"empty range {lo}:{hi}: the lower bound must not exceed the upper")
     check_rtol(rtol)
     if values:
-        system = system.with_values(**values) if isinstance(system, SEA) else Impedance(
-            expr=system.expr, values={**system.values, **values}
+        system = (
+            system.with_values(**values)
+            if isinstance(system, SEA)
+            else Impedance(expr=system.expr, values={**system.values, **values})
         )
     if param not in system.parameters:
         raise ParameterError(
@@ -374,8 +379,12 @@ def robust_passive_intervals(
             f"box[{param!r}]: {param} is the bounded parameter; it cannot also be uncertain",
             argument="box",
         )
-    free_sys = system.with_values(**{param: None}) if isinstance(system, SEA) else Impedance(
-        expr=system.expr, values={k: v for k, v in system.values.items() if k != param}
+    free_sys = (
+        system.with_values(**{param: None})
+        if isinstance(system, SEA)
+        else Impedance(
+            expr=system.expr, values={k: v for k, v in system.values.items() if k != param}
+        )
     )
     checked = uncertain_box(free_sys, raw)
     fixed = {

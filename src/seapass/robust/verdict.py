@@ -152,7 +152,9 @@ class RobustResult:
         )
 
 
-def _test(system: SEA | Impedance, fixed: Mapping[str, float], at: Mapping[str, float]) -> PassivityResult:
+def _test(
+    system: SEA | Impedance, fixed: Mapping[str, float], at: Mapping[str, float]
+) -> PassivityResult:
     return is_passive(system, values={**fixed, **at})
 
 
@@ -323,10 +325,14 @@ def robust_check(
     (<Outcome.NOT_PASSIVE: 'not_passive'>, True)
     """
     if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
-        raise ParameterError(f"budget must be a positive integer, got {budget!r}", argument="budget")
+        raise ParameterError(
+            f"budget must be a positive integer, got {budget!r}", argument="budget"
+        )
     if values:
-        system = system.with_values(**values) if isinstance(system, SEA) else Impedance(
-            expr=system.expr, values={**system.values, **values}
+        system = (
+            system.with_values(**values)
+            if isinstance(system, SEA)
+            else Impedance(expr=system.expr, values={**system.values, **values})
         )
     checked = uncertain_box(system, box)
     fixed = fixed_values(system, checked)
@@ -337,4 +343,3 @@ def robust_check(
     if throw and not result.passive:
         raise NotPassiveError(f"not robustly passive: {result.detail}")
     return result
-
