@@ -31,6 +31,7 @@ import bench_explore  # noqa: E402
 import bench_export  # noqa: E402
 import bench_metrics  # noqa: E402
 import bench_passivity  # noqa: E402
+import bench_robust  # noqa: E402
 import bench_sampled  # noqa: E402
 import bench_sweep  # noqa: E402
 from _util import Row, fmt_rate  # noqa: E402
@@ -101,7 +102,14 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     rows: list[Row] = []
     notes: list[str] = []
-    for mod in (bench_passivity, bench_metrics, bench_sweep, bench_export, bench_sampled):
+    for mod in (
+        bench_passivity,
+        bench_metrics,
+        bench_sweep,
+        bench_export,
+        bench_sampled,
+        bench_robust,
+    ):
         print(f"running {mod.__name__} ...", file=sys.stderr, flush=True)
         r, n = mod.run(args.quick)
         rows += r
