@@ -189,3 +189,15 @@ def test_a_box_touching_a_lossless_corner_is_undecided_not_passive() -> None:
     box = {"kd": (400.0, 6000.0), "bd": (0.0, 30.0), "b": (0.0, 30.0)}
     r = robust_check(OURS, box=box, budget=200)
     assert r.outcome is Outcome.UNDECIDED and r.boxes == 200 and "budget" in r.detail
+
+
+def test_a_cancellation_that_appears_only_at_the_fixed_values_is_not_hidden() -> None:
+    # (s - k2)/(s - 1) cancels at k2 = 1: an unstable hidden mode the exact test rejects
+    z = Impedance(
+        expr="(s - k2)*(s + m)/((s - 1)*(s**2 + b*s + 1))",
+        values={"k2": 1.0, "m": 1.0, "b": 2.0},
+    )
+    assert not is_passive(z).passive
+    r = robust_check(z, box={"m": (0.9, 1.1), "b": (1.5, 2.5)})
+    assert r.outcome is Outcome.NOT_PASSIVE and r.worst is not None
+    assert not is_passive(z, values=dict(r.worst.values)).passive

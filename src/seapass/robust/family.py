@@ -99,15 +99,18 @@ def fixed_values(system: SEA | Impedance, box: UncertainBox) -> dict[str, float]
     return {k: float(v) for k, v in fixed.items()}
 
 
-def _impedance(system: SEA | Impedance, box: UncertainBox) -> sp.Expr:
+def _num_den(system: SEA | Impedance, box: UncertainBox) -> tuple[sp.Expr, sp.Expr]:
+    """``N`` and ``D`` as the exact test sees them: cancelled with every parameter symbolic,
+    then the fixed values substituted (no cancellation after it, so a common factor that
+    appears only at these values stays visible, as it does to the exact test)."""
     fixed = fixed_values(system, box)
     subs = {symbol(k): sp.Rational(Fraction(v)) for k, v in fixed.items()}
     if isinstance(system, SEA):
-        base = system.with_values(**dict.fromkeys(box.names))
-        z = load_impedance(base)
+        z = load_impedance(system.with_values(**dict.fromkeys(box.names)))
     else:
         z = system.expr
-    return sp.cancel(sp.together(z.xreplace(subs)))
+    num, den = sp.fraction(sp.cancel(sp.together(z)))
+    return sp.expand(num.xreplace(subs)), sp.expand(den.xreplace(subs))
 
 
 def _dense(expr: sp.Expr, params: list[sp.Symbol]) -> np.ndarray:
@@ -149,8 +152,7 @@ def family_conditions(system: SEA | Impedance, box: UncertainBox) -> FamilyCondi
     names = box.names
     params = [symbol(n) for n in names]
     center = {symbol(k): sp.Rational(Fraction(v)) for k, v in box.center().items()}
-    num, den = sp.fraction(_impedance(system, box))
-    num, den = sp.expand(num), sp.expand(den)
+    num, den = _num_den(system, box)
     if den == 0:
         raise ParameterError("the impedance has a zero denominator")
     nc = sp.Poly(num, S).all_coeffs()[::-1] if num != 0 else [sp.S.Zero]
