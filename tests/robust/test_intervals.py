@@ -75,3 +75,19 @@ def test_bad_robust_interval_inputs_are_refused() -> None:
         robust_passive_intervals(LP, "kd", 2000, 0, box={"k1": (800.0, 1200.0)})
     with pytest.raises(ParameterError, match="does not appear"):
         robust_passive_intervals(LP, "bd", 0, 1, box={"k1": (800.0, 1200.0)})
+
+
+def test_robust_results_plot_on_given_axes() -> None:
+    import matplotlib.pyplot as plt
+
+    from seapass.robust.verdict import robust_check
+
+    fig, (ax1, ax2) = plt.subplots(1, 2)
+    r = robust_passive_intervals(LP, "kd", 0, 2000, box={"k1": (800.0, 1200.0)})
+    assert r.plot(ax=ax1) is ax1
+    bad = robust_check(LP.with_values(kd=500.0), box={"k1": (100.0, 1000.0)})
+    assert bad.plot(ax=ax2) is ax2
+    good = robust_check(LP.with_values(kd=500.0), box={"k1": (800.0, 1000.0)})
+    with pytest.raises(ValueError, match="no worst-case plant"):
+        good.plot()
+    plt.close(fig)

@@ -32,7 +32,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any
+from typing import Any, cast
 
 import sympy as sp
 from flint import fmpq_poly
@@ -95,6 +95,12 @@ class RobustIntervals:
             "outer": [list(iv) for iv in self.outer],
             "method": self.method,
         }
+
+    def plot(self, *, ax: Any = None, **kwargs: Any) -> Any:
+        """The robust passive set (inner set) as a bar over the search range; returns the Axes."""
+        from ..plot.region import plot_passive_intervals
+
+        return plot_passive_intervals(cast(Any, self), ax=ax, **kwargs)
 
     def __repr__(self) -> str:
         return short_repr(

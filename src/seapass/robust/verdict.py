@@ -130,6 +130,16 @@ class RobustResult:
             "detail": self.detail,
         }
 
+    def plot(self, kind: str = "real", *, ax: Any = None, omega: Any = None, **kwargs: Any) -> Any:
+        """``Re Z(jω)`` (or the Nyquist plot) of the worst-case plant, with its failing bands.
+
+        Only for a negative verdict (a passive box has no single plant to show); returns
+        the matplotlib Axes.
+        """
+        if self.worst is None:
+            raise ValueError(f"no worst-case plant to plot: the verdict is {self.outcome.label}")
+        return self.worst.result.plot(kind, ax=ax, omega=omega, **kwargs)
+
     def __repr__(self) -> str:
         worst = None
         if self.worst is not None:
