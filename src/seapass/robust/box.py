@@ -53,7 +53,9 @@ class UncertainBox:
     UncertainBox(intervals={'m': (0.9, 1.1)})
     """
 
-    intervals: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    intervals: Mapping[str, tuple[float, float]] = field(
+        default_factory=lambda: MappingProxyType({})
+    )
 
     def __post_init__(self) -> None:
         object.__setattr__(
