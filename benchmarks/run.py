@@ -32,6 +32,7 @@ import bench_export  # noqa: E402
 import bench_metrics  # noqa: E402
 import bench_passivity  # noqa: E402
 import bench_ports  # noqa: E402
+import bench_robust  # noqa: E402
 import bench_sampled  # noqa: E402
 import bench_startup  # noqa: E402
 import bench_sweep  # noqa: E402
@@ -110,6 +111,7 @@ def main(argv: list[str] | None = None) -> int:
         bench_export,
         bench_sampled,
         bench_ports,
+        bench_robust,
     ):
         print(f"running {mod.__name__} ...", file=sys.stderr, flush=True)
         r, n = mod.run(args.quick)

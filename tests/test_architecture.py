@@ -34,6 +34,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("sim",),
     ("batch",),
     ("sampled",),
+    ("robust",),
     ("tuning",),
     ("rig",),
     ("export",),

@@ -16,6 +16,7 @@ subpackage          what lives there
 ``seapass.sim``     simulation, tracking metrics
 ``seapass.batch``   vectorized verdicts and step metrics
 ``seapass.sampled``  discrete controllers, sampled-data passivity, runtime
+``seapass.robust``  robust passivity for every plant in a box of parameters
 ``seapass.tuning``  passivity-constrained tuning of any design
 ``seapass.rig``     rig files, the digital twin, the paper's experiment
 ``seapass.export``  C code of the deployed controller, envelope built in
@@ -53,10 +54,10 @@ _LAZY: dict[str, str] = {
     "SampledLoop": "model.loop",
     "load_design": "model.design_file",
     "derive_stiffness": "model.stiffness",
-    "is_passive": "analysis.passivity",
+    "is_passive": "robust.api",
     "PassivityResult": "analysis.passivity",
     "passivity_indices": "analysis.indices",
-    "passive_intervals": "analysis.region",
+    "passive_intervals": "robust.api",
     "passive_map": "analysis.region",
     "exact_passivity_condition": "analysis.conditions",
     "stiffness_response": "analysis.freqresp",
@@ -83,7 +84,8 @@ _LAZY: dict[str, str] = {
 
 _SUBPACKAGES = frozenset(
     {"analysis", "batch", "cli", "errors", "exact", "explore", "export", "files", "model",
-     "outcome", "paper", "plot", "ports", "report", "rig", "sampled", "sim", "sweep", "tuning"}
+     "outcome", "paper", "plot", "ports", "report", "rig", "robust", "sampled", "sim", "sweep",
+     "tuning"}
 )  # fmt: skip
 """Every subpackage and top-level module, loaded on first attribute access."""
 
@@ -143,8 +145,8 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
     from .analysis.conditions import exact_passivity_condition
     from .analysis.freqresp import stiffness_response
     from .analysis.indices import passivity_indices
-    from .analysis.passivity import PassivityResult, is_passive
-    from .analysis.region import passive_intervals, passive_map
+    from .analysis.passivity import PassivityResult
+    from .analysis.region import passive_map
     from .analysis.witness import find_destabilizing_environment
     from .export.c_code import export_c
     from .model.design_file import Design, load_design
@@ -159,6 +161,7 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
     from .report.output import write_report
     from .report.reproduce import reproduce
     from .rig.rigfile import load_rig, paper_rig
+    from .robust.api import is_passive, passive_intervals
     from .sampled.bound import sampled_passive_bound
     from .sampled.passivity import sampled_passivity
     from .sim.metrics import tracking_metrics

@@ -12,10 +12,13 @@ from .common import (
     print_json,
     warn_unrealizable,
 )
+from .uncertain_options import add_uncertain_options, run_robust_bound
 
 EXAMPLE = """example:
   seapass bound kd --D1 "k1 + b1*s" --CL kd --set m=1 --set b=10 --set k1=1000 \\
       --set b1=20 --range 0:1e5 --json
+  seapass bound kd --D1 k1 --CL kd --set m=1 --set b=10 --range 0:2000 \
+      --uncertain k1=800:1200 --json     # passive for every plant in the box
 
 PARAM is the free parameter: give every other parameter with --set, and not
 PARAM itself (giving it both ways is an error, so a value is never ignored).
@@ -33,6 +36,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     p.add_argument("param", metavar="PARAM", help="the free parameter, e.g. kd")
     add_model_options(p)
     p.add_argument("--range", default="0:1e5", metavar="LO:HI", help="search range of PARAM")
+    add_uncertain_options(p)
     add_json_option(p)
     p.set_defaults(func=run)
 
@@ -41,6 +45,8 @@ def run(args: argparse.Namespace) -> int:
     from ..analysis.region import passive_intervals
     from ..exact.rounding import inward_text
 
+    if args.uncertain:
+        return run_robust_bound(args)
     lo, hi = parse_range(args.range)
     sea = model_from_args(args, extra_free={args.param: f"bound {args.param}"})
     warn_unrealizable(sea)

@@ -12,6 +12,7 @@ from .common import (
     system_from_args,
     warn_unrealizable,
 )
+from .uncertain_options import add_uncertain_options, run_robust_check
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     from ..analysis.indices import PassivityIndices
@@ -21,10 +22,12 @@ EXAMPLE = """examples:
       --set b1=20 --set bd=25 --set kd=5000 --json
   seapass check --Z "(s + 1)/(s + 2)"
   seapass check --Z "k*s/(s**2 + k)" --set k=1e8
+  seapass check --D1 k1 --CL kd --set b=10 --set k1=1000 --set kd=500 \
+      --uncertain m=0.9:1.1 --uncertain b=8:12 --json     # every plant in the box
 
 exit codes (like cmp, so a CI job can gate on it):
   0  passive
-  1  not passive
+  1  not passive (with --uncertain: not passive for some plant of the box, or undecided)
   2  bad input or another error (one 'error:' line on stderr)
 """
 
@@ -42,6 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     )
     add_model_options(p)
     p.add_argument("--Z", help="raw impedance Z(s) instead of an SEA model, e.g. '(s + 1)/(s + 2)'")
+    add_uncertain_options(p)
     add_json_option(p)
     p.set_defaults(func=run)
 
@@ -50,6 +54,8 @@ def run(args: argparse.Namespace) -> int:
     from ..analysis.indices import passivity_indices
     from ..analysis.passivity import is_passive
 
+    if args.uncertain:
+        return run_robust_check(args)
     system = system_from_args(args)
     realizable = warn_unrealizable(system)
     result = is_passive(system)

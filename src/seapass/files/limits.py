@@ -50,6 +50,9 @@ __all__ = [
     "MAX_TRAJECTORY_BYTES",
     "MAX_TRAJECTORY_SAMPLES",
     "MAX_TWIN_VALUES",
+    "MAX_UNCERTAIN",
+    "MAX_UNCERTAIN_MAGNITUDE",
+    "MAX_UNCERTAIN_RATIO",
     "MIN_RTOL",
     "SYMBOLIC_TIME_LIMIT",
     "check_count",
@@ -134,6 +137,17 @@ report, 10⁶ steps)."""
 MAX_DELAY_SAMPLES = 100
 """Computational delay of a sampled controller, in samples (design files, ``--delay``);
 each sample adds 2 to the degree of the sampled passivity polynomial."""
+
+MAX_UNCERTAIN = 6
+"""Uncertain parameters of one robust verdict (``--uncertain``, ``box=``): the certified
+branch and bound works on a box of this many dimensions plus frequency."""
+
+MAX_UNCERTAIN_RATIO = 1e6
+"""Largest ``HI/LO`` of one uncertain positive parameter (six decades); a wider box is
+split into boxes so small that the budgeted branch and bound cannot end."""
+
+MAX_UNCERTAIN_MAGNITUDE = 1e12
+"""Largest ``|LO|``, ``|HI|`` of an uncertain parameter (keeps the exact rationals small)."""
 
 MIN_RTOL = 1e-12
 """Smallest relative width of a certified edge enclosure (``rtol`` of

@@ -1,0 +1,29 @@
+"""Robust passivity: a verdict for every plant in a box of uncertain parameters.
+
+What lives here: [`box`][seapass.robust.box] (uncertain parameters ``NAME=LO:HI``,
+checked: known names, not also fixed, physical, bounded),
+[`bernstein`][seapass.robust.bernstein] (exact Bernstein enclosures of a
+multivariate polynomial on a box and a certified branch and bound with a counted
+budget), [`family`][seapass.robust.family] (the positive-real conditions of a
+family of impedances as polynomials in the uncertain parameters),
+[`verdict`][seapass.robust.verdict] (`robust_check`: passive for every plant in
+the box, a verified worst-case plant, or undecided),
+[`intervals`][seapass.robust.intervals] (robust passive intervals of a gain) and
+[`api`][seapass.robust.api] (``is_passive`` and ``passive_intervals`` with ``box=``).
+
+May import: [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis].
+"""
+
+from .box import UncertainBox, uncertain_box
+from .intervals import RobustIntervals, robust_passive_intervals
+from .verdict import RobustResult, WorstCase, robust_check
+
+__all__ = [
+    "RobustIntervals",
+    "RobustResult",
+    "UncertainBox",
+    "WorstCase",
+    "robust_check",
+    "robust_passive_intervals",
+    "uncertain_box",
+]

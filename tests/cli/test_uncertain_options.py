@@ -1,0 +1,111 @@
+"""``check``/``bound`` with ``--uncertain NAME=LO:HI``: robust verdicts end to end (issue 26)."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+
+import pytest
+
+from seapass.analysis.passivity import is_passive
+from seapass.cli import main
+from seapass.cli.uncertain_options import CLI_BUDGET
+from seapass.model.sea import SEA
+from seapass.robust.verdict import DEFAULT_BUDGET
+
+LP = ["--D1", "k1", "--CL", "kd"]
+
+
+def _cli(argv: list[str]) -> tuple[int, str, str]:
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(argv)
+    return code, out.getvalue(), err.getvalue()
+
+
+def test_check_with_a_box_prints_the_issue_json_and_exits_0_when_robustly_passive() -> None:
+    argv = ["check", *LP, "--set", "k1=1000", "--set", "kd=500",
+            "--uncertain", "m=0.9:1.1", "--uncertain", "b=8:12", "--json"]  # fmt: skip
+    code, out, err = _cli(argv)
+    d = json.loads(out)
+    assert code == 0, err
+    assert d["robust"] is True and d["passive"] is True and d["status"] == "passive"
+    assert d["box"] == {"b": [8.0, 12.0], "m": [0.9, 1.1]} and d["worst"] is None
+
+
+def test_check_with_a_box_gives_a_worst_case_that_the_plain_check_rejects() -> None:
+    argv = ["check", *LP, "--set", "b=10", "--set", "kd=500",
+            "--uncertain", "k1=100:1000", "--uncertain", "m=0.5:2", "--json"]  # fmt: skip
+    code, out, _err = _cli(argv)
+    d = json.loads(out)
+    assert code == 1 and d["status"] == "not_passive" and d["passive"] is False
+    worst = d["worst"]["values"]
+    assert 100 <= worst["k1"] <= 1000 and 0.5 <= worst["m"] <= 2
+    sea = SEA(D1="k1", CL="kd", values={"b": 10, "kd": 500, **worst})
+    assert not is_passive(sea).passive
+    plain = ["check", *LP, "--set", "b=10", "--set", "kd=500"]
+    plain += [f"--set={k}={v!r}" for k, v in worst.items()]
+    assert _cli(plain)[0] == 1  # the ordinary check says not passive too
+
+
+def test_check_text_names_the_worst_case_and_the_frequency() -> None:
+    argv = ["check", "--Z", "(s**2 + (10*(m - 1)**2 - 1/100)*s + k2)/(s**2 + s + 1)",
+            "--set", "k2=1", "--uncertain", "m=0.9:1.1"]  # fmt: skip
+    code, out, _err = _cli(argv)
+    assert code == 1 and "worst case: m=1" in out and "rad/s" in out
+
+
+def test_bound_with_a_box_gives_the_robust_set_and_the_outer_set() -> None:
+    argv = ["bound", "kd", *LP, "--set", "m=1", "--set", "b=10", "--range", "0:2000",
+            "--uncertain", "k1=800:1200", "--json"]  # fmt: skip
+    code, out, err = _cli(argv)
+    d = json.loads(out)
+    assert code == 0, err
+    assert d["intervals"] == [[0.0, 800.0]] and d["outer"] == [[0.0, 800.0]]
+    assert d["method"] == "exact" and d["robust"] is True
+    argv = ["bound", "kd", *LP, "--set", "b=10", "--range", "0:2000",
+            "--uncertain", "k1=800:1200", "--uncertain", "m=0.5:2"]  # fmt: skip
+    code, out, _err = _cli(argv)
+    assert code == 0 and "certified" in out and "passive for every plant" in out
+
+
+@pytest.mark.parametrize(
+    ("extra", "words"),
+    [
+        (["--uncertain", "m=1.1:0.9"], "LO must not exceed HI"),
+        (["--uncertain", "mass=1:2"], "--uncertain mass"),
+        (["--uncertain", "m=0:2"], "non-physical"),
+        (["--uncertain", "b=-1:2"], "must not be negative"),
+        (["--uncertain", "m=1e-3:1e4"], "too large"),
+        (["--uncertain", "m=1"], "expected NAME=LO:HI"),
+        (["--uncertain", "m=1:2", "--uncertain", "m=1:3"], "given twice"),
+        (["--uncertain", "m=1:2", "--budget", "0"], "--budget"),
+        (["--uncertain", "m=1:2", "--set", "m=1"], "--set m"),
+    ],
+)
+def test_bad_boxes_give_one_error_line_and_exit_2(extra: list[str], words: str) -> None:
+    base = ["check", *LP, "--set", "k1=1000", "--set", "kd=500"]
+    if "b=-1:2" not in extra:
+        base += ["--set", "b=10"]
+    code, out, err = _cli([*base, *extra])
+    assert code == 2 and out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ") and words in lines[0]
+    assert "box[" not in lines[0] and "Traceback" not in err
+
+
+def test_bound_refuses_a_box_on_the_bounded_parameter() -> None:
+    argv = ["bound", "kd", *LP, "--set", "m=1", "--set", "b=10", "--set", "k1=1000",
+            "--uncertain", "kd=1:2"]  # fmt: skip
+    code, _out, err = _cli(argv)
+    assert code == 2 and err.count("\n") == 1 and "bounded parameter" in err
+
+
+def test_help_shows_uncertain_and_the_cli_budget_is_the_library_default() -> None:
+    assert CLI_BUDGET == DEFAULT_BUDGET
+    for cmd in ("check", "bound"):
+        out = io.StringIO()
+        with contextlib.redirect_stdout(out), pytest.raises(SystemExit):
+            main([cmd, "--help"])
+        assert "--uncertain NAME=LO:HI" in out.getvalue() and "--uncertain" in out.getvalue()
