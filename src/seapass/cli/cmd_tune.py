@@ -131,7 +131,7 @@ def _design(
     if args.design and args.design_option:
         raise ParameterError("give the design once (DESIGN or --design)")
     name = args.design or args.design_option
-    model_given = any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL"))
+    model_given = any(getattr(args, e) is not None for e in ("D1", "D2", "CA", "CL"))
     if name is not None and model_given:
         raise ParameterError("give either DESIGN or the model --D1/--D2/--CA/--CL, not both")
     if name is None and not model_given:

@@ -315,11 +315,11 @@ def add_jobs_argument(p: argparse.ArgumentParser) -> None:
 
 def add_model_options(p: argparse.ArgumentParser) -> None:
     """``--D1 --D2 --CA --CL --set`` as used by every model command."""
-    g = p.add_argument_group("model (elements not given are 0)")
-    g.add_argument("--D1", default="0", help="transmission, e.g. 'k1 + b1*s'")
-    g.add_argument("--D2", default="0", help="load-to-ground element, e.g. 'k2'")
-    g.add_argument("--CA", default="0", help="actuator-side controller, e.g. 'kd + bd*s'")
-    g.add_argument("--CL", default="0", help="load-side controller, e.g. 'kd'")
+    g = p.add_argument_group("model (elements not given: the design file's, else 0)")
+    g.add_argument("--D1", help="transmission, e.g. 'k1 + b1*s'")
+    g.add_argument("--D2", help="load-to-ground element, e.g. 'k2'")
+    g.add_argument("--CA", help="actuator-side controller, e.g. 'kd + bd*s'")
+    g.add_argument("--CL", help="load-side controller, e.g. 'kd'")
     g.add_argument(
         "--set",
         action="append",
@@ -366,7 +366,8 @@ def model_from_args(
             )
         values[name] = None
     try:
-        return SEA(D1=args.D1, D2=args.D2, CA=args.CA, CL=args.CL, values=values)
+        elements = {e: getattr(args, e) or "0" for e in ("D1", "D2", "CA", "CL")}
+        return SEA(**elements, values=values)
     except ParameterError as exc:
         free = {f"values[{n!r}]": label for n, label in labels.items()}
         if exc.argument in free:  # a free name the model does not use
@@ -399,7 +400,7 @@ def system_from_args(args: argparse.Namespace) -> Any:
 
     if getattr(args, "Z", None) is None:
         return model_from_args(args)
-    if any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL")):
+    if any(getattr(args, e) is not None for e in ("D1", "D2", "CA", "CL")):
         raise ParameterError("give either --Z or the model elements --D1/--D2/--CA/--CL, not both")
     return Impedance(expr=args.Z, values=values_from_args(args))
 
