@@ -159,7 +159,7 @@ _FLAGS = {
 }
 
 
-_KEYED = {"values": "--set", "bounds": "--bound", "tune": "--tune"}
+_KEYED = {"values": "--set", "bounds": "--bound", "tune": "--tune", "units": "--unit"}
 
 
 def cli_flag(argument: str) -> str:
@@ -168,7 +168,7 @@ def cli_flag(argument: str) -> str:
     >>> cli_flag("values['kd']"), cli_flag("tune['kd']"), cli_flag("load_mass"), cli_flag("CA")
     ('--set kd', '--tune kd', '--load-mass', '--CA')
     """
-    m = re.fullmatch(r"(values|bounds|tune)\['([^']*)'\]", argument)
+    m = re.fullmatch(r"(values|bounds|tune|units)\['([^']*)'\]", argument)
     if m:
         return f"{_KEYED[m.group(1)]} {m.group(2)}"
     if argument in _FLAGS:
@@ -218,7 +218,9 @@ def cli_words(text: str, argument: str | None = None) -> str:
         msg = re.sub(rf"(?<![\w.'\[-]){argument}(=| )", lambda m: f"{flag} ", msg)
     msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"e.g. --set \1=VALUE", msg)
     msg = re.sub(r"tune=\{'(\w+)': \([^)]*\)\}", r"--tune \1=LO:HI", msg)
-    msg = re.sub(r"(values|tune)\['(\w+)'\]", lambda m: f"{_KEYED[m.group(1)]} {m.group(2)}", msg)
+    msg = re.sub(
+        r"(values|tune|units)\['(\w+)'\]", lambda m: f"{_KEYED[m.group(1)]} {m.group(2)}", msg
+    )
     return re.sub(r"\b([a-z][a-z_]*)=True\b", lambda m: "--" + m.group(1).replace("_", "-"), msg)
 
 

@@ -29,11 +29,13 @@ __all__ = [
     "add_design_argument",
     "add_range_options",
     "add_unit_option",
+    "declared",
     "deprecated_flag",
     "design_from_args",
     "points_from_args",
     "ranges_from_args",
     "system_from_design_args",
+    "unit_suffix",
     "units_from_args",
     "units_json",
 ]
@@ -190,9 +192,8 @@ def design_from_args(
     except ParameterError as exc:
         where = {f"values[{n!r}]": label for n, label in labels.items()}
         if exc.argument in where:  # a free name the model does not use
-            raise ParameterError(f"{where[exc.argument]}: {str(exc)[len(exc.argument) + 2 :]}")
-        if exc.argument and exc.argument.startswith("units["):
-            raise ParameterError(str(exc).replace(exc.argument, f"--unit {exc.argument[7:-2]}"))
+            msg = str(exc)[len(exc.argument) + 2 :]
+            raise ParameterError(f"{where[exc.argument]}: {msg}") from None
         raise
 
 
@@ -212,11 +213,22 @@ def system_from_design_args(args: argparse.Namespace) -> tuple[Any, Any]:
     return Impedance(expr=args.Z, values=values_from_args(args)), None
 
 
+def declared(args: argparse.Namespace) -> bool:
+    """True when the command ran from a design file or with ``--unit`` (units are shown)."""
+    return getattr(args, "design", None) is not None or bool(getattr(args, "unit", []))
+
+
+def unit_suffix(args: argparse.Namespace, resolved: Any, name: str) -> str:
+    """``" N/m"`` after a value of ``name`` when units are shown and it has one, else ``""``."""
+    unit = resolved.units.get(name, "") if resolved is not None and declared(args) else ""
+    return f" {unit}" if unit else ""
+
+
 def units_json(args: argparse.Namespace, resolved: Any) -> dict[str, Any]:
     """``{"units": {...}}`` when a design file or ``--unit`` was given, else ``{}``.
 
     Without either, the JSON of a command stays as it was (every unit is the default).
     """
-    if resolved is None or (getattr(args, "design", None) is None and not args.unit):
+    if resolved is None or not declared(args):
         return {}
     return {"units": dict(resolved.units)}

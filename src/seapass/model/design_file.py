@@ -343,7 +343,9 @@ DESIGN_FIELDS: dict[str, Field] = {
             "method": Field(str, choices=METHODS, required=False),
         },
     ),
-    "units": Field(dict, keys=_PARAM, item=Field(str, hi=MAX_UNIT_CHARS, line=True), required=False),
+    "units": Field(
+        dict, keys=_PARAM, item=Field(str, hi=MAX_UNIT_CHARS, line=True), required=False
+    ),
     "rig": Field(
         dict,
         required=False,
@@ -375,7 +377,9 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
     model = doc["model"]
     if "D1" not in model and "D2" not in model:
         raise FileFormatError('missing model.D1 (the transmission, e.g. "k1 + b1*s")')
-    kw: dict[str, Any] = {k: doc[k] for k in ("name", "title", "ranges", "environment", "units") if k in doc}
+    kw: dict[str, Any] = {
+        k: doc[k] for k in ("name", "title", "ranges", "environment", "units") if k in doc
+    }
     for key in _MODEL:
         text = model.get(key, "0")
         if not text.strip():

@@ -118,9 +118,7 @@ class ResolvedDesign:
             load_masses=self.load_masses,
         )
 
-    def range_of(
-        self, name: str, given: tuple[float, float] | None = None
-    ) -> tuple[float, float]:
+    def range_of(self, name: str, given: tuple[float, float] | None = None) -> tuple[float, float]:
         """The search range of ``name``: ``given``, else the file's, else `default_range`.
 
         The same rule for every command (``bound``, ``region``, ``sampled bound``, ...).

@@ -11,15 +11,16 @@ an integer power: ``N/m``, ``N*s/m``, ``1/s``, ``N*m/rad``, ``kg*m^2``,
 Anything else (an unknown symbol, ``**``, a space-separated word) is refused at
 load time, so a typo never becomes a label.  The standard parameters have a
 default unit ([`seapass.model.expr.UNITS`][seapass.model.expr.UNITS]); a design
-file's ``[units]`` table and the command line's ``--unit NAME=UNIT`` override it,
+file's ``[units]`` table and the command line's ``--unit NAME=UNIT`` override it
+(`unit_map` spells the defaults in the grammar: ``N*s/m``),
 and a parameter without a unit is labelled by its name alone.
 
 Examples
 --------
 >>> parse_unit("N*s/m"), parse_unit("N·s/m"), parse_unit("1/s")
 ('N*s/m', 'N*s/m', '1/s')
->>> unit_map({"ki": "1/s"}, ["kd", "ki", "gain"])
-{'kd': 'N/m', 'ki': '1/s', 'gain': ''}
+>>> unit_map({"ki": "1/s"}, ["kd", "ki", "bd", "gain"])
+{'kd': 'N/m', 'ki': '1/s', 'bd': 'N*s/m', 'gain': ''}
 >>> unit_label("kd", {"kd": "N/m"}), unit_label("g", {})
 ('kd [N/m]', 'g')
 """
@@ -167,7 +168,12 @@ def unit_map(declared: Mapping[str, str] | None, names: Iterable[str]) -> dict[s
     ``declared`` is checked with `parse_unit` (its errors name ``units['NAME']``).
     """
     given = {k: parse_unit(v, argument=f"units[{k!r}]") for k, v in (declared or {}).items()}
-    return {n: given.get(n, UNITS.get(n, "")) for n in names}
+    return {n: given[n] if n in given else _default(n) for n in names}
+
+
+def _default(name: str) -> str:
+    text = UNITS.get(name, "")
+    return parse_unit(text) if text else ""
 
 
 def unit_label(name: str, units: Mapping[str, str]) -> str:
