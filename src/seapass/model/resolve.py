@@ -42,7 +42,14 @@ from .loop import SampledLoop
 from .sea import SEA
 from .units import unit_map
 
-__all__ = ["DEFAULT_RANGE", "ELEMENTS", "ResolvedDesign", "default_range", "resolve_design"]
+__all__ = [
+    "DEFAULT_RANGE",
+    "ELEMENTS",
+    "ResolvedDesign",
+    "default_range",
+    "resolve_design",
+    "resolve_loop",
+]
 
 DEFAULT_RANGE: tuple[float, float] = (0.0, 1e5)
 """Search range of a parameter without a file range or a value to scale from."""
@@ -221,7 +228,7 @@ def resolve_design(
     declared.update(units or {})
     return ResolvedDesign(
         sea=sea,
-        loop=_loop(design.loop if design is not None else None, default_loop, loop or {}),
+        loop=resolve_loop(design.loop if design is not None else None, default_loop, loop or {}),
         load_mass=load_mass if load_mass is not None else _file(design, "tuning_mass"),
         step=step if step is not None else _file(design, "step"),
         horizon=horizon if horizon is not None else _file(design, "horizon"),
@@ -238,10 +245,17 @@ def _file(design: Design | None, name: str) -> Any:
     return None if design is None else getattr(design, name)
 
 
-def _loop(
+def resolve_loop(
     file: SampledLoop | None, default: SampledLoop | None, changes: Mapping[str, Any]
 ) -> SampledLoop | None:
-    """The file's loop (else ``default``) with the given ``changes``; no period: no loop."""
+    """The file's loop (else ``default``) with the given ``changes``; no period: no loop.
+
+    ``changes`` holds ``period``, ``delay``, ``velocity_filter``, ``method`` (None: not
+    given).
+
+    >>> resolve_loop(SampledLoop(rate=1000.0), None, {"delay": 1}).summary
+    'T = 0.001 s, delay 1 samples, velocity filter none'
+    """
     unknown = sorted(set(changes) - set(_LOOP_KEYS))
     if unknown:
         raise ParameterError(f"loop: unknown setting {unknown[0]!r}", argument="loop")
