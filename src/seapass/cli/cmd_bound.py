@@ -45,7 +45,9 @@ def run(args: argparse.Namespace) -> int:
     from ..analysis.region import passive_intervals
 
     resolved = design_from_args(args, {args.param: f"bound {args.param}"})
-    lo, hi = resolved.range_of(args.param, ranges_from_args(args, [args.param])[args.param])
+    lo, hi = resolved.range_of(
+        args.param, ranges_from_args(args, [args.param], strict=False)[args.param]
+    )
     sea = resolved.sea
     warn_unrealizable(sea)
     result = passive_intervals(sea, args.param, lo, hi)

@@ -81,6 +81,7 @@ def run(args: argparse.Namespace) -> int:
         args,
         [args.x, args.y],
         {args.x: ("--x-range", args.x_range), args.y: ("--y-range", args.y_range)},
+        strict=False,
     )
     figure = plot_path(deprecated_alias(args, "out", "plot"), force=args.force)
     resolved = design_from_args(args, {args.x: f"region X {args.x}", args.y: f"region Y {args.y}"})

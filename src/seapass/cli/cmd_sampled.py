@@ -197,13 +197,13 @@ def run_bound(args: argparse.Namespace) -> int:
     from ..sampled.bound import sampled_passive_bound
 
     given = ranges_from_args(args, [args.param])[args.param]
+    resolved = design_from_args(
+        args, {args.param: f"sampled bound {args.param}"}, default_loop=_default_loop()
+    )
     check_rtol(args.rtol)
     stem = f"sampled_bound_{args.param}"
     d = check_out_dir(
         args.out, files=[f"{stem}.{x}" for x in ("csv", "json", "png")], force=args.force
-    )
-    resolved = design_from_args(
-        args, {args.param: f"sampled bound {args.param}"}, default_loop=_default_loop()
     )
     sea, loop = resolved.sea, resolved.loop
     lo, hi = resolved.range_of(args.param, given)
@@ -242,11 +242,6 @@ def run_region(args: argparse.Namespace) -> int:
         raise ParameterError(f"sampled region: give two different parameters, got {args.p1} twice")
     rows = points_from_args(args, "rows", ROWS)
     given = ranges_from_args(args, [args.p1, args.p2], {args.p2: ("--range2", args.range2)})
-    check_rtol(args.rtol)
-    stem = f"sampled_region_{args.p1}_{args.p2}"
-    out = check_out_dir(
-        args.out, files=[f"{stem}.{x}" for x in ("csv", "json", "png")], force=args.force
-    )
     resolved = design_from_args(
         args,
         {args.p1: f"sampled region {args.p1}", args.p2: f"sampled region {args.p2}"},
@@ -255,6 +250,11 @@ def run_region(args: argparse.Namespace) -> int:
     sea, loop = resolved.sea, resolved.loop
     lo1, hi1 = resolved.range_of(args.p1, given[args.p1])
     lo2, hi2 = resolved.range_of(args.p2, given[args.p2])
+    check_rtol(args.rtol)
+    stem = f"sampled_region_{args.p1}_{args.p2}"
+    out = check_out_dir(
+        args.out, files=[f"{stem}.{x}" for x in ("csv", "json", "png")], force=args.force
+    )
     warn_unrealizable(sea)
     with _RowProgress(f"Z-width map {args.p1} vs {args.p2}") as progress:
         zmap = sampled_region(

@@ -89,11 +89,14 @@ def ranges_from_args(
     args: argparse.Namespace,
     names: Sequence[str],
     old: Mapping[str, tuple[str, str | None]] | None = None,
+    *,
+    strict: bool = True,
 ) -> dict[str, tuple[float, float] | None]:
     """The ``--range`` of each of ``names`` (None: not given), old spellings included.
 
     ``old`` maps a name to its deprecated option and value (``("--x-range", "0:1")``);
-    a bare ``--range LO:HI`` (old spelling) is the range of ``names[0]``.
+    a bare ``--range LO:HI`` (old spelling) is the range of ``names[0]``.  ``strict``:
+    ``LO < HI`` (else ``LO <= HI``).
     """
     out: dict[str, tuple[float, float] | None] = dict.fromkeys(names)
     named = [r for r in args.range if "=" in r]
@@ -102,7 +105,7 @@ def ranges_from_args(
             if out[names[0]] is not None:
                 raise ParameterError(f"--range {names[0]} is given twice; give each name once")
             deprecated_flag(f"--range {r}", f"--range {names[0]}={r}")
-            out[names[0]] = parse_range(r, "--range", strict=True)
+            out[names[0]] = parse_range(r, "--range", strict=strict)
     for name, (lo, hi) in parse_named(named, "--range", 2, "NAME=LO:HI, e.g. kd=0:5000"):
         if name not in out:
             raise ParameterError(
@@ -110,14 +113,14 @@ def ranges_from_args(
             )
         if out[name] is not None:
             raise ParameterError(f"--range {name} is given twice; give each name once")
-        out[name] = parse_range(f"{lo}:{hi}", f"--range {name}", strict=True)
+        out[name] = parse_range(f"{lo}:{hi}", f"--range {name}", strict=strict)
     for name, (flag, text) in (old or {}).items():
         if text is None:
             continue
         if out[name] is not None:
             raise ParameterError(f"give --range {name}=LO:HI only ({flag} is its old spelling)")
         deprecated_flag(f"{flag} {text}", f"--range {name}={text}")
-        out[name] = parse_range(text, flag, strict=True)
+        out[name] = parse_range(text, flag, strict=strict)
     return out
 
 

@@ -38,6 +38,7 @@ from ..errors import ParameterError
 from .design_file import Design
 from .display import html_card, short_repr
 from .experiment import PAPER_EXPERIMENT, Experiment
+from .expr import STANDARD_SYMBOLS, parse_expression
 from .loop import SampledLoop
 from .sea import SEA
 from .units import unit_map
@@ -212,7 +213,10 @@ def resolve_design(
     base.update(given_elements)
     kept = file_values
     if given_elements and design is not None:  # the file's values of the parameters still used
-        used = set(SEA(**base).parameters)
+        allowed = {*STANDARD_SYMBOLS, *file_values, *(values or {}), *free}
+        used = {"m", "b"}
+        for text in base.values():
+            used |= {str(x) for x in parse_expression(text, allowed).free_symbols} - {"s"}
         kept = {k: v for k, v in file_values.items() if k in used}
     known: dict[str, float] = {**kept, **dict(values or {})}
     model_values: dict[str, float | None] = {**known, **dict.fromkeys(free)}
