@@ -62,9 +62,9 @@ def test_bound_from_a_file_uses_its_range_and_units(fast: Path) -> None:
 
 def test_sampled_check_uses_the_files_rate(fast: Path) -> None:
     code, out, _ = _run(["sampled", "check", str(fast)])
-    assert "T = 0.001 s" in out
+    assert code in (0, 1) and "T = 0.001 s" in out
     code, out, _ = _run(["sampled", "check", str(fast), "--period", "0.002"])
-    assert "T = 0.002 s" in out  # the flag overrides the file
+    assert code in (0, 1) and "T = 0.002 s" in out  # the flag overrides the file
 
 
 def test_sampled_bound_has_the_default_range_of_bound(fast: Path) -> None:
@@ -98,7 +98,11 @@ def test_simulate_plot_witness_sweep_tune_from_a_file(fast: Path, tmp_path: Path
     code, out, err = _run(["tune", str(fast), "--tune", "kd=0:800", "--quick", "--maxiter", "1",
                            "--popsize", "2", "--no-progress", "--json"])  # fmt: skip
     data = json.loads(out)
-    assert data["period"] == 0.001 and data["sampled_passive"] is not None and data["units"] == {"kd": "N/mm"}
+    assert (
+        data["period"] == 0.001
+        and data["sampled_passive"] is not None
+        and data["units"] == {"kd": "N/mm"}
+    )
     assert "1000 Hz" in err
 
 

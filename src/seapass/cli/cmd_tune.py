@@ -25,6 +25,7 @@ from .loop_options import add_loop_options
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     from ..model.design_file import Design
+    from ..model.loop import SampledLoop
     from ..tuning.optimize import TuningResult
     from ..tuning.problem import DesignLike, TuningOptions
 
@@ -180,7 +181,7 @@ def options_from_args(args: argparse.Namespace, file: Design | None) -> TuningOp
     return opts
 
 
-def _loop(args: argparse.Namespace, file: Design | None) -> object:
+def _loop(args: argparse.Namespace, file: Design | None) -> SampledLoop | None:
     """The sampled loop of the constraint: the flags over the file's ``[control]``."""
     from ..model.resolve import resolve_loop
 

@@ -12,6 +12,8 @@ in the project notes and the README's command-line section):
   `add_out_dir_option` / `check_out_dir`; files are written and announced
   (``wrote PATH`` on stderr) by `save_plot`, `write_text`, `write_bytes` in
   [`seapass.cli.output`][seapass.cli.output];
+* a design file on every command, ``--unit``, ``--range NAME=LO:HI`` and ``--points``:
+  [`seapass.cli.design_options`][seapass.cli.design_options];
 * the sampled loop: `add_loop_options` and `loop_from_args` (one
   [`SampledLoop`][seapass.model.loop.SampledLoop] from ``--period --delay
   --velocity-filter --method`` and a design file's ``[control]``);
