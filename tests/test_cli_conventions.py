@@ -175,7 +175,7 @@ def test_no_cli_flag_in_errors_raised_below_the_cli() -> None:
         ["simulate", *LP, "--set", "kd=500", "--load-mass", "1", "--horizon", "0.1",
          "--load-displaced", "-0.02"],
         ["region", "kd", "b", "--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "k1=1000",
-         "--range", "kd=-10:10", "--range", "bd=0:1", "--points", "2"],
+         "--range", "kd=-10:10", "--range", "b=0:1", "--points", "2"],
     ],
     ids=["range", "CL", "CL-expr", "step", "displaced", "x-range"],
 )  # fmt: skip

@@ -71,7 +71,7 @@ def test_bound_json(capsys):
     )
     assert code == 0
     assert json.loads(out)["intervals"] == [[0.0, 1000.0]]
-    code, out, _ = run(capsys, ["bound", "kd", *OURS, "--range", "0:1e6"])
+    code, out, _ = run(capsys, ["bound", "kd", *OURS, "--range", "kd=0:1e6"])
     assert "passive for 0 <= kd <= 1000000" in out
 
 

@@ -134,10 +134,13 @@ def test_old_spellings_still_work_with_a_note(old: list[str], new: list[str], no
 def test_units_on_the_command_line_and_in_the_analyze_report(fast: Path, tmp_path: Path) -> None:
     code, out, _ = _run(["check", str(fast), "--unit", "kd=N*s/m", "--json"])
     assert json.loads(out)["units"]["kd"] == "N*s/m"
-    code, _, _ = _run(["analyze", str(fast), "--out", str(tmp_path / "r"), "--stages", "core",
-                       "--no-progress"])  # fmt: skip
+    code, out, _ = _run(["analyze", str(fast), "--out", str(tmp_path / "r"), "--stages", "core",
+                         "--no-progress", "--json"])  # fmt: skip
     report = (tmp_path / "r" / "report.md").read_text()
     assert code == 0 and "kd = 500 N/mm" in report and "SI units" not in report
+    assert json.loads(out)["units"]["kd"] == "N/mm"
+    design = json.loads((tmp_path / "r" / "data" / "design.json").read_text())
+    assert design["units"] == {"kd": "N/mm"}
 
 
 @pytest.mark.parametrize(

@@ -119,7 +119,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     r = ss.add_parser(
         "region",
         help="Z-width map: passive region of two controller parameters, three loop setups",
-        description="For each of --rows values of P2 the passive set of P1 is certified (as "
+        description="For each of --points values of P2 the passive set of P1 is certified (as "
         "by 'sampled bound'), for the ideal zero-order hold, DELAY samples of delay, and the "
         "delay plus the velocity filter (Colgate & Brown's Z-width).",
         epilog=EXAMPLE,
