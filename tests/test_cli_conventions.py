@@ -109,7 +109,7 @@ def test_sweep_grid_and_range_names_are_checked(tmp_path: Path) -> None:
 
 def test_positional_parameter_names_are_checked() -> None:
     one_error(["bound", "kdd", *LP], "bound kdd", "did you mean 'kd'?")
-    one_error(["region", "kd", "bdd", *OURS, "--x-range", "0:1", "--y-range", "0:1"], "bdd")
+    one_error(["region", "kd", "bdd", *OURS, "--range", "kd=0:1", "--range", "bdd=0:1"], "bdd")
 
 
 def test_python_values_are_strict_and_name_the_python_argument() -> None:
@@ -175,7 +175,7 @@ def test_no_cli_flag_in_errors_raised_below_the_cli() -> None:
         ["simulate", *LP, "--set", "kd=500", "--load-mass", "1", "--horizon", "0.1",
          "--load-displaced", "-0.02"],
         ["region", "kd", "b", "--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "k1=1000",
-         "--x-range", "-10:10", "--y-range", "0:1", "--nx", "2"],
+         "--range", "kd=-10:10", "--range", "b=0:1", "--points", "2"],
     ],
     ids=["range", "CL", "CL-expr", "step", "displaced", "x-range"],
 )  # fmt: skip
@@ -208,7 +208,7 @@ def test_unit_slip_warnings_in_commands(monkeypatch: pytest.MonkeyPatch) -> None
                         "--step", "500", "--json"])  # fmt: skip
     assert code == 0 and err.startswith("warning: --step 500 m")
     forbid(monkeypatch, "seapass.sampled.bound.sampled_passive_bound")
-    argv = ["sampled", "bound", "kd", *LP, "--range", "0:5000", "--period", "500", "--rtol", "0"]
+    argv = ["sampled", "bound", "kd", *LP, "--range", "kd=0:5000", "--period", "500", "--rtol", "0"]
     code, _, err = cli(argv)
     assert code == 2 and err.startswith("warning: --period 500 s"), err
 
@@ -268,7 +268,7 @@ def test_figure_and_directory_flags_are_uniform() -> None:
 def test_region_announces_its_figure_and_prints_text(tmp_path: Path) -> None:
     fig = tmp_path / "r"
     argv = ["region", "kd", "b1", *OURS[:2], "--CL", "kd", "--set", "m=1", "--set", "b=10",
-            "--set", "k1=1000", "--x-range", "0:1200", "--y-range", "0:100", "--nx", "2",
+            "--set", "k1=1000", "--range", "kd=0:1200", "--range", "b1=0:100", "--points", "2",
             "--plot", str(fig)]  # fmt: skip
     code, out, err = cli(argv)
     assert code == 0 and err == f"wrote {fig}.png\n" and (tmp_path / "r.png").stat().st_size > 0

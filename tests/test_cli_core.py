@@ -71,7 +71,7 @@ def test_bound_json(capsys):
     )
     assert code == 0
     assert json.loads(out)["intervals"] == [[0.0, 1000.0]]
-    code, out, _ = run(capsys, ["bound", "kd", *OURS, "--range", "0:1e6"])
+    code, out, _ = run(capsys, ["bound", "kd", *OURS, "--range", "kd=0:1e6"])
     assert "passive for 0 <= kd <= 1000000" in out
 
 
@@ -141,8 +141,8 @@ def test_region_figure(capsys, tmp_path):
         (["check", "--CA", "kd"], "degenerate model"),
         (["check", "--D1", "k1", "--CL", "kd", "--set", "m=1"], "no value for parameter"),
         (["check", "--Z", "1/s", "--D1", "k1"], "either --Z or"),
-        (["bound", "kd", "--D1", "k1", "--CL", "kd", "--range", "5:1"], "must not exceed"),
-        (["bound", "kd", "--D1", "k1", "--CL", "kd", "--range", "abc"], "expected LO:HI"),
+        (["bound", "kd", "--D1", "k1", "--CL", "kd", "--range", "kd=5:1"], "must not exceed"),
+        (["bound", "kd", "--D1", "k1", "--CL", "kd", "--range", "kd=abc"], "expected NAME=LO:HI"),
         (["bound", "kd", "--D1", "k1", "--CL", "kd", "--set", "kd=1"], "free parameter"),
         (["nonsense"], "invalid choice"),
         (["check", "--bogus"], "unrecognized arguments"),

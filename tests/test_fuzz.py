@@ -374,7 +374,7 @@ LP = ["--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "b=10", "--set", "k1=
 TEMPLATES = [
     ["check", *OURS, "--json"],
     ["check", "--Z", "(s + 1)/(s + 2)"],
-    ["bound", "kd", *LP, "--range", "0:5000", "--json"],
+    ["bound", "kd", *LP, "--range", "kd=0:5000", "--json"],
     [
         "region",
         "kd",
@@ -389,18 +389,18 @@ TEMPLATES = [
         "b=10",
         "--set",
         "k1=1000",
-        "--x-range",
-        "0:5000",
-        "--y-range",
-        "0:50",
-        "--nx",
+        "--range",
+        "kd=0:5000",
+        "--range",
+        "bd=0:50",
+        "--points",
         "4",
         "--json",
     ],
     ["response", *OURS, "--omega", "0.1:1e4", "--points", "50", "--json"],
     ["witness", *LP, "--set", "kd=2000", "--json"],
     ["sampled", "check", "--period", "0.002", *OURS, "--json"],
-    ["sampled", "bound", "kd", "--period", "0.002", *LP, "--range", "0:5000", "--json"],
+    ["sampled", "bound", "kd", "--period", "0.002", *LP, "--range", "kd=0:5000", "--json"],
     ["simulate", *OURS, "--load-mass", "1", "--horizon", "0.5", "--json"],
 ]
 
@@ -538,7 +538,7 @@ SLOW_BAD = [
         "b=1",
         "--set",
         "k1=1",
-        "--nx",
+        "--points",
         "100000000",
     ],
     [

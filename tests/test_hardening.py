@@ -96,7 +96,8 @@ def test_design_load_masses_list_is_capped(tmp_path: Path) -> None:
 def test_sampled_bound_samples_are_capped(monkeypatch: pytest.MonkeyPatch) -> None:
     forbid(monkeypatch, "seapass.sampled.bound.sampled_passive_bound")
     one_error(
-        ["sampled", "bound", "kd", *LP, "--range", "0:5000", "--samples", "100000000"], "--samples"
+        ["sampled", "bound", "kd", *LP, "--range", "kd=0:5000", "--samples", "100000000"],
+        "--samples",
     )
 
 
@@ -178,7 +179,9 @@ def test_twin_batch_is_capped_before_allocation() -> None:
 def test_sampled_delay_is_capped(monkeypatch: pytest.MonkeyPatch) -> None:
     forbid(monkeypatch, "seapass.sampled.bound.sampled_passive_bound")
     forbid(monkeypatch, "seapass.sampled.passivity.sampled_passivity")
-    one_error(["sampled", "bound", "kd", *LP, "--range", "0:5000", "--delay", "1000000"], "--delay")
+    one_error(
+        ["sampled", "bound", "kd", *LP, "--range", "kd=0:5000", "--delay", "1000000"], "--delay"
+    )
     one_error(["sampled", "check", *LP, "--set", "kd=5", "--delay", "1000000"], "--delay")
 
 
@@ -267,7 +270,7 @@ def test_cli_sweep_with_a_fake_scheduler_is_one_line(
 @pytest.mark.parametrize("rtol", ["0", "1e-300", "1e-13", "nan", "-1"])
 def test_sampled_bound_rtol_is_validated(rtol: str, monkeypatch: pytest.MonkeyPatch) -> None:
     forbid(monkeypatch, "seapass.sampled.bound.sampled_passive_bound")
-    one_error(["sampled", "bound", "kd", *LP, "--range", "0:5000", "--rtol", rtol], "--rtol")
+    one_error(["sampled", "bound", "kd", *LP, "--range", "kd=0:5000", "--rtol", rtol], "--rtol")
 
 
 def test_rtol_below_the_smallest_enclosure_width_is_refused(
@@ -277,7 +280,7 @@ def test_rtol_below_the_smallest_enclosure_width_is_refused(
     # MIN_RTOL up is reachable in doubles, even on a range far from 0
     forbid(monkeypatch, "seapass.sampled.bound.sampled_passive_bound")
     one_error(
-        ["sampled", "bound", "kd", *LP, "--range", "1e15:1.0000001e15", "--rtol", "1e-13"],
+        ["sampled", "bound", "kd", *LP, "--range", "kd=1e15:1.0000001e15", "--rtol", "1e-13"],
         "--rtol 1e-13",
     )
 
@@ -296,7 +299,7 @@ def test_dangling_symlink_out_fails_before_work(
     one_error(["witness", "--Z", "(s - 1)/(s + 1)", "--out", str(link / "w")], "symbolic link")
     forbid(monkeypatch, "seapass.analysis.region.passive_map")
     region = ["region", "kd", "b", "--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "k1=1000",
-              "--x-range", "0:1", "--y-range", "0:1", "--plot", str(link / "r.png")]  # fmt: skip
+              "--range", "kd=0:1", "--range", "b=0:1", "--plot", str(link / "r.png")]  # fmt: skip
     one_error(region, "--plot", "does not exist")
 
 

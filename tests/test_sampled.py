@@ -425,7 +425,7 @@ def test_cli_check_counterexample(capsys) -> None:  # type: ignore[no-untyped-de
 
 
 def test_cli_bound_json_and_out(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
-    argv = ["sampled", "bound", "kd", "--period", "0.002", *LP_ARGS, "--range", "0:2000",
+    argv = ["sampled", "bound", "kd", "--period", "0.002", *LP_ARGS, "--range", "kd=0:2000",
             "--json", "--out", str(tmp_path)]  # fmt: skip
     assert main(argv) == 0
     out = json.loads(capsys.readouterr().out)
@@ -439,7 +439,7 @@ def test_cli_bound_json_and_out(tmp_path, capsys) -> None:  # type: ignore[no-un
 
 def test_cli_region(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
     argv = ["sampled", "region", "kd", "bd", "--period", "0.002", *OURS_ARGS[:-2],
-            "--range", "0:1e5", "--range2", "0:50", "--rows", "2", "--out", str(tmp_path)]  # fmt: skip
+            "--range", "kd=0:1e5", "--range", "bd=0:50", "--points", "2", "--out", str(tmp_path)]  # fmt: skip
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "ideal ZOH" in text and "delay" in text
@@ -449,9 +449,9 @@ def test_cli_region(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
 
 def test_cli_errors_are_one_line(capsys) -> None:  # type: ignore[no-untyped-def]
     base = ["sampled", "bound", "kd", *LP_ARGS]
-    assert main([*base, "--range", "5:1"]) == 2
-    assert main([*base, "--range", "0:10", "--rtol", "0"]) == 2
-    assert main(["sampled", "bound", "zz", "--range", "0:1", *LP_ARGS]) == 2
+    assert main([*base, "--range", "kd=5:1"]) == 2
+    assert main([*base, "--range", "kd=0:10", "--rtol", "0"]) == 2
+    assert main(["sampled", "bound", "zz", "--range", "zz=0:1", *LP_ARGS]) == 2
     assert main(["sampled", "check", "--D1", "k1", "--CA", "kd"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 4 and "Traceback" not in err and "rtol" in err

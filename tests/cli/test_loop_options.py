@@ -57,7 +57,7 @@ def _run(argv: list[str]) -> tuple[int, str, str]:
         (["--max-precision", "10"], "error: --max-precision: must be in [64, 65536] bits"),
     ],
 )
-@pytest.mark.parametrize("command", [["check"], ["bound", "kd", "--range", "0:100"]])
+@pytest.mark.parametrize("command", [["check"], ["bound", "kd", "--range", "kd=0:100"]])
 def test_bad_loop_flags_give_one_error_line_before_any_work(
     command: list[str], extra: list[str], needle: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -84,6 +84,6 @@ def test_region_overlays_the_librarys_default_setups(monkeypatch: pytest.MonkeyP
     with pytest.raises(SystemExit):
         _run(["sampled", "region", "kd", "bd", "--D1", "k1 + b1*s", "--CA", "kd + bd*s",
               "--set", "m=1", "--set", "b=10", "--set", "k1=1005", "--set", "b1=30",
-              "--range", "0:1e5", "--range2", "0:50", "--rows", "2"])  # fmt: skip
+              "--range", "kd=0:1e5", "--range", "bd=0:50", "--points", "2"])  # fmt: skip
     assert seen["loop"] == SampledLoop(period=0.002, delay=1, velocity_filter=50.0)
     assert "setups" not in seen["kw"]  # the setups are the library's default_setups(loop)

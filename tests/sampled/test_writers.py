@@ -45,7 +45,7 @@ def test_the_cli_writes_the_library_csvs(tmp_path: Path) -> None:
     assert main(argv) == 0
     text = (out / "sampled_power.csv").read_text()
     assert "np." not in text and text.startswith("omega_rad_s,N\n")
-    argv = ["sampled", "bound", "kd", "--period", "0.002", *ARGS, "--range", "0:2e4",
+    argv = ["sampled", "bound", "kd", "--period", "0.002", *ARGS, "--range", "kd=0:2e4",
             "--rtol", "1e-3", "--out", str(out)]  # fmt: skip
     assert main(argv) == 0
     res = sampled_passive_bound(OURS, "kd", loop=SampledLoop(period=0.002), lo=0, hi=2e4, rtol=1e-3)

@@ -79,7 +79,8 @@ def run(args: argparse.Namespace) -> int:
     announce_report(out, written)
     line = verdict_line(report.sections, design)
     if args.json:
-        print_json({**report_summary(report, out, written), "verdict": line or None})
+        summary = report_summary(report, out, written)
+        print_json({**summary, "verdict": line or None, "units": design.unit_map()})
     else:
         if line:
             print(f"{design.name}: {line}")

@@ -5,19 +5,16 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from .common import (
-    add_json_option,
-    add_model_options,
-    print_json,
-    system_from_args,
-    warn_unrealizable,
-)
+from .common import add_json_option, add_model_options, print_json, warn_unrealizable
+from .design_options import add_design_argument, system_from_design_args, units_json
 from .uncertain_options import add_uncertain_options, run_robust_check
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     from ..analysis.indices import PassivityIndices
 
 EXAMPLE = """examples:
+  seapass check examples/ours.toml
+  seapass check examples/ours.toml --set kd=5000 --json     # the flags override the file
   seapass check --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
       --set b1=20 --set bd=25 --set kd=5000 --json
   seapass check --Z "(s + 1)/(s + 2)"
@@ -43,6 +40,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "|nu| of parallel damping makes it passive) and output feedback rho, exact. Exit code 0: passive, 1: not passive, 2: bad input.",
         epilog=EXAMPLE,
     )
+    add_design_argument(p)
     add_model_options(p)
     p.add_argument("--Z", help="raw impedance Z(s) instead of an SEA model, e.g. '(s + 1)/(s + 2)'")
     add_uncertain_options(p)
@@ -56,12 +54,19 @@ def run(args: argparse.Namespace) -> int:
 
     if args.uncertain:
         return run_robust_check(args)
-    system = system_from_args(args)
+    system, resolved = system_from_design_args(args)
     realizable = warn_unrealizable(system)
     result = is_passive(system)
     indices = passivity_indices(system)
     if args.json:
-        print_json({**result.to_dict(), "indices": indices.to_dict(), "realizable": realizable})
+        print_json(
+            {
+                **result.to_dict(),
+                "indices": indices.to_dict(),
+                "realizable": realizable,
+                **units_json(args, resolved),
+            }
+        )
     else:
         print(f"{result.status}: {result.detail or result.reason.description}")
         if result.omega is not None and "at w =" not in (result.detail or ""):

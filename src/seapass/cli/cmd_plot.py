@@ -17,9 +17,9 @@ from .common import (
     parse_range,
     plot_path,
     print_json,
-    system_from_args,
     write_figure,
 )
+from .design_options import add_design_argument, system_from_design_args
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     import numpy as np
@@ -27,6 +27,7 @@ if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     from ..analysis.portresponse import ImpedanceResponse
 
 EXAMPLE = """examples:
+  seapass plot bode examples/ours.toml --plot bode.png
   seapass plot real --D1 k1 --CL "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
       --set kd=500 --set bd=20 --plot real.png
   seapass plot nyquist --Z "(s - 1)/(s + 2)" --plot nyquist.svg
@@ -55,6 +56,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     p.add_argument(
         "kind", choices=list(KINDS), help="; ".join(f"{k}: {v}" for k, v in KINDS.items())
     )
+    add_design_argument(p)
     add_model_options(p)
     p.add_argument("--Z", help="raw impedance Z(s) instead of an SEA model, e.g. '(s + 1)/(s + 2)'")
     p.add_argument(
@@ -88,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
     from ..model.sea import SEA
 
     plot_path(args.plot, force=args.force)  # before the work
-    system = system_from_args(args)
+    system, _ = system_from_design_args(args)
     grid = _frequencies(args.omega, args.points)
     label = "Z" if args.Z is not None else "Z_L"
     resp = impedance_response(system, grid, points=args.points)

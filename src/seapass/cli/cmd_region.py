@@ -12,17 +12,31 @@ from .common import (
     add_model_options,
     add_plot_option,
     deprecated_alias,
-    model_from_args,
-    parse_range,
     plot_path,
     print_json,
     save_plot,
     warn_unrealizable,
 )
+from .design_options import (
+    add_design_argument,
+    add_range_options,
+    design_from_args,
+    points_from_args,
+    ranges_from_args,
+    unit_suffix,
+    units_json,
+)
 
-EXAMPLE = """example:
+POINTS = 41
+
+EXAMPLE = """examples:
+  seapass region kd bd examples/ours.toml --range kd=0:5000 --points 21
   seapass region kd b1 --D1 "k1 + b1*s" --CL kd --set m=1 --set b=10 --set k1=1000 \\
-      --x-range 0:1200 --y-range 0:100 --plot lp_region.png
+      --range kd=0:1200 --range b1=0:100 --plot lp_region.png
+
+A range not given is the design file's [ranges], else [0, max(10*value, 1000)]
+around the file's value, else 0:1e5 (--x-range, --y-range and --nx are the old
+spellings of --range X=..., --range Y=... and --points).
 """
 
 
@@ -30,7 +44,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     p = sub.add_parser(
         "region",
         help="exact passive region over two parameters (a 2-D map with a figure)",
-        description="For each of --nx values of X, the exact passive set of Y (boundary "
+        description="For each of --points values of X, the exact passive set of Y (boundary "
         "exact along Y). X and Y are free: do not give them with --set.",
         epilog=EXAMPLE,
     )
@@ -38,12 +52,14 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     p.add_argument(
         "y", metavar="Y", help="parameter on the vertical axis (boundary computed exactly)"
     )
+    add_design_argument(p)
     add_model_options(p)
-    p.add_argument("--x-range", required=True, metavar="LO:HI", help="range of X")
-    p.add_argument("--y-range", required=True, metavar="LO:HI", help="range of Y")
-    p.add_argument(
-        "--nx", type=int, default=41, help=f"number of X values (2 to {MAX_REGION_COLUMNS})"
+    add_range_options(
+        p, points=POINTS, points_help=f"number of X values, 2 to {MAX_REGION_COLUMNS}"
     )
+    p.add_argument("--x-range", help=argparse.SUPPRESS)  # before 0.4: --range X=LO:HI
+    p.add_argument("--y-range", help=argparse.SUPPRESS)  # before 0.4: --range Y=LO:HI
+    p.add_argument("--nx", type=int, help=argparse.SUPPRESS)  # before 0.4: --points
     add_plot_option(p, "the map")
     add_force_option(p)
     p.add_argument("--out", help=argparse.SUPPRESS)  # before 0.3: the figure; now --plot
@@ -59,35 +75,43 @@ def run(args: argparse.Namespace) -> int:
 
     if args.x == args.y:
         raise ParameterError("X and Y must be different parameters")
-    if not 2 <= args.nx <= MAX_REGION_COLUMNS:
-        raise ParameterError(f"--nx {args.nx}: use between 2 and {MAX_REGION_COLUMNS} columns")
-    x_lo, x_hi = parse_range(args.x_range, "--x-range")
-    y_range = parse_range(args.y_range, "--y-range")
-    figure = plot_path(deprecated_alias(args, "out", "plot"), force=args.force)
-    sea = model_from_args(
-        args, extra_free={args.x: f"region X {args.x}", args.y: f"region Y {args.y}"}
+    nx = points_from_args(args, "nx", POINTS)
+    if not 2 <= nx <= MAX_REGION_COLUMNS:
+        raise ParameterError(f"--points {nx}: use between 2 and {MAX_REGION_COLUMNS} columns")
+    given = ranges_from_args(
+        args,
+        [args.x, args.y],
+        {args.x: ("--x-range", args.x_range), args.y: ("--y-range", args.y_range)},
+        strict=False,
     )
+    figure = plot_path(deprecated_alias(args, "out", "plot"), force=args.force)
+    resolved = design_from_args(args, {args.x: f"region X {args.x}", args.y: f"region Y {args.y}"})
+    x_lo, x_hi = resolved.range_of(args.x, given[args.x])
+    y_range = resolved.range_of(args.y, given[args.y])
+    sea = resolved.sea
     warn_unrealizable(sea)
-    pmap = passive_map(sea, args.x, np.linspace(x_lo, x_hi, args.nx), args.y, y_range)
+    pmap = passive_map(sea, args.x, np.linspace(x_lo, x_hi, nx), args.y, y_range)
     if figure is not None:
         from ..analysis.boundary import passive_region
         from ..plot.region import plot_passive_region
 
         # the figure: the exact boundary curves between the columns, not a raster edge
         region = passive_region(sea, args.x, (x_lo, x_hi), args.y, y_range)
+        units = (resolved.units.get(args.x), resolved.units.get(args.y))
         save_plot(
-            lambda: plot_passive_region(region, title="exact passive region"),
+            lambda: plot_passive_region(region, title="exact passive region", units=units),
             figure,
             force=args.force,
             flag="--plot",
         )
     if args.json:
-        print_json(pmap.to_dict())
+        print_json({**pmap.to_dict(), **units_json(args, resolved)})
     else:
+        ux, uy = unit_suffix(args, resolved, args.x), unit_suffix(args, resolved, args.y)
         for xv, ivs in zip(pmap.x, pmap.intervals, strict=True):
             shown = ", ".join(interval_text(a, b) for a, b in ivs)  # rounded inward
             print(
-                f"{args.x} = {exact_text(float(xv))}: "
-                + (f"passive {args.y} in {shown}" if shown else f"no passive {args.y}")
+                f"{args.x} = {exact_text(float(xv))}{ux}: "
+                + (f"passive {args.y} in {shown}{uy}" if shown else f"no passive {args.y}")
             )
     return 0

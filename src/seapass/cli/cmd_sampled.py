@@ -16,35 +16,53 @@ from .common import (
     add_out_dir_option,
     check_out_dir,
     json_text,
-    model_from_args,
-    parse_range,
     print_json,
     save_plot,
     warn_unrealizable,
     write_text,
 )
-from .loop_options import add_loop_options, loop_from_args
+from .design_options import (
+    add_design_argument,
+    add_range_options,
+    design_from_args,
+    points_from_args,
+    ranges_from_args,
+    unit_suffix,
+    units_json,
+)
+from .loop_options import add_loop_options
+
+ROWS = 25
 
 EXAMPLE = """examples:
+  seapass sampled check examples/ours.toml          # at the file's [control] rate
+  seapass sampled bound kd examples/ours.toml --range kd=0:5000
+  seapass sampled region kd bd examples/ours.toml --range kd=0:1e5 --points 5
   seapass sampled check --period 0.002 --D1 "k1 + b1*s" --CA "kd + bd*s" \\
       --set m=1.02 --set b=10 --set k1=1005 --set b1=30 --set bd=25 --set kd=2000 --json
   seapass sampled bound kd --period 0.002 --D1 "k1 + b1*s" --CL "kd" \\
-      --set m=1.02 --set b=10 --set k1=1005 --set b1=30 --range 0:5000 --json
+      --set m=1.02 --set b=10 --set k1=1005 --set b1=30 --range kd=0:5000 --json
   seapass sampled bound kd --period 0.002 --D1 "k1 + b1*s" --CA "kd + bd*s" \\
-      --set m=1.02 --set b=10 --set k1=1005 --set b1=30 --set bd=25 --range 0:1e5 \\
+      --set m=1.02 --set b=10 --set k1=1005 --set b1=30 --set bd=25 --range kd=0:1e5 \\
       --delay 1 --velocity-filter 50 --out results/
   seapass sampled region kd bd --period 0.002 --D1 "k1 + b1*s" --CA "kd + bd*s" \\
-      --set m=1.02 --set b=10 --set k1=1005 --set b1=30 --range 0:1e5 --range2 0:100 \\
+      --set m=1.02 --set b=10 --set k1=1005 --set b1=30 --range kd=0:1e5 --range bd=0:100 \\
       --delay 1 --velocity-filter 50 --out results/
+
+The loop: the flags, else the design file's [control], else T = 0.002 s (500 Hz)
+with no delay and no filter ('region': 1 sample of delay and a 50 Hz filter).
+Ranges: --range NAME=LO:HI, else the file's [ranges], else [0, max(10*value,
+1000)] around the file's value, else 0:1e5 (the rule of 'seapass bound'); the old
+spellings --range LO:HI, --range2 and --rows still work for one release.
 """
 
 _FORMATTER = argparse.RawDescriptionHelpFormatter  # the CLI shows every default
 
 
-def _loop_options(
-    p: argparse.ArgumentParser, *, delay: int = 0, velocity_filter: float | None = None
-) -> None:
-    g = add_loop_options(p, period=0.002, delay=delay, velocity_filter=velocity_filter)
+def _loop_options(p: argparse.ArgumentParser, *, default: str = "0.002 (500 Hz)") -> None:
+    g = add_loop_options(
+        p, period_help=f"control period T in s (default: the design file's, else {default})"
+    )
     g.add_argument(
         "--max-precision",
         type=int,
@@ -76,6 +94,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         epilog=EXAMPLE,
         formatter_class=_FORMATTER,
     )
+    add_design_argument(c)
     add_model_options(c)
     _loop_options(c)
     c.set_defaults(func=run_check)
@@ -86,9 +105,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         formatter_class=_FORMATTER,
     )
     b.add_argument("param", help="free controller parameter to bound, e.g. kd")
-    b.add_argument(
-        "--range", required=True, metavar="LO:HI", help="range to partition, e.g. 0:5000"
-    )
+    add_design_argument(b)
+    add_range_options(b)
     b.add_argument(
         "--rtol",
         type=float,
@@ -101,7 +119,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     r = ss.add_parser(
         "region",
         help="Z-width map: passive region of two controller parameters, three loop setups",
-        description="For each of --rows values of P2 the passive set of P1 is certified (as "
+        description="For each of --points values of P2 the passive set of P1 is certified (as "
         "by 'sampled bound'), for the ideal zero-order hold, DELAY samples of delay, and the "
         "delay plus the velocity filter (Colgate & Brown's Z-width).",
         epilog=EXAMPLE,
@@ -109,9 +127,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     )
     r.add_argument("p1", help="parameter bounded on each row, e.g. kd (stiffness)")
     r.add_argument("p2", help="parameter of the rows, e.g. bd (damping)")
-    r.add_argument("--range", required=True, metavar="LO:HI", help="range of P1, e.g. 0:1e5")
-    r.add_argument("--range2", required=True, metavar="LO:HI", help="range of P2, e.g. 0:100")
-    r.add_argument("--rows", type=int, default=25, help="number of P2 rows, 2..200")
+    add_design_argument(r)
+    add_range_options(r, points=ROWS, points_help="number of P2 rows, 2..200")
+    r.add_argument("--range2", help=argparse.SUPPRESS)  # before 0.4: --range P2=LO:HI
+    r.add_argument("--rows", type=int, help=argparse.SUPPRESS)  # before 0.4: --points
     r.add_argument("--log", action="store_true", help="space the P2 rows logarithmically")
     r.add_argument(
         "--rtol",
@@ -120,12 +139,17 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help=f"relative width of edge enclosures, in [{MIN_RTOL:g}, {MAX_RTOL:g}]",
     )
     add_model_options(r)
-    _loop_options(r, delay=1, velocity_filter=50.0)
+    _loop_options(r, default="0.002 (500 Hz), 1 sample of delay, a 50 Hz filter")
     r.set_defaults(func=run_region)
 
 
-def _range(text: str, flag: str = "--range") -> tuple[float, float]:
-    return parse_range(text, flag, strict=True)
+def _default_loop(region: bool = False) -> Any:
+    """The loop of a design without ``[control]``: 500 Hz (region: delay 1, 50 Hz filter)."""
+    from ..model.loop import SampledLoop
+
+    if region:
+        return SampledLoop(period=0.002, delay=1, velocity_filter=50.0)
+    return SampledLoop(period=0.002)
 
 
 def run_check(args: argparse.Namespace) -> int:
@@ -136,10 +160,10 @@ def run_check(args: argparse.Namespace) -> int:
         sampled_power_curve,
     )
 
-    loop = loop_from_args(args)
     names = ("sampled_check.json", "sampled_power.csv", "sampled_power.png")
     d = check_out_dir(args.out, files=names, force=args.force)
-    sea = model_from_args(args)
+    resolved = design_from_args(args, default_loop=_default_loop())
+    sea, loop = resolved.sea, resolved.loop
     warn_unrealizable(sea)
     res = sampled_passivity(sea, loop=loop, max_precision=args.max_precision)
     if d is not None:
@@ -161,7 +185,7 @@ def run_check(args: argparse.Namespace) -> int:
                 force=args.force,
             )
     if args.json:
-        print_json(res.to_dict())
+        print_json({**res.to_dict(), **units_json(args, resolved)})
     else:
         print(f"{res.outcome.label} at T = {loop.period:g} s (delay {loop.delay}): {res.detail}")
         if res.omega is not None:
@@ -173,30 +197,35 @@ def run_bound(args: argparse.Namespace) -> int:
     from ..exact.rounding import enclosure_text, interval_text
     from ..sampled.bound import sampled_passive_bound
 
-    lo, hi = _range(args.range)
-    loop = loop_from_args(args)
+    given = ranges_from_args(args, [args.param])[args.param]
+    resolved = design_from_args(
+        args, {args.param: f"sampled bound {args.param}"}, default_loop=_default_loop()
+    )
     check_rtol(args.rtol)
     stem = f"sampled_bound_{args.param}"
     d = check_out_dir(
         args.out, files=[f"{stem}.{x}" for x in ("csv", "json", "png")], force=args.force
     )
-    sea = model_from_args(args, extra_free={args.param: f"sampled bound {args.param}"})
+    sea, loop = resolved.sea, resolved.loop
+    lo, hi = resolved.range_of(args.param, given)
     warn_unrealizable(sea)
     res = sampled_passive_bound(
         sea, args.param, loop=loop, lo=lo, hi=hi, rtol=args.rtol,
         max_precision=args.max_precision, progress=True,
     )  # fmt: skip
-    out = res.to_dict()
+    out = {**res.to_dict(), **units_json(args, resolved)}
     if d is not None:
         from ..plot.sampled import plot_bound
 
+        unit = resolved.units.get(args.param, "")
         write_text(d / f"{stem}.csv", res.to_csv(), force=args.force)
         write_text(d / f"{stem}.json", json_text(out), force=args.force)
-        save_plot(lambda: plot_bound(res), d / f"{stem}.png", force=args.force)
+        save_plot(lambda: plot_bound(res, unit=unit), d / f"{stem}.png", force=args.force)
     if args.json:
         print_json(out)
         return 0
     ivs = ", ".join(interval_text(a, b, digits=10) for a, b in res.intervals) or "none"
+    ivs += unit_suffix(args, resolved, args.param) if res.intervals else ""
     print(f"passive {args.param} at T = {loop.period:g} s (delay {loop.delay}): {ivs}")
     for e in res.edges:
         print(f"  edge in {enclosure_text(e.lo, e.hi)} ({e.kind.value.replace('_', ' ')})")
@@ -217,25 +246,28 @@ def run_region(args: argparse.Namespace) -> int:
     from ..exact.rounding import decimal_down, exact_text
     from ..sampled.region import sampled_region
 
-    lo1, hi1 = _range(args.range)
-    lo2, hi2 = _range(args.range2, "--range2")
-    loop = loop_from_args(args)
+    if args.p1 == args.p2:
+        raise ParameterError(f"sampled region: give two different parameters, got {args.p1} twice")
+    rows = points_from_args(args, "rows", ROWS)
+    given = ranges_from_args(args, [args.p1, args.p2], {args.p2: ("--range2", args.range2)})
+    resolved = design_from_args(
+        args,
+        {args.p1: f"sampled region {args.p1}", args.p2: f"sampled region {args.p2}"},
+        default_loop=_default_loop(region=True),
+    )
+    sea, loop = resolved.sea, resolved.loop
+    lo1, hi1 = resolved.range_of(args.p1, given[args.p1])
+    lo2, hi2 = resolved.range_of(args.p2, given[args.p2])
     check_rtol(args.rtol)
     stem = f"sampled_region_{args.p1}_{args.p2}"
     out = check_out_dir(
         args.out, files=[f"{stem}.{x}" for x in ("csv", "json", "png")], force=args.force
     )
-    if args.p1 == args.p2:
-        raise ParameterError(f"sampled region: give two different parameters, got {args.p1} twice")
-    sea = model_from_args(
-        args,
-        extra_free={args.p1: f"sampled region {args.p1}", args.p2: f"sampled region {args.p2}"},
-    )
     warn_unrealizable(sea)
     with _RowProgress(f"Z-width map {args.p1} vs {args.p2}") as progress:
         zmap = sampled_region(
             sea, args.p1, args.p2, loop=loop, p1_range=(lo1, hi1), p2_range=(lo2, hi2),
-            n=args.rows, rtol=args.rtol, log_p2=args.log, max_precision=args.max_precision,
+            n=rows, rtol=args.rtol, log_p2=args.log, max_precision=args.max_precision,
             progress=progress,
         )  # fmt: skip
     if out is not None:
@@ -243,9 +275,10 @@ def run_region(args: argparse.Namespace) -> int:
 
         write_text(out / f"{stem}.csv", zmap.to_csv(), force=args.force)
         write_text(out / f"{stem}.json", json_text(zmap.to_dict()), force=args.force)
-        save_plot(lambda: plot_zwidth(zmap), out / f"{stem}.png", force=args.force)
+        units = (resolved.units.get(args.p1, ""), resolved.units.get(args.p2, ""))
+        save_plot(lambda: plot_zwidth(zmap, units=units), out / f"{stem}.png", force=args.force)
     if args.json:
-        print_json(zmap.to_dict())
+        print_json({**zmap.to_dict(), **units_json(args, resolved)})
         return 0
     print(f"largest passive {args.p1} per {args.p2} at T = {loop.period:g} s (certified per row):")
     header = f"{args.p2:>12}  " + "  ".join(f"{s.label:>28}" for s in zmap.setups)

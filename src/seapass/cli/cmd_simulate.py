@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
+from ..errors import ParameterError
 from .common import (
     add_force_option,
     add_json_option,
@@ -12,16 +13,17 @@ from .common import (
     add_plot_option,
     check_step,
     cli_words,
-    model_from_args,
     plot_path,
     print_json,
     save_plot,
 )
+from .design_options import add_design_argument, design_from_args
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     from ..sim.simulate import Scenario
 
 EXAMPLE = """examples:
+  seapass simulate examples/ours.toml --json     # the file's tune_mass, step and horizon
   seapass simulate --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
       --set b1=100 --set kd=2000 --set bd=60 --load-mass 10 --step 0.5 --json
   seapass simulate --D1 k1 --CL kd --set m=1 --set b=10 --set k1=1000 --set kd=500 \\
@@ -45,14 +47,19 @@ def register(sub: argparse._SubParsersAction) -> None:
         "result (stable: false), not an error.",
         epilog=EXAMPLE,
     )
+    add_design_argument(p)
     add_model_options(p)
-    p.add_argument("--load-mass", type=float, required=True, help="load mass m_L [kg], > 0")
+    p.add_argument(
+        "--load-mass",
+        type=float,
+        help="load mass m_L [kg], > 0 (default: the design file's tune_mass; needed without one)",
+    )
     g = p.add_mutually_exclusive_group()
     g.add_argument(
         "--step",
         type=float,
         metavar="M",
-        help="reference step size [m] (the default: the paper's 0.5)",
+        help="reference step size [m] (default: the design file's, else the paper's 0.5)",
     )
     g.add_argument(
         "--load-displaced", type=float, metavar="X0", help="load starts at X0 [m], reference 0"
@@ -70,7 +77,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="which references step/follow the trajectory (default both: θ_A = θ_L)",
     )
     p.add_argument(
-        "--horizon", type=float, help="simulated time [s] (default: the paper's experiment, 10)"
+        "--horizon",
+        type=float,
+        help="simulated time [s] (default: the design file's, else the paper's experiment, 10)",
     )
     p.add_argument("--dt", type=float, default=1e-3, help="time step [s]")
     p.add_argument(
@@ -102,12 +111,16 @@ def run(args: argparse.Namespace) -> int:
 
     figure = plot_path(args.plot, force=args.force)
     check_step(args.step)
-    sea = model_from_args(args)
+    resolved = design_from_args(args)
+    if resolved.load_mass is None:
+        raise ParameterError("give the load mass with --load-mass KG (or a design file)")
+    if args.step is None and resolved.step is not None:
+        args.step = resolved.step
     summary = simulation_summary(
-        sea,
-        load_mass=args.load_mass,
+        resolved.sea,
+        load_mass=resolved.load_mass,
         scenario=scenario_from_args(args),
-        horizon=args.horizon,
+        horizon=resolved.horizon,
         dt=args.dt,
         tolerance=args.tolerance,
     )

@@ -16,15 +16,16 @@ from .common import (
     announce,
     check_step,
     deprecated_alias,
-    model_from_args,
     parse_named,
     plot_path,
     print_json,
     save_plot,
     warn,
 )
+from .design_options import add_design_argument, design_from_args
 
 EXAMPLE = """examples:
+  seapass sweep examples/ours.toml --grid kd=0:5000:500 --grid bd=0:300:50 --out ours.csv
   seapass sweep --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
       --set b1=20 --grid kd=0:5000:200 --grid bd=0:100:5 --load-mass 10 \\
       --out sweep.parquet --heatmap kd,bd --plot sweep.png
@@ -58,6 +59,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "parameters are free: do not also give them with --set.",
         epilog=EXAMPLE,
     )
+    add_design_argument(p)
     add_model_options(p)
     g = p.add_argument_group("designs")
     g.add_argument("--grid", action="append", default=[], metavar="NAME=LO:HI:STEP",
@@ -68,11 +70,17 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     g.add_argument("--seed", type=int, default=0, help="random seed")
     m = p.add_argument_group("metrics")
     m.add_argument(
-        "--load-mass", type=float, help="load mass m_L [kg] (the default: the paper's 10)"
+        "--load-mass",
+        type=float,
+        help="load mass m_L [kg] (default: the design file's tune_mass, else the paper's 10)",
     )
     m.add_argument("--step", type=float, metavar="M",
-                   help="reference step [m] (the default: the paper's 0.5)")  # fmt: skip
-    m.add_argument("--horizon", type=float, help="simulated time [s] (the default: a 5 s screen)")
+                   help="reference step [m] (default: the design file's, else the paper's 0.5)")  # fmt: skip
+    m.add_argument(
+        "--horizon",
+        type=float,
+        help="simulated time [s] (default: the design file's, else a 5 s screen)",
+    )
     m.add_argument("--no-metrics", action="store_true", help="passivity only")
     m.add_argument(
         "--no-margin", action="store_true", help="skip the passivity margin (3x faster verdicts)"
@@ -160,16 +168,16 @@ def run(args: argparse.Namespace) -> int:
     both = sorted(set(a.name for a in grid) & set(a.name for a in ranges))
     if both:
         raise ParameterError(f"{both[0]} is given with both --grid and --range; give it once")
-    sea = model_from_args(args, extra_free={k: v for k, v in swept.items() if k != LOAD_MASS})
+    resolved = design_from_args(args, {k: v for k, v in swept.items() if k != LOAD_MASS})
     spec = SweepSpec(
-        sea=sea,
+        sea=resolved.sea,
         grid=tuple(grid),
         ranges=tuple(ranges),
         samples=args.sample,
         seed=args.seed,
-        load_mass=args.load_mass,
-        step=args.step,
-        horizon=args.horizon,
+        load_mass=resolved.load_mass,
+        step=resolved.step,
+        horizon=resolved.horizon,
         metrics=not args.no_metrics,
         margin=not args.no_margin,
         chunk_size=args.chunk_size,

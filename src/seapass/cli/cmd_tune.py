@@ -12,6 +12,7 @@ from ..errors import ParameterError, TuningWarning
 from .common import (
     add_json_option,
     add_model_options,
+    check_period,
     check_step,
     cli_words,
     model_from_args,
@@ -19,10 +20,12 @@ from .common import (
     values_from_args,
     warn,
 )
-from .loop_options import add_loop_options, loop_from_args
+from .design_options import add_unit_option, units_from_args
+from .loop_options import add_loop_options
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     from ..model.design_file import Design
+    from ..model.loop import SampledLoop
     from ..tuning.optimize import TuningResult
     from ..tuning.problem import DesignLike, TuningOptions
 
@@ -69,8 +72,11 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     g.add_argument("--force-limit", type=float, metavar="N",
                    help="peak actuator force |f_A| [N] (default: the paper's experiment, 1000)")  # fmt: skip
     g.add_argument("--no-force-limit", action="store_true", help="no force limit")
-    add_loop_options(p, method=False, what="the sampled loop (with --period)",
-                     period_help="also require passivity under sampled-data control with period T [s]")  # fmt: skip
+    lg = add_loop_options(p, method=False, what="the sampled loop (--period, else the design file's [control])",
+                          period_help="also require passivity under sampled-data control with period T [s] (default: the design file's [control], else none)")  # fmt: skip
+    lg.add_argument("--continuous", action="store_true",
+                    help="ignore the design file's [control]: continuous passivity only")  # fmt: skip
+    add_unit_option(p)
     s = p.add_argument_group("the step response (default: the file's [simulation], else the paper's experiment: 10 kg, 0.5 m, 10 s)")  # fmt: skip
     s.add_argument("--load-mass", type=float, metavar="KG", help="tuning load mass m_L [kg]")
     s.add_argument("--step", type=float, metavar="M", help="reference step [m]")
@@ -131,7 +137,7 @@ def _design(
     if args.design and args.design_option:
         raise ParameterError("give the design once (DESIGN or --design)")
     name = args.design or args.design_option
-    model_given = any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL"))
+    model_given = any(getattr(args, e) is not None for e in ("D1", "D2", "CA", "CL"))
     if name is not None and model_given:
         raise ParameterError("give either DESIGN or the model --D1/--D2/--CA/--CL, not both")
     if name is None and not model_given:
@@ -159,7 +165,7 @@ def options_from_args(args: argparse.Namespace, file: Design | None) -> TuningOp
         load_mass=args.load_mass,
         step=args.step,
         horizon=args.horizon,
-        loop=loop_from_args(args, file),
+        loop=_loop(args, file),
         seed=args.seed,
     )
     if args.quick:
@@ -173,6 +179,34 @@ def options_from_args(args: argparse.Namespace, file: Design | None) -> TuningOp
     if args.popsize is not None:
         opts = opts.replace(popsize=args.popsize)
     return opts
+
+
+def _loop(args: argparse.Namespace, file: Design | None) -> SampledLoop | None:
+    """The sampled loop of the constraint: the flags over the file's ``[control]``."""
+    from ..model.resolve import resolve_loop
+
+    check_period(args.period)
+    if args.continuous:
+        if args.period is not None:
+            raise ParameterError("give --period or --continuous, not both")
+        return None
+    changes = {k: getattr(args, k) for k in ("period", "delay", "velocity_filter")}
+    return resolve_loop(None if file is None else file.loop, None, changes)
+
+
+def _units(args: argparse.Namespace, file: Design | None, names: Sequence[str]) -> dict[str, str]:
+    """Units of ``names`` when a design file or ``--unit`` is given, else ``{}``."""
+    from ..model.units import unit_map
+
+    given = units_from_args(args)
+    if file is None and not given:
+        return {}
+    known = set(names) | set(file.unit_map() if file is not None else ())
+    for name in given:
+        if name not in known:
+            raise ParameterError(f"--unit {name}: not a parameter of the design")
+    declared = {**(dict(file.units) if file is not None else {}), **given}
+    return unit_map(declared, names)
 
 
 # ----------------------------------------------------------------- run
@@ -196,31 +230,29 @@ def run(args: argparse.Namespace) -> int:
         )
     for message in result.warnings:
         warn(cli_words(message))
+    units = _units(args, file, list(result.gains))
     if args.json:
-        print_json(result.to_dict())
+        print_json({**result.to_dict(), **({"units": units} if units else {})})
     else:
-        _print_text(result)
-    hint = _control_hint(file, opts)
-    if hint:
-        print(f"note: {hint}", file=sys.stderr)
+        _print_text(result, units)
+    if file is not None and file.loop is not None and opts.loop is not None and args.period is None:
+        print(
+            f"note: passivity also required at the design file's {file.loop.rate:g} Hz "
+            "([control]); --continuous drops it",
+            file=sys.stderr,
+        )
     return 0 if result.feasible else 1
 
 
-def _control_hint(file: Design | None, opts: TuningOptions) -> str:
-    if file is None or file.period is None or opts.loop is not None:
-        return ""
-    return (
-        f"the design file sets a {file.control_rate:g} Hz controller; add --period "
-        f"{file.period:g} to also require passivity under it"
-    )
-
-
-def _print_text(result: TuningResult) -> None:
+def _print_text(result: TuningResult, units: Mapping[str, str] | None = None) -> None:
     from ..sim.metrics import overshoot_text
     from ..tuning.problem import Objective
 
     m = result.metrics
-    gains = ", ".join(f"{k} = {v:.6g}" for k, v in result.gains.items())
+    units = units or {}
+    gains = ", ".join(
+        f"{k} = {v:.6g}" + (f" {units[k]}" if units.get(k) else "") for k, v in result.gains.items()
+    )
     print(f"{result.design}: {gains}")
     kind = Objective(result.options.objective)
     print(f"{kind.label}: {result.objective:.6g} {kind.unit} ({m.status})")

@@ -150,7 +150,7 @@ def _sea(args: argparse.Namespace, free: tuple[str, ...]) -> Any:
     """The SEA of DESIGN (with --set overrides) or of the model options; ``free`` left free."""
     from ..model.design_file import load_design
 
-    elements = any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL"))
+    elements = any(getattr(args, e) not in (None, "0") for e in ("D1", "D2", "CA", "CL"))
     if args.design is not None:
         if elements:
             raise ParameterError(
@@ -186,7 +186,7 @@ def two_port_from_args(args: argparse.Namespace, free: tuple[str, ...] = ()) -> 
         if missing:
             raise ParameterError(f"give all four entries: {', '.join(missing)} missing")
         if args.design is not None or any(
-            getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL")
+            getattr(args, e) not in (None, "0") for e in ("D1", "D2", "CA", "CL")
         ):
             raise ParameterError(
                 "give either the matrix --Z11..--Z22 or a design (file or --D1 ...), not both"

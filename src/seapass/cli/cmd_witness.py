@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 from ..errors import ParameterError
@@ -16,16 +17,17 @@ from .common import (
     parse_range,
     print_json,
     save_plot,
-    system_from_args,
     warn_unrealizable,
     write_text,
 )
+from .design_options import add_design_argument, system_from_design_args
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     from ..analysis.environment_box import EnvironmentBounds
     from ..analysis.witness import WitnessResult
 
 EXAMPLE = """examples:
+  seapass witness examples/load_pd_not_passive.toml    # the file's [environment] bounds
   seapass witness --D1 k1 --CL kd --set m=1 --set b=10 --set k1=1000 --set kd=2000 --json
   seapass witness --D1 k1 --CL kd --set m=1 --set b=10 --set k1=1000 --set kd=2000 --out witness/
   seapass witness --D1 k1 --CL "kd + bd*s" --set m=1 --set b=10 --set k1=1000 --set kd=500 \\
@@ -56,9 +58,12 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "the growing oscillation. A passive design has no such environment.",
         epilog=EXAMPLE,
     )
+    add_design_argument(p)
     add_model_options(p)
     p.add_argument("--Z", help="raw impedance Z(s) instead of an SEA model, e.g. '(s - 1)/(s + 1)'")
-    g = p.add_argument_group("the environments allowed (default: a human limb)")
+    g = p.add_argument_group(
+        "the environments allowed (default: the design file's [environment], else a human limb)"
+    )
     for name, unit in (("mass", "kg"), ("damping", "N*s/m"), ("stiffness", "N/m")):
         lo, hi = HELP_DEFAULTS[name]
         g.add_argument(f"--{name}", metavar="LO:HI",
@@ -71,8 +76,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     p.set_defaults(func=run)
 
 
-def bounds_from_args(args: argparse.Namespace) -> EnvironmentBounds | None:
-    """The environment box of the command line (None with --unbounded)."""
+def bounds_from_args(
+    args: argparse.Namespace, file: Mapping[str, tuple[float, float]] | None = None
+) -> EnvironmentBounds | None:
+    """The environment box of the command line over the file's ``file`` (None with --unbounded)."""
     from ..analysis.environment_box import HUMAN_LIMB, EnvironmentBounds
 
     given = {n: getattr(args, n) for n in ("mass", "damping", "stiffness") if getattr(args, n)}
@@ -81,16 +88,17 @@ def bounds_from_args(args: argparse.Namespace) -> EnvironmentBounds | None:
             raise ParameterError(f"--unbounded and --{next(iter(given))}: give one or the other")
         return None
     ranges = {n: parse_range(v, f"--{n}") for n, v in given.items()}
-    return EnvironmentBounds(**{**HUMAN_LIMB.to_dict(), **ranges})  # type: ignore[arg-type]
+    box = {**HUMAN_LIMB.to_dict(), **dict(file or {}), **ranges}
+    return EnvironmentBounds(**box)  # type: ignore[arg-type]
 
 
 def run(args: argparse.Namespace) -> int:
     from ..analysis.witness import find_destabilizing_environment
 
     out = check_out_dir(args.out, files=("witness.png", "witness.json"), force=args.force)
-    system = system_from_args(args)
+    system, resolved = system_from_design_args(args)
     warn_unrealizable(system)
-    bounds = bounds_from_args(args)
+    bounds = bounds_from_args(args, None if resolved is None else resolved.environment)
     result = find_destabilizing_environment(system, bounds=bounds, simulate=True)
     data = result.to_dict()
     if out is not None:

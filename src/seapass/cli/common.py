@@ -12,6 +12,8 @@ in the project notes and the README's command-line section):
   `add_out_dir_option` / `check_out_dir`; files are written and announced
   (``wrote PATH`` on stderr) by `save_plot`, `write_text`, `write_bytes` in
   [`seapass.cli.output`][seapass.cli.output];
+* a design file on every command, ``--unit``, ``--range NAME=LO:HI`` and ``--points``:
+  [`seapass.cli.design_options`][seapass.cli.design_options];
 * the sampled loop: `add_loop_options` and `loop_from_args` (one
   [`SampledLoop`][seapass.model.loop.SampledLoop] from ``--period --delay
   --velocity-filter --method`` and a design file's ``[control]``);
@@ -159,7 +161,7 @@ _FLAGS = {
 }
 
 
-_KEYED = {"values": "--set", "bounds": "--bound", "tune": "--tune"}
+_KEYED = {"values": "--set", "bounds": "--bound", "tune": "--tune", "units": "--unit"}
 
 
 def cli_flag(argument: str) -> str:
@@ -168,7 +170,7 @@ def cli_flag(argument: str) -> str:
     >>> cli_flag("values['kd']"), cli_flag("tune['kd']"), cli_flag("load_mass"), cli_flag("CA")
     ('--set kd', '--tune kd', '--load-mass', '--CA')
     """
-    m = re.fullmatch(r"(values|bounds|tune)\['([^']*)'\]", argument)
+    m = re.fullmatch(r"(values|bounds|tune|units)\['([^']*)'\]", argument)
     if m:
         return f"{_KEYED[m.group(1)]} {m.group(2)}"
     if argument in _FLAGS:
@@ -218,7 +220,9 @@ def cli_words(text: str, argument: str | None = None) -> str:
         msg = re.sub(rf"(?<![\w.'\[-]){argument}(=| )", lambda m: f"{flag} ", msg)
     msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"e.g. --set \1=VALUE", msg)
     msg = re.sub(r"tune=\{'(\w+)': \([^)]*\)\}", r"--tune \1=LO:HI", msg)
-    msg = re.sub(r"(values|tune)\['(\w+)'\]", lambda m: f"{_KEYED[m.group(1)]} {m.group(2)}", msg)
+    msg = re.sub(
+        r"(values|tune|units)\['(\w+)'\]", lambda m: f"{_KEYED[m.group(1)]} {m.group(2)}", msg
+    )
     return re.sub(r"\b([a-z][a-z_]*)=True\b", lambda m: "--" + m.group(1).replace("_", "-"), msg)
 
 
@@ -315,11 +319,11 @@ def add_jobs_argument(p: argparse.ArgumentParser) -> None:
 
 def add_model_options(p: argparse.ArgumentParser) -> None:
     """``--D1 --D2 --CA --CL --set`` as used by every model command."""
-    g = p.add_argument_group("model (elements not given are 0)")
-    g.add_argument("--D1", default="0", help="transmission, e.g. 'k1 + b1*s'")
-    g.add_argument("--D2", default="0", help="load-to-ground element, e.g. 'k2'")
-    g.add_argument("--CA", default="0", help="actuator-side controller, e.g. 'kd + bd*s'")
-    g.add_argument("--CL", default="0", help="load-side controller, e.g. 'kd'")
+    g = p.add_argument_group("model (elements not given: the design file's, else 0)")
+    g.add_argument("--D1", help="transmission, e.g. 'k1 + b1*s'")
+    g.add_argument("--D2", help="load-to-ground element, e.g. 'k2'")
+    g.add_argument("--CA", help="actuator-side controller, e.g. 'kd + bd*s'")
+    g.add_argument("--CL", help="load-side controller, e.g. 'kd'")
     g.add_argument(
         "--set",
         action="append",
@@ -366,7 +370,8 @@ def model_from_args(
             )
         values[name] = None
     try:
-        return SEA(D1=args.D1, D2=args.D2, CA=args.CA, CL=args.CL, values=values)
+        elements = {e: getattr(args, e) or "0" for e in ("D1", "D2", "CA", "CL")}
+        return SEA(**elements, values=values)
     except ParameterError as exc:
         free = {f"values[{n!r}]": label for n, label in labels.items()}
         if exc.argument in free:  # a free name the model does not use
@@ -398,7 +403,7 @@ def system_from_args(args: argparse.Namespace) -> Any:
 
     if getattr(args, "Z", None) is None:
         return model_from_args(args)
-    if any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL")):
+    if any(getattr(args, e) is not None for e in ("D1", "D2", "CA", "CL")):
         raise ParameterError("give either --Z or the model elements --D1/--D2/--CA/--CL, not both")
     return Impedance(expr=args.Z, values=values_from_args(args))
 

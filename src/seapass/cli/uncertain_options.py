@@ -16,7 +16,7 @@ import re
 from typing import Any
 
 from ..errors import ParameterError
-from .common import model_from_args, parse_range, print_json, values_from_args, warn_unrealizable
+from .common import print_json, values_from_args, warn_unrealizable
 
 __all__ = ["CLI_BUDGET", "add_uncertain_options", "run_robust_bound", "run_robust_check"]
 
@@ -70,9 +70,11 @@ def _box_and_model(args: argparse.Namespace, extra_free: dict[str, str]) -> tupl
             f"--uncertain {name}: {name} is the bounded parameter; it cannot also be uncertain"
         )
     if getattr(args, "Z", None) is not None:
-        if any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL")):
+        if getattr(args, "design", None) is not None or any(
+            getattr(args, e) is not None for e in ("D1", "D2", "CA", "CL")
+        ):
             raise ParameterError(
-                "give either --Z or the model elements --D1/--D2/--CA/--CL, not both"
+                "give either --Z or a design (DESIGN.toml, --D1/--D2/--CA/--CL), not both"
             )
         values = values_from_args(args)
         for name in raw:
@@ -83,7 +85,9 @@ def _box_and_model(args: argparse.Namespace, extra_free: dict[str, str]) -> tupl
                 )
         system: Any = Impedance(expr=args.Z, values=values)
     else:
-        system = model_from_args(args, extra_free={**extra_free, **labels})
+        from .design_options import design_from_args
+
+        system = design_from_args(args, {**extra_free, **labels}).sea
         warn_unrealizable(system)
     try:
         box = uncertain_box(system, raw)
@@ -117,9 +121,12 @@ def run_robust_check(args: argparse.Namespace) -> int:
 
 def run_robust_bound(args: argparse.Namespace) -> int:
     """``bound PARAM --uncertain ...``: the robust passive set of PARAM (inner and outer)."""
+    from ..exact.rounding import enclosure_text, interval_text
     from ..robust.intervals import robust_passive_intervals
+    from .design_options import design_from_args, ranges_from_args
 
-    lo, hi = parse_range(args.range)
+    given = ranges_from_args(args, [args.param], strict=False)[args.param]
+    lo, hi = design_from_args(args, {args.param: f"bound {args.param}"}).range_of(args.param, given)
     system, box = _box_and_model(args, {args.param: f"bound {args.param}"})
     try:
         result = robust_passive_intervals(system, args.param, lo, hi, box=box, budget=args.budget)
@@ -131,9 +138,11 @@ def run_robust_bound(args: argparse.Namespace) -> int:
     span = ", ".join(f"{k} in [{a:g}, {b:g}]" for k, (a, b) in box.intervals.items())
     if not result.intervals:
         print(f"not passive for every plant ({span}) for any {args.param} in [{lo:g}, {hi:g}]")
-    for a, b in result.intervals:
-        print(f"passive for every plant ({span}) for {a:.10g} <= {args.param} <= {b:.10g}")
+    for a, b in result.intervals:  # rounded inward: the printed ends are robustly passive
+        print(
+            f"passive for every plant ({span}) for {args.param} in {interval_text(a, b, digits=10)}"
+        )
     if result.method != "exact":
-        outer = ", ".join(f"[{a:.10g}, {b:.10g}]" for a, b in result.outer) or "empty"
+        outer = ", ".join(enclosure_text(a, b, digits=10) for a, b in result.outer) or "empty"
         print(f"certified: inner set above; no value outside {outer} is robustly passive")
     return 0

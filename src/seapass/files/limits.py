@@ -106,7 +106,7 @@ MAX_FREQUENCY_POINTS = 100_000
 """Frequencies of one response (``response --points``)."""
 
 MAX_REGION_COLUMNS = 2000
-"""Columns of a 2-D passive region (``region --nx``)."""
+"""Columns of a 2-D passive region (``region --points``)."""
 
 MAX_KD_GAINS = 10_000
 """Gains of one rig kd sweep through the Python API."""

@@ -14,7 +14,9 @@ a state-space system), [`catalog`][seapass.model.catalog] (the one catalog of na
 designs: LP, APD, Ours and every Table I/II row), [`experiment`][seapass.model.experiment]
 (the paper's step-response experiment: step, horizon, load masses), [`loop`][seapass.model.loop]
 (`SampledLoop`, the digital controller's period, delay, velocity filter and discretization)
-and [`design_file`][seapass.model.design_file] (a user's design as a strict TOML file).
+[`design_file`][seapass.model.design_file] (a user's design as a strict TOML file),
+[`resolve`][seapass.model.resolve] (a design file merged with the caller's values: what
+every command runs) and [`units`][seapass.model.units] (the unit grammar and defaults).
 
 May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files].
 """

@@ -42,6 +42,12 @@ Format (every section but ``[model]`` and ``[parameters]`` is optional)::
     [rig]
     file = "my_rig.toml"                # relative to the design file, or preset = "paper"
 
+    [units]                             # units of the parameters (and of m_L), for labels
+    ki = "1/s"                          # overrides a default (ki: N/(m·s))
+    kt = "N*m/A"                        # SI symbols, prefixes, *, /, ^N
+
+Units are checked against the grammar of [`seapass.model.units`][seapass.model.units].
+
 Validation is strict: an unknown key, a wrong type, a missing field or a
 value out of range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the
 key (e.g. ``parameters.kd``), so a typo never falls back to a default.  Sizes are
@@ -81,6 +87,7 @@ from .display import html_card, short_repr
 from .experiment import PAPER_EXPERIMENT
 from .loop import METHODS, LoopAttributes, SampledLoop
 from .sea import SEA
+from .units import MAX_UNIT_CHARS, unit_map
 
 __all__ = ["DESIGN_FIELDS", "Design", "load_design", "load_design_or_catalog", "parse_design"]
 
@@ -116,6 +123,9 @@ class Design(LoopAttributes):
         The digital controller's loop (``[control]``); None: continuous only.
     rig_file : str or None
         Rig TOML path (resolved against the design file) or ``"paper"``.
+    units : mapping of str to str
+        Declared units (``[units]``) of parameters or of ``m_L``, checked by
+        [`parse_unit`][seapass.model.units.parse_unit]; see `unit_map`.
     environment : mapping of str to (float, float)
         Bounds of the environments the witness may use (``mass``, ``damping``,
         ``stiffness``); those not given keep the human-limb default of
@@ -137,6 +147,7 @@ class Design(LoopAttributes):
     loop: SampledLoop | None = None
     rig_file: str | None = None
     environment: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    units: Mapping[str, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if not _NAME.match(self.name):
@@ -181,6 +192,17 @@ class Design(LoopAttributes):
                 raise FileFormatError(f"ranges.{name}: need lo < hi, got [{lo}, {hi}]")
         if not self.load_masses:
             raise FileFormatError("simulation.load_masses must not be empty")
+        for name in self.units:
+            if name not in sea.parameters and name not in ("m", "b", "m_L"):
+                raise FileFormatError(
+                    f"units.{name}: not a parameter of the model "
+                    f"({', '.join((*sea.parameters, 'm_L'))})"
+                )
+        try:
+            units = unit_map(self.units, self.units)
+        except SeapassError as exc:
+            raise FileFormatError(re.sub(r"^units\['(\w+)'\]", r"units.\1", str(exc))) from None
+        object.__setattr__(self, "units", MappingProxyType(units))
 
     def __repr__(self) -> str:
         elements = {
@@ -237,6 +259,10 @@ class Design(LoopAttributes):
         ordered = sorted(self.load_masses)
         return ordered[len(ordered) // 2]
 
+    def unit_map(self) -> dict[str, str]:
+        """The unit of every parameter and of ``m_L``: ``[units]``, else the default, else ``""``."""
+        return unit_map(self.units, (*self.sea().parameters, "m_L"))
+
     def analysis_ranges(self) -> dict[str, tuple[float, float]]:
         """Explicit ranges plus a default ``[0, max(10·value, 1000)]`` for every gain."""
         out = dict(self.ranges)
@@ -265,6 +291,7 @@ class Design(LoopAttributes):
             },
             "environment": {k: list(v) for k, v in self.environment.items()},
             "rig": self.rig_file,
+            "units": dict(self.units),
         }
 
 
@@ -316,6 +343,9 @@ DESIGN_FIELDS: dict[str, Field] = {
             "method": Field(str, choices=METHODS, required=False),
         },
     ),
+    "units": Field(
+        dict, keys=_PARAM, item=Field(str, hi=MAX_UNIT_CHARS, line=True), required=False
+    ),
     "rig": Field(
         dict,
         required=False,
@@ -347,7 +377,9 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
     model = doc["model"]
     if "D1" not in model and "D2" not in model:
         raise FileFormatError('missing model.D1 (the transmission, e.g. "k1 + b1*s")')
-    kw: dict[str, Any] = {k: doc[k] for k in ("name", "title", "ranges", "environment") if k in doc}
+    kw: dict[str, Any] = {
+        k: doc[k] for k in ("name", "title", "ranges", "environment", "units") if k in doc
+    }
     for key in _MODEL:
         text = model.get(key, "0")
         if not text.strip():

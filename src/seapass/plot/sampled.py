@@ -16,6 +16,7 @@ import numpy as np
 
 from ..sampled.bound import SampledBoundResult
 from ..sampled.region import ZWidthMap
+from .region import axis_label
 from .style import axes_grid
 
 __all__ = [
@@ -27,10 +28,10 @@ __all__ = [
 ]
 
 
-def plot_bound(result: SampledBoundResult, ax: Any = None) -> Any:
+def plot_bound(result: SampledBoundResult, ax: Any = None, *, unit: str | None = None) -> Any:
     """Certified passive intervals of ``result.param``, edge enclosures, the design value.
 
-    Returns the Axes.
+    ``unit`` labels the axis (None: the parameter's standard unit, if any).  Returns the Axes.
     """
     ax = axes_grid(ax, 1, 1, figsize=(7, 2.6))[0, 0]
     for i, (lo, hi) in enumerate(result.intervals):
@@ -56,15 +57,19 @@ def plot_bound(result: SampledBoundResult, ax: Any = None) -> Any:
     ax.set_yticks([])
     ax.set_ylim(0, 1)
     ax.set_xlim(result.lo, result.hi)
-    ax.set_xlabel(f"{result.param} (SI units)")
+    ax.set_xlabel(axis_label(result.param, unit))
     ax.set_title(f"Sampled-data passivity at T = {result.period * 1e3:g} ms (delay {result.delay})")
     ax.legend(loc="upper right", fontsize=8)
     return ax
 
 
-def plot_zwidth(zmap: ZWidthMap, ax: Any = None) -> Any:
+def plot_zwidth(
+    zmap: ZWidthMap, ax: Any = None, *, units: tuple[str | None, str | None] = (None, None)
+) -> Any:
     """Z-width map: the certified passive set of ``p1`` on every ``p2`` row, one colour per
     loop setup (drawn as bars one row spacing wide: only the rows are certified).
+
+    ``units`` are those of ``p1`` and ``p2`` (None: the standard unit, if any).
 
     Returns the Axes.
     """
@@ -80,8 +85,8 @@ def plot_zwidth(zmap: ZWidthMap, ax: Any = None) -> Any:
                     [edges[i], edges[i + 1]], lo, hi, color=color, alpha=0.22, lw=0,
                 )  # fmt: skip
         ax.plot(xs, zmap.upper_boundary(setup.label), "o-", ms=3, color=color, label=setup.label)
-    ax.set_xlabel(f"{zmap.p2} (SI units)")
-    ax.set_ylabel(f"passive {zmap.p1} (SI units)")
+    ax.set_xlabel(axis_label(zmap.p2, units[1]))
+    ax.set_ylabel("passive " + axis_label(zmap.p1, units[0]))
     ax.set_ylim(zmap.p1_range)
     ax.set_title(f"Z-width at T = {zmap.period * 1e3:g} ms: passive {zmap.p1} vs {zmap.p2}")
     ax.legend(fontsize=8, loc="upper left")

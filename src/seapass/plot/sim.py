@@ -13,6 +13,7 @@ import numpy as np
 
 from ..model.catalog import design as catalog_design
 from ..model.expr import UNITS
+from ..model.units import unit_label
 from ..paper.simstudy import SimulationStudy
 from ..sim.metrics import TrackingMetrics
 from ..sim.simulate import SimulationResult
@@ -153,8 +154,8 @@ def plot_tradeoff(
             (h,) = ax.plot(mx, my, "o", ms=11, mfc="none", mec="w", mew=2, label=mlabel)
             handles.append(h)
         ax.legend(handles=handles, loc="upper right", fontsize=8)
-        ax.set_xlabel(f"{xn} [{UNITS.get(xn, 'SI')}]")
-        ax.set_ylabel(f"{yn} [{UNITS.get(yn, 'SI')}]")
+        ax.set_xlabel(unit_label(xn, UNITS))
+        ax.set_ylabel(unit_label(yn, UNITS))
         ax.set_title(label, fontsize=11)
     return grid
 

@@ -48,7 +48,6 @@ from collections.abc import Callable, Sequence
 from functools import partial
 
 from ..model.design_file import Design
-from ..model.expr import UNITS
 from .document import (
     Math,
     Report,
@@ -151,7 +150,7 @@ def analyze(
         + (f" ({literal(design.title)})" if design.title else "")
         + f": D1 = {formula(design.D1)}, D2 = {formula(design.D2)}, "
         f"C_A = {formula(design.CA)}, C_L = {formula(design.CL)}; "
-        f"{values_text(dict(design.values))} (SI units). Every number is in [`data/`](data/), "
+        f"{values_text(dict(design.values), design.unit_map())}. Every number is in [`data/`](data/), "
         "every figure in [`figures/`](figures/) (PNG and SVG); verdicts are exact."
         + (" Reduced budgets (`--quick`)." if quick else "")
     )
@@ -172,11 +171,12 @@ def design_file_section(design: Design) -> Section:
     d = design.to_dict()
     rows: list[tuple[str, object, str]] = [("name", d["name"], ""), ("title", d["title"], "")]
     rows += [(f"model.{k}", Math(v), "") for k, v in d["model"].items()]
-    rows += [(f"parameters.{k}", v, UNITS.get(k, "")) for k, v in d["parameters"].items()]
+    units = design.unit_map()
+    rows += [(f"parameters.{k}", v, units.get(k, "")) for k, v in d["parameters"].items()]
     searched = design.analysis_ranges()
     for k, (lo, hi) in searched.items():
         given = "" if k in d["ranges"] else " (default: [0, max(10·value, 1000)])"
-        rows.append((f"ranges.{k}", f"[{lo:g}, {hi:g}]{given}", UNITS.get(k, "")))
+        rows.append((f"ranges.{k}", f"[{lo:g}, {hi:g}]{given}", units.get(k, "")))
     sim_units = {"load_masses": "kg", "step": "m", "horizon": "s", "tune_mass": "kg"}
     for k, v in d["simulation"].items():
         shown = ", ".join(f"{x:g}" for x in v) if isinstance(v, list) else v

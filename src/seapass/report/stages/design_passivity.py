@@ -8,7 +8,7 @@ figures is split as python-control splits ``*_response`` from ``*_plot``
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import sympy as sp
@@ -20,8 +20,8 @@ from ...analysis.region import PassiveIntervals, passive_intervals
 from ...analysis.witness import WitnessResult, find_destabilizing_environment
 from ...errors import SeapassError
 from ...model.design_file import Design
-from ...model.expr import UNITS
 from ...model.stiffness import derive_stiffness
+from ...model.units import unit_label
 from ...plot.region import plot_passive_intervals
 from ...plot.style import axes_grid
 from ...plot.witness import plot_witness
@@ -52,8 +52,12 @@ __all__ = [
 ]
 
 
-def values_text(values: dict[str, float]) -> str:
-    return ", ".join(f"{k} = {v:g}" for k, v in sorted(values.items()))
+def values_text(values: dict[str, float], units: Mapping[str, str] | None = None) -> str:
+    """``"b = 10 N*s/m, kd = 500 N/m"``: each value with its unit, if it has one."""
+    units = units or {}
+    return ", ".join(
+        f"{k} = {v:g}" + (f" {units[k]}" if units.get(k) else "") for k, v in sorted(values.items())
+    )
 
 
 def _elements_table(design: Design, k: sp.Expr, k_values: sp.Expr) -> Table:
@@ -170,15 +174,19 @@ def ranges_figures(design: Design, results: RangesData) -> tuple[FigureData, ...
     for ax, (name, res) in zip(axes[:, 0], results, strict=True):
         plot_passive_intervals(res, ax=ax)
         value = design.values[name]
-        unit = UNITS.get(name, "SI units")
+        unit = design.unit_map().get(name, "")
         for a, b in res.intervals:
             if a == b:  # an isolated passive value has no width: draw it
                 ax.axvline(a, color="#2e7d32", lw=3, clip_on=False)
         # unclipped: a design value at the end of the range stays visible
         ax.axvline(
-            value, color="tab:blue", lw=2.5, clip_on=False, label=f"design: {value:g} {unit}"
+            value,
+            color="tab:blue",
+            lw=2.5,
+            clip_on=False,
+            label=f"design: {value:g} {unit}".rstrip(),
         )
-        ax.set_xlabel(f"{name} [{unit}]")
+        ax.set_xlabel(unit_label(name, {name: unit}))
         ax.legend(loc="upper right", ncol=3, fontsize=8)
     fig.suptitle(f"{design.name}: exact passive sets")
     return (FigureData.of("passive_ranges", "Exact passive set of every gain.", fig),)

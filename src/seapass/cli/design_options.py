@@ -1,0 +1,237 @@
+"""A design file on every command: ``DESIGN.toml``, ``--unit``, ``--range NAME=LO:HI``, ``--points``.
+
+Every model command takes an optional design file; the flags override it and
+what they leave out comes from the file (the merging is the library's:
+[`resolve_design`][seapass.model.resolve.resolve_design]).  The one vocabulary
+of ranges and grids:
+
+* ``--range NAME=LO:HI``, repeatable: the search range of a parameter (``bound``,
+  ``region``, ``sampled bound|region``; random ranges of ``sweep``); a parameter
+  without one takes the file's ``[ranges]``, else ``[0, max(10·value, 1000)]``
+  around the file's value, else ``0:1e5``;
+* ``--points N``: the number of values on the gridded axis (``region`` columns,
+  ``sampled region`` rows).
+
+The old spellings (``--range LO:HI``, ``--x-range``, ``--y-range``, ``--nx``,
+``--range2``, ``--rows``) still work for one release, with one ``warning:`` line.
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from ..errors import ParameterError
+from .common import check_period, parse_named, parse_range, values_from_args, warn
+
+__all__ = [
+    "add_design_argument",
+    "add_range_options",
+    "add_unit_option",
+    "declared",
+    "deprecated_flag",
+    "design_from_args",
+    "points_from_args",
+    "ranges_from_args",
+    "system_from_design_args",
+    "unit_suffix",
+    "units_from_args",
+    "units_json",
+]
+
+_ELEMENTS = ("D1", "D2", "CA", "CL")
+
+
+def add_design_argument(p: argparse.ArgumentParser) -> None:
+    """The optional positional ``DESIGN.toml`` and ``--unit NAME=UNIT``."""
+    p.add_argument(
+        "design",
+        nargs="?",
+        metavar="DESIGN.toml",
+        help="design file (TOML, see 'seapass analyze --help'); the model flags override it",
+    )
+    add_unit_option(p)
+
+
+def add_unit_option(p: argparse.ArgumentParser) -> None:
+    """``--unit NAME=UNIT``, repeatable."""
+    p.add_argument(
+        "--unit",
+        action="append",
+        default=[],
+        metavar="NAME=UNIT",
+        help="unit of a parameter for labels and JSON, repeatable, e.g. --unit ki=1/s "
+        "(SI symbols with prefixes, '*', '/', '^N')",
+    )
+
+
+def add_range_options(p: Any, *, points: int | None = None, points_help: str = "") -> None:
+    """``--range NAME=LO:HI`` (repeatable) and, with ``points``, ``--points N``."""
+    p.add_argument(
+        "--range",
+        action="append",
+        default=[],
+        metavar="NAME=LO:HI",
+        help="search range of a parameter, repeatable (default: the design file's [ranges], "
+        "else [0, max(10*value, 1000)], else 0:1e5)",
+    )
+    if points is not None:
+        p.add_argument("--points", type=int, metavar="N", help=f"{points_help} (default: {points})")
+
+
+def deprecated_flag(old: str, new: str) -> None:
+    """One ``warning:`` line for an old spelling."""
+    warn(f"{old} is deprecated and will be removed in the next release; use {new}")
+
+
+def ranges_from_args(
+    args: argparse.Namespace,
+    names: Sequence[str],
+    old: Mapping[str, tuple[str, str | None]] | None = None,
+    *,
+    strict: bool = True,
+) -> dict[str, tuple[float, float] | None]:
+    """The ``--range`` of each of ``names`` (None: not given), old spellings included.
+
+    ``old`` maps a name to its deprecated option and value (``("--x-range", "0:1")``);
+    a bare ``--range LO:HI`` (old spelling) is the range of ``names[0]``.  ``strict``:
+    ``LO < HI`` (else ``LO <= HI``).
+    """
+    out: dict[str, tuple[float, float] | None] = dict.fromkeys(names)
+    named = [r for r in args.range if "=" in r]
+    for r in args.range:
+        if "=" not in r:
+            if out[names[0]] is not None:
+                raise ParameterError(f"--range {names[0]} is given twice; give each name once")
+            deprecated_flag(f"--range {r}", f"--range {names[0]}={r}")
+            out[names[0]] = parse_range(r, "--range", strict=strict)
+    for name, (lo, hi) in parse_named(named, "--range", 2, "NAME=LO:HI, e.g. kd=0:5000"):
+        if name not in out:
+            raise ParameterError(
+                f"--range {name}: not a free parameter here (the free ones: {', '.join(names)})"
+            )
+        if out[name] is not None:
+            raise ParameterError(f"--range {name} is given twice; give each name once")
+        out[name] = parse_range(f"{lo}:{hi}", f"--range {name}", strict=strict)
+    for name, (flag, text) in (old or {}).items():
+        if text is None:
+            continue
+        if out[name] is not None:
+            raise ParameterError(f"give --range {name}=LO:HI only ({flag} is its old spelling)")
+        deprecated_flag(f"{flag} {text}", f"--range {name}={text}")
+        out[name] = parse_range(text, flag, strict=strict)
+    return out
+
+
+def points_from_args(args: argparse.Namespace, old: str, default: int) -> int:
+    """``--points N``, or its old spelling (``--nx``, ``--rows``) with a warning, or ``default``."""
+    flag = "--" + old.replace("_", "-")
+    old_value = getattr(args, old)
+    if old_value is not None:
+        if args.points is not None:
+            raise ParameterError(f"give --points only ({flag} is its old spelling)")
+        deprecated_flag(f"{flag} {old_value}", f"--points {old_value}")
+        return int(old_value)
+    return default if args.points is None else int(args.points)
+
+
+def units_from_args(args: argparse.Namespace) -> dict[str, str]:
+    """``--unit NAME=UNIT`` items; a repeated name is an error."""
+    out: dict[str, str] = {}
+    for item in getattr(args, "unit", []):
+        name, sep, unit = item.partition("=")
+        name = name.strip()
+        if not sep or not name or not unit.strip():
+            raise ParameterError(f"--unit {item!r}: expected NAME=UNIT, e.g. --unit ki=1/s")
+        if name in out:
+            raise ParameterError(f"--unit {name} is given twice; give each name once")
+        out[name] = unit.strip()
+    return out
+
+
+def design_from_args(
+    args: argparse.Namespace,
+    free: Mapping[str, str] | None = None,
+    *,
+    default_loop: Any = None,
+) -> Any:
+    """The [`ResolvedDesign`][seapass.model.resolve.ResolvedDesign] of the command line.
+
+    ``free`` maps each free parameter to how it was given (``{"kd": "bound kd"}``);
+    it must not also be given with ``--set``.  The loop options (if the command has
+    them) change the file's ``[control]``, else ``default_loop``.
+    """
+    from ..model.design_file import load_design
+    from ..model.resolve import resolve_design
+
+    labels = dict(free or {})
+    values = values_from_args(args)
+    for name, label in labels.items():
+        if name in values:
+            raise ParameterError(
+                f"--set {name}: {name} is a free parameter here ({label}); do not also give "
+                "it a value"
+            )
+    path = getattr(args, "design", None)
+    design = load_design(path) if path is not None else None
+    loop: dict[str, Any] = {}
+    if hasattr(args, "period"):
+        check_period(args.period)
+        loop = {k: getattr(args, k, None) for k in ("period", "delay", "velocity_filter", "method")}
+    try:
+        return resolve_design(
+            design,
+            elements={e: getattr(args, e) for e in _ELEMENTS if getattr(args, e) is not None},
+            values=values,
+            free=labels,
+            units=units_from_args(args),
+            loop=loop,
+            default_loop=default_loop,
+            load_mass=getattr(args, "load_mass", None),
+            step=getattr(args, "step", None),
+            horizon=getattr(args, "horizon", None),
+        )
+    except ParameterError as exc:
+        where = {f"values[{n!r}]": label for n, label in labels.items()}
+        if exc.argument in where:  # a free name the model does not use
+            msg = str(exc)[len(exc.argument) + 2 :]
+            raise ParameterError(f"{where[exc.argument]}: {msg}") from None
+        raise
+
+
+def system_from_design_args(args: argparse.Namespace) -> tuple[Any, Any]:
+    """The raw ``--Z`` impedance (and None), or the SEA of the design and flags (and its resolution)."""
+    from ..model.sea import Impedance
+
+    if getattr(args, "Z", None) is None:
+        resolved = design_from_args(args)
+        return resolved.sea, resolved
+    if args.design is not None or any(getattr(args, e) is not None for e in _ELEMENTS):
+        raise ParameterError(
+            "give either --Z or a design (DESIGN.toml, --D1/--D2/--CA/--CL), not both"
+        )
+    if args.unit:
+        raise ParameterError("--unit names a parameter of an SEA design, not of --Z")
+    return Impedance(expr=args.Z, values=values_from_args(args)), None
+
+
+def declared(args: argparse.Namespace) -> bool:
+    """True when the command ran from a design file or with ``--unit`` (units are shown)."""
+    return getattr(args, "design", None) is not None or bool(getattr(args, "unit", []))
+
+
+def unit_suffix(args: argparse.Namespace, resolved: Any, name: str) -> str:
+    """``" N/m"`` after a value of ``name`` when units are shown and it has one, else ``""``."""
+    unit = resolved.units.get(name, "") if resolved is not None and declared(args) else ""
+    return f" {unit}" if unit else ""
+
+
+def units_json(args: argparse.Namespace, resolved: Any) -> dict[str, Any]:
+    """``{"units": {...}}`` when a design file or ``--unit`` was given, else ``{}``.
+
+    Without either, the JSON of a command stays as it was (every unit is the default).
+    """
+    if resolved is None or not declared(args):
+        return {}
+    return {"units": dict(resolved.units)}
