@@ -118,6 +118,7 @@ def run_robust_check(args: argparse.Namespace) -> int:
 def run_robust_bound(args: argparse.Namespace) -> int:
     """``bound PARAM --uncertain ...``: the robust passive set of PARAM (inner and outer)."""
     from ..robust.intervals import robust_passive_intervals
+    from ..robust.verdict import Method
 
     lo, hi = parse_range(args.range)
     system, box = _box_and_model(args, {args.param: f"bound {args.param}"})
@@ -133,7 +134,7 @@ def run_robust_bound(args: argparse.Namespace) -> int:
         print(f"not passive for every plant ({span}) for any {args.param} in [{lo:g}, {hi:g}]")
     for a, b in result.intervals:
         print(f"passive for every plant ({span}) for {a:.10g} <= {args.param} <= {b:.10g}")
-    if result.method != "exact":
+    if result.method is not Method.EXACT:
         outer = ", ".join(f"[{a:.10g}, {b:.10g}]" for a, b in result.outer) or "empty"
         print(f"certified: inner set above; no value outside {outer} is robustly passive")
     return 0
