@@ -123,6 +123,7 @@ def run_robust_bound(args: argparse.Namespace) -> int:
     """``bound PARAM --uncertain ...``: the robust passive set of PARAM (inner and outer)."""
     from ..exact.rounding import enclosure_text, interval_text
     from ..robust.intervals import robust_passive_intervals
+    from ..robust.verdict import Method
     from .design_options import design_from_args, ranges_from_args
 
     given = ranges_from_args(args, [args.param], strict=False)[args.param]
@@ -142,7 +143,7 @@ def run_robust_bound(args: argparse.Namespace) -> int:
         print(
             f"passive for every plant ({span}) for {args.param} in {interval_text(a, b, digits=10)}"
         )
-    if result.method != "exact":
+    if result.method is not Method.EXACT:
         outer = ", ".join(enclosure_text(a, b, digits=10) for a, b in result.outer) or "empty"
         print(f"certified: inner set above; no value outside {outer} is robustly passive")
     return 0

@@ -46,7 +46,7 @@ from ..model.expr import symbol, to_fraction
 from ..model.sea import SEA, Impedance
 from ..outcome import Outcome
 from .box import UncertainBox, uncertain_box
-from .verdict import DEFAULT_BUDGET, robust_check
+from .verdict import DEFAULT_BUDGET, Method, robust_check
 
 __all__ = ["RobustIntervals", "robust_passive_intervals"]
 
@@ -70,7 +70,7 @@ class RobustIntervals:
     outer : tuple of (float, float)
         Outer set: no value outside is robustly passive; ends rounded outward
         (equal to ``intervals`` up to rounding with the exact method).
-    method : str
+    method : Method
         ``"exact"`` (one uncertain parameter) or ``"certified"``.
     """
 
@@ -80,7 +80,7 @@ class RobustIntervals:
     box: UncertainBox
     intervals: tuple[tuple[float, float], ...] = ()
     outer: tuple[tuple[float, float], ...] = ()
-    method: str = "exact"
+    method: Method = Method.EXACT
 
     def contains(self, value: float) -> bool:
         return any(a <= value <= b for a, b in self.intervals)
@@ -93,7 +93,7 @@ class RobustIntervals:
             "box": self.box.to_dict(),
             "intervals": [list(iv) for iv in self.intervals],
             "outer": [list(iv) for iv in self.outer],
-            "method": self.method,
+            "method": str(self.method),
         }
 
     def plot(self, *, ax: Any = None, **kwargs: Any) -> Any:
@@ -108,7 +108,7 @@ class RobustIntervals:
             {
                 "param": self.param,
                 "intervals": Shown(_text(self.intervals)),
-                "method": self.method,
+                "method": str(self.method),
             },
         )
 
@@ -116,7 +116,7 @@ class RobustIntervals:
         rows = [("search range", f"[{self.lo:g}, {self.hi:g}]")]
         rows += [(k, f"[{a:g}, {b:g}]") for k, (a, b) in self.box.intervals.items()]
         rows += [("passive for every plant", _text(self.intervals))]
-        if self.method != "exact":
+        if self.method is not Method.EXACT:
             rows.append(("outer enclosure", _text(self.outer)))
         return html_card(f"Robust passive set of {self.param}", rows)
 
@@ -258,7 +258,7 @@ def _exact(
         box=box,
         intervals=tuple(inner),
         outer=tuple(outer),
-        method="exact",
+        method=Method.EXACT,
     )
 
 
@@ -318,7 +318,7 @@ def _certified(
         box=box,
         intervals=tuple((_up(a), _down(b)) for a, b in _merge(inner) if _up(a) <= _down(b)),
         outer=tuple((_down(a), _up(b)) for a, b in outer),
-        method="certified",
+        method=Method.CERTIFIED,
     )
 
 
@@ -361,7 +361,7 @@ def robust_passive_intervals(
     >>> from seapass.model.sea import SEA
     >>> sea = SEA(D1="k1", CL="kd", values=dict(m=1, b=10, k1=1000))
     >>> r = robust_passive_intervals(sea, "kd", 0, 2000, box={"k1": (800, 1200)})
-    >>> r.intervals, r.method
+    >>> r.intervals, str(r.method)
     (((0.0, 800.0),), 'exact')
     """
     lo_q, hi_q = to_fraction(lo, "lo"), to_fraction(hi, "hi")

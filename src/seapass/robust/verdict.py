@@ -34,6 +34,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from enum import StrEnum
 from typing import Any
 
 from flint import fmpq
@@ -49,10 +50,17 @@ from .bernstein import BoxSign, positive_on_box
 from .box import UncertainBox, uncertain_box
 from .family import ConditionKind, family_conditions, fixed_values
 
-__all__ = ["DEFAULT_BUDGET", "RobustResult", "WorstCase", "robust_check"]
+__all__ = ["DEFAULT_BUDGET", "Method", "RobustResult", "WorstCase", "robust_check"]
 
 DEFAULT_BUDGET = 5000
 """Boxes the certified branch and bound may examine (all conditions together)."""
+
+
+class Method(StrEnum):
+    """How a robust verdict was reached (the JSON value is the string)."""
+
+    EXACT = "exact"
+    CERTIFIED = "certified"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -95,7 +103,7 @@ class RobustResult:
         The uncertain parameters.
     worst : WorstCase or None
         The verified counterexample of a negative verdict.
-    method : str
+    method : Method
         ``"exact"`` (one parameter) or ``"certified"`` (Bernstein branch and bound).
     boxes : int
         Boxes examined by the branch and bound (0 for the exact method).
@@ -106,7 +114,7 @@ class RobustResult:
     outcome: Outcome
     box: UncertainBox
     worst: WorstCase | None = None
-    method: str = "certified"
+    method: Method = Method.CERTIFIED
     boxes: int = 0
     detail: str = ""
 
@@ -125,7 +133,7 @@ class RobustResult:
             "status": self.status,
             "box": self.box.to_dict(),
             "worst": None if self.worst is None else self.worst.to_dict(),
-            "method": self.method,
+            "method": str(self.method),
             "boxes": self.boxes,
             "detail": self.detail,
         }
@@ -146,7 +154,7 @@ class RobustResult:
             worst = Shown(", ".join(f"{k}={v:.6g}" for k, v in self.worst.values.items()))
         return short_repr(
             "RobustResult",
-            {"outcome": str(self.outcome), "worst": worst, "method": self.method},
+            {"outcome": str(self.outcome), "worst": worst, "method": str(self.method)},
         )
 
     def _repr_html_(self) -> str:
@@ -186,13 +194,15 @@ def _one_parameter(
     if lo == hi:
         w = _worst(system, fixed, {name: lo})
         out = Outcome.PASSIVE if w is None else Outcome.NOT_PASSIVE
-        return RobustResult(outcome=out, box=box, worst=w, method="exact", detail="a single plant")
+        return RobustResult(
+            outcome=out, box=box, worst=w, method=Method.EXACT, detail="a single plant"
+        )
     pi = passive_intervals(system, name, lo, hi, values=dict(fixed))
     if pi.intervals == ((lo, hi),):
         return RobustResult(
             outcome=Outcome.PASSIVE,
             box=box,
-            method="exact",
+            method=Method.EXACT,
             detail=f"the exact passive set of {name} contains [{lo:g}, {hi:g}]",
         )
     # the gaps of the passive set in [lo, hi]: test their middles and the critical values there
@@ -211,7 +221,7 @@ def _one_parameter(
                 outcome=Outcome.NOT_PASSIVE,
                 box=box,
                 worst=w,
-                method="exact",
+                method=Method.EXACT,
                 detail=f"not passive at {name} = {c:.10g} (exact passive set: "
                 + (", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in pi.intervals) or "empty")
                 + ")",
@@ -219,7 +229,7 @@ def _one_parameter(
     return RobustResult(  # pragma: no cover - the passive set has a gap with no failing point
         outcome=Outcome.UNDECIDED,
         box=box,
-        method="exact",
+        method=Method.EXACT,
         detail="the passive set has a gap, but no failing plant was found in it",
     )
 
