@@ -201,3 +201,25 @@ def test_a_cancellation_that_appears_only_at_the_fixed_values_is_not_hidden() ->
     r = robust_check(z, box={"m": (0.9, 1.1), "b": (1.5, 2.5)})
     assert r.outcome is Outcome.NOT_PASSIVE and r.worst is not None
     assert not is_passive(z, values=dict(r.worst.values)).passive
+
+
+def test_an_irrational_critical_value_inside_the_box_is_decided_over_the_reals() -> None:
+    """b has an irrational critical value (about 28.237) inside [20, 40] where the passive
+    set of doubles is unbroken: a plant is a real number, so the one-parameter path must not
+    conclude from the doubles; the certified branch and bound decides the real interval."""
+    from fractions import Fraction
+
+    from seapass.analysis.critical import critical_polynomials_in, critical_values_in
+    from seapass.model.sea import exact_values
+    from seapass.robust.verdict import Method
+
+    sea = SEA(D1="k1 + b1*s", CA="kd + bd*s", values=dict(m=1, b=10, k1=1000, b1=20, kd=500, bd=30))
+    fixed = {k: v for k, v in sea.values.items() if k != "b"}
+    crit = critical_values_in(
+        critical_polynomials_in(sea, "b", exact_values(fixed)), Fraction(20), Fraction(40)
+    )
+    assert any(c.poly is not None for c in crit)  # irrational, inside the box
+    inside = robust_check(sea, box={"b": (20.0, 40.0)})
+    assert inside.method is Method.CERTIFIED and inside.outcome is Outcome.PASSIVE
+    away = robust_check(sea, box={"b": (30.0, 40.0)})  # no irrational critical value: exact
+    assert away.method is Method.EXACT and away.outcome is Outcome.PASSIVE

@@ -35,16 +35,18 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import StrEnum
+from fractions import Fraction
 from typing import Any
 
 from flint import fmpq
 
+from ..analysis.critical import critical_polynomials_in, critical_values_in
 from ..analysis.passivity import PassivityResult, is_passive
 from ..analysis.region import passive_intervals
 from ..errors import NotPassiveError, ParameterError
 from ..exact import poly as ep
 from ..model.display import Shown, html_card, short_repr
-from ..model.sea import SEA, Impedance
+from ..model.sea import SEA, Impedance, exact_values
 from ..outcome import Outcome
 from .bernstein import BoxSign, positive_on_box
 from .box import UncertainBox, uncertain_box
@@ -186,8 +188,18 @@ def _worst(
     return WorstCase(values=dict(at), frequency=res.omega, result=res)
 
 
+def _irrational_critical_inside(
+    system: SEA | Impedance, name: str, lo: float, hi: float, fixed: Mapping[str, float]
+) -> bool:
+    """Whether an irrational critical value of ``name`` lies in ``[lo, hi]`` (rational ones
+    are decided exactly as points by `passive_intervals`)."""
+    polys = critical_polynomials_in(system, name, exact_values(fixed))
+    crit = critical_values_in(polys, Fraction(lo), Fraction(hi))
+    return any(c.poly is not None for c in crit)
+
+
 def _one_parameter(
-    system: SEA | Impedance, box: UncertainBox, fixed: Mapping[str, float]
+    system: SEA | Impedance, box: UncertainBox, fixed: Mapping[str, float], budget: int
 ) -> RobustResult:
     (name,) = box.names
     lo, hi = box.intervals[name]
@@ -198,6 +210,11 @@ def _one_parameter(
             outcome=out, box=box, worst=w, method=Method.EXACT, detail="a single plant"
         )
     pi = passive_intervals(system, name, lo, hi, values=dict(fixed))
+    if pi.intervals == ((lo, hi),) and _irrational_critical_inside(system, name, lo, hi, fixed):
+        # passive_intervals decides the doubles of [lo, hi]; a plant is a real number, and an
+        # irrational critical value inside was never tested (it joins two passive cells):
+        # decide the whole real interval with the certified branch and bound instead
+        return _certified(system, box, fixed, budget)
     if pi.intervals == ((lo, hi),):
         return RobustResult(
             outcome=Outcome.PASSIVE,
@@ -357,7 +374,7 @@ def robust_check(
     checked = uncertain_box(system, box)
     fixed = fixed_values(system, checked)
     if len(checked.names) == 1:
-        result = _one_parameter(system, checked, fixed)
+        result = _one_parameter(system, checked, fixed, budget)
     else:
         result = _certified(system, checked, fixed, budget)
     if throw and not result.passive:
