@@ -61,11 +61,15 @@ ELEMENTS: tuple[str, ...] = ("D1", "D2", "CA", "CL")
 _LOOP_KEYS = ("period", "delay", "velocity_filter", "method")
 
 
+def _empty() -> Mapping[str, Any]:
+    return MappingProxyType({})
+
+
 def default_range(value: float | None) -> tuple[float, float]:
     """``[0, max(10·|value|, 1000)]``, or `DEFAULT_RANGE` without a value.
 
-    >>> default_range(500.0), default_range(None)
-    ((0.0, 1000.0), (0.0, 100000.0))
+    >>> default_range(50.0), default_range(500.0), default_range(None)
+    ((0.0, 1000.0), (0.0, 5000.0), (0.0, 100000.0))
     """
     if value is None:
         return DEFAULT_RANGE
@@ -105,10 +109,10 @@ class ResolvedDesign:
     step: float | None = None
     horizon: float | None = None
     load_masses: tuple[float, ...] = PAPER_EXPERIMENT.load_masses
-    ranges: Mapping[str, tuple[float, float]] = field(default_factory=dict)
-    values: Mapping[str, float] = field(default_factory=dict)
-    units: Mapping[str, str] = field(default_factory=dict)
-    environment: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    ranges: Mapping[str, tuple[float, float]] = field(default_factory=_empty)
+    values: Mapping[str, float] = field(default_factory=_empty)
+    units: Mapping[str, str] = field(default_factory=_empty)
+    environment: Mapping[str, tuple[float, float]] = field(default_factory=_empty)
     design: Design | None = None
 
     def __post_init__(self) -> None:
