@@ -42,8 +42,7 @@ def test_non_finite_numpy_and_tuples() -> None:
     )
 )
 def test_any_value_gives_strict_json(value: object) -> None:
-    text = json_text(value)
-    assert "NaN" not in text and "Infinity" not in text
+    text = json_text(value)  # (a string value may itself read "NaN": only constants count)
     json.loads(text, parse_constant=lambda c: pytest.fail(f"non-JSON constant {c}"))
 
 

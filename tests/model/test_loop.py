@@ -128,7 +128,7 @@ LOOPS = st.builds(
 @given(LOOPS)
 def test_a_valid_loop_is_kept_as_given(loop: SampledLoop) -> None:
     assert loop.rate == 1 / loop.period and loop.nyquist == 0.5 / loop.period
-    assert loop.exact_period == loop.exact_period.limit_denominator(10**20)
+    assert float(loop.exact_period) == loop.period  # the exact period reads back as the double
     assert dataclasses.replace(loop, delay=0) == loop.replace(delay=0)  # both spellings copy
     assert loop.replace(period=loop.period) == loop
     assert set(loop.to_dict()) == {"period", "delay", "velocity_filter", "method"}
