@@ -25,7 +25,7 @@ from ..model.loop import LoopAttributes, SampledLoop, loop_argument
 from ..model.sea import SEA
 from ..outcome import Outcome
 from .boxes import BoxVerdict, bound_boxes
-from .controllers import controller_tfs
+from .controllers import DiscreteController, controller_parts
 from .family import controller_family
 from .lowfreq import low_frequency_limit
 from .passivity import check_precision, check_values, sampled_passivity
@@ -329,8 +329,10 @@ def sampled_passive_bound(
     # the precision the point verdicts need at a few values starts the boxes
     start = PRECISIONS[0]
     for v in {lo, hi, (lo + hi) / 2, *(() if design_value is None else (design_value,))}:
-        ka, kl = controller_tfs(base.with_values(**{param: v}), loop)
-        start = max(start, decide(key, ka, kl, T, max_precision=max_precision).precision)
+        ctrl = DiscreteController.for_loop(base.with_values(**{param: v}), loop)
+        ka, kl, hidden = controller_parts(ctrl, loop.delay)
+        d = decide(key, ka, kl, T, max_precision=max_precision, hidden=hidden)
+        start = max(start, d.precision)
     flo, fhi = Fraction(lo), Fraction(hi)
     span = fhi - flo
     advance = _progress_bar(progress, f"sampled bound of {param}")

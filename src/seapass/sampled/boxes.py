@@ -39,7 +39,7 @@ from .certified import (
     schur_stable,
     sign_on,
 )
-from .family import ControllerFamily, poly_product
+from .family import ControllerFamily, joint_polys
 from .power import weighted_polynomials
 from .verdict import (
     PRECISIONS,
@@ -109,11 +109,7 @@ def _setup(
 ) -> _Setup:
     sums = cached_sums(key, period, names, prec)
     a, load = fam.actuator, fam.load
-    vfam = [
-        poly_product(list(a.den), list(load.den)),
-        poly_product(list(a.num), list(load.den)),
-        poly_product(list(load.num), list(a.den)),
-    ]
+    vfam, rest = joint_polys(a, load)
     with precision(prec):
         p_family = weighted_polynomials(sums, vfam)
         e = max((p.degree() for p in (*a.num, *a.den)), default=0)
@@ -128,8 +124,8 @@ def _setup(
             chi.append([c.real for c in coeffs])
         n = max((len(c) for c in chi), default=0)
         chi = [c + [arb(0)] * (n - len(c)) for c in chi]
-        el = max((p.degree() for p in load.den), default=0)
-        dl = _z_coeffs(list(load.den), max(el, 0))
+        el = max((p.degree() for p in rest), default=0)
+        dl = _z_coeffs(list(rest), max(el, 0))
         return _Setup(sums, p_family, chi, dl, prec, modulus_on_circle(chi), modulus_on_circle(dl))
 
 
