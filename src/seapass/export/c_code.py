@@ -152,9 +152,7 @@ def _filters(dep: Deployment) -> list[dict[str, Any]]:
                 "offset": offset,
                 "n": n,
                 "k": len(f.inputs),
-                "b": [
-                    [c_literal(c) for c in num] for num in f.realization.numerators
-                ],
+                "b": [[c_literal(c) for c in num] for num in f.realization.numerators],
                 "a": [c_literal(c) for c in f.realization.denominator],
                 "inputs": [_INPUTS[sig][0] for sig in f.inputs],
                 "gain_expr": None if f.gain is None else f"s->gains.{f.gain}",
