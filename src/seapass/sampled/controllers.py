@@ -32,18 +32,19 @@ import sympy as sp
 from flint import fmpq, fmpq_poly
 
 from ..errors import ParameterError
+from ..model.controller import exact_rational, split_proper
 from ..model.expr import S, to_fraction
 from ..model.loop import METHODS, Method, SampledLoop
 from ..model.sea import SEA
 from .emulation import (
     check_period,
-    coeffs_in_q,
     discrete_paths,
     discretize,
+    exact_paths,
     filter_pole,
-    split_polynomial,
     zoh_discretize,
     zoh_row,
+    zoh_row_exact,
 )
 from .joint import (
     DiscreteTF,
@@ -151,23 +152,16 @@ class DiscreteController:
         if method not in METHODS:
             raise ParameterError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         T = check_period(period)
-        splits = [
-            split_polynomial(_numeric_controller(getattr(sea, a), vals)) for a in ("CA", "CL")
+        exprs = [_numeric_controller(getattr(sea, a), vals) for a in ("CA", "CL")]
+        propers: list[Any] = [None, None]
+        if method == "zoh":
+            rows = [split_proper(exact_rational(e))[1] for e in exprs]
+            if any(not n.is_zero() for n, _d in rows):
+                propers = list(zoh_row_exact(rows, T))
+        parts = [
+            exact_paths(e, T, method=method, velocity_filter=velocity_filter, proper_q=pq)
+            for e, pq in zip(exprs, propers, strict=True)
         ]
-        propers: list[sp.Expr | None] = [None, None]
-        if method == "zoh" and any(p != 0 for _c, p in splits):
-            propers = list(zoh_row([p for _c, p in splits], T))
-        parts = []
-        for (coeffs, proper), pq in zip(splits, propers, strict=True):
-            err, deriv = discrete_paths(
-                coeffs, proper, T, method=method, velocity_filter=velocity_filter, proper_q=pq
-            )
-            parts.append(
-                (
-                    DiscreteTF(*coeffs_in_q(sp.sympify(err)), T),
-                    DiscreteTF(*coeffs_in_q(sp.sympify(deriv)), T),
-                )
-            )
         return cls(parts[0], parts[1], float(period), sea.name)
 
     @classmethod

@@ -34,12 +34,12 @@ from fractions import Fraction
 
 import numpy as np
 import sympy as sp
-from flint import fmpq, fmpq_mat
+from flint import fmpq, fmpq_mat, fmpq_poly
 
 from ..errors import ParameterError
 from ..model.expr import S, to_fraction
 from ..model.loop import METHODS, Method
-from .joint import DiscreteTF
+from .joint import DiscreteTF, q_reduce
 
 __all__ = [
     "ZINV",
@@ -47,10 +47,12 @@ __all__ = [
     "coeffs_in_q",
     "discrete_paths",
     "discretize",
+    "exact_paths",
     "filter_pole",
     "split_polynomial",
     "zoh_discretize",
     "zoh_row",
+    "zoh_row_exact",
 ]
 
 ZINV = sp.Symbol("q")
@@ -127,34 +129,109 @@ def zoh_row(propers: Sequence[sp.Expr], period: Fraction) -> list[sp.Expr]:
     (floats made exact), and each entry's pulse transfer function is read off that one
     discrete realization exactly, so shared poles stay identical in every entry.
     """
+    from ..model.controller import exact_rational
+
+    out = []
+    for num, den in zoh_row_exact([exact_rational(p) for p in propers], period):
+        qn = sum((_rat(c) * ZINV**i for i, c in enumerate(num.coeffs())), sp.Integer(0))
+        qd = sum((_rat(c) * ZINV**i for i, c in enumerate(den.coeffs())), sp.Integer(0))
+        out.append(qn / qd)
+    return out
+
+
+def zoh_row_exact(
+    rows: Sequence[tuple[fmpq_poly, fmpq_poly]], period: Fraction
+) -> list[tuple[fmpq_poly, fmpq_poly]]:
+    """`zoh_row` on exact strictly proper ``(num, den)`` in ``s``; ``(num, den)`` in ``q`` out."""
     from scipy.linalg import expm
 
-    from ..model.controller import common_denominator, exact_rational, observable_form
+    from ..model.controller import common_denominator, observable_form
 
-    rows = [exact_rational(p) for p in propers]
-    nums, den = common_denominator(rows)
+    nums, den = common_denominator(list(rows))
     n = den.degree()
     if n == 0:
-        return [sp.Integer(0) for _ in propers]
+        return [(fmpq_poly([0]), fmpq_poly([1])) for _ in rows]
     A, B, _C = observable_form(nums, den)
-    k = len(propers)
+    k = len(rows)
     big = np.zeros((n + k, n + k))
     big[:n, :n] = [[float(A[i, j]) for j in range(n)] for i in range(n)]
     big[:n, n:] = [[float(B[i, j]) for j in range(k)] for i in range(n)]
     E = expm(big * float(period))
     Ad = fmpq_mat(n, n, [_exact(x) for x in E[:n, :n].ravel()])
-    out = []
     base = Ad.charpoly()  # det(zI − Ad), monic of degree n
+    out = []
     for j in range(k):
+        if rows[j][0].is_zero():
+            out.append((fmpq_poly([0]), fmpq_poly([1])))
+            continue
         # C (zI − Ad)^{-1} b = [det(zI − Ad + b C) − det(zI − Ad)] / det(zI − Ad), C = e_n
         bc = fmpq_mat(n, n)
         for i in range(n):
             bc[i, n - 1] = _exact(E[i, n + j])
         num = (Ad - bc).charpoly() - base
-        qn = sum((_rat(c) * ZINV ** (n - i) for i, c in enumerate(num.coeffs())), sp.Integer(0))
-        qd = sum((_rat(c) * ZINV ** (n - i) for i, c in enumerate(base.coeffs())), sp.Integer(0))
-        out.append(qn / qd if rows[j][0] != 0 else sp.Integer(0))
+        # in q = 1/z: multiply both by z^-n (coefficients reversed, padded to degree n)
+        cn = [num.coeffs()[i] if i < len(num.coeffs()) else 0 for i in range(n + 1)]
+        out.append((fmpq_poly(cn[::-1]), fmpq_poly(base.coeffs()[::-1])))
     return out
+
+
+def exact_paths(
+    expr: sp.Expr,
+    period: Fraction,
+    *,
+    method: Method,
+    velocity_filter: float | None,
+    proper_q: tuple[fmpq_poly, fmpq_poly] | None = None,
+) -> tuple[DiscreteTF, DiscreteTF]:
+    """``(error path, measurement path)`` of a numeric ``C(s)``, in exact rational arithmetic.
+
+    The scheme of `discrete_paths` carried out on python-flint polynomials (much faster than
+    the symbolic route, same exact result); ``proper_q`` is the proper part already
+    discretized in ``q`` (the joint ZOH, `zoh_row_exact`).
+    """
+    from ..model.controller import exact_rational, split_proper
+
+    T = fmpq(period.numerator, period.denominator)
+    poly, (rn, rd) = split_proper(exact_rational(expr))
+    c = poly.coeffs()
+    a = filter_pole(velocity_filter, float(period))
+    af = fmpq(a.numerator, a.denominator)
+    one_minus_q = fmpq_poly([1, -1])
+    K = len(c) - 1
+    if K >= 1:
+        dnum = one_minus_q * ((1 - af) / T)
+        dden = fmpq_poly([1, -af])
+        mnum = sum((dnum**k * dden ** (K - k) * c[k] for k in range(1, K + 1)), fmpq_poly([0]))
+        meas = (mnum, dden**K)
+    else:
+        meas = (fmpq_poly([0]), fmpq_poly([1]))
+    c0 = c[0] if c else fmpq(0)
+    if proper_q is not None:
+        pn, pd = proper_q
+    elif rn.is_zero():
+        pn, pd = fmpq_poly([0]), fmpq_poly([1])
+    else:
+        n = rd.degree()
+        rc, dc = rn.coeffs(), rd.coeffs()
+        if method == "tustin":
+            w, one_plus_q = one_minus_q * (2 / T), fmpq_poly([1, 1])
+            pn = sum((w**i * one_plus_q ** (n - i) * x for i, x in enumerate(rc)), fmpq_poly([0]))
+            pd = sum((w**i * one_plus_q ** (n - i) * x for i, x in enumerate(dc)), fmpq_poly([0]))
+        elif method == "backward":
+            w = one_minus_q / T
+            pn = sum((w**i * x for i, x in enumerate(rc)), fmpq_poly([0]))
+            pd = sum((w**i * x for i, x in enumerate(dc)), fmpq_poly([0]))
+        else:
+            ((pn, pd),) = zoh_row_exact([(rn, rd)], period)
+    err = (pd * c0 + pn, pd)
+    return (
+        DiscreteTF(*q_reduce(_fractions(err[0]), _fractions(err[1])), period),
+        DiscreteTF(*q_reduce(_fractions(meas[0]), _fractions(meas[1])), period),
+    )
+
+
+def _fractions(p: fmpq_poly) -> tuple[Fraction, ...]:
+    return tuple(Fraction(int(x.p), int(x.q)) for x in p.coeffs()) or (Fraction(0),)
 
 
 def _exact(x: float) -> fmpq:
@@ -252,12 +329,7 @@ def discretize(
     if leftover:
         names = ", ".join(sorted(map(str, leftover)))
         raise ParameterError(f"controller has parameters without values: {names}; give them")
-    coeffs, proper = split_polynomial(e)
-    err_expr, deriv = discrete_paths(
-        coeffs, proper, T, method=method, velocity_filter=velocity_filter
-    )
-    err = DiscreteTF(*coeffs_in_q(sp.sympify(err_expr)), T)
-    meas = DiscreteTF(*coeffs_in_q(sp.sympify(deriv)), T)
+    err, meas = exact_paths(e, T, method=method, velocity_filter=velocity_filter)
     if split:
         return err, meas
     return err + meas

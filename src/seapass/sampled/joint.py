@@ -168,7 +168,8 @@ def _unit(p: fmpq_poly) -> fmpq_poly:
 
 def q_reduce(num: Sequence[Fraction], den: Sequence[Fraction]) -> tuple[Poly, Poly]:
     """``num/den`` in lowest terms with ``den[0] = 1`` (``0`` is ``0/1``)."""
-    n, d = _poly(num), _unit(_poly(den))
+    n, d = _poly(num), _poly(den)
+    _unit(d)  # refuses a non-causal denominator
     if n.is_zero():
         return (Fraction(0),), (Fraction(1),)
     g = n.gcd(d)
