@@ -10,6 +10,7 @@ Format (every section but ``[model]`` and ``[parameters]`` is optional)::
     D2 = "0"                            # load to ground
     CA = "kd + bd*s"                    # actuator-side controller
     CL = "0"                            # load-side controller
+                                        # f_A = CA*(theta - x_A) + CL*(theta - x_L)
 
     [parameters]                        # a value for every symbol used, m and b included
     m = 1.0
@@ -41,6 +42,24 @@ Format (every section but ``[model]`` and ``[parameters]`` is optional)::
 
     [rig]
     file = "my_rig.toml"                # relative to the design file, or preset = "paper"
+
+Instead of ``CA`` and ``CL``, a ``[controller]`` table gives the controller as
+blocks, compiled exactly into ``CA`` and ``CL`` by
+[`derive_controller`][seapass.model.controller.derive_controller]::
+
+    [controller]
+    kind = "impedance"                  # or "force", "velocity-sourced"
+    force = "kp + ki/s"                 # force-loop compensator C_f
+    impedance = "kv + bv*s"             # target impedance of the outer loop
+    damping = "ba"                      # damping injected on the actuator velocity
+    feedforward = true                  # force feed-forward (default false)
+    # velocity = "kvp + kvi/s"          # the motor-velocity loop (velocity-sourced)
+    # sensor = "k1"                     # measured force per unit deflection (default)
+
+An optional ``[plant]`` table gives the values of hardware parameters besides
+the standard ``m b k1 k2 b1 b2`` (which may also stay in ``[parameters]``): plant
+parameters are fixed, substituted where a controller uses them and never tuned
+as gains (`Design.gains`).
 
 Validation is strict: an unknown key, a wrong type, a missing field or a
 value out of range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the
@@ -77,6 +96,7 @@ from ..files.textfile import check_input_file
 from ..files.toml import load_toml_file
 from .catalog import CATALOG, CatalogDesign
 from .catalog import design as catalog_design
+from .controller import BLOCKS, Controller, ControllerDerivation, ControllerKind, derive_controller
 from .display import html_card, short_repr
 from .experiment import PAPER_EXPERIMENT
 from .loop import METHODS, LoopAttributes, SampledLoop
@@ -100,9 +120,16 @@ class Design(LoopAttributes):
     ----------
     name, title : str
     D1, D2, CA, CL : str
-        Element expressions (rational in ``s``), ``"0"`` when absent.
+        Element expressions (rational in ``s``), ``"0"`` when absent; with a
+        ``controller``, ``CA`` and ``CL`` are derived from it.
     values : mapping of str to float
-        A value for every parameter the model uses, ``m`` and ``b`` included.
+        A value for every parameter the model uses, ``m`` and ``b`` included
+        (``[parameters]`` and ``[plant]``).
+    controller : Controller or None
+        The controller as blocks (``[controller]``), compiled into ``CA``, ``CL``.
+    plant : tuple of str
+        Parameters declared in ``[plant]``: hardware, like ``m b k1 k2 b1 b2`` and
+        the parameters of ``D1``, ``D2`` (see `plant_parameters`).
     ranges : mapping of str to (float, float)
         Search ranges of the passive sets; parameters of ``CA``/``CL`` without
         an explicit range get a default (see `analysis_ranges`).
@@ -124,8 +151,8 @@ class Design(LoopAttributes):
 
     name: str
     D1: str
-    CA: str
     values: Mapping[str, float]
+    CA: str = "0"
     D2: str = "0"
     CL: str = "0"
     title: str = ""
@@ -137,6 +164,8 @@ class Design(LoopAttributes):
     loop: SampledLoop | None = None
     rig_file: str | None = None
     environment: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    controller: Controller | None = None
+    plant: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if not _NAME.match(self.name):
@@ -157,10 +186,13 @@ class Design(LoopAttributes):
         for key in ("m", "b"):
             if key not in self.values:
                 raise FileFormatError(f"missing parameters.{key} (actuator mass / damping)")
+        object.__setattr__(self, "plant", tuple(sorted(set(self.plant))))
+        if self.controller is not None:
+            self._compile_controller()
         try:
             sea = self.sea()
         except SeapassError as exc:
-            raise FileFormatError(_in_file_terms(exc)) from None
+            raise FileFormatError(_in_file_terms(exc, self.plant)) from None
         missing = [p for p in sea.parameters if p not in self.values]
         if missing:
             raise FileFormatError(
@@ -168,8 +200,9 @@ class Design(LoopAttributes):
             )
         unused = sorted(set(self.values) - set(sea.parameters) - {"m", "b"})
         if unused:
+            table = "plant" if unused[0] in self.plant else "parameters"
             raise FileFormatError(
-                f"parameters.{unused[0]} is not used by the model "
+                f"{table}.{unused[0]} is not used by the model "
                 f"(it uses {', '.join(sea.parameters)})"
             )
         for name, (lo, hi) in self.ranges.items():
@@ -190,11 +223,32 @@ class Design(LoopAttributes):
 
     def _repr_html_(self) -> str:
         rows: list[tuple[str, Any]] = [(k, getattr(self, k)) for k in ("D1", "D2", "CA", "CL")]
+        if self.controller is not None:
+            rows.insert(2, ("controller", self.controller.kind.description))
         rows += list(self.values.items())
         rows += [(f"range of {k}", f"[{lo:g}, {hi:g}]") for k, (lo, hi) in self.ranges.items()]
         if self.loop is not None:
             rows.append(("control rate", f"{self.loop.rate:g} Hz"))
         return html_card(f"Design {self.name}" + (f": {self.title}" if self.title else ""), rows)
+
+    def _compile_controller(self) -> None:
+        """``CA`` and ``CL`` from the ``[controller]`` blocks (refused with raw ones too)."""
+        assert self.controller is not None
+        if not isinstance(self.controller, Controller):
+            raise FileFormatError(
+                f"controller: expected a Controller, got {type(self.controller).__name__}"
+            )
+        try:
+            d = derive_controller(self.controller, parameters=self.values)
+        except SeapassError as exc:
+            raise FileFormatError(_controller_terms(exc)) from None
+        for key, compiled in (("CA", d.CA), ("CL", d.CL)):
+            if getattr(self, key) not in ("0", compiled):
+                raise FileFormatError(
+                    f"give either [controller] or model.CA/model.CL, not both (model.{key} = "
+                    f"{getattr(self, key)!r}; the controller's {key} is {compiled!r})"
+                )
+            object.__setattr__(self, key, compiled)
 
     def sea(self) -> SEA:
         """The [`SEA`][seapass.model.sea.SEA] with every value of the file."""
@@ -205,14 +259,26 @@ class Design(LoopAttributes):
             CL=self.CL,
             values=dict(self.values),
             name=self.name,
+            plant=self.plant,
         )
+
+    def derivation(self) -> ControllerDerivation | None:
+        """How ``CA`` and ``CL`` follow from the ``[controller]`` blocks (None without one)."""
+        if self.controller is None:
+            return None
+        return derive_controller(self.controller, parameters=self.values)
 
     @property
     def gains(self) -> tuple[str, ...]:
-        """Parameters of the controllers ``CA`` and ``CL``, sorted."""
-        sea = self.sea()
-        syms = sea.CA.free_symbols | sea.CL.free_symbols
-        return tuple(sorted(str(x) for x in syms if str(x) != "s"))
+        """The controller gains, sorted: parameters of ``CA`` and ``CL`` that are not plant
+        parameters ([`SEA.gains`][seapass.model.sea.SEA.gains])."""
+        return self.sea().gains
+
+    @property
+    def plant_parameters(self) -> tuple[str, ...]:
+        """The hardware's parameters, sorted: ``m b k1 k2 b1 b2``, those of ``D1``, ``D2``
+        and the ``[plant]`` table ([`SEA.plant_parameters`][seapass.model.sea.SEA.plant_parameters])."""
+        return self.sea().plant_parameters
 
     @property
     def period(self) -> float | None:
@@ -238,7 +304,10 @@ class Design(LoopAttributes):
         return ordered[len(ordered) // 2]
 
     def analysis_ranges(self) -> dict[str, tuple[float, float]]:
-        """Explicit ranges plus a default ``[0, max(10·value, 1000)]`` for every gain."""
+        """Explicit ranges plus a default ``[0, max(10·value, 1000)]`` for every gain.
+
+        A plant parameter is searched only with an explicit ``[ranges]`` entry.
+        """
         out = dict(self.ranges)
         for g in self.gains:
             if g not in out:
@@ -265,20 +334,32 @@ class Design(LoopAttributes):
             },
             "environment": {k: list(v) for k, v in self.environment.items()},
             "rig": self.rig_file,
+            "controller": None if self.controller is None else self.controller.to_table(),
+            "plant": list(self.plant_parameters),
         }
 
 
-def _in_file_terms(exc: SeapassError) -> str:
+def _in_file_terms(exc: SeapassError, plant: tuple[str, ...] = ()) -> str:
     """An `SEA` error in the words of the file: ``parameters.kd``, not ``values['kd']``."""
     msg = str(exc)
     arg = exc.argument or ""
     m = re.fullmatch(r"values\['(\w+)'\]", arg)
     if m and msg.startswith(f"{arg}: "):
-        return f"parameters.{m.group(1)}: {msg[len(arg) + 2 :]}"
+        table = "plant" if m.group(1) in plant else "parameters"
+        return f"{table}.{m.group(1)}: {msg[len(arg) + 2 :]}"
     msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"add \1 to [parameters]", msg)
     if arg in _MODEL and msg.startswith(f"{arg}: "):
         return f"model.{msg}"
     return f"model: {msg}"
+
+
+def _controller_terms(exc: SeapassError) -> str:
+    """A `Controller` error in the words of the file: ``controller.force: ...``."""
+    msg, arg = str(exc), exc.argument or ""
+    if arg and msg.startswith(f"{arg}: "):
+        msg = msg[len(arg) + 2 :]
+    msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"add \1 to [parameters]", msg)
+    return f"controller.{arg}: {msg}" if arg else f"controller: {msg}"
 
 
 _PAIR = Field(tuple)
@@ -290,6 +371,18 @@ DESIGN_FIELDS: dict[str, Field] = {
     "title": Field(str, hi=MAX_TITLE_CHARS, line=True, required=False),
     "model": Field(dict, fields={k: Field(str, required=False) for k in _MODEL}),
     "parameters": Field(dict, keys=_PARAM, item=Field(float)),
+    "plant": Field(dict, keys=_PARAM, item=Field(float), required=False),
+    # the controller's own checks (Controller, derive_controller) give the rules between keys
+    "controller": Field(
+        dict,
+        required=False,
+        fields={
+            "kind": Field(str, choices=tuple(k.value for k in ControllerKind),
+                          hint='"force", "impedance" or "velocity-sourced"'),
+            **{k: Field(str, required=False) for k in BLOCKS},
+            "feedforward": Field(bool, required=False),
+        },
+    ),  # fmt: skip
     "ranges": Field(dict, keys=_PARAM, item=_PAIR, required=False),
     "simulation": Field(
         dict,
@@ -353,7 +446,21 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
         if not text.strip():
             raise FileFormatError(f'model.{key}: empty expression (write "0" for none)')
         kw[key] = text
-    values = doc["parameters"]
+    if "controller" in doc:
+        given = [f"model.{k}" for k in ("CA", "CL") if k in model]
+        if given:
+            raise FileFormatError(
+                f"give either [controller] or {' and '.join(given)}, not both: the controller "
+                "blocks are compiled into CA and CL"
+            )
+        kw["controller"] = Controller.from_table(doc["controller"])
+    values = dict(doc["parameters"])
+    plant = doc.get("plant", {})
+    twice = sorted(set(plant) & set(values))
+    if twice:
+        raise FileFormatError(f"plant.{twice[0]} is also in [parameters]; give it once")
+    values.update(plant)
+    kw["plant"] = tuple(plant)
     if "m" in values and values["m"] <= 0:
         raise FileFormatError(
             f"parameters.m: the actuator mass must be positive, got {values['m']}"
