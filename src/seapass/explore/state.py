@@ -26,7 +26,7 @@ from ..model.design_file import Design, parse_design
 from ..model.experiment import PAPER_EXPERIMENT
 from ..model.expr import STANDARD_SYMBOLS, parse_expression
 from ..model.loop import SampledLoop
-from ..model.sea import SEA
+from ..model.sea import PLANT_SYMBOLS, SEA
 
 __all__ = [
     "ELEMENTS",
@@ -112,6 +112,10 @@ class ExploreState:
         Cut-off (Hz) of the velocity low-pass, None for none.
     loop : SampledLoop or None
         The three as the sampled loop (None for continuous control only).
+    plant : tuple of str
+        Parameters declared part of the hardware (a design file's ``[plant]``)
+        besides ``m b k1 k2 b1 b2`` and those of ``D1``, ``D2``: plant parameters
+        get the slider range of a fixed value and are never the default gain.
     """
 
     name: str
@@ -128,6 +132,7 @@ class ExploreState:
     delay: int = 0
     velocity_filter: float | None = None
     new_parameters: tuple[str, ...] = field(default=(), compare=False)
+    plant: tuple[str, ...] = ()
 
     @property
     def parameters(self) -> tuple[str, ...]:
@@ -135,11 +140,11 @@ class ExploreState:
 
     @property
     def gains(self) -> tuple[str, ...]:
-        """Parameters of the controllers ``CA`` and ``CL``."""
-        return _gains(self.model, self.values)
+        """Parameters of the controllers ``CA`` and ``CL`` that are not plant parameters."""
+        return _gains(self.model, self.values, self.plant)
 
     def sea(self) -> SEA:
-        return SEA(**dict(self.model), values=dict(self.values), name=self.name)
+        return SEA(**dict(self.model), values=dict(self.values), name=self.name, plant=self.plant)
 
     @property
     def loop(self) -> SampledLoop | None:
@@ -174,6 +179,7 @@ class ExploreState:
             "delay": self.delay,
             "velocity_filter": self.velocity_filter,
             "new_parameters": list(self.new_parameters),
+            "plant": list(self.plant),
         }
 
     def design(self) -> Design:
@@ -192,6 +198,7 @@ class ExploreState:
             horizon=self.horizon,
             tune_mass=self.load_mass,
             loop=self.loop,
+            plant=self.plant,
         )
 
     def design_toml(self) -> str:
@@ -206,8 +213,10 @@ class ExploreState:
             *(f"{k} = {_toml_str(getattr(d, k))}" for k in ELEMENTS),
             "",
             "[parameters]",
-            *(f"{k} = {_toml_float(v)}" for k, v in d.values.items()),
+            *(f"{k} = {_toml_float(v)}" for k, v in d.values.items() if k not in d.plant),
         ]
+        if d.plant:
+            lines += ["", "[plant]", *(f"{k} = {_toml_float(d.values[k])}" for k in d.plant)]
         if d.ranges:
             lines += ["", "[ranges]"]
             lines += [
@@ -240,11 +249,17 @@ def _toml_float(value: float) -> str:
     return repr(float(value))
 
 
-def _gains(model: Mapping[str, str], values: Mapping[str, float]) -> tuple[str, ...]:
+def _gains(
+    model: Mapping[str, str], values: Mapping[str, float], plant: tuple[str, ...] = ()
+) -> tuple[str, ...]:
+    """Controller parameters with a value that are not plant parameters (`SEA.gains`)."""
+    hardware = {*PLANT_SYMBOLS, *plant}
+    for key in ("D1", "D2"):
+        hardware.update(_names(model.get(key, "0")))
     out = []
     for key in ("CA", "CL"):
         for name in _names(model.get(key, "0")):
-            if name in values and name not in out:
+            if name in values and name not in out and name not in hardware:
                 out.append(name)
     return tuple(sorted(out))
 
@@ -399,7 +414,13 @@ def check_state(data: Any) -> StateCheck:
     if "m" in values and values["m"] <= 0:
         errors["values.m"] = "the actuator mass must be positive"
 
-    gains = _gains(model, values)
+    plant_in = data.get("plant", [])
+    plant = tuple(
+        sorted({p for p in plant_in if isinstance(p, str) and p in values})
+        if isinstance(plant_in, list | tuple)
+        else ()
+    )
+    gains = _gains(model, values, plant)
     ranges: dict[str, tuple[float, float]] = {}
     for name, val in values.items():
         raw = ranges_in.get(name)
@@ -476,6 +497,7 @@ def check_state(data: Any) -> StateCheck:
             gain=str(gain),
             region=(str(region[0]), str(region[1])),
             new_parameters=tuple(new),
+            plant=plant,
             **conditions,
         )
         state.sea()
