@@ -55,30 +55,52 @@ _KINDS = ("force", "impedance", "velocity-sourced")
 
 def add_controller_options(p: argparse.ArgumentParser) -> None:
     """``--controller KIND`` and its blocks, and ``--plant NAME=VALUE``, in their own group."""
-    g = p.add_argument_group(
-        "controller as blocks (instead of --CA/--CL; see docs/controllers.md)"
+    g = p.add_argument_group("controller as blocks (instead of --CA/--CL; see docs/controllers.md)")
+    g.add_argument(
+        "--controller",
+        choices=_KINDS,
+        metavar="KIND",
+        help="force | impedance | velocity-sourced: compile the blocks below into CA and CL",
     )
-    g.add_argument("--controller", choices=_KINDS, metavar="KIND",
-                   help="force | impedance | velocity-sourced: compile the blocks below into "
-                   "CA and CL")  # fmt: skip
-    g.add_argument("--force-loop", metavar="EXPR",
-                   help="force-loop compensator C_f on the measured force, e.g. 'kp + ki/s' "
-                   "(proper: filter a derivative)")  # fmt: skip
-    g.add_argument("--impedance", metavar="EXPR",
-                   help="target impedance of the outer loop, e.g. 'kv + bv*s'")
-    g.add_argument("--velocity-loop", metavar="EXPR",
-                   help="motor-velocity loop (velocity-sourced), e.g. 'kvp + kvi/s'")
-    g.add_argument("--damping-injection", metavar="EXPR",
-                   help="damping injected on the actuator velocity, e.g. 'ba'")
-    g.add_argument("--feedforward", action="store_true",
-                   help="force feed-forward: also apply the force reference directly")
-    g.add_argument("--sensor", metavar="EXPR",
-                   help="measured force per unit deflection x_A - x_L (default: k1; a load "
-                   "cell: the transmission, e.g. 'k1 + b1*s')")  # fmt: skip
-    g.add_argument("--plant", action="append", default=[], metavar="NAME=VALUE",
-                   help="a hardware parameter and its value, repeatable: fixed, never a "
-                   "default tuning gain (m b k1 k2 b1 b2 and the parameters of D1, D2 are "
-                   "plant parameters already)")  # fmt: skip
+    g.add_argument(
+        "--force-loop",
+        metavar="EXPR",
+        help="force-loop compensator C_f on the measured force, e.g. 'kp + ki/s' "
+        "(proper: filter a derivative)",
+    )
+    g.add_argument(
+        "--impedance", metavar="EXPR", help="target impedance of the outer loop, e.g. 'kv + bv*s'"
+    )
+    g.add_argument(
+        "--velocity-loop",
+        metavar="EXPR",
+        help="motor-velocity loop (velocity-sourced), e.g. 'kvp + kvi/s'",
+    )
+    g.add_argument(
+        "--damping-injection",
+        metavar="EXPR",
+        help="damping injected on the actuator velocity, e.g. 'ba'",
+    )
+    g.add_argument(
+        "--feedforward",
+        action="store_true",
+        help="force feed-forward: also apply the force reference directly",
+    )
+    g.add_argument(
+        "--sensor",
+        metavar="EXPR",
+        help="measured force per unit deflection x_A - x_L (default: k1; a load "
+        "cell: the transmission, e.g. 'k1 + b1*s')",
+    )
+    g.add_argument(
+        "--plant",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="a hardware parameter and its value, repeatable: fixed, never a "
+        "default tuning gain (m b k1 k2 b1 b2 and the parameters of D1, D2 are "
+        "plant parameters already)",
+    )
 
 
 def controller_given(args: argparse.Namespace) -> bool:
@@ -90,9 +112,7 @@ def controller_given(args: argparse.Namespace) -> bool:
 
 def model_given(args: argparse.Namespace) -> bool:
     """Whether a model was given on the command line (elements or controller blocks)."""
-    return controller_given(args) or any(
-        getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL")
-    )
+    return controller_given(args) or any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL"))
 
 
 def controller_from_args(args: argparse.Namespace) -> Any:
@@ -110,8 +130,7 @@ def controller_from_args(args: argparse.Namespace) -> Any:
         return None
     if args.controller is None:
         raise ParameterError(
-            "the controller blocks need --controller KIND (force, impedance or "
-            "velocity-sourced)"
+            "the controller blocks need --controller KIND (force, impedance or velocity-sourced)"
         )
     raw = [f"--{e}" for e in ("CA", "CL") if getattr(args, e) != "0"]
     if raw:

@@ -170,7 +170,7 @@ class Controller:
         argument.  The expressions themselves are checked by `derive_controller`.
     """
 
-    kind: ControllerKind | str
+    kind: ControllerKind  # a str is converted (ControllerKind("impedance"))
     force: str
     impedance: str | None = None
     velocity: str | None = None
@@ -239,7 +239,7 @@ class Controller:
         return {"kind": str(self.kind), **self.blocks(), "feedforward": self.feedforward}
 
     def __repr__(self) -> str:
-        fields_ = {"kind": str(self.kind), **self.blocks()}
+        fields_: dict[str, Any] = {"kind": str(self.kind), **self.blocks()}
         if self.feedforward:
             fields_["feedforward"] = True
         return short_repr("Controller", fields_)
@@ -318,7 +318,8 @@ class ControllerDerivation:
 
     def __repr__(self) -> str:
         return short_repr(
-            "ControllerDerivation", {"kind": str(self.controller.kind), "CA": self.CA, "CL": self.CL}
+            "ControllerDerivation",
+            {"kind": str(self.controller.kind), "CA": self.CA, "CL": self.CL},
         )
 
     def _repr_html_(self) -> str:

@@ -377,12 +377,15 @@ DESIGN_FIELDS: dict[str, Field] = {
         dict,
         required=False,
         fields={
-            "kind": Field(str, choices=tuple(k.value for k in ControllerKind),
-                          hint='"force", "impedance" or "velocity-sourced"'),
+            "kind": Field(
+                str,
+                choices=tuple(k.value for k in ControllerKind),
+                hint='"force", "impedance" or "velocity-sourced"',
+            ),
             **{k: Field(str, required=False) for k in BLOCKS},
             "feedforward": Field(bool, required=False),
         },
-    ),  # fmt: skip
+    ),
     "ranges": Field(dict, keys=_PARAM, item=_PAIR, required=False),
     "simulation": Field(
         dict,

@@ -327,7 +327,9 @@ def _check_plant(name: str, sea: SEA, design: DesignLike, allow_plant: bool) -> 
         return
     value = sea.values.get(name)
     at = "" if value is None else f" ({name} = {value:g})"
-    ranges = " (or give it a [ranges] entry in the design file)" if isinstance(design, Design) else ""
+    ranges = (
+        " (or give it a [ranges] entry in the design file)" if isinstance(design, Design) else ""
+    )
     raise ParameterError(
         f"{where}: {name} is a plant parameter{at}, part of the hardware, not a controller "
         f"gain; to redesign the hardware, tune it on purpose with allow_plant=True{ranges}"

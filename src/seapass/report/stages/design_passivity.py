@@ -81,7 +81,9 @@ def _controller_table(design: Design) -> tuple[tuple[Table, ...], dict[str, str]
     if d is None:
         return (), {}
     names = {sym: what for sym, what, _ in BLOCKS.values()}
-    rows: list[tuple[str, Any]] = [("kind", f"{d.controller.kind.value}: {d.controller.kind.description}")]
+    rows: list[tuple[str, Any]] = [
+        ("kind", f"{d.controller.kind.value}: {d.controller.kind.description}")
+    ]
     rows += [(f"{sym} ({names[sym]})", Math(text)) for sym, text in d.blocks.items()]
     rows.append(("force feed-forward", "yes" if d.controller.feedforward else "no"))
     rows += [(f"{sig} (block diagram)", Math(rhs)) for sig, rhs in d.diagram]
