@@ -355,7 +355,7 @@ def _solve(eqs: list[tuple[sp.Symbol, sp.Expr]]) -> tuple[sp.Expr, sp.Expr, sp.E
     if rest != 0:  # every block acts on errors: nothing else may be left
         raise AssertionError(f"the diagram is not of the form C_A e_A + C_L e_L: {rest}")
     outer = [_SYM["velocity"], _SYM["impedance"]]  # grouped as the diagram nests them
-    ca, cl = (sp.collect(x, outer, func=sp.factor_terms) for x in (ca, cl))
+    ca, cl = (sp.factor_terms(sp.collect(x, outer, func=sp.factor_terms)) for x in (ca, cl))
     return ca, cl, ref
 
 
