@@ -171,7 +171,7 @@ blocks = st.builds(
         st.sampled_from([0.0, 3.0, 40.0]),
         st.sampled_from([0.0, 0.01, 0.2]),
         st.sampled_from([50.0, 500.0]),
-    ),  # fmt: skip
+    ),
     zv=st.tuples(st.floats(10.0, 3000.0), _pos, st.sampled_from([0.0, 0.05])),
     cv=st.tuples(st.floats(10.0, 500.0), st.sampled_from([0.0, 100.0, 2000.0])),
     ba=st.one_of(st.none(), _pos),
@@ -183,7 +183,7 @@ blocks = st.builds(
         st.floats(100.0, 5000.0),
         st.floats(0.0, 20.0),
         st.sampled_from([0.0, 300.0]),
-    ),  # fmt: skip
+    ),
 )
 
 
