@@ -10,7 +10,6 @@ numbers through `float` with finiteness and range checks.
 
 from __future__ import annotations
 
-import ast
 import json
 import math
 import re
@@ -26,7 +25,8 @@ from ..model.design_file import Design, parse_design
 from ..model.experiment import PAPER_EXPERIMENT
 from ..model.expr import STANDARD_SYMBOLS, parse_expression
 from ..model.loop import SampledLoop
-from ..model.sea import PLANT_SYMBOLS, SEA
+from ..model.sea import SEA
+from .sliders import default_range, names_in, slider_gains, slider_scale
 
 __all__ = [
     "ELEMENTS",
@@ -60,28 +60,6 @@ LIMITS: Mapping[str, Any] = MappingProxyType(
 )
 
 _DEFAULTS = {k: getattr(PAPER_EXPERIMENT, k) for k in ("load_mass", "step", "horizon")}
-
-
-def slider_scale(lo: float, hi: float) -> str:
-    """``"log"`` for a non-negative range spanning two decades or more (0 is its own stop).
-
-    Examples
-    --------
-    >>> slider_scale(0.0, 5000.0), slider_scale(10.0, 1e5), slider_scale(1.0, 50.0)
-    ('log', 'log', 'lin')
-    """
-    if lo >= 0 and hi > 0 and (lo == 0 or hi / lo >= 100):
-        return "log"
-    return "lin"
-
-
-def default_range(name: str, value: float, *, gain: bool) -> tuple[float, float]:
-    """Slider range for a parameter without one: gains from 0, plant values over four decades."""
-    if gain or value == 0:
-        return 0.0, max(10.0 * abs(value), 1000.0) if gain else max(10.0 * abs(value), 1.0)
-    if value > 0:
-        return value / 100.0, value * 100.0
-    return 10.0 * value, -10.0 * value
 
 
 @dataclass(frozen=True)
@@ -141,7 +119,7 @@ class ExploreState:
     @property
     def gains(self) -> tuple[str, ...]:
         """Parameters of the controllers ``CA`` and ``CL`` that are not plant parameters."""
-        return _gains(self.model, self.values, self.plant)
+        return slider_gains(self.model, self.values, self.plant)
 
     def sea(self) -> SEA:
         return SEA(**dict(self.model), values=dict(self.values), name=self.name, plant=self.plant)
@@ -247,31 +225,6 @@ def _toml_str(text: str) -> str:
 
 def _toml_float(value: float) -> str:
     return repr(float(value))
-
-
-def _gains(
-    model: Mapping[str, str], values: Mapping[str, float], plant: tuple[str, ...] = ()
-) -> tuple[str, ...]:
-    """Controller parameters with a value that are not plant parameters (`SEA.gains`)."""
-    hardware = {*PLANT_SYMBOLS, *plant}
-    for key in ("D1", "D2"):
-        hardware.update(_names(model.get(key, "0")))
-    out = []
-    for key in ("CA", "CL"):
-        for name in _names(model.get(key, "0")):
-            if name in values and name not in out and name not in hardware:
-                out.append(name)
-    return tuple(sorted(out))
-
-
-def _names(text: str) -> list[str]:
-    """Identifiers in ``text`` (parsed by `ast`, never evaluated), in order of appearance."""
-    try:
-        tree = ast.parse(text.replace("^", "**"), mode="eval")
-    except (SyntaxError, ValueError):
-        return []
-    names = sorted((n.col_offset, n.id) for n in ast.walk(tree) if isinstance(n, ast.Name))
-    return list(dict.fromkeys(name for _, name in names if name != "s"))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -383,7 +336,7 @@ def check_state(data: Any) -> StateCheck:
         if len(text) > LIMITS["text"]:
             errors[f"model.{key}"] = f"{len(text)} characters; the limit is {LIMITS['text']}"
             continue
-        names = _names(text)
+        names = names_in(text)
         fresh = [
             n
             for n in names
@@ -420,7 +373,7 @@ def check_state(data: Any) -> StateCheck:
         if isinstance(plant_in, list | tuple)
         else ()
     )
-    gains = _gains(model, values, plant)
+    gains = slider_gains(model, values, plant)
     ranges: dict[str, tuple[float, float]] = {}
     for name, val in values.items():
         raw = ranges_in.get(name)

@@ -72,11 +72,13 @@ from typing import Any
 import sympy as sp
 
 from ..errors import ExpressionError, FileFormatError, ParameterError, SeapassError
+from ..files.schema import Field
 from .display import html_card, short_repr
 from .expr import STANDARD_SYMBOLS, S, parse_expression
 
 __all__ = [
     "BLOCKS",
+    "CONTROLLER_FIELDS",
     "Controller",
     "ControllerDerivation",
     "ControllerKind",
@@ -131,6 +133,17 @@ _EXAMPLE = {"force": "kp + ki/s", "impedance": "kv + bv*s", "velocity": "kvp + k
 _THETA, _XA, _XL = sp.symbols("theta x_A x_L")
 _EA, _EL, _FREF = sp.symbols("e_A e_L f_ref")
 _FD, _FS, _VD, _FA = sp.symbols("f_d f_s v_d f_A")
+CONTROLLER_FIELDS: Mapping[str, Field] = MappingProxyType(
+    {
+        "kind": Field(str, choices=tuple(k.value for k in ControllerKind),
+                      hint='"force", "impedance" or "velocity-sourced"'),
+        **{k: Field(str, required=False) for k in BLOCKS},
+        "feedforward": Field(bool, required=False),
+    }
+)  # fmt: skip
+"""The keys of a design file's ``[controller]`` table (checked by
+[`check_table`][seapass.files.schema.check_table], then `Controller.from_table`)."""
+
 _RESERVED = {"s", "w", "I", "E", "pi", "oo", "nan", "zoo"}
 _SYM = {arg: sp.Symbol(sym) for arg, (sym, _, _) in BLOCKS.items()}
 
@@ -216,11 +229,20 @@ class Controller:
 
     @classmethod
     def from_table(cls, table: Mapping[str, Any], *, where: str = "controller") -> Controller:
-        """A `Controller` from a checked ``[controller]`` table; errors name ``where.key``."""
+        """A `Controller` from a ``[controller]`` table checked against `CONTROLLER_FIELDS`;
+        errors name ``where.key``."""
         try:
             return cls(**dict(table))
         except SeapassError as exc:
-            raise FileFormatError(_keyed(exc, where)) from None
+            raise FileFormatError(file_words(exc, where)) from None
+
+    def elements(self, parameters: Iterable[str], *, where: str = "controller") -> tuple[str, str]:
+        """``(CA, CL)`` of `derive_controller` for a file; errors name ``where.key``."""
+        try:
+            d = derive_controller(self, parameters=parameters)
+        except SeapassError as exc:
+            raise FileFormatError(file_words(exc, where)) from None
+        return d.CA, d.CL
 
     def blocks(self) -> dict[str, str]:
         """The blocks given, by argument name (``{"force": "kp + ki/s", ...}``)."""
@@ -251,8 +273,9 @@ class Controller:
         return html_card(f"Controller ({self.kind.value})", rows)
 
 
-def _keyed(exc: SeapassError, where: str) -> str:
-    """An error of `Controller` in the words of a file: ``controller.force: ...``."""
+def file_words(exc: SeapassError, where: str = "controller") -> str:
+    """An error of `Controller` or `derive_controller` in the words of a file:
+    ``controller.force: ...`` (a new parameter: add it to ``[parameters]``)."""
     msg, arg = str(exc), exc.argument or ""
     if arg and msg.startswith(f"{arg}: "):
         msg = msg[len(arg) + 2 :]

@@ -43,23 +43,12 @@ Format (every section but ``[model]`` and ``[parameters]`` is optional)::
     [rig]
     file = "my_rig.toml"                # relative to the design file, or preset = "paper"
 
-Instead of ``CA`` and ``CL``, a ``[controller]`` table gives the controller as
-blocks, compiled exactly into ``CA`` and ``CL`` by
-[`derive_controller`][seapass.model.controller.derive_controller]::
-
-    [controller]
-    kind = "impedance"                  # or "force", "velocity-sourced"
-    force = "kp + ki/s"                 # force-loop compensator C_f
-    impedance = "kv + bv*s"             # target impedance of the outer loop
-    damping = "ba"                      # damping injected on the actuator velocity
-    feedforward = true                  # force feed-forward (default false)
-    # velocity = "kvp + kvi/s"          # the motor-velocity loop (velocity-sourced)
-    # sensor = "k1"                     # measured force per unit deflection (default)
-
-An optional ``[plant]`` table gives the values of hardware parameters besides
-the standard ``m b k1 k2 b1 b2`` (which may also stay in ``[parameters]``): plant
-parameters are fixed, substituted where a controller uses them and never tuned
-as gains (`Design.gains`).
+Instead of ``CA`` and ``CL``, a ``[controller]`` table (``kind = "impedance"``,
+``force = "kp + ki/s"``, ``impedance = "kv + bv*s"``, ...; its keys are
+[`CONTROLLER_FIELDS`][seapass.model.controller.CONTROLLER_FIELDS]) gives the
+controller as blocks, compiled exactly into ``CA`` and ``CL``.  A ``[plant]`` table
+gives hardware parameters besides ``m b k1 k2 b1 b2`` (which may stay in
+``[parameters]``): fixed, substituted where a controller uses them, never gains.
 
 Validation is strict: an unknown key, a wrong type, a missing field or a
 value out of range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the
@@ -96,7 +85,7 @@ from ..files.textfile import check_input_file
 from ..files.toml import load_toml_file
 from .catalog import CATALOG, CatalogDesign
 from .catalog import design as catalog_design
-from .controller import BLOCKS, Controller, ControllerDerivation, ControllerKind, derive_controller
+from .controller import CONTROLLER_FIELDS, Controller, ControllerDerivation, derive_controller
 from .display import html_card, short_repr
 from .experiment import PAPER_EXPERIMENT
 from .loop import METHODS, LoopAttributes, SampledLoop
@@ -188,7 +177,12 @@ class Design(LoopAttributes):
                 raise FileFormatError(f"missing parameters.{key} (actuator mass / damping)")
         object.__setattr__(self, "plant", tuple(sorted(set(self.plant))))
         if self.controller is not None:
-            self._compile_controller()
+            if not isinstance(self.controller, Controller):
+                raise FileFormatError(f"controller: expected a Controller, got {self.controller!r}")
+            for key, text in zip(("CA", "CL"), self.controller.elements(self.values), strict=True):
+                if getattr(self, key) not in ("0", text):
+                    raise FileFormatError(f"give either [controller] or model.{key}, not both")
+                object.__setattr__(self, key, text)
         try:
             sea = self.sea()
         except SeapassError as exc:
@@ -231,25 +225,6 @@ class Design(LoopAttributes):
             rows.append(("control rate", f"{self.loop.rate:g} Hz"))
         return html_card(f"Design {self.name}" + (f": {self.title}" if self.title else ""), rows)
 
-    def _compile_controller(self) -> None:
-        """``CA`` and ``CL`` from the ``[controller]`` blocks (refused with raw ones too)."""
-        assert self.controller is not None
-        if not isinstance(self.controller, Controller):
-            raise FileFormatError(
-                f"controller: expected a Controller, got {type(self.controller).__name__}"
-            )
-        try:
-            d = derive_controller(self.controller, parameters=self.values)
-        except SeapassError as exc:
-            raise FileFormatError(_controller_terms(exc)) from None
-        for key, compiled in (("CA", d.CA), ("CL", d.CL)):
-            if getattr(self, key) not in ("0", compiled):
-                raise FileFormatError(
-                    f"give either [controller] or model.CA/model.CL, not both (model.{key} = "
-                    f"{getattr(self, key)!r}; the controller's {key} is {compiled!r})"
-                )
-            object.__setattr__(self, key, compiled)
-
     def sea(self) -> SEA:
         """The [`SEA`][seapass.model.sea.SEA] with every value of the file."""
         return SEA(
@@ -270,14 +245,12 @@ class Design(LoopAttributes):
 
     @property
     def gains(self) -> tuple[str, ...]:
-        """The controller gains, sorted: parameters of ``CA`` and ``CL`` that are not plant
-        parameters ([`SEA.gains`][seapass.model.sea.SEA.gains])."""
+        """The controller gains ([`SEA.gains`][seapass.model.sea.SEA.gains]), sorted."""
         return self.sea().gains
 
     @property
     def plant_parameters(self) -> tuple[str, ...]:
-        """The hardware's parameters, sorted: ``m b k1 k2 b1 b2``, those of ``D1``, ``D2``
-        and the ``[plant]`` table ([`SEA.plant_parameters`][seapass.model.sea.SEA.plant_parameters])."""
+        """The hardware's ([`SEA.plant_parameters`][seapass.model.sea.SEA.plant_parameters])."""
         return self.sea().plant_parameters
 
     @property
@@ -353,15 +326,6 @@ def _in_file_terms(exc: SeapassError, plant: tuple[str, ...] = ()) -> str:
     return f"model: {msg}"
 
 
-def _controller_terms(exc: SeapassError) -> str:
-    """A `Controller` error in the words of the file: ``controller.force: ...``."""
-    msg, arg = str(exc), exc.argument or ""
-    if arg and msg.startswith(f"{arg}: "):
-        msg = msg[len(arg) + 2 :]
-    msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"add \1 to [parameters]", msg)
-    return f"controller.{arg}: {msg}" if arg else f"controller: {msg}"
-
-
 _PAIR = Field(tuple)
 _MASS = Field(float, 0.0, _MAX_MASS, lo_open=True)
 _ENVIRONMENT_RANGE = Field(tuple, 0.0, order="<=", required=False)
@@ -373,19 +337,7 @@ DESIGN_FIELDS: dict[str, Field] = {
     "parameters": Field(dict, keys=_PARAM, item=Field(float)),
     "plant": Field(dict, keys=_PARAM, item=Field(float), required=False),
     # the controller's own checks (Controller, derive_controller) give the rules between keys
-    "controller": Field(
-        dict,
-        required=False,
-        fields={
-            "kind": Field(
-                str,
-                choices=tuple(k.value for k in ControllerKind),
-                hint='"force", "impedance" or "velocity-sourced"',
-            ),
-            **{k: Field(str, required=False) for k in BLOCKS},
-            "feedforward": Field(bool, required=False),
-        },
-    ),
+    "controller": Field(dict, required=False, fields=CONTROLLER_FIELDS),
     "ranges": Field(dict, keys=_PARAM, item=_PAIR, required=False),
     "simulation": Field(
         dict,
