@@ -138,17 +138,21 @@ def _design(
         raise ParameterError("give the design once (DESIGN or --design)")
     name = args.design or args.design_option
     from .controller_options import model_given as given
+    from .controller_options import plant_from_args
 
     model_given = given(args)
     if name is not None and model_given:
-        raise ParameterError("give either DESIGN or the model --D1/--D2/--CA/--CL, not both")
+        raise ParameterError(
+            "give either DESIGN or the model (--D1/--D2/--CA/--CL, --controller, --plant), not both"
+        )
     if name is None and not model_given:
         raise ParameterError(
             "nothing to tune: give a design file, LP/APD/ours, or the model with --D1 ... --set"
         )
     values = values_from_args(args)
     if name is None:
-        free = {n: f"--tune {n}" for n in boxes if n not in values}
+        given = {*values, *plant_from_args(args)}
+        free = {n: f"--tune {n}" for n in boxes if n not in given}
         return model_from_args(args, extra_free=free), None, {}
     design = load_design_or_catalog(name)
     return design, design if isinstance(design, Design) else None, values

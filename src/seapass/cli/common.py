@@ -377,7 +377,8 @@ def model_from_args(
         return SEA(D1=args.D1, D2=args.D2, CA=CA, CL=CL, values=values, plant=tuple(plant))
     except ParameterError as exc:
         free = {f"values[{n!r}]": label for n, label in labels.items()}
-        if exc.argument in free:  # a free name the model does not use
+        free.update({f"values[{n!r}]": f"--plant {n}" for n in plant})
+        if exc.argument in free:  # a free (or --plant) name the model does not use
             msg = str(exc)[len(exc.argument) + 2 :]
             raise ParameterError(f"{free[exc.argument]}: {msg}") from None
         raise

@@ -111,8 +111,9 @@ def controller_given(args: argparse.Namespace) -> bool:
 
 
 def model_given(args: argparse.Namespace) -> bool:
-    """Whether a model was given on the command line (elements or controller blocks)."""
-    return controller_given(args) or any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL"))
+    """Whether a model was given on the command line (elements, controller blocks, plant)."""
+    elements = any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL"))
+    return elements or controller_given(args) or bool(getattr(args, "plant", []))
 
 
 def controller_from_args(args: argparse.Namespace) -> Any:
