@@ -240,3 +240,48 @@ def test_help_states_the_convention_and_the_blocks() -> None:
         for flag in ("--controller", "--force-loop", "--impedance", "--damping-injection",
                      "--feedforward", "--plant"):  # fmt: skip
             assert flag in text, (command, flag)
+
+
+def test_sampled_without_the_shared_integrator() -> None:
+    """The sampled analyses run the compiled controllers (with integral action shared by C_A
+    and C_L they need the minimal realization of issue 22 item 1)."""
+    p_force = ["--controller", "impedance", "--force-loop", "kp", "--impedance", "kv + bv*s",
+               "--damping-injection", "ba", "--feedforward", "--set", "kp=2", "--set", "bv=5",
+               "--set", "ba=20"]  # fmt: skip
+    code, out, err = cli(["sampled", "bound", "kv", "--period", "0.001", *PLANT, *p_force,
+                          "--range", "0:5000", "--json"])  # fmt: skip
+    assert code == 0, err
+    (lo, hi), = json.loads(out)["intervals"]  # fmt: skip
+    assert lo == 0 and hi == pytest.approx(2037.357425, rel=1e-8)
+    code, out, err = cli(["sampled", "check", "--period", "0.001", *PLANT, *VELOCITY_BLOCKS,
+                          *without(VELOCITY_GAINS, "kvi"), "--set", "kvi=0"])  # fmt: skip
+    assert code == 0 and out.startswith("passive"), err
+
+
+def test_the_docs_page_commands_parse_and_say_what_they_print() -> None:
+    """docs/controllers.md: every command parses; a ``# ...`` line after a check or bound is
+    what it prints (the explained check's output block too)."""
+    import re
+    import shlex
+
+    text = (EXAMPLES.parent / "docs" / "controllers.md").read_text(encoding="utf-8")
+    parser = build_parser()
+    checked = 0
+    for block in re.findall(r"```bash\n(.*?)```", text, re.S):
+        lines = block.replace("\\\n", " ").splitlines()
+        for i, line in enumerate(lines):
+            cmd = line.split("#")[0].strip()
+            if not cmd.startswith(".venv/bin/seapass "):
+                continue
+            argv = shlex.split(cmd)[1:]
+            assert callable(parser.parse_args(argv).func)
+            said = lines[i + 1].strip() if i + 1 < len(lines) else ""
+            if argv[0] in ("check", "bound") and said.startswith("# "):
+                _, out, _ = cli(argv)
+                assert said[2:] in out.splitlines(), argv
+                checked += 1
+    assert checked == 4
+    explained = re.search(r"--explain \\\n.*?```\n\n```text\n(.*?)```", text, re.S)
+    assert explained is not None
+    _, out, _ = cli(["check", *PLANT, *CASCADE_BLOCKS, *CASCADE_GAINS, "--explain"])
+    assert out.startswith(explained.group(1))
