@@ -49,6 +49,8 @@ _LAZY: dict[str, str] = {
     "SEA": "model.sea",
     "Impedance": "model.sea",
     "Design": "model.design_file",
+    "Controller": "model.controller",
+    "derive_controller": "model.controller",
     "SampledLoop": "model.loop",
     "load_design": "model.design_file",
     "derive_stiffness": "model.stiffness",
@@ -83,6 +85,7 @@ _SUBPACKAGES = frozenset(
 
 __all__ = [
     "SEA",
+    "Controller",
     "Design",
     "Impedance",
     "PassivityResult",
@@ -92,6 +95,7 @@ __all__ = [
     "TuningOptions",
     "__version__",
     "analyze",
+    "derive_controller",
     "derive_stiffness",
     "exact_passivity_condition",
     "export_c",
@@ -136,6 +140,7 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
     from .analysis.region import passive_intervals, passive_map
     from .analysis.witness import find_destabilizing_environment
     from .export.c_code import export_c
+    from .model.controller import Controller, derive_controller
     from .model.design_file import Design, load_design
     from .model.loop import SampledLoop
     from .model.sea import SEA, Impedance

@@ -16,9 +16,9 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ParameterError, SimulationError, UnrealizableError
-from .controller import ControllerRealization, controller_realization, observable_arrays
 from .display import html_card, short_repr
 from .expr import S, finite_number, symbol
+from .minimal import ControllerRealization, controller_realization, observable_arrays
 from .sea import SEA
 
 __all__ = [
@@ -305,7 +305,7 @@ def closed_loop(
     """Build the closed-loop state space of ``sea`` driving a load of mass ``load_mass``.
 
     The controller ``K(s) = [C_A  C_L]`` is one minimal system
-    ([`controller_realization`][seapass.model.controller.controller_realization]): a pole
+    ([`controller_realization`][seapass.model.minimal.controller_realization]): a pole
     that ``C_A`` and ``C_L`` share (a force loop's integrator) is one state.
 
     Parameters

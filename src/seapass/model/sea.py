@@ -28,13 +28,22 @@ from .expr import (
     validate_values,
 )
 
-__all__ = ["SEA", "ExprLike", "Impedance", "check_used"]
+__all__ = ["PLANT_SYMBOLS", "SEA", "ExprLike", "Impedance", "check_used"]
 
 from typing import TypeAlias
 
 ExprLike: TypeAlias = str | sp.Expr | int | float
 
 _ELEMENTS = ("D1", "D2", "CA", "CL")
+
+PLANT_SYMBOLS: tuple[str, ...] = ("m", "b", "k1", "k2", "b1", "b2")
+"""Standard names of the hardware: actuator mass and damping, springs and dampers.
+
+With the parameters of ``D1``, ``D2``, ``m``, ``b`` and those an `SEA` declares in
+``plant``, they are its plant parameters (`SEA.plant_parameters`): fixed values,
+substituted where a controller uses them (``k1`` in ``C_A = C_f*k1``), never tuned or
+swept as gains unless asked for by name.
+"""
 
 
 def _as_expr(value: ExprLike, allowed: Iterable[str], what: str) -> sp.Expr:
@@ -120,15 +129,19 @@ class SEA:
     values : mapping of str to float or None
         Parameter values; ``None`` declares a free parameter.  Any name used in
         an expression must be one of ``m b k1 k2 b1 b2 kd bd ki`` or a key here.
+    plant : tuple of str
+        Parameters that belong to the hardware besides `PLANT_SYMBOLS` and those
+        of ``D1``, ``D2``, ``m``, ``b`` (a sensor gain, a gear ratio); see
+        `plant_parameters` and `gains`.
 
     Raises
     ------
     ExpressionError
         For unknown symbols or expressions that are not rational in ``s``.
     ParameterError
-        For non-finite values, a name in ``values`` that the model does not use
-        (``values['kdd']``, with the closest name it does use), or a mass that is
-        not positive.
+        For non-finite values, a name in ``values`` or ``plant`` that the model does
+        not use (``values['kdd']``, with the closest name it does use), or a mass
+        that is not positive.
     DegenerateModelError
         When the load port is connected to nothing (``D1 = D2 = 0``).
     """
@@ -141,8 +154,14 @@ class SEA:
     b: Any = "b"
     values: Mapping[str, float | None] = field(default_factory=dict)
     name: str = ""
+    plant: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
+        if isinstance(self.plant, str) or not all(isinstance(p, str) for p in self.plant):
+            raise ParameterError(
+                f"plant: expected a tuple of parameter names, got {self.plant!r}", argument="plant"
+            )
+        object.__setattr__(self, "plant", tuple(sorted(set(self.plant))))
         vals = _freeze_values(self.values)
         object.__setattr__(self, "values", vals)
         allowed = set(STANDARD_SYMBOLS) | set(vals)
@@ -157,6 +176,13 @@ class SEA:
                 "give a transmission, e.g. --D1 'k1'"
             )
         check_used(vals, self.parameters)
+        for name in self.plant:
+            if name not in self.parameters:
+                raise ParameterError(
+                    f"plant: {name!r} is not a parameter of the model"
+                    f"{did_you_mean(name, self.parameters)}; it uses {', '.join(self.parameters)}",
+                    argument="plant",
+                )
         mass = self.numeric(self.m) if not (self.m.free_symbols - self.known) else None
         if mass is not None and mass <= 0:
             raise ParameterError(f"actuator mass m must be positive, got {float(mass):g}")
@@ -182,6 +208,35 @@ class SEA:
     def free_parameters(self) -> tuple[str, ...]:
         """Parameters used by the model that have no numeric value."""
         return tuple(p for p in self.parameters if self.values.get(p) is None)
+
+    @property
+    def plant_parameters(self) -> tuple[str, ...]:
+        """The hardware's parameters the model uses, sorted: `PLANT_SYMBOLS`, those of
+        ``D1``, ``D2``, ``m``, ``b`` and the declared ``plant``.
+
+        Examples
+        --------
+        >>> SEA(D1="k1 + b1*s", CA="(kp + ki/s)*k1 + ba*s", values=dict(kp=2, ba=5)).plant_parameters
+        ('b', 'b1', 'k1', 'm')
+        """
+        hardware = set(PLANT_SYMBOLS) | set(self.plant)
+        for attr in ("D1", "D2", "m", "b"):
+            hardware |= {str(x) for x in getattr(self, attr).free_symbols}
+        return tuple(p for p in self.parameters if p in hardware)
+
+    @property
+    def gains(self) -> tuple[str, ...]:
+        """The controller gains, sorted: parameters of ``C_A`` and ``C_L`` that are not
+        plant parameters (a plant parameter inside a controller is substituted, not tuned).
+
+        Examples
+        --------
+        >>> SEA(D1="k1 + b1*s", CA="(kp + ki/s)*k1 + ba*s", values=dict(kp=2, ba=5)).gains
+        ('ba', 'ki', 'kp')
+        """
+        plant = set(self.plant_parameters)
+        used = {str(x) for x in self.CA.free_symbols | self.CL.free_symbols} - {"s"}
+        return tuple(sorted(used - plant))
 
     def elements(self) -> dict[str, sp.Expr]:
         """The four elements plus ``m`` and ``b`` as sympy expressions."""
@@ -241,6 +296,7 @@ class SEA:
             if str(getattr(self, attr)) != attr:
                 fields[attr] = str(getattr(self, attr))
         fields["values"] = dict(self.values) if self.values else None
+        fields["plant"] = self.plant or None
         return short_repr("SEA", fields)
 
     def _repr_html_(self) -> str:

@@ -27,9 +27,9 @@ from scipy.linalg import expm
 
 from ..errors import ParameterError
 from ..files.limits import MAX_KD_GAINS
-from ..model.controller import controller_realization
 from ..model.design_file import Design
 from ..model.loop import SampledLoop
+from ..model.minimal import controller_realization
 from ..sampled.controllers import DiscreteController, controller_state_space
 from .experiment import RigSweepResult, sweep_result
 from .rigfile import Rig

@@ -56,6 +56,10 @@ __all__ = ["BoxVerdict", "bound_boxes"]
 #: Most boxes examined in one bound (bounds time; what is left is reported undecided).
 MAX_BOXES = 20000
 
+SPECIAL_GAP = Fraction(1, 10**6)
+"""Boxes touching a special value of the family (see `bound_boxes`) narrower than this
+fraction of the range (or ``rtol`` of it, if larger) are left undecided, not bisected."""
+
 
 @dataclass(frozen=True, kw_only=True)
 class BoxVerdict:
@@ -258,6 +262,11 @@ def bound_boxes(
         names = (*names, "Sg")
     ladder = [p for p in precision_ladder(max_precision) if p >= start_precision] or [max_precision]
     tol_rel = rtol / 4  # adjacent leaves may merge into one enclosure
+    # where the family's structure changes (ki = 0 removes an integrator) the power may
+    # vanish at ω = 0 and no box touching the value is ever decided: below `gap` such a
+    # box stays undecided (the value itself is decided alone by the caller)
+    gap = max(rtol, SPECIAL_GAP) * (hi - lo)
+    specials = [v for v in fam.special if lo <= v <= hi]
     done: list[BoxVerdict] = []
     todo = [(lo, hi)]
     boxes = 0
@@ -274,6 +283,11 @@ def bound_boxes(
                 done.append(BoxVerdict(lo=a, hi=b, outcome=outcome, reason=reason))
                 if advance:
                     advance(float((b - a) / (hi - lo)))
+                continue
+            if b - a <= gap and any(a <= v <= b for v in specials):
+                done.append(
+                    BoxVerdict(lo=a, hi=b, outcome=Outcome.UNDECIDED, reason=SampledReason.SPECIAL)
+                )
                 continue
             if b - a <= max(tol_rel * max(abs(a), abs(b)), atol) or boxes > MAX_BOXES:
                 leaves.append((a, b))

@@ -32,9 +32,9 @@ import sympy as sp
 from flint import fmpq, fmpq_poly
 
 from ..errors import ParameterError
-from ..model.controller import exact_rational, split_proper
 from ..model.expr import S, to_fraction
 from ..model.loop import METHODS, Method, SampledLoop
+from ..model.minimal import exact_rational, split_proper
 from ..model.sea import SEA
 from .emulation import (
     check_period,

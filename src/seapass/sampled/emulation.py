@@ -124,12 +124,12 @@ def zoh_discretize(proper: sp.Expr, period: Fraction) -> sp.Expr:
 def zoh_row(propers: Sequence[sp.Expr], period: Fraction) -> list[sp.Expr]:
     """ZOH equivalents in ``q = z⁻¹`` of a row of strictly proper ``C(s)``, from ONE realization.
 
-    The row is realized minimally ([`seapass.model.controller`][seapass.model.controller]:
+    The row is realized minimally ([`seapass.model.minimal`][seapass.model.minimal]:
     a pole the entries share is one state), discretized once by the matrix exponential
     (floats made exact), and each entry's pulse transfer function is read off that one
     discrete realization exactly, so shared poles stay identical in every entry.
     """
-    from ..model.controller import exact_rational
+    from ..model.minimal import exact_rational
 
     out = []
     for num, den in zoh_row_exact([exact_rational(p) for p in propers], period):
@@ -145,7 +145,7 @@ def zoh_row_exact(
     """`zoh_row` on exact strictly proper ``(num, den)`` in ``s``; ``(num, den)`` in ``q`` out."""
     from scipy.linalg import expm
 
-    from ..model.controller import common_denominator, observable_form
+    from ..model.minimal import common_denominator, observable_form
 
     nums, den = common_denominator(list(rows))
     n = den.degree()
@@ -189,7 +189,7 @@ def exact_paths(
     the symbolic route, same exact result); ``proper_q`` is the proper part already
     discretized in ``q`` (the joint ZOH, `zoh_row_exact`).
     """
-    from ..model.controller import exact_rational, split_proper
+    from ..model.minimal import exact_rational, split_proper
 
     T = fmpq(period.numerator, period.denominator)
     poly, (rn, rd) = split_proper(exact_rational(expr))

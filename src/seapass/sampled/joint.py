@@ -45,7 +45,7 @@ import numpy as np
 from flint import fmpq, fmpq_mat, fmpq_poly
 
 from ..errors import UnrealizableError
-from ..model.controller import is_controllable, is_observable
+from ..model.minimal import is_controllable, is_observable
 
 __all__ = [
     "BatchDifferenceEquation",

@@ -55,6 +55,10 @@ class SampledReason(StrEnum):
     """Not decided at the precision cap (or the box budget of a bound)."""
     EDGE = "edge"
     """An undecided box leaf between proven boxes of opposite verdicts (bounds only)."""
+    SPECIAL = "special"
+    """An undecided box next to a value where the controller's structure changes (an
+    integral gain of 0, say) and the power vanishes at ``ω = 0`` (bounds only; the value
+    itself is decided alone)."""
 
 
 @dataclass(frozen=True, kw_only=True)
