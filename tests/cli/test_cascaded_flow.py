@@ -138,7 +138,7 @@ def test_analyze_reports_with_the_rig_section(tmp_path: Path) -> None:
     status = {s["key"]: s["status"] for s in summary["sections"]}
     assert status.get("rig") == "ok", summary["sections"]
     html = (out_dir / "report.html").read_text(encoding="utf-8")
-    assert "kv is swept from 0 to" in html
+    assert "kp is swept from 0 to 20" in html  # the first gain of the file's [ranges]
 
 
 @pytest.mark.parametrize("path", [CASCADE, VELOCITY])

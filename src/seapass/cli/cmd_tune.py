@@ -151,8 +151,8 @@ def _design(
         )
     values = values_from_args(args)
     if name is None:
-        given = {*values, *plant_from_args(args)}
-        free = {n: f"--tune {n}" for n in boxes if n not in given}
+        known = {*values, *plant_from_args(args)}
+        free = {n: f"--tune {n}" for n in boxes if n not in known}
         return model_from_args(args, extra_free=free), None, {}
     design = load_design_or_catalog(name)
     return design, design if isinstance(design, Design) else None, values

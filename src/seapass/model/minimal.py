@@ -139,7 +139,9 @@ def common_denominator(entries: Sequence[RationalFunction]) -> tuple[list[fmpq_p
     return [n * (den // d) for n, d in entries], den
 
 
-def observable_form(nums: Sequence[fmpq_poly], den: fmpq_poly) -> tuple[fmpq_mat, ...]:
+def observable_form(
+    nums: Sequence[fmpq_poly], den: fmpq_poly
+) -> tuple[fmpq_mat, fmpq_mat, fmpq_mat]:
     """Observable canonical form ``(A, B, C)`` of the strictly proper row ``[N_i]/D`` (exact).
 
     ``A`` has ones below the diagonal and ``−a_0 … −a_{n−1}`` in its last column, ``B[:, i]``
@@ -314,7 +316,7 @@ class ControllerRealization:
 
 
 def observable_arrays(
-    den: Sequence[float], nums: Sequence[Sequence[float]]
+    den: Sequence[float] | np.ndarray, nums: Sequence[Sequence[float] | np.ndarray]
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Float observable form of ``[N_i]/D`` (``D`` ascending and monic, ``N_i`` ascending)."""
     n = len(den) - 1

@@ -220,8 +220,8 @@ class JointRealization:
     ) -> JointRealization:  # fmt: skip
         """The minimal joint realization of the row ``entries`` (``(num, den)`` each)."""
         kept = []
-        for (num, den), name in zip(entries, inputs, strict=True):
-            n, d = q_reduce(num, den)
+        for (num, dnm), name in zip(entries, inputs, strict=True):
+            n, d = q_reduce(num, dnm)
             if any(c != 0 for c in n):
                 kept.append((n, d, name))
         den: Poly = (Fraction(1),)

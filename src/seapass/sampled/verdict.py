@@ -189,7 +189,7 @@ def theta_of(x: Fraction) -> float:
 
 
 def loop_radius(
-    key: str, ka: object, kl: object, period: Fraction, hidden: Sequence[Fraction] = (1,)
+    key: str, ka: object, kl: object, period: Fraction, hidden: Sequence[Fraction] = (Fraction(1),)
 ) -> float:
     """Spectral radius (floating point, for information) of the loop with the port held:
     the roots of ``χ`` and the controller's modes ``K_A`` does not close the loop over (poles
