@@ -25,6 +25,7 @@ import seapass.sampled.boxes as boxes_module
 from seapass.cli import main
 from seapass.model.design_file import load_design
 from seapass.model.minimal import controller_realization
+from seapass.sampled.passivity import sampled_passivity
 
 CASCADE = Path(__file__).resolve().parents[2] / "examples" / "cascaded_impedance.toml"
 VELOCITY = CASCADE.with_name("velocity_sourced.toml")
@@ -114,6 +115,12 @@ def test_sampled_bounds_finish_with_few_boxes(boxes: list[int]) -> None:
     assert u_lo == 0 and 0 < u_hi <= 200 * 2e-6
     assert data["intervals"][0] == [0, 0] and data["intervals"][1][0] == u_hi
     assert data["max_passive"] == pytest.approx(104.8776271, rel=1e-7)
+    # the point verdicts (one realization per value, no family) agree on both sides
+    design = load_design(CASCADE)
+    for ki, passive in ((0.0, True), (1e-3, True), (104.8, True), (105.0, False)):
+        got = sampled_passivity(design.sea().with_values(ki=ki), loop=design.loop,
+                                continuous_gate=False)  # fmt: skip
+        assert got.passive is passive, ki
 
 
 def test_tune_keeps_the_spring() -> None:

@@ -11,7 +11,8 @@ one entry point, and its `TuningResult`).
 
 May import: [`seapass.errors`][seapass.errors], [`seapass.model`][seapass.model],
 [`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim],
-[`seapass.sampled`][seapass.sampled] (the sampled-data passivity constraint).
+[`seapass.sampled`][seapass.sampled] (the sampled-data passivity constraint),
+[`seapass.outcome`][seapass.outcome].
 """
 
 from .optimize import TuningResult, tune
