@@ -10,6 +10,7 @@ Format (every section but ``[model]`` and ``[parameters]`` is optional)::
     D2 = "0"                            # load to ground
     CA = "kd + bd*s"                    # actuator-side controller
     CL = "0"                            # load-side controller
+                                        # f_A = CA*(theta - x_A) + CL*(theta - x_L)
 
     [parameters]                        # a value for every symbol used, m and b included
     m = 1.0
@@ -41,6 +42,13 @@ Format (every section but ``[model]`` and ``[parameters]`` is optional)::
 
     [rig]
     file = "my_rig.toml"                # relative to the design file, or preset = "paper"
+
+Instead of ``CA`` and ``CL``, a ``[controller]`` table (``kind = "impedance"``,
+``force = "kp + ki/s"``, ``impedance = "kv + bv*s"``, ...; its keys are
+[`CONTROLLER_FIELDS`][seapass.model.controller.CONTROLLER_FIELDS]) gives the
+controller as blocks, compiled exactly into ``CA`` and ``CL``.  A ``[plant]`` table
+gives hardware parameters besides ``m b k1 k2 b1 b2`` (which may stay in
+``[parameters]``): fixed, substituted where a controller uses them, never gains.
 
 Validation is strict: an unknown key, a wrong type, a missing field or a
 value out of range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the
@@ -77,6 +85,7 @@ from ..files.textfile import check_input_file
 from ..files.toml import load_toml_file
 from .catalog import CATALOG, CatalogDesign
 from .catalog import design as catalog_design
+from .controller import CONTROLLER_FIELDS, Controller, ControllerDerivation, derive_controller
 from .display import html_card, short_repr
 from .experiment import PAPER_EXPERIMENT
 from .loop import METHODS, LoopAttributes, SampledLoop
@@ -100,9 +109,16 @@ class Design(LoopAttributes):
     ----------
     name, title : str
     D1, D2, CA, CL : str
-        Element expressions (rational in ``s``), ``"0"`` when absent.
+        Element expressions (rational in ``s``), ``"0"`` when absent; with a
+        ``controller``, ``CA`` and ``CL`` are derived from it.
     values : mapping of str to float
-        A value for every parameter the model uses, ``m`` and ``b`` included.
+        A value for every parameter the model uses, ``m`` and ``b`` included
+        (``[parameters]`` and ``[plant]``).
+    controller : Controller or None
+        The controller as blocks (``[controller]``), compiled into ``CA``, ``CL``.
+    plant : tuple of str
+        Parameters declared in ``[plant]``: hardware, like ``m b k1 k2 b1 b2`` and
+        the parameters of ``D1``, ``D2`` (see `plant_parameters`).
     ranges : mapping of str to (float, float)
         Search ranges of the passive sets; parameters of ``CA``/``CL`` without
         an explicit range get a default (see `analysis_ranges`).
@@ -124,8 +140,8 @@ class Design(LoopAttributes):
 
     name: str
     D1: str
-    CA: str
     values: Mapping[str, float]
+    CA: str = "0"
     D2: str = "0"
     CL: str = "0"
     title: str = ""
@@ -137,6 +153,8 @@ class Design(LoopAttributes):
     loop: SampledLoop | None = None
     rig_file: str | None = None
     environment: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    controller: Controller | None = None
+    plant: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if not _NAME.match(self.name):
@@ -157,10 +175,18 @@ class Design(LoopAttributes):
         for key in ("m", "b"):
             if key not in self.values:
                 raise FileFormatError(f"missing parameters.{key} (actuator mass / damping)")
+        object.__setattr__(self, "plant", tuple(sorted(set(self.plant))))
+        if self.controller is not None:
+            if not isinstance(self.controller, Controller):
+                raise FileFormatError(f"controller: expected a Controller, got {self.controller!r}")
+            for key, text in zip(("CA", "CL"), self.controller.elements(self.values), strict=True):
+                if getattr(self, key) not in ("0", text):
+                    raise FileFormatError(f"give either [controller] or model.{key}, not both")
+                object.__setattr__(self, key, text)
         try:
             sea = self.sea()
         except SeapassError as exc:
-            raise FileFormatError(_in_file_terms(exc)) from None
+            raise FileFormatError(_in_file_terms(exc, self.plant)) from None
         missing = [p for p in sea.parameters if p not in self.values]
         if missing:
             raise FileFormatError(
@@ -168,8 +194,9 @@ class Design(LoopAttributes):
             )
         unused = sorted(set(self.values) - set(sea.parameters) - {"m", "b"})
         if unused:
+            table = "plant" if unused[0] in self.plant else "parameters"
             raise FileFormatError(
-                f"parameters.{unused[0]} is not used by the model "
+                f"{table}.{unused[0]} is not used by the model "
                 f"(it uses {', '.join(sea.parameters)})"
             )
         for name, (lo, hi) in self.ranges.items():
@@ -190,6 +217,8 @@ class Design(LoopAttributes):
 
     def _repr_html_(self) -> str:
         rows: list[tuple[str, Any]] = [(k, getattr(self, k)) for k in ("D1", "D2", "CA", "CL")]
+        if self.controller is not None:
+            rows.insert(2, ("controller", self.controller.kind.description))
         rows += list(self.values.items())
         rows += [(f"range of {k}", f"[{lo:g}, {hi:g}]") for k, (lo, hi) in self.ranges.items()]
         if self.loop is not None:
@@ -205,14 +234,24 @@ class Design(LoopAttributes):
             CL=self.CL,
             values=dict(self.values),
             name=self.name,
+            plant=self.plant,
         )
+
+    def derivation(self) -> ControllerDerivation | None:
+        """How ``CA`` and ``CL`` follow from the ``[controller]`` blocks (None without one)."""
+        if self.controller is None:
+            return None
+        return derive_controller(self.controller, parameters=self.values)
 
     @property
     def gains(self) -> tuple[str, ...]:
-        """Parameters of the controllers ``CA`` and ``CL``, sorted."""
-        sea = self.sea()
-        syms = sea.CA.free_symbols | sea.CL.free_symbols
-        return tuple(sorted(str(x) for x in syms if str(x) != "s"))
+        """The controller gains ([`SEA.gains`][seapass.model.sea.SEA.gains]), sorted."""
+        return self.sea().gains
+
+    @property
+    def plant_parameters(self) -> tuple[str, ...]:
+        """The hardware's ([`SEA.plant_parameters`][seapass.model.sea.SEA.plant_parameters])."""
+        return self.sea().plant_parameters
 
     @property
     def period(self) -> float | None:
@@ -238,7 +277,10 @@ class Design(LoopAttributes):
         return ordered[len(ordered) // 2]
 
     def analysis_ranges(self) -> dict[str, tuple[float, float]]:
-        """Explicit ranges plus a default ``[0, max(10·value, 1000)]`` for every gain."""
+        """Explicit ranges plus a default ``[0, max(10·value, 1000)]`` for every gain.
+
+        A plant parameter is searched only with an explicit ``[ranges]`` entry.
+        """
         out = dict(self.ranges)
         for g in self.gains:
             if g not in out:
@@ -265,16 +307,19 @@ class Design(LoopAttributes):
             },
             "environment": {k: list(v) for k, v in self.environment.items()},
             "rig": self.rig_file,
+            "controller": None if self.controller is None else self.controller.to_table(),
+            "plant": list(self.plant_parameters),
         }
 
 
-def _in_file_terms(exc: SeapassError) -> str:
+def _in_file_terms(exc: SeapassError, plant: tuple[str, ...] = ()) -> str:
     """An `SEA` error in the words of the file: ``parameters.kd``, not ``values['kd']``."""
     msg = str(exc)
     arg = exc.argument or ""
     m = re.fullmatch(r"values\['(\w+)'\]", arg)
     if m and msg.startswith(f"{arg}: "):
-        return f"parameters.{m.group(1)}: {msg[len(arg) + 2 :]}"
+        table = "plant" if m.group(1) in plant else "parameters"
+        return f"{table}.{m.group(1)}: {msg[len(arg) + 2 :]}"
     msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"add \1 to [parameters]", msg)
     if arg in _MODEL and msg.startswith(f"{arg}: "):
         return f"model.{msg}"
@@ -290,6 +335,9 @@ DESIGN_FIELDS: dict[str, Field] = {
     "title": Field(str, hi=MAX_TITLE_CHARS, line=True, required=False),
     "model": Field(dict, fields={k: Field(str, required=False) for k in _MODEL}),
     "parameters": Field(dict, keys=_PARAM, item=Field(float)),
+    "plant": Field(dict, keys=_PARAM, item=Field(float), required=False),
+    # the controller's own checks (Controller, derive_controller) give the rules between keys
+    "controller": Field(dict, required=False, fields=CONTROLLER_FIELDS),
     "ranges": Field(dict, keys=_PARAM, item=_PAIR, required=False),
     "simulation": Field(
         dict,
@@ -353,7 +401,21 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
         if not text.strip():
             raise FileFormatError(f'model.{key}: empty expression (write "0" for none)')
         kw[key] = text
-    values = doc["parameters"]
+    if "controller" in doc:
+        given = [f"model.{k}" for k in ("CA", "CL") if k in model]
+        if given:
+            raise FileFormatError(
+                f"give either [controller] or {' and '.join(given)}, not both: the controller "
+                "blocks are compiled into CA and CL"
+            )
+        kw["controller"] = Controller.from_table(doc["controller"])
+    values = dict(doc["parameters"])
+    plant = doc.get("plant", {})
+    twice = sorted(set(plant) & set(values))
+    if twice:
+        raise FileFormatError(f"plant.{twice[0]} is also in [parameters]; give it once")
+    values.update(plant)
+    kw["plant"] = tuple(plant)
     if "m" in values and values["m"] <= 0:
         raise FileFormatError(
             f"parameters.m: the actuator mass must be positive, got {values['m']}"

@@ -15,7 +15,8 @@ nonlinear plant: friction, saturation, encoders), [`twin`][seapass.rig.twin]
 the ``mujoco`` extra).
 
 May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
-[`seapass.sim`][seapass.sim].
+[`seapass.sim`][seapass.sim], [`seapass.sampled`][seapass.sampled] (the discrete controllers the twin
+runs).
 """
 
 from .experiment import ExperimentResult, RigSweepResult, run_experiment, run_rig_sweep
