@@ -169,6 +169,46 @@ def _beyond_startup(python: Path, repeat: int) -> float | None:
     return best
 
 
+CASCADE = {
+    "elements": {
+        "D1": "k1 + b1*s",
+        "CA": "(kf + ki/s)*k1 + ba*s",
+        "CL": "(1 + kf + ki/s)*(kv + bv*s) - (kf + ki/s)*k1",
+    },
+    "values": {"m": 0.4, "b": 3.0, "k1": 2500.0, "b1": 2.0, "kf": 0.5, "ki": 10.0,
+               "kv": 1000.0, "bv": 5.0, "ba": 5.0},
+}  # fmt: skip
+#: Issue 22's target for the cascaded design (PI force loop inside an impedance loop).
+CASCADE_TARGET_S = 5.0
+
+
+def cascade_rows(quick: bool) -> list[Row]:
+    """The PI force loop inside an impedance loop of issue 22, whose integrator is in both
+    C_A and C_L: check and bound of kv at 1 kHz, CPU seconds against the 5 s target."""
+    loop = SampledLoop(period=0.001)
+    sea = SEA(**CASCADE["elements"], values=CASCADE["values"])
+    t_c = timed(lambda: sampled_passivity(sea, loop=loop), repeat=1 if quick else 3)
+    free = sea.with_values(kv=None)
+    t_b = timed(lambda: sampled_passive_bound(free, "kv", loop=loop, lo=0.0, hi=5000.0),
+                repeat=1 if quick else 3)  # fmt: skip
+    rows = []
+    for task, t, what in (
+        ("sampled check, cascaded PI force + impedance loop (issue 22)", t_c,
+         f"verdict {t_c.result.outcome.value}"),
+        ("sampled bound kv in 0:5000, cascaded design (issue 22)", t_b,
+         f"largest passive kv {t_b.result.max_passive:.6g}"),
+    ):  # fmt: skip
+        ok = "meets" if t.seconds <= CASCADE_TARGET_S else "MISSES"
+        rows.append(
+            Row(task, "one minimal controller realization", 1 / t.seconds,
+                "C_A, C_L as two filters (before issue 22)", float("nan"),
+                f"{t.seconds:.2f} s CPU ({ok} the {CASCADE_TARGET_S:g} s target); {what}; "
+                "the two-filter realization gave 'unstable' and a bound that ran 13 min "
+                "without an answer (issue 22 report)")
+        )  # fmt: skip
+    return rows
+
+
 def run(quick: bool) -> tuple[list[Row], list[str]]:
     rows: list[Row] = []
     notes: list[str] = []
@@ -215,6 +255,7 @@ def run(quick: bool) -> tuple[list[Row], list[str]]:
                 float("nan") if old is None else 1 / old[0], note)
         )  # fmt: skip
     rows += _short_period_rows(quick)
+    rows += cascade_rows(quick)
     new_cli = _beyond_startup(Path(sys.executable), repeat)
     old_cli = _beyond_startup(OLD / ".venv" / "bin" / "python", repeat)
     if new_cli is not None:

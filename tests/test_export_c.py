@@ -431,8 +431,10 @@ def test_generated_files_carry_the_envelope(tmp_path: Path) -> None:
     assert "line[" not in h  # the platform supplies the delay
     assert "#include <math.h>" not in c and "stdio" not in c  # dependency-free
     # every coefficient literal is commented with the exact rational it comes from
-    tf = res.deployment.filters[1].tf
-    for coeff in (*tf.num, *tf.den):
+    (joint,) = res.deployment.filters  # C_A's two paths: one difference equation
+    real = joint.realization
+    assert joint.order == 1  # the velocity filter, once
+    for coeff in (*(c for num in real.numerators for c in num), *real.denominator):
         assert f"{c_literal(coeff).literal}, /* " in c and str(coeff) in c
 
 

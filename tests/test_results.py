@@ -26,7 +26,7 @@ import seapass
 #: Frozen dataclasses that are inputs or values a user builds (often positionally), not results.
 INPUTS = {
     # models, catalog entries and loaded files
-    "seapass.model.sea.SEA", "seapass.model.sea.Impedance", "seapass.model.catalog.CatalogDesign",
+    "seapass.model.sea.SEA", "seapass.model.impedance.Impedance", "seapass.model.catalog.CatalogDesign",
     "seapass.model.design_file.Design", "seapass.model.realization._Element",
     "seapass.rig.rigfile.Rig", "seapass.rig.log.RigLog", "seapass.paper.tables.PaperRow",
     # the rig file's declarative schema

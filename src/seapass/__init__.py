@@ -49,8 +49,10 @@ from .version import __version__
 # name -> module that defines it
 _LAZY: dict[str, str] = {
     "SEA": "model.sea",
-    "Impedance": "model.sea",
+    "Impedance": "model.impedance",
     "Design": "model.design_file",
+    "Controller": "model.controller",
+    "derive_controller": "model.controller",
     "SampledLoop": "model.loop",
     "load_design": "model.design_file",
     "derive_stiffness": "model.stiffness",
@@ -91,6 +93,7 @@ _SUBPACKAGES = frozenset(
 
 __all__ = [
     "SEA",
+    "Controller",
     "Design",
     "Impedance",
     "PassivityResult",
@@ -102,6 +105,7 @@ __all__ = [
     "__version__",
     "absolute_stability",
     "analyze",
+    "derive_controller",
     "derive_stiffness",
     "exact_passivity_condition",
     "export_c",
@@ -149,9 +153,11 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
     from .analysis.region import passive_map
     from .analysis.witness import find_destabilizing_environment
     from .export.c_code import export_c
+    from .model.controller import Controller, derive_controller
     from .model.design_file import Design, load_design
+    from .model.impedance import Impedance
     from .model.loop import SampledLoop
-    from .model.sea import SEA, Impedance
+    from .model.sea import SEA
     from .model.stiffness import derive_stiffness
     from .ports.check import two_port_passivity
     from .ports.mimo import mimo_is_passive

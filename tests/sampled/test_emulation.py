@@ -9,6 +9,7 @@ to the last bit, for every method and velocity filter.
 
 from __future__ import annotations
 
+import random
 import sys
 from fractions import Fraction
 
@@ -19,15 +20,16 @@ from hypothesis import strategies as st
 
 from seapass.model.expr import S, parse_expression
 from seapass.sampled.controllers import DiscreteTF, discrete_paths, discretize, filter_pole
+from seapass.sampled.joint import q_reduce
 
 Q = sp.Symbol("q")
 
 
 def _symbolic(
-    text: str, period: float, method: str, cutoff: float | None
+    text: str | sp.Expr, period: float, method: str, cutoff: float | None
 ) -> tuple[DiscreteTF, DiscreteTF]:
     """The scheme with sympy: split, discretize, cancel, read coefficients in q."""
-    e = parse_expression(text, ())
+    e = parse_expression(text, ()) if isinstance(text, str) else text
     num, den = sp.fraction(sp.cancel(sp.together(e)))
     pn, pd = sp.Poly(num, S), sp.Poly(den, S)
     quo, rem = sp.div(pn, pd)
@@ -109,3 +111,28 @@ def test_numeric_emulation_needs_no_sympy():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def _random_controller(rng: random.Random) -> sp.Expr:
+    def r(lo: float, hi: float) -> sp.Rational:
+        return sp.Rational(rng.randint(int(lo * 100), int(hi * 100)), 100)
+
+    e = r(0.1, 5) + r(0, 30) / S + r(0, 2) * S / (1 + S / r(50, 500))
+    e += rng.choice([0, r(0, 1) * S, r(1, 9) / (S**2 + r(1, 20) * S + r(100, 900))])
+    return e * r(100, 3000)
+
+
+@pytest.mark.parametrize("method", ["tustin", "backward", "zoh"])
+@pytest.mark.parametrize("vf", [None, 30.0])
+def test_random_sympy_controllers(method: str, vf: float | None) -> None:
+    """sympy input takes the exact path too and gives the symbolic scheme's result."""
+    rng = random.Random(hash((method, vf)) % 1000)
+    for _ in range(6 if method == "zoh" else 12):
+        e = _random_controller(rng)
+        ours = discretize(e, 0.001, method=method, velocity_filter=vf, split=True)
+        assert ours == _symbolic(e, 0.001, method, vf), e
+
+
+def test_reduction_keeps_the_ratio_when_the_denominator_is_not_normalized() -> None:
+    num, den = q_reduce((Fraction(6), Fraction(3)), (Fraction(4), Fraction(2), Fraction(0)))
+    assert (num, den) == ((Fraction(3, 2),), (Fraction(1),))  # 3(2 + q) / 2(2 + q) = 3/2

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import argparse
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from .common import add_json_option, add_model_options, print_json, warn_unrealizable
 from .design_options import add_design_argument, system_from_design_args, units_json
@@ -21,6 +21,10 @@ EXAMPLE = """examples:
   seapass check --Z "k*s/(s**2 + k)" --set k=1e8
   seapass check --D1 k1 --CL kd --set b=10 --set k1=1000 --set kd=500 \
       --uncertain m=0.9:1.1 --uncertain b=8:12 --json     # every plant in the box
+  seapass check --D1 "k1 + b1*s" --controller impedance --force-loop "kp + ki/s" \\
+      --impedance "kv + bv*s" --damping-injection ba --feedforward --explain \\
+      --set m=0.4 --set b=3 --set k1=2500 --set b1=2 --set kp=2 --set ki=20 \\
+      --set kv=1000 --set bv=5 --set ba=20
 
 exit codes (like cmp, so a CI job can gate on it):
   0  passive
@@ -44,6 +48,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     add_model_options(p)
     p.add_argument("--Z", help="raw impedance Z(s) instead of an SEA model, e.g. '(s + 1)/(s + 2)'")
     add_uncertain_options(p)
+    p.add_argument("--explain", action="store_true",
+                   help="also show how C_A and C_L follow from the controller blocks")  # fmt: skip
     add_json_option(p)
     p.set_defaults(func=run)
 
@@ -58,21 +64,39 @@ def run(args: argparse.Namespace) -> int:
     realizable = warn_unrealizable(system)
     result = is_passive(system)
     indices = passivity_indices(system)
+    explained = _explanation(args, system) if args.explain else None
     if args.json:
+        extra = {} if explained is None else {"derivation": explained[1]}
         print_json(
             {
                 **result.to_dict(),
                 "indices": indices.to_dict(),
                 "realizable": realizable,
                 **units_json(args, resolved),
+                **extra,
             }
         )
     else:
+        for line in () if explained is None else explained[0]:
+            print(line)
         print(f"{result.status}: {result.detail or result.reason.description}")
         if result.omega is not None and "at w =" not in (result.detail or ""):
             print(f"witness: Re Z(jw) < 0 at w = {result.omega:.6g} rad/s")  # once, not twice
         print(_indices_text(indices))
     return 0 if result.passive else 1
+
+
+def _explanation(args: argparse.Namespace, system: Any) -> tuple[list[str], Any]:
+    """Lines and JSON of how ``C_A``, ``C_L`` were obtained (the blocks' derivation)."""
+    from .controller_options import derivation_from_args
+
+    if not hasattr(system, "CA"):
+        return ["a raw impedance Z(s): no controller to explain"], None
+    d = derivation_from_args(args, system.values)
+    if d is None:
+        lines = [f"C_A = {system.CA}", f"C_L = {system.CL}", "(given with --CA/--CL)"]
+        return lines, {"CA": str(system.CA), "CL": str(system.CL), "controller": None}
+    return d.lines(), d.to_dict()
 
 
 def _indices_text(ix: PassivityIndices) -> str:

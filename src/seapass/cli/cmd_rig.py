@@ -32,6 +32,7 @@ examples:
   seapass rig sweep                                   # packaged paper rig, both designs, both masses
   seapass rig sweep --design LP --load-mass 0.1 --json
   seapass rig sweep --rig my_rig.toml --kd-max 1500 --kd-step 50 --out results/
+  seapass rig sweep --design cascade.toml --gain kv --json   # any design file, any gain
 """
 _IMPACT_EPILOG = """\
 examples:
@@ -131,7 +132,16 @@ def register(subparsers: Any) -> None:
     )
     _common(sw)
     sw.add_argument(
-        "--design", choices=["LP", "ours", "both"], default="both", help="controller (default both)"
+        "--design",
+        default="both",
+        metavar="LP|ours|both|FILE",
+        help="the paper's LP, Ours, both, or a design file whose controller (any) runs on "
+        "the twin (default both)",
+    )
+    sw.add_argument(
+        "--gain",
+        metavar="NAME",
+        help="with --design FILE: the gain to sweep (default: the first in the file's [ranges])",
     )
     sw.add_argument(
         "--load-mass",
@@ -140,8 +150,12 @@ def register(subparsers: Any) -> None:
         metavar="KG",
         help="load mass, repeatable (default: the rig file's experiment.load_masses)",
     )
-    sw.add_argument("--kd-max", type=_positive, help="largest gain (N/m)")
-    sw.add_argument("--kd-step", type=_positive, help="gain step (N/m)")
+    sw.add_argument(
+        "--kd-max", type=_positive, help="largest gain (N/m; with --design FILE: of the swept gain)"
+    )
+    sw.add_argument(
+        "--kd-step", type=_positive, help="gain step (N/m; with --design FILE: of the swept gain)"
+    )
     sw.add_argument("--no-progress", action="store_true", help="no progress bar")
     sw.set_defaults(func=_sweep)
 
@@ -240,10 +254,30 @@ def _rig(args: argparse.Namespace) -> Rig:
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from ..rig.experiment import run_experiment
+    from ..rig.experiment import ExperimentResult, run_experiment
 
     rig = _rig(args)
     out = check_out_dir(args.out, files=("sweep.csv", "sweep.png", "sweep.pdf"), force=args.force)
+    if args.design not in ("LP", "ours", "both"):
+        from pathlib import Path
+
+        from ..model.design_file import load_design
+        from ..rig.design_sweep import run_design_sweeps
+
+        if not Path(args.design).is_file():
+            raise ParameterError(
+                f"--design {args.design!r} is neither LP, ours, both nor a design file"
+            )
+        design = load_design(args.design)
+        sweeps = run_design_sweeps(
+            rig, design, gain=args.gain, load_masses=args.load_mass, gain_max=args.kd_max,
+            gain_step=args.kd_step,
+        )  # fmt: skip
+        return _report_sweep(
+            args, ExperimentResult(rig_name=rig.name, sweeps=sweeps, findings=()), out
+        )
+    if args.gain is not None:
+        raise ParameterError("--gain needs --design FILE (LP and Ours sweep kd)")
     designs = ["LP", "ours"] if args.design == "both" else [args.design]
     kd_max = args.kd_max if args.kd_max is not None else rig.experiment.kd_max
     kd_step = args.kd_step if args.kd_step is not None else rig.experiment.kd_step
@@ -259,6 +293,10 @@ def _sweep(args: argparse.Namespace) -> int:
         kd_step=kd_step,
         progress=not args.no_progress and not args.json,
     )
+    return _report_sweep(args, result, out)
+
+
+def _report_sweep(args: argparse.Namespace, result: Any, out: Any) -> int:
     if out is not None:
         from ..plot.rig import plot_rig_sweep, plot_traces
 
@@ -279,10 +317,10 @@ def _sweep(args: argparse.Namespace) -> int:
         best = min(settled, key=lambda kt: kt[1]) if settled else None
         print(
             f"{s.design:>4} m_L={s.load_mass:g} kg: settled {len(settled)}/{s.kd.size} gains"
-            + (f", fastest {best[1]:.3f} s at kd={best[0]:g}" if best else "")
+            + (f", fastest {best[1]:.3f} s at {s.gain}={best[0]:g}" if best else "")
             + "; unstable from "
             + ", ".join(
-                _gain(v, label)
+                _gain(v, label, s.gain)
                 for v, label in (
                     (s.unstable_gain_twin, "twin"),
                     (s.unstable_gain_sampled, "sampled linear"),
@@ -296,8 +334,8 @@ def _sweep(args: argparse.Namespace) -> int:
     return 0
 
 
-def _gain(x: float | None, label: str) -> str:
-    return f"no kd ({label})" if x is None else f"kd = {x:.0f} ({label})"
+def _gain(x: float | None, label: str, name: str = "kd") -> str:
+    return f"no {name} ({label})" if x is None else f"{name} = {x:.0f} ({label})"
 
 
 def _impacts(args: argparse.Namespace) -> int:

@@ -40,8 +40,11 @@ DESIGN is a design file (TOML, see 'seapass analyze --help') or one of the paper
 designs LP, APD, ours (m = 1 kg, b = 10 N*s/m, k1 = 1000 N/m); or give the model
 with --D1/--D2/--CA/--CL/--set.  Gains to tune: --tune NAME=LO:HI, or --tune NAME
 for the design's box (the file's [ranges], else [0, max(10*value, 1000)]);
-default: the controller gains (the parameters of CA and CL; LP/APD/ours: the
-catalog's gains).  Every other parameter stays at its value.  Every candidate
+default: the controller gains (the parameters of CA and CL that are not plant
+parameters; LP/APD/ours: the catalog's gains).  Every other parameter stays at
+its value.  Plant parameters (m, b, k1, k2, b1, b2, those of D1/D2, [plant] or
+--plant) are the hardware: --tune names one only with a [ranges] entry in the
+design file, or with --allow-plant.  Every candidate
 that could become the best is checked with the exact passivity test (and the
 sampled-data test with --period).  Exit code 0 when the result is feasible,
 1 when no passive gains within the limits were found, 2 on bad input.
@@ -64,6 +67,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     g = p.add_argument_group("what to tune")
     g.add_argument("--tune", action="append", default=[], metavar="NAME=LO:HI",
                    help="a gain and its box, repeatable; NAME alone: the design's box")  # fmt: skip
+    g.add_argument("--allow-plant", action="store_true",
+                   help="allow --tune to name plant parameters (k1, b1, --plant/[plant] values) "
+                   "that the design file gives no [ranges] entry: redesign the hardware")  # fmt: skip
     g.add_argument("--bound", action="append", default=[], help=argparse.SUPPRESS)  # old name
     g.add_argument("--objective", default="settling", choices=("settling", "itae"),
                    help="settling: 2%% settling time; itae: integral of t*|error| (default: settling)")  # fmt: skip
@@ -137,16 +143,22 @@ def _design(
     if args.design and args.design_option:
         raise ParameterError("give the design once (DESIGN or --design)")
     name = args.design or args.design_option
-    model_given = any(getattr(args, e) is not None for e in ("D1", "D2", "CA", "CL"))
+    from .controller_options import model_given as given
+    from .controller_options import plant_from_args
+
+    model_given = given(args)
     if name is not None and model_given:
-        raise ParameterError("give either DESIGN or the model --D1/--D2/--CA/--CL, not both")
+        raise ParameterError(
+            "give either DESIGN or the model (--D1/--D2/--CA/--CL, --controller, --plant), not both"
+        )
     if name is None and not model_given:
         raise ParameterError(
             "nothing to tune: give a design file, LP/APD/ours, or the model with --D1 ... --set"
         )
     values = values_from_args(args)
     if name is None:
-        free = {n: f"--tune {n}" for n in boxes if n not in values}
+        known = {*values, *plant_from_args(args)}
+        free = {n: f"--tune {n}" for n in boxes if n not in known}
         return model_from_args(args, extra_free=free), None, {}
     design = load_design_or_catalog(name)
     return design, design if isinstance(design, Design) else None, values
@@ -227,6 +239,7 @@ def run(args: argparse.Namespace) -> int:
             values=values or None,
             options=opts,
             progress=False if args.no_progress else None,
+            allow_plant=args.allow_plant,
         )
     for message in result.warnings:
         warn(cli_words(message))

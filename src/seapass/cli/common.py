@@ -318,8 +318,13 @@ def add_jobs_argument(p: argparse.ArgumentParser) -> None:
 
 
 def add_model_options(p: argparse.ArgumentParser) -> None:
-    """``--D1 --D2 --CA --CL --set`` as used by every model command."""
-    g = p.add_argument_group("model (elements not given: the design file's, else 0)")
+    """``--D1 --D2 --CA --CL --set`` as used by every model command, and the controller blocks
+    and ``--plant`` of [`controller_options`][seapass.cli.controller_options]."""
+    from .controller_options import CONVENTION, add_controller_options
+
+    g = p.add_argument_group(
+        "model (elements not given: the design file's, else 0)", f"{CONVENTION}."
+    )
     g.add_argument("--D1", help="transmission, e.g. 'k1 + b1*s'")
     g.add_argument("--D2", help="load-to-ground element, e.g. 'k2'")
     g.add_argument("--CA", help="actuator-side controller, e.g. 'kd + bd*s'")
@@ -332,6 +337,7 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
         help="parameter value, repeatable, e.g. --set m=1 --set kd=5000; every name must be "
         "used by the model and given once",
     )
+    add_controller_options(p)
 
 
 def values_from_args(args: argparse.Namespace) -> dict[str, float]:
@@ -352,16 +358,23 @@ def values_from_args(args: argparse.Namespace) -> dict[str, float]:
 def model_from_args(
     args: argparse.Namespace, extra_free: Sequence[str] | Mapping[str, str] = ()
 ) -> Any:
-    """The [`SEA`][seapass.model.sea.SEA] of ``--D1 --D2 --CA --CL --set``.
+    """The [`SEA`][seapass.model.sea.SEA] of ``--D1 --D2 --CA --CL --set`` (or the controller
+    blocks, ``--plant``).
 
     ``extra_free`` names parameters left free (the swept or bounded ones), as
     names or as ``{name: how it was given}`` (``{"kd": "--grid kd"}``); each must
     appear in the model and must not also be given with ``--set``.
     """
     from ..model.sea import SEA
+    from .controller_options import elements_from_args, plant_from_args
 
     labels = dict(extra_free) if isinstance(extra_free, Mapping) else {n: n for n in extra_free}
     values: dict[str, float | None] = dict(values_from_args(args))
+    plant = plant_from_args(args)
+    for name in plant:
+        if name in values:
+            raise ParameterError(f"--plant {name}: also given with --set; give it once")
+    values.update(plant)
     for name, label in labels.items():
         if name in values:
             raise ParameterError(
@@ -369,12 +382,20 @@ def model_from_args(
                 "it a value"
             )
         values[name] = None
+    CA, CL = elements_from_args(args, values)
     try:
-        elements = {e: getattr(args, e) or "0" for e in ("D1", "D2", "CA", "CL")}
-        return SEA(**elements, values=values)
+        return SEA(
+            D1=args.D1 or "0",
+            D2=args.D2 or "0",
+            CA=CA or "0",
+            CL=CL or "0",
+            values=values,
+            plant=tuple(plant),
+        )
     except ParameterError as exc:
         free = {f"values[{n!r}]": label for n, label in labels.items()}
-        if exc.argument in free:  # a free name the model does not use
+        free.update({f"values[{n!r}]": f"--plant {n}" for n in plant})
+        if exc.argument in free:  # a free (or --plant) name the model does not use
             msg = str(exc)[len(exc.argument) + 2 :]
             raise ParameterError(f"{free[exc.argument]}: {msg}") from None
         raise
@@ -400,10 +421,11 @@ def warn_unrealizable(system: Any) -> bool:
 def system_from_args(args: argparse.Namespace) -> Any:
     """The raw impedance given with ``--Z``, or else the SEA model of the element options."""
     from ..model.sea import Impedance
+    from .controller_options import model_given
 
     if getattr(args, "Z", None) is None:
         return model_from_args(args)
-    if any(getattr(args, e) is not None for e in ("D1", "D2", "CA", "CL")):
+    if model_given(args):
         raise ParameterError("give either --Z or the model elements --D1/--D2/--CA/--CL, not both")
     return Impedance(expr=args.Z, values=values_from_args(args))
 

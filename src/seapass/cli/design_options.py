@@ -164,6 +164,7 @@ def design_from_args(
     """
     from ..model.design_file import load_design
     from ..model.resolve import resolve_design
+    from .controller_options import controller_given, elements_from_args, plant_from_args
 
     labels = dict(free or {})
     values = values_from_args(args)
@@ -175,6 +176,17 @@ def design_from_args(
             )
     path = getattr(args, "design", None)
     design = load_design(path) if path is not None else None
+    plant = plant_from_args(args)
+    if plant and design is not None:
+        raise ParameterError("--plant: give hardware parameters in the design file's [plant]")
+    for name in plant:
+        if name in values:
+            raise ParameterError(f"--plant {name}: also given with --set; give it once")
+    values = {**values, **plant}
+    elements = {e: getattr(args, e) for e in _ELEMENTS if getattr(args, e, None) is not None}
+    if controller_given(args):  # the blocks, compiled into CA and CL
+        names = {**(design.values if design is not None else {}), **values, **dict.fromkeys(labels)}
+        elements["CA"], elements["CL"] = elements_from_args(args, names)
     loop: dict[str, Any] = {}
     if hasattr(args, "period"):
         check_period(args.period)
@@ -182,7 +194,7 @@ def design_from_args(
     try:
         return resolve_design(
             design,
-            elements={e: getattr(args, e) for e in _ELEMENTS if getattr(args, e) is not None},
+            elements=elements,
             values=values,
             free=labels,
             units=units_from_args(args),
@@ -191,10 +203,12 @@ def design_from_args(
             load_mass=getattr(args, "load_mass", None),
             step=getattr(args, "step", None),
             horizon=getattr(args, "horizon", None),
+            plant=tuple(plant),
         )
     except ParameterError as exc:
         where = {f"values[{n!r}]": label for n, label in labels.items()}
-        if exc.argument in where:  # a free name the model does not use
+        where.update({f"values[{n!r}]": f"--plant {n}" for n in plant})
+        if exc.argument in where:  # a free (or --plant) name the model does not use
             msg = str(exc)[len(exc.argument) + 2 :]
             raise ParameterError(f"{where[exc.argument]}: {msg}") from None
         raise
@@ -207,9 +221,12 @@ def system_from_design_args(args: argparse.Namespace) -> tuple[Any, Any]:
     if getattr(args, "Z", None) is None:
         resolved = design_from_args(args)
         return resolved.sea, resolved
-    if args.design is not None or any(getattr(args, e) is not None for e in _ELEMENTS):
+    from .controller_options import model_given
+
+    if args.design is not None or model_given(args):
         raise ParameterError(
-            "give either --Z or a design (DESIGN.toml, --D1/--D2/--CA/--CL), not both"
+            "give either --Z or a design (DESIGN.toml, --D1/--D2/--CA/--CL, --controller, "
+            "--plant), not both"
         )
     if args.unit:
         raise ParameterError("--unit names a parameter of an SEA design, not of --Z")

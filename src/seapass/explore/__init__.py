@@ -1,7 +1,8 @@
 """The interactive design explorer behind ``seapass explore``: a local web app.
 
 What lives here: [`state`][seapass.explore.state] (the view the browser sends, validated
-field by field), [`panels`][seapass.explore.panels] (one pure function per panel, cached),
+field by field), [`sliders`][seapass.explore.sliders] (which parameters are gains, their
+default ranges and scales), [`panels`][seapass.explore.panels] (one pure function per panel, cached),
 [`pool`][seapass.explore.pool] (killable worker processes that compute the panels),
 [`presets`][seapass.explore.presets] (the catalog's designs as views),
 [`reports`][seapass.explore.reports] ("Export report": ``seapass analyze`` in a child

@@ -33,6 +33,7 @@ def design_state(design: Design) -> dict[str, Any]:
         "period": design.period,
         "delay": design.control_delay,
         "velocity_filter": design.velocity_filter,
+        "plant": list(design.plant),
     }
     if "kd" in design.values:
         state["gain"] = "kd"

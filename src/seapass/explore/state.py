@@ -10,7 +10,6 @@ numbers through `float` with finiteness and range checks.
 
 from __future__ import annotations
 
-import ast
 import json
 import re
 import tomllib
@@ -24,6 +23,7 @@ from ..model.design_file import Design, parse_design
 from ..model.experiment import PAPER_EXPERIMENT
 from ..model.loop import SampledLoop
 from ..model.sea import SEA
+from .sliders import default_range, slider_gains, slider_scale
 
 __all__ = [
     "ELEMENTS",
@@ -57,28 +57,6 @@ LIMITS: Mapping[str, Any] = MappingProxyType(
 EXPERIMENT_DEFAULTS = {k: getattr(PAPER_EXPERIMENT, k) for k in ("load_mass", "step", "horizon")}
 
 
-def slider_scale(lo: float, hi: float) -> str:
-    """``"log"`` for a non-negative range spanning two decades or more (0 is its own stop).
-
-    Examples
-    --------
-    >>> slider_scale(0.0, 5000.0), slider_scale(10.0, 1e5), slider_scale(1.0, 50.0)
-    ('log', 'log', 'lin')
-    """
-    if lo >= 0 and hi > 0 and (lo == 0 or hi / lo >= 100):
-        return "log"
-    return "lin"
-
-
-def default_range(name: str, value: float, *, gain: bool) -> tuple[float, float]:
-    """Slider range for a parameter without one: gains from 0, plant values over four decades."""
-    if gain or value == 0:
-        return 0.0, max(10.0 * abs(value), 1000.0) if gain else max(10.0 * abs(value), 1.0)
-    if value > 0:
-        return value / 100.0, value * 100.0
-    return 10.0 * value, -10.0 * value
-
-
 @dataclass(frozen=True)
 class ExploreState:
     """A validated view: model, values, slider ranges, selections and test conditions.
@@ -107,6 +85,10 @@ class ExploreState:
         Cut-off (Hz) of the velocity low-pass, None for none.
     loop : SampledLoop or None
         The three as the sampled loop (None for continuous control only).
+    plant : tuple of str
+        Parameters declared part of the hardware (a design file's ``[plant]``)
+        besides ``m b k1 k2 b1 b2`` and those of ``D1``, ``D2``: plant parameters
+        get the slider range of a fixed value and are never the default gain.
     """
 
     name: str
@@ -123,6 +105,7 @@ class ExploreState:
     delay: int = 0
     velocity_filter: float | None = None
     new_parameters: tuple[str, ...] = field(default=(), compare=False)
+    plant: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:  # every panel looks these names up
         if len(set(self.region)) != 2 or not {self.gain, *self.region} <= {*self.ranges}:
@@ -137,11 +120,11 @@ class ExploreState:
 
     @property
     def gains(self) -> tuple[str, ...]:
-        """Parameters of the controllers ``CA`` and ``CL``."""
-        return controller_gains(self.model, self.values)
+        """Parameters of the controllers ``CA`` and ``CL`` that are not plant parameters."""
+        return slider_gains(self.model, self.values, self.plant)
 
     def sea(self) -> SEA:
-        return SEA(**dict(self.model), values=dict(self.values), name=self.name)
+        return SEA(**dict(self.model), values=dict(self.values), name=self.name, plant=self.plant)
 
     @property
     def loop(self) -> SampledLoop | None:
@@ -176,6 +159,7 @@ class ExploreState:
             "delay": self.delay,
             "velocity_filter": self.velocity_filter,
             "new_parameters": list(self.new_parameters),
+            "plant": list(self.plant),
         }
 
     def design(self) -> Design:
@@ -194,6 +178,7 @@ class ExploreState:
             horizon=self.horizon,
             tune_mass=self.load_mass,
             loop=self.loop,
+            plant=self.plant,
         )
 
     def design_toml(self) -> str:
@@ -208,8 +193,10 @@ class ExploreState:
             *(f"{k} = {_toml_str(getattr(d, k))}" for k in ELEMENTS),
             "",
             "[parameters]",
-            *(f"{k} = {_toml_float(v)}" for k, v in d.values.items()),
+            *(f"{k} = {_toml_float(v)}" for k, v in d.values.items() if k not in d.plant),
         ]
+        if d.plant:
+            lines += ["", "[plant]", *(f"{k} = {_toml_float(d.values[k])}" for k in d.plant)]
         if d.ranges:
             lines += ["", "[ranges]"]
             lines += [
@@ -240,22 +227,3 @@ def _toml_str(text: str) -> str:
 
 def _toml_float(value: float) -> str:
     return repr(float(value))
-
-
-def controller_gains(model: Mapping[str, str], values: Mapping[str, float]) -> tuple[str, ...]:
-    out = []
-    for key in ("CA", "CL"):
-        for name in names_in(model.get(key, "0")):
-            if name in values and name not in out:
-                out.append(name)
-    return tuple(sorted(out))
-
-
-def names_in(text: str) -> list[str]:
-    """Identifiers in ``text`` (parsed by `ast`, never evaluated), in order of appearance."""
-    try:
-        tree = ast.parse(text.replace("^", "**"), mode="eval")
-    except (SyntaxError, ValueError):
-        return []
-    names = sorted((n.col_offset, n.id) for n in ast.walk(tree) if isinstance(n, ast.Name))
-    return list(dict.fromkeys(name for _, name in names if name != "s"))

@@ -18,6 +18,7 @@ from typing import Any
 from ..errors import SeapassError
 from ..model.catalog import REFERENCE_VALUES
 from ..model.expr import STANDARD_SYMBOLS, parse_expression
+from .sliders import default_range, names_in, slider_gains
 from .state import (
     ELEMENTS,
     EXPERIMENT_DEFAULTS,
@@ -26,9 +27,6 @@ from .state import (
     RESERVED_NAMES,
     UNSAFE_NAME_CHARS,
     ExploreState,
-    controller_gains,
-    default_range,
-    names_in,
 )
 
 __all__ = ["StateCheck", "check_state"]
@@ -174,7 +172,13 @@ def check_state(data: Any) -> StateCheck:
     if "m" in values and values["m"] <= 0:
         errors["values.m"] = "the actuator mass must be positive"
 
-    gains = controller_gains(model, values)
+    plant_in = data.get("plant", [])
+    plant = tuple(
+        sorted({p for p in plant_in if isinstance(p, str) and p in values})
+        if isinstance(plant_in, list | tuple)
+        else ()
+    )
+    gains = slider_gains(model, values, plant)
     ranges: dict[str, tuple[float, float]] = {}
     for name, val in values.items():
         raw = ranges_in.get(name)
@@ -241,8 +245,8 @@ def check_state(data: Any) -> StateCheck:
     ):
         x = gain
         # the other gains, then k1 (if the model has one), the other plant parameters, m, b
-        plant = [p for p in ("k1", *params) if p in params and p not in ("m", "b")] + ["m", "b"]
-        rest = [g for g in gains if g != x] + [p for p in plant if p != x and p not in gains]
+        hardware = [p for p in ("k1", *params) if p in params and p not in ("m", "b")] + ["m", "b"]
+        rest = [g for g in gains if g != x] + [p for p in hardware if p != x and p not in gains]
         region = (x, rest[0])
     try:
         state = ExploreState(
@@ -254,6 +258,7 @@ def check_state(data: Any) -> StateCheck:
             gain=str(gain),
             region=(str(region[0]), str(region[1])),
             new_parameters=tuple(new),
+            plant=plant,
             **conditions,
         )
         state.sea()

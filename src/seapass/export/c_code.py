@@ -122,23 +122,21 @@ def _environment() -> jinja2.Environment:
     return env
 
 
-def _tf_formula(f: FilterSpec) -> str:
-    def poly(cs: Sequence[Fraction]) -> str:
-        terms = [f"b{i} z^-{i}" if i else "b0" for i in range(len(cs))]
-        return " + ".join(terms)
-
-    den = " + ".join(["1"] + [f"a{i} z^-{i}" for i in range(1, len(f.tf.den))])
-    return f"K(z) = ({poly(f.tf.num)}) / ({den})"
+def _formula(f: FilterSpec) -> list[str]:
+    den = " + ".join(["1"] + [f"a{i} z^-{i}" for i in range(1, f.order + 1)])
+    lines = []
+    for j, sig in enumerate(f.inputs):
+        terms = " + ".join(f"b{j},{i} z^-{i}" if i else f"b{j},0" for i in range(f.order + 1))
+        lines.append(f"{_INPUTS[sig][0]}: ({terms}) / ({den})")
+    return lines
 
 
 def _filters(dep: Deployment) -> list[dict[str, Any]]:
     out, offset = [], 0
     for i, f in enumerate(dep.filters):
         n = f.order + 1
-        num = list(f.tf.num) + [Fraction(0)] * (n - len(f.tf.num))
-        den = list(f.tf.den) + [Fraction(0)] * (n - len(f.tf.den))
-        side, kind = f.signal[-1], f.signal[:-2]
-        title = f"C_{side} {kind} path, input {_INPUTS[f.signal][1]}"
+        paths = ", ".join(f"C_{s[-1]} {s[:-2]} ({_INPUTS[s][1]})" for s in f.inputs)
+        title = f"one difference equation of {paths} over their common denominator"
         if f.gain is not None:
             title += f", output times gain {f.gain}"
         elif dep.set_gains:
@@ -147,13 +145,14 @@ def _filters(dep: Deployment) -> list[dict[str, Any]]:
             {
                 "index": i,
                 "title": title,
-                "formula": [_tf_formula(f)],
+                "formula": _formula(f),
                 "order": f.order,
                 "offset": offset,
                 "n": n,
-                "b": [c_literal(c) for c in num],
-                "a": [c_literal(c) for c in den],
-                "input": _INPUTS[f.signal][0],
+                "k": len(f.inputs),
+                "b": [[c_literal(c) for c in num] for num in f.realization.numerators],
+                "a": [c_literal(c) for c in f.realization.denominator],
+                "inputs": [_INPUTS[sig][0] for sig in f.inputs],
                 "gain_expr": None
                 if f.gain is None
                 else c_code(f"s->gains.{c_identifier(f.gain, 'gain name')}"),
@@ -178,9 +177,10 @@ def _banner(dep: Deployment) -> list[str]:
         "",
         "Controller (seapass.sampled.controllers.DiscreteController, run exactly):",
         "  u = C_A(s)[theta_A - x_A] + C_L(s)[theta_L - x_L], with the constant and",
-        "  strictly proper parts on the error (strictly proper parts by Tustin) and",
+        f"  strictly proper parts on the error (strictly proper parts by {d.loop.method if d.loop else 'tustin'}) and",
         "  the derivative terms on the measurement only (backward difference",
-        "  (1 - z^-1)/T through the low-pass (1 - a)/(1 - a z^-1)), then saturated",
+        "  (1 - z^-1)/T through the low-pass (1 - a)/(1 - a z^-1)), all paths over one",
+        "  common denominator (a pole C_A and C_L share is one state), then saturated",
         f"  to +-{dep.force_limit!r} N and delayed {dep.code_delay} sample(s) in this code.",
         f"  T = {T} s ({float(1 / T):g} Hz); a = {dep.velocity_pole}"
         + (
@@ -237,7 +237,7 @@ def render_c(dep: Deployment) -> dict[str, str]:
     """The two files for ``dep`` as ``{file name: text}``."""
     check_c_names(dep.design)
     filters = _filters(dep)
-    used = {f.signal for f in dep.filters}
+    used = {sig for f in dep.filters for sig in f.inputs}
     signals = [
         {"var": _INPUTS[s][0], "expr": c_code(_INPUTS[s][1]), "comment": _INPUTS[s][2]}
         for s in ("error_A", "measurement_A", "error_L", "measurement_L")

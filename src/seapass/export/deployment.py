@@ -18,8 +18,6 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-import sympy as sp
-
 from ..errors import NotPassiveError, ParameterError
 from ..files.limits import check_rtol
 from ..model.design_file import Design
@@ -262,17 +260,17 @@ def _check_tunable(design: Design, names: Sequence[str]) -> None:
         )
     if not names:
         raise ParameterError("tunable must name at least one gain")
-    sea = design.sea()
-    plant = set()
-    for attr in ("D1", "D2", "m", "b"):
-        plant |= {str(x) for x in sp.sympify(getattr(sea, attr)).free_symbols}
+    plant = design.plant_parameters
     for n in names:
+        if n in plant:
+            raise ParameterError(
+                f"tunable gain {n!r} is a plant parameter of {design.name!r} (the hardware); "
+                "it cannot change at runtime"
+            )
         if n not in gains:
             raise ParameterError(
                 f"tunable gain {n!r} is not a controller gain of {design.name!r} "
                 f"(its gains: {', '.join(gains)})"
             )
-        if n in plant:
-            raise ParameterError(f"{n!r} is also a plant parameter; it cannot change at runtime")
     if len(set(names)) != len(names):
         raise ParameterError("tunable lists a gain twice")

@@ -1,20 +1,20 @@
-"""The deployed controller of a design as a sum of exact difference equations.
+"""The deployed controller of a design as exact difference equations over common denominators.
 
-With fixed gains the realization *is* the Python controller: the four
-direct-form-II-transposed filters ``(C_A error, C_A measurement, C_L error,
-C_L measurement)`` of
-[`DiscreteController.from_sea`][seapass.sampled.controllers.DiscreteController.from_sea],
-coefficient for
-coefficient, summed in the same order, so a faithful C compiler reproduces the
-Python output bit for bit.
+With fixed gains the realization *is* the Python controller: the one joint difference
+equation of [`DiscreteController`][seapass.sampled.controllers.DiscreteController]
+(the four paths ``C_A`` error, ``C_A`` measurement, ``C_L`` error, ``C_L``
+measurement over their exact least common denominator, see
+[`seapass.sampled.joint`][seapass.sampled.joint]), coefficient for coefficient, run in
+the same order of operations, so a faithful C compiler reproduces the Python output bit
+for bit.  A pole ``C_A`` and ``C_L`` share (a force loop's integrator) is one state.
 
 With runtime gains each controller is split as ``C(s) = F_0(s) + Σ_i g_i F_i(s)``
 over the tunable gains ``g_i`` (an exact symbolic check refuses gains that do not
-enter affinely), every ``F`` is discretized on its own, and the runtime
-multiplies the filter outputs by the current gains: a gain change rescales
-outputs and never rewrites filter states.  The sum is checked to equal the
-Python controller's transfer functions exactly at the design's gains, and the
-split is affine, so it equals them at every gain.
+enter affinely), every ``F`` is discretized on its own, the paths that share a gain are
+realized together (one joint difference equation per gain) and the runtime multiplies
+their outputs by the current gains: a gain change rescales outputs and never rewrites
+filter states.  The sum is checked to equal the Python controller's transfer functions
+exactly at the design's gains, and the split is affine, so it equals them at every gain.
 """
 
 from __future__ import annotations
@@ -31,6 +31,7 @@ from ..model.design_file import Design
 from ..model.expr import symbol
 from ..model.loop import SampledLoop
 from ..sampled.controllers import DiscreteController, DiscreteTF, discretize
+from ..sampled.joint import JointRealization, poly_add, poly_mul, q_reduce
 
 __all__ = ["SIGNALS", "FilterSpec", "realize"]
 
@@ -40,39 +41,50 @@ SIGNALS: tuple[Signal, ...] = ("error_A", "measurement_A", "error_L", "measureme
 
 @dataclass(frozen=True)
 class FilterSpec:
-    """One difference equation of the deployed controller.
+    """One joint difference equation of the deployed controller.
 
     Attributes
     ----------
-    signal : {"error_A", "measurement_A", "error_L", "measurement_L"}
-        Its input: ``θ_A − x_A``, ``−x_A``, ``θ_L − x_L`` or ``−x_L``.
-    tf : DiscreteTF
-        Exact coefficients (ascending powers of ``z^-1``, ``den[0] = 1``).
+    realization : JointRealization
+        Its inputs (of ``θ_A − x_A``, ``−x_A``, ``θ_L − x_L``, ``−x_L``), its exact
+        numerators over one common denominator (ascending powers of ``z^-1``).
     gain : str or None
         Runtime gain multiplying the output (only with ``set_gains``).
     """
 
-    signal: Signal
-    tf: DiscreteTF
+    realization: JointRealization
     gain: str | None = None
+
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        """The signals it reads, in the order of its numerators."""
+        return self.realization.inputs
 
     @property
     def order(self) -> int:
         """Number of states of its direct-form-II-transposed realization."""
-        return max(len(self.tf.num), len(self.tf.den)) - 1
+        return self.realization.order
+
+    def transfer_function(self, signal: str) -> DiscreteTF:
+        """Its exact transfer function from ``signal`` (reduced; ``0`` for an unused one)."""
+        num, den = self.realization.entry(signal)
+        return DiscreteTF(num, den, self.realization.period)
 
 
-def _scaled(tf: DiscreteTF, k: Fraction) -> DiscreteTF:
-    return DiscreteTF(tuple(k * c for c in tf.num), tf.den, tf.period)
-
-
-def _same_tf(a: DiscreteTF, b: DiscreteTF) -> bool:
-    return (a + _scaled(b, Fraction(-1))).is_zero
+def _total(filters: Sequence[FilterSpec], signal: str, gains: Mapping[str, float]) -> DiscreteTF:
+    num: tuple[Fraction, ...] = (Fraction(0),)
+    den: tuple[Fraction, ...] = (Fraction(1),)
+    for f in filters:
+        k = Fraction(1) if f.gain is None else Fraction(gains[f.gain])
+        n2, d2 = f.realization.entry(signal)
+        num = poly_add(poly_mul(num, d2), poly_mul(tuple(k * c for c in n2), den))
+        den = poly_mul(den, d2)
+    period = filters[0].realization.period if filters else Fraction(1)
+    return DiscreteTF(*q_reduce(num, den), period)
 
 
 def _fixed_filters(ctrl: DiscreteController) -> list[FilterSpec]:
-    tfs = (*ctrl.CA, *ctrl.CL)
-    return [FilterSpec(sig, tf) for sig, tf in zip(SIGNALS, tfs, strict=True) if not tf.is_zero]
+    return [FilterSpec(ctrl.realization)] if ctrl.realization.inputs else []
 
 
 def _affine_parts(expr: sp.Expr, tunable: Sequence[str], side: str) -> list[tuple[str | None, Any]]:
@@ -96,7 +108,7 @@ def _affine_parts(expr: sp.Expr, tunable: Sequence[str], side: str) -> list[tupl
 def _tunable_filters(design: Design, tunable: Sequence[str], loop: SampledLoop) -> list[FilterSpec]:
     sea = design.sea()
     fixed = {k: v for k, v in design.values.items() if k not in tunable}
-    out: list[FilterSpec] = []
+    groups: dict[str | None, dict[str, DiscreteTF]] = {}
     for side, expr in (("A", sea.CA), ("L", sea.CL)):
         for gain, part in _affine_parts(sp.sympify(expr), tunable, side):
             if part == 0:
@@ -106,12 +118,15 @@ def _tunable_filters(design: Design, tunable: Sequence[str], loop: SampledLoop) 
                 values=fixed, split=True,
             )  # fmt: skip
             assert isinstance(paths, tuple)  # split=True
-            signals: tuple[Signal, Signal] = (
-                ("error_A", "measurement_A") if side == "A" else ("error_L", "measurement_L")
-            )
-            for sig, tf in zip(signals, paths, strict=True):
+            for sig, tf in zip((f"error_{side}", f"measurement_{side}"), paths, strict=True):
                 if not tf.is_zero:
-                    out.append(FilterSpec(sig, tf, gain))
+                    groups.setdefault(gain, {})[sig] = tf
+    out = []
+    for gain, tfs in groups.items():
+        entries = [(tfs[s].num, tfs[s].den) for s in SIGNALS if s in tfs]
+        names = [s for s in SIGNALS if s in tfs]
+        period = next(iter(tfs.values())).period
+        out.append(FilterSpec(JointRealization.of(entries, names, period), gain))
     return out
 
 
@@ -119,13 +134,11 @@ def _check_realization(
     filters: Sequence[FilterSpec], ctrl: DiscreteController, gains: Mapping[str, float]
 ) -> None:
     """The split realization equals the Python controller exactly at the certified gains."""
-    for sig, ref in zip(SIGNALS, (*ctrl.CA, *ctrl.CL), strict=True):
-        total = DiscreteTF((Fraction(0),), (Fraction(1),), ref.period)
-        for f in filters:
-            if f.signal == sig:
-                k = Fraction(1) if f.gain is None else Fraction(gains[f.gain])
-                total = total + _scaled(f.tf, k)
-        if not _same_tf(total, ref):  # an internal error, not bad input
+    for sig in SIGNALS:
+        num, den = ctrl.realization.entry(sig)
+        ref = DiscreteTF(num, den, ctrl.realization.period)
+        total = _total(filters, sig, gains)
+        if total.num != ref.num or total.den != ref.den:  # an internal error, not bad input
             raise AssertionError(f"split realization of {sig} differs from the controller")
 
 
@@ -140,7 +153,7 @@ def realize(
         Needs a ``[control] rate``; its loop's velocity filter and discretization are used.
     tunable : sequence of str
         Gains that scale filter outputs at runtime (empty: the Python
-        controller's own four filters).
+        controller's own joint difference equation).
     controller : DiscreteController, optional
         The Python controller of the design, if already built.
 

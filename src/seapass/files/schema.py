@@ -43,7 +43,7 @@ class Field:
     Attributes
     ----------
     kind : type
-        ``float``, ``int``, ``str``, ``list`` (a list of numbers), ``tuple``
+        ``float``, ``int``, ``bool``, ``str``, ``list`` (a list of numbers), ``tuple``
         (a pair ``[lo, hi]`` of numbers) or ``dict`` (a table: of the keys in
         ``fields``, or of any key matching ``keys`` with values like ``item``).
     lo, hi : float
@@ -144,6 +144,10 @@ def check_value(key: str, spec: Field, value: Any) -> Any:
         return _free_table(key, spec, value)
     if spec.kind is str:
         return _string(key, spec, value)
+    if spec.kind is bool:
+        if not isinstance(value, bool):
+            raise FileFormatError(f"{key}: expected true or false, got {value!r}")
+        return value
     if spec.kind is list:
         if not isinstance(value, list):
             raise FileFormatError(f"{key}: expected a list of numbers, got {type(value).__name__}")

@@ -6,11 +6,13 @@ checks), [`rational`][seapass.model.rational] (exact rational functions of ``s``
 the parameters, on flint, within a size budget), [`symbolic`][seapass.model.symbolic]
 (the sympy side of the parser), [`budget`][seapass.model.budget] (size bounds and a
 time limit for the symbolic work), [`elements`][seapass.model.elements] (elements as
-given, their exact and sympy forms), [`sea`][seapass.model.sea] (`SEA`, `Impedance`),
+given, their exact and sympy forms), [`sea`][seapass.model.sea] (`SEA`), [`impedance`][seapass.model.impedance] (`Impedance`),
 [`freebody`][seapass.model.freebody] (``Z_L`` solved exactly from the free-body
 equations, without sympy), [`stiffness`][seapass.model.stiffness] (the rendered
 stiffness ``F_L/X_L`` derived in sympy, for people and the symbolic analyses), [`realization`][seapass.model.realization] (the closed loop as
-a state-space system), [`catalog`][seapass.model.catalog] (the one catalog of named
+a state-space system), [`controller`][seapass.model.controller] (SEA controller blocks
+solved from their block diagram into ``C_A``, ``C_L``), [`minimal`][seapass.model.minimal]
+(the controller ``K(s) = [C_A  C_L]`` realized once and minimally), [`catalog`][seapass.model.catalog] (the one catalog of named
 designs: LP, APD, Ours and every Table I/II row), [`experiment`][seapass.model.experiment]
 (the paper's step-response experiment: step, horizon, load masses), [`loop`][seapass.model.loop]
 (`SampledLoop`, the digital controller's period, delay, velocity filter and discretization)
@@ -39,8 +41,12 @@ _LAZY: dict[str, str] = {
     "SampledLoop": "loop",
     "ClosedLoop": "realization",
     "closed_loop": "realization",
+    "Controller": "controller",
+    "ControllerKind": "controller",
+    "derive_controller": "controller",
+    "PLANT_SYMBOLS": "sea",
     "SEA": "sea",
-    "Impedance": "sea",
+    "Impedance": "impedance",
     "derive_stiffness": "stiffness",
     "load_impedance": "stiffness",
     "paper_eq4_stiffness": "stiffness",
@@ -53,15 +59,19 @@ __all__ = [
     "CATALOG",
     "PAPER_EXPERIMENT",
     "PAPER_VALUES",
+    "PLANT_SYMBOLS",
     "REFERENCE_VALUES",
     "SEA",
     "CatalogDesign",
     "ClosedLoop",
+    "Controller",
+    "ControllerKind",
     "Design",
     "Experiment",
     "Impedance",
     "SampledLoop",
     "closed_loop",
+    "derive_controller",
     "derive_stiffness",
     "design",
     "load_design",
@@ -85,11 +95,13 @@ def __dir__() -> list[str]:
 
 if TYPE_CHECKING:  # what type checkers and IDEs see
     from .catalog import CATALOG, PAPER_VALUES, REFERENCE_VALUES, CatalogDesign, design
+    from .controller import Controller, ControllerKind, derive_controller
     from .design_file import Design, load_design
     from .experiment import PAPER_EXPERIMENT, Experiment
+    from .impedance import Impedance
     from .loop import SampledLoop
     from .realization import ClosedLoop, closed_loop
-    from .sea import SEA, Impedance
+    from .sea import PLANT_SYMBOLS, SEA
     from .stiffness import (
         derive_stiffness,
         load_impedance,

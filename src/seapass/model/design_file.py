@@ -5,11 +5,9 @@ Format (every section but ``[model]`` and ``[parameters]`` is optional)::
     name = "ours"                       # short identifier (letters, digits, - _ .)
     title = "Damped spring + actuator-side PD"
 
-    [model]                             # rational functions of s, safe text
-    D1 = "k1 + b1*s"                    # transmission
-    D2 = "0"                            # load to ground
-    CA = "kd + bd*s"                    # actuator-side controller
-    CL = "0"                            # load-side controller
+    [model]                             # rational functions of s, safe text: D1 (transmission),
+    D1 = "k1 + b1*s"                    # D2 (load to ground), CA and CL (actuator-/load-side
+    CA = "kd + bd*s"                    # controller: f_A = CA*(theta - x_A) + CL*(theta - x_L))
 
     [parameters]                        # a value for every symbol used, m and b included
     m = 1.0
@@ -19,34 +17,21 @@ Format (every section but ``[model]`` and ``[parameters]`` is optional)::
     kd = 500.0
     bd = 25.0
 
-    [ranges]                            # search ranges [lo, hi] for the passive sets
-    kd = [0.0, 5000.0]
+The optional tables: ``[ranges]`` (search ranges ``kd = [0.0, 5000.0]``),
+``[simulation]`` (``load_masses`` kg, ``step`` m, ``horizon`` s, ``tune_mass`` kg, default the
+median load mass), ``[environment]`` (``mass``, ``damping``, ``stiffness`` ranges of the
+witness search; default a human limb), ``[control]`` (the digital controller: ``rate`` Hz or
+``period`` s, ``delay`` samples, ``velocity_filter`` Hz, ``method`` ``"tustin"``, ``"zoh"`` or
+``"backward"``), ``[rig]`` (``file`` relative to the design file, or ``preset = "paper"``),
+``[units]`` (``ki = "1/s"``: SI symbols, prefixes, ``*``, ``/``, ``^N``, checked by
+[`seapass.model.units`][seapass.model.units]); ``docs/index.md`` shows a whole file.
 
-    [simulation]
-    load_masses = [1.0, 10.0, 25.0]     # kg
-    step = 0.5                          # m
-    horizon = 10.0                      # s
-    tune_mass = 10.0                    # kg; default: the median load mass
-
-    [environment]                       # who or what holds the port, for the witness
-    mass = [0.1, 10.0]                  # kg      (default: a human limb, 0.1-10 kg)
-    damping = [0.0, 100.0]              # N*s/m   (default 0-100)
-    stiffness = [0.0, 5000.0]           # N/m     (default 0-5000)
-
-    [control]                           # sampled-data (digital) controller
-    rate = 500.0                        # Hz (or period = 0.002, in s)
-    delay = 0                           # samples
-    velocity_filter = 50.0              # Hz, first-order low-pass on velocity
-    method = "tustin"                   # or "zoh", "backward"
-
-    [rig]
-    file = "my_rig.toml"                # relative to the design file, or preset = "paper"
-
-    [units]                             # units of the parameters (and of m_L), for labels
-    ki = "1/s"                          # overrides a default (ki: N/(m·s))
-    kt = "N*m/A"                        # SI symbols, prefixes, *, /, ^N
-
-Units are checked against the grammar of [`seapass.model.units`][seapass.model.units].
+Instead of ``CA`` and ``CL``, a ``[controller]`` table (``kind = "impedance"``,
+``force = "kp + ki/s"``, ``impedance = "kv + bv*s"``, ...; its keys are
+[`CONTROLLER_FIELDS`][seapass.model.controller.CONTROLLER_FIELDS]) gives the
+controller as blocks, compiled exactly into ``CA`` and ``CL``.  A ``[plant]`` table
+gives hardware parameters besides ``m b k1 k2 b1 b2`` (which may stay in
+``[parameters]``): fixed, substituted where a controller uses them, never gains.
 
 Validation is strict: an unknown key, a wrong type, a missing field or a
 value out of range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the
@@ -83,6 +68,7 @@ from ..files.textfile import check_input_file
 from ..files.toml import load_toml_file
 from .catalog import CATALOG, CatalogDesign
 from .catalog import design as catalog_design
+from .controller import CONTROLLER_FIELDS, Controller, ControllerDerivation, derive_controller
 from .display import html_card, short_repr
 from .experiment import PAPER_EXPERIMENT
 from .loop import METHODS, LoopAttributes, SampledLoop
@@ -107,9 +93,16 @@ class Design(LoopAttributes):
     ----------
     name, title : str
     D1, D2, CA, CL : str
-        Element expressions (rational in ``s``), ``"0"`` when absent.
+        Element expressions (rational in ``s``), ``"0"`` when absent; with a
+        ``controller``, ``CA`` and ``CL`` are derived from it.
     values : mapping of str to float
-        A value for every parameter the model uses, ``m`` and ``b`` included.
+        A value for every parameter the model uses, ``m`` and ``b`` included
+        (``[parameters]`` and ``[plant]``).
+    controller : Controller or None
+        The controller as blocks (``[controller]``), compiled into ``CA``, ``CL``.
+    plant : tuple of str
+        Parameters declared in ``[plant]``: hardware, like ``m b k1 k2 b1 b2`` and
+        the parameters of ``D1``, ``D2`` (see `plant_parameters`).
     ranges : mapping of str to (float, float)
         Search ranges of the passive sets; parameters of ``CA``/``CL`` without
         an explicit range get a default (see `analysis_ranges`).
@@ -134,8 +127,8 @@ class Design(LoopAttributes):
 
     name: str
     D1: str
-    CA: str
     values: Mapping[str, float]
+    CA: str = "0"
     D2: str = "0"
     CL: str = "0"
     title: str = ""
@@ -148,6 +141,8 @@ class Design(LoopAttributes):
     rig_file: str | None = None
     environment: Mapping[str, tuple[float, float]] = field(default_factory=dict)
     units: Mapping[str, str] = field(default_factory=dict)
+    controller: Controller | None = None
+    plant: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if not _NAME.match(self.name):
@@ -168,10 +163,18 @@ class Design(LoopAttributes):
         for key in ("m", "b"):
             if key not in self.values:
                 raise FileFormatError(f"missing parameters.{key} (actuator mass / damping)")
+        object.__setattr__(self, "plant", tuple(sorted(set(self.plant))))
+        if self.controller is not None:
+            if not isinstance(self.controller, Controller):
+                raise FileFormatError(f"controller: expected a Controller, got {self.controller!r}")
+            for key, text in zip(("CA", "CL"), self.controller.elements(self.values), strict=True):
+                if getattr(self, key) not in ("0", text):
+                    raise FileFormatError(f"give either [controller] or model.{key}, not both")
+                object.__setattr__(self, key, text)
         try:
             sea = self.sea()
         except SeapassError as exc:
-            raise FileFormatError(_in_file_terms(exc)) from None
+            raise FileFormatError(_in_file_terms(exc, self.plant)) from None
         missing = [p for p in sea.parameters if p not in self.values]
         if missing:
             raise FileFormatError(
@@ -179,8 +182,9 @@ class Design(LoopAttributes):
             )
         unused = sorted(set(self.values) - set(sea.parameters) - {"m", "b"})
         if unused:
+            table = "plant" if unused[0] in self.plant else "parameters"
             raise FileFormatError(
-                f"parameters.{unused[0]} is not used by the model "
+                f"{table}.{unused[0]} is not used by the model "
                 f"(it uses {', '.join(sea.parameters)})"
             )
         for name, (lo, hi) in self.ranges.items():
@@ -212,6 +216,8 @@ class Design(LoopAttributes):
 
     def _repr_html_(self) -> str:
         rows: list[tuple[str, Any]] = [(k, getattr(self, k)) for k in ("D1", "D2", "CA", "CL")]
+        if self.controller is not None:
+            rows.insert(2, ("controller", self.controller.kind.description))
         rows += list(self.values.items())
         rows += [(f"range of {k}", f"[{lo:g}, {hi:g}]") for k, (lo, hi) in self.ranges.items()]
         if self.loop is not None:
@@ -227,14 +233,24 @@ class Design(LoopAttributes):
             CL=self.CL,
             values=dict(self.values),
             name=self.name,
+            plant=self.plant,
         )
+
+    def derivation(self) -> ControllerDerivation | None:
+        """How ``CA`` and ``CL`` follow from the ``[controller]`` blocks (None without one)."""
+        if self.controller is None:
+            return None
+        return derive_controller(self.controller, parameters=self.values)
 
     @property
     def gains(self) -> tuple[str, ...]:
-        """Parameters of the controllers ``CA`` and ``CL``, sorted."""
-        sea = self.sea()
-        syms = sea.CA.free_symbols | sea.CL.free_symbols
-        return tuple(sorted(str(x) for x in syms if str(x) != "s"))
+        """The controller gains ([`SEA.gains`][seapass.model.sea.SEA.gains]), sorted."""
+        return self.sea().gains
+
+    @property
+    def plant_parameters(self) -> tuple[str, ...]:
+        """The hardware's ([`SEA.plant_parameters`][seapass.model.sea.SEA.plant_parameters])."""
+        return self.sea().plant_parameters
 
     @property
     def period(self) -> float | None:
@@ -264,7 +280,10 @@ class Design(LoopAttributes):
         return unit_map(self.units, (*self.sea().parameters, "m_L"))
 
     def analysis_ranges(self) -> dict[str, tuple[float, float]]:
-        """Explicit ranges plus a default ``[0, max(10·value, 1000)]`` for every gain."""
+        """Explicit ranges plus a default ``[0, max(10·value, 1000)]`` for every gain.
+
+        A plant parameter is searched only with an explicit ``[ranges]`` entry.
+        """
         out = dict(self.ranges)
         for g in self.gains:
             if g not in out:
@@ -292,16 +311,19 @@ class Design(LoopAttributes):
             "environment": {k: list(v) for k, v in self.environment.items()},
             "rig": self.rig_file,
             "units": dict(self.units),
+            "controller": None if self.controller is None else self.controller.to_table(),
+            "plant": list(self.plant_parameters),
         }
 
 
-def _in_file_terms(exc: SeapassError) -> str:
+def _in_file_terms(exc: SeapassError, plant: tuple[str, ...] = ()) -> str:
     """An `SEA` error in the words of the file: ``parameters.kd``, not ``values['kd']``."""
     msg = str(exc)
     arg = exc.argument or ""
     m = re.fullmatch(r"values\['(\w+)'\]", arg)
     if m and msg.startswith(f"{arg}: "):
-        return f"parameters.{m.group(1)}: {msg[len(arg) + 2 :]}"
+        table = "plant" if m.group(1) in plant else "parameters"
+        return f"{table}.{m.group(1)}: {msg[len(arg) + 2 :]}"
     msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"add \1 to [parameters]", msg)
     if arg in _MODEL and msg.startswith(f"{arg}: "):
         return f"model.{msg}"
@@ -317,6 +339,9 @@ DESIGN_FIELDS: dict[str, Field] = {
     "title": Field(str, hi=MAX_TITLE_CHARS, line=True, required=False),
     "model": Field(dict, fields={k: Field(str, required=False) for k in _MODEL}),
     "parameters": Field(dict, keys=_PARAM, item=Field(float)),
+    "plant": Field(dict, keys=_PARAM, item=Field(float), required=False),
+    # the controller's own checks (Controller, derive_controller) give the rules between keys
+    "controller": Field(dict, required=False, fields=CONTROLLER_FIELDS),
     "ranges": Field(dict, keys=_PARAM, item=_PAIR, required=False),
     "simulation": Field(
         dict,
@@ -385,7 +410,21 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
         if not text.strip():
             raise FileFormatError(f'model.{key}: empty expression (write "0" for none)')
         kw[key] = text
-    values = doc["parameters"]
+    if "controller" in doc:
+        given = [f"model.{k}" for k in ("CA", "CL") if k in model]
+        if given:
+            raise FileFormatError(
+                f"give either [controller] or {' and '.join(given)}, not both: the controller "
+                "blocks are compiled into CA and CL"
+            )
+        kw["controller"] = Controller.from_table(doc["controller"])
+    values = dict(doc["parameters"])
+    plant = doc.get("plant", {})
+    twice = sorted(set(plant) & set(values))
+    if twice:
+        raise FileFormatError(f"plant.{twice[0]} is also in [parameters]; give it once")
+    values.update(plant)
+    kw["plant"] = tuple(plant)
     if "m" in values and values["m"] <= 0:
         raise FileFormatError(
             f"parameters.m: the actuator mass must be positive, got {values['m']}"

@@ -18,6 +18,7 @@ import sympy as sp
 from ..errors import ParameterError, SimulationError, UnrealizableError
 from .display import html_card, short_repr
 from .expr import S, finite_number, symbol
+from .minimal import ControllerRealization, controller_realization, observable_arrays
 from .sea import SEA, unrealizable_controllers
 
 __all__ = [
@@ -163,16 +164,45 @@ class ClosedLoop:
         )
 
 
+@dataclass(frozen=True)
+class _Controller:
+    """Float form of a `ControllerRealization`: ``f_A = p0·e − p1·v + C ξ``, ``ξ̇ = A ξ + B e``."""
+
+    p0: np.ndarray  # (2,): on the errors (θ_A − x_A, θ_L − x_L)
+    p1: np.ndarray  # (2,): on the measured velocities (−v_A, −v_L)
+    A: np.ndarray
+    B: np.ndarray  # (n, 2)
+    C: np.ndarray
+
+    @classmethod
+    def of(cls, k: ControllerRealization) -> _Controller:
+        A, B, C = k.arrays()
+        return cls(
+            np.array([float(c) for c in k.proportional]),
+            np.array([float(c) for c in k.derivative]),
+            A,
+            B,
+            C,
+        )
+
+
 def _assemble(
-    m: float, b: float, load_mass: float, elems: Mapping[str, _Element | None]
+    m: float,
+    b: float,
+    load_mass: float,
+    elems: Mapping[str, _Element | None],
+    ctrl: _Controller,
 ) -> ClosedLoop:
     names = ["x_A", "v_A", "x_L", "v_L"]
     offsets: dict[str, int] = {}
-    for key in ("D1", "D2", "CA", "CL"):
+    for key in ("D1", "D2"):
         e = elems.get(key)
         offsets[key] = len(names)
         if e is not None:
             names += [f"{key}_z{i}" for i in range(e.A.shape[0])]
+    ok = len(names)
+    nk = ctrl.A.shape[0]
+    names += [f"K_z{i}" for i in range(nk)]
     n = len(names)
     width = n + 3  # rows act on [state; input]
     unit = np.eye(width)
@@ -191,7 +221,7 @@ def _assemble(
         out[o : o + k] += e.C
         M[o : o + k, :] = e.B[:, None] * pos[None, :]
         M[o : o + k, o : o + k] += e.A
-        if key in ("D1", "D2") and k:
+        if k:
             # equilibrium z = -A^{-1} B pos for a held deflection, when A is invertible
             try:
                 z_per_pos = -np.linalg.solve(e.A, e.B)
@@ -203,7 +233,13 @@ def _assemble(
 
     f1 = force("D1", xl - xa, vl - va)
     f2 = force("D2", xl, vl)
-    fa = force("CA", th_a - xa, -va) + force("CL", th_l - xl, -vl)
+    # the controller: one system with the two errors in, f_A out (derivative on measurement)
+    errors = (th_a - xa, th_l - xl)
+    fa = ctrl.p0[0] * errors[0] - ctrl.p1[0] * va + ctrl.p0[1] * errors[1] - ctrl.p1[1] * vl
+    if nk:
+        fa[ok:n] += ctrl.C
+        M[ok:n, :] = np.outer(ctrl.B[:, 0], errors[0]) + np.outer(ctrl.B[:, 1], errors[1])
+        M[ok:n, ok:n] += ctrl.A
     M[0] = va
     M[1] = (fa + f1 - b * va) / m
     M[2] = vl
@@ -245,6 +281,10 @@ def closed_loop(
 ) -> ClosedLoop:
     """Build the closed-loop state space of ``sea`` driving a load of mass ``load_mass``.
 
+    The controller ``K(s) = [C_A  C_L]`` is one minimal system
+    ([`controller_realization`][seapass.model.minimal.controller_realization]): a pole
+    that ``C_A`` and ``C_L`` share (a force loop's integrator) is one state.
+
     Parameters
     ----------
     sea : SEA
@@ -266,7 +306,7 @@ def closed_loop(
     if m <= 0:
         raise ParameterError(f"actuator mass m must be positive, got {m:g}")
     elems: dict[str, _Element | None] = {}
-    for key in ("D1", "D2", "CA", "CL"):
+    for key in ("D1", "D2"):
         expr = sp.sympify(getattr(sea, key)).xreplace(subs)
         missing = sorted(str(x) for x in expr.free_symbols if x != S)
         if missing:
@@ -281,7 +321,57 @@ def closed_loop(
         num = np.array([float(c) for c in pn.all_coeffs()])
         den = np.array([float(c) for c in pd.all_coeffs()])
         elems[key] = _realize(num, den, f"{key} = {expr}")
-    return _assemble(m, b, load_mass, elems)
+    ctrl = _Controller.of(controller_realization(sea, values=values))
+    return _assemble(m, b, load_mass, elems, ctrl)
+
+
+def _joint_coefficients(
+    exprs: Sequence[sp.Expr], syms: Sequence[sp.Symbol]
+) -> tuple[list[list[sp.Expr]], list[sp.Expr]]:
+    """Descending ``s``-coefficients of ``[N_A D/D_A, N_L D/D_L]`` and ``D = lcm(D_A, D_L)``
+    with the gains ``syms`` symbolic (the gcd is taken in ``Q[s, gains]``)."""
+    fracs = [sp.fraction(sp.cancel(sp.together(e))) for e in exprs]
+    dens = [d for _n, d in fracs]
+    g = sp.gcd(dens[0], dens[1])
+    rest = [sp.cancel(dens[1] / g), sp.cancel(dens[0] / g)]
+    den = sp.expand(dens[0] * rest[0])
+    nums = [sp.expand(fracs[0][0] * rest[0]), sp.expand(fracs[1][0] * rest[1])]
+
+    def desc(e: sp.Expr) -> list[sp.Expr]:
+        return [sp.sympify(c) for c in sp.Poly(e, S).all_coeffs()]
+
+    return [desc(n) for n in nums], desc(den)
+
+
+def _numeric_controller(
+    nums: Sequence[np.ndarray], den: np.ndarray, names: Sequence[str]
+) -> _Controller:
+    """The float `_Controller` of ``[N_A, N_L]/D`` (descending coefficients)."""
+    den = np.trim_zeros(np.asarray(den, dtype=float), "f")
+    if den.size == 0:
+        raise SimulationError("the controller has a denominator that is zero for these values")
+    lead = den[0]
+    den = den / lead
+    n = den.size - 1
+    p0, p1, rem = np.zeros(2), np.zeros(2), []
+    for i, (num, name) in enumerate(zip(nums, names, strict=True)):
+        num = np.trim_zeros(np.asarray(num, dtype=float), "f") / lead
+        excess = num.size - den.size
+        if excess > 1:
+            raise UnrealizableError(
+                f"{name} is improper with {excess} more zeros than poles: the simulator "
+                "measures only positions and velocities, so at most one derivative "
+                "(e.g. 'kd + bd*s') is realizable; add filter poles, "
+                "e.g. 'kd + bd*s/(1 + s/500)'"
+            )
+        q, r = np.polydiv(num, den) if num.size and excess >= 0 else (np.zeros(1), num)
+        q = np.atleast_1d(q)[::-1]
+        p0[i] = float(q[0]) if q.size > 0 else 0.0
+        p1[i] = float(q[1]) if q.size > 1 else 0.0
+        r = np.atleast_1d(r)[::-1][:n]
+        rem.append(np.concatenate([r, np.zeros(n - r.size)]))
+    A, B, C = observable_arrays(den[::-1], rem)
+    return _Controller(p0, p1, A, B, C)
 
 
 def closed_loop_factory(
@@ -290,9 +380,11 @@ def closed_loop_factory(
     """A fast builder ``f(param_values) -> ClosedLoop`` for repeated evaluation (tuning).
 
     The element coefficients are compiled once as numeric functions of
-    ``params``; other parameters take their values from ``sea``.  Unlike
-    `closed_loop` no exact cancellation is done per call, so a common
-    factor appearing at special values leaves a (harmless, cancelled) mode.
+    ``params``; other parameters take their values from ``sea``.  The controller
+    row is put over its common denominator once, with the gains symbolic (so a
+    pole both elements share is one state at every gain); unlike `closed_loop`
+    no exact cancellation is done per call, so a common factor appearing at
+    special values leaves a (harmless, cancelled) mode.
     """
     load_mass = finite_number(load_mass, "load mass m_L", positive=True)
     syms = [symbol(p) for p in params]
@@ -300,16 +392,22 @@ def closed_loop_factory(
     m = float(sp.sympify(sea.m).xreplace(fixed))
     b = float(sp.sympify(sea.b).xreplace(fixed))
     funcs: dict[str, Any] = {}
+    exprs = {}
     for key in ("D1", "D2", "CA", "CL"):
         expr = sp.sympify(getattr(sea, key)).xreplace(fixed)
         extra = sorted(str(x) for x in expr.free_symbols if x != S and x not in syms)
         if extra:
             raise ParameterError(f"{key} needs values for {', '.join(extra)}")
+        exprs[key] = expr
+        if key in ("CA", "CL"):
+            continue
         if expr == 0:
             funcs[key] = None
             continue
         pn, pd = _coeffs(expr)
         funcs[key] = sp.lambdify([syms], [pn.all_coeffs(), pd.all_coeffs()], "numpy")
+    knums, kden = _joint_coefficients([exprs["CA"], exprs["CL"]], syms)
+    kfunc = sp.lambdify([syms], [knums[0], knums[1], kden], "numpy")
 
     def build(x: Sequence[float]) -> ClosedLoop:
         elems: dict[str, _Element | None] = {}
@@ -319,6 +417,10 @@ def closed_loop_factory(
                 continue
             num, den = fn(list(x))
             elems[key] = _realize(np.array(num, float), np.array(den, float), key)
-        return _assemble(m, b, load_mass, elems)
+        na, nl, dk = kfunc(list(x))
+        ctrl = _numeric_controller(
+            [np.array(na, float), np.array(nl, float)], np.array(dk, float), ("CA", "CL")
+        )
+        return _assemble(m, b, load_mass, elems, ctrl)
 
     return build

@@ -171,6 +171,7 @@ def resolve_design(
     load_mass: float | None = None,
     step: float | None = None,
     horizon: float | None = None,
+    plant: Iterable[str] = (),
 ) -> ResolvedDesign:
     """Merge a design file with the caller's model, values, loop, experiment and units.
 
@@ -193,6 +194,8 @@ def resolve_design(
         The loop when the file has none (a sampled command's default period).
     load_mass, step, horizon : float, optional
         The step response's, replacing the file's.
+    plant : iterable of str
+        Hardware parameters besides the file's ``[plant]`` (never gains).
 
     Returns
     -------
@@ -224,7 +227,13 @@ def resolve_design(
         kept = {k: v for k, v in file_values.items() if k in used}
     known: dict[str, float] = {**kept, **dict(values or {})}
     model_values: dict[str, float | None] = {**known, **dict.fromkeys(free)}
-    sea = SEA(**base, values=model_values, name=design.name if design is not None else "")
+    hardware = (*(design.plant if design is not None else ()), *plant)
+    sea = SEA(
+        **base,
+        values=model_values,
+        name=design.name if design is not None else "",
+        plant=tuple(dict.fromkeys(hardware)),
+    )
     names = (*sea.parameters, "m_L")
     declared = dict(design.units) if design is not None else {}
     for name in units or {}:

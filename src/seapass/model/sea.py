@@ -1,4 +1,5 @@
-"""Immutable model objects: a 1-DoF series elastic actuator and a raw impedance.
+"""Immutable model objects: a 1-DoF series elastic actuator (and, re-exported from
+[`seapass.model.impedance`][seapass.model.impedance], a raw impedance).
 
 These sit at the bottom of the package: they parse and validate their inputs
 and hold data; all analysis lives in the modules above.  An element given as text
@@ -13,10 +14,9 @@ from __future__ import annotations
 import functools
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, NamedTuple, TypeAlias
 
-from ..errors import DegenerateModelError, ExpressionError, ParameterError
+from ..errors import DegenerateModelError, ExpressionError, ParameterError, did_you_mean
 from .display import html_card, short_repr
 from .elements import (
     LazySympy,
@@ -26,38 +26,39 @@ from .elements import (
     exact_of,
     exact_values,
     freeze_values,
-    is_sympy,
     poly_names,
     source_names,
-    sympy_of,
 )
 from .expr import STANDARD_SYMBOLS, to_fraction, validate_values
+from .impedance import Impedance
 from .rational import RatFunc, context, univariate, variables
 
 if TYPE_CHECKING:
     import sympy as sp
 
-__all__ = ["SEA", "ExprLike", "Impedance", "check_used", "exact_values", "unrealizable_controllers"]
+__all__ = [
+    "PLANT_SYMBOLS",
+    "SEA",
+    "ExprLike",
+    "Impedance",
+    "check_used",
+    "exact_values",
+    "unrealizable_controllers",
+]
 
 ExprLike: TypeAlias = "str | sp.Expr | int | float"
 
 _ELEMENTS = ("D1", "D2", "CA", "CL")
 _ATTRS = (*_ELEMENTS, "m", "b")
 
+PLANT_SYMBOLS: tuple[str, ...] = ("m", "b", "k1", "k2", "b1", "b2")
+"""Standard names of the hardware: actuator mass and damping, springs and dampers.
 
-class _ImpedanceExpr(LazySympy):
-    """The ``expr`` field of `Impedance`: reading it gives the cancelled sympy ``Z``."""
-
-    def __init__(self) -> None:
-        super().__init__(None)
-
-    def __get__(self, obj: Any, objtype: Any = None) -> Any:
-        if obj is None:
-            return self.default
-        state = obj.__dict__
-        if "_sympy_expr" not in state:
-            state["_sympy_expr"] = _impedance_sympy(obj)
-        return state["_sympy_expr"]
+With the parameters of ``D1``, ``D2``, ``m``, ``b`` and those an `SEA` declares in
+``plant``, they are its plant parameters (`SEA.plant_parameters`): fixed values,
+substituted where a controller uses them (``k1`` in ``C_A = C_f*k1``), never tuned or
+swept as gains unless asked for by name.
+"""
 
 
 @functools.lru_cache(maxsize=512)
@@ -101,8 +102,10 @@ def _model_facts(sources: tuple[Source, ...], allowed: frozenset[str]) -> _Facts
     )
 
 
-def _rebuild(given: dict[str, Any], values: dict[str, float | None], name: str) -> SEA:
-    return SEA(**given, values=values, name=name)
+def _rebuild(
+    given: dict[str, Any], values: dict[str, float | None], name: str, plant: tuple[str, ...] = ()
+) -> SEA:
+    return SEA(**given, values=values, name=name, plant=plant)
 
 
 @dataclass(frozen=True, repr=False)
@@ -136,15 +139,19 @@ class SEA:
         an expression must be one of ``m b k1 k2 b1 b2 kd bd ki`` or a key here.
     name : str, default ""
         A label for reports and legends.
+    plant : tuple of str
+        Parameters that belong to the hardware besides `PLANT_SYMBOLS` and those
+        of ``D1``, ``D2``, ``m``, ``b`` (a sensor gain, a gear ratio); see
+        `plant_parameters` and `gains`.
 
     Raises
     ------
     ExpressionError
         For unknown symbols or expressions that are not rational in ``s``.
     ParameterError
-        For non-finite values, a name in ``values`` that the model does not use
-        (``values['kdd']``, with the closest name it does use), or a mass that is
-        not positive.
+        For non-finite values, a name in ``values`` or ``plant`` that the model does
+        not use (``values['kdd']``, with the closest name it does use), or a mass
+        that is not positive.
     DegenerateModelError
         When the load port is connected to nothing (``D1 = D2 = 0``).
     """
@@ -158,8 +165,14 @@ class SEA:
     b: Any = LazySympy("b")  # noqa: RUF009
     values: Mapping[str, float | None] = field(default_factory=dict)
     name: str = ""
+    plant: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
+        if isinstance(self.plant, str) or not all(isinstance(p, str) for p in self.plant):
+            raise ParameterError(
+                f"plant: expected a tuple of parameter names, got {self.plant!r}", argument="plant"
+            )
+        object.__setattr__(self, "plant", tuple(sorted(set(self.plant))))
         vals = freeze_values(self.values)
         object.__setattr__(self, "values", vals)
         state = self.__dict__
@@ -176,6 +189,14 @@ class SEA:
                 "give a transmission, e.g. --D1 'k1'"
             )
         check_used(vals, facts.parameters)
+        for name in self.plant:
+            if name not in facts.parameters:
+                raise ParameterError(
+                    f"plant: {name!r} is not a parameter of the model"
+                    f"{did_you_mean(name, facts.parameters)}; "
+                    f"it uses {', '.join(facts.parameters)}",
+                    argument="plant",
+                )
         known = exact_values(vals)
         if facts.mass.parameters() <= set(known):
             m_num, m_den = facts.mass.evaluate(known)
@@ -189,7 +210,7 @@ class SEA:
     def __reduce__(self) -> tuple[Any, ...]:
         """Pickle the elements as given (caches are rebuilt on the other side)."""
         given = {a: self.__dict__[f"_given_{a}"] for a in _ATTRS}
-        return (_rebuild, (given, dict(self.values), self.name))
+        return (_rebuild, (given, dict(self.values), self.name, self.plant))
 
     def sources(self) -> tuple[Source, ...]:
         """The six elements ``D1 D2 CA CL m b`` as parsed, in a hashable form (cache keys)."""
@@ -226,6 +247,38 @@ class SEA:
         """Parameters used by the model that have no numeric value."""
         return tuple(p for p in self.parameters if self.values.get(p) is None)
 
+    @property
+    def plant_parameters(self) -> tuple[str, ...]:
+        """The hardware's parameters the model uses, sorted: `PLANT_SYMBOLS`, those of
+        ``D1``, ``D2``, ``m``, ``b`` and the declared ``plant``.
+
+        Examples
+        --------
+        >>> SEA(D1="k1 + b1*s", CA="(kp + ki/s)*k1 + ba*s", values=dict(kp=2, ba=5)).plant_parameters
+        ('b', 'b1', 'k1', 'm')
+        """
+        hardware = set(PLANT_SYMBOLS) | set(self.plant)
+        for attr in ("D1", "D2", "m", "b"):
+            hardware |= self._names_of(attr)
+        return tuple(p for p in self.parameters if p in hardware)
+
+    @property
+    def gains(self) -> tuple[str, ...]:
+        """The controller gains, sorted: parameters of ``C_A`` and ``C_L`` that are not
+        plant parameters (a plant parameter inside a controller is substituted, not tuned).
+
+        Examples
+        --------
+        >>> SEA(D1="k1 + b1*s", CA="(kp + ki/s)*k1 + ba*s", values=dict(kp=2, ba=5)).gains
+        ('ba', 'ki', 'kp')
+        """
+        plant = set(self.plant_parameters)
+        return tuple(sorted((self._names_of("CA") | self._names_of("CL")) - plant))
+
+    def _names_of(self, attr: str) -> frozenset[str]:
+        """The parameters element ``attr`` uses as written (no sympy)."""
+        return source_names(self.__dict__[f"_source_{attr}"], self.__dict__["_allowed"])
+
     def elements(self) -> dict[str, sp.Expr]:
         """The four elements plus ``m`` and ``b`` as sympy expressions."""
         return {a: getattr(self, a) for a in _ATTRS}
@@ -254,7 +307,7 @@ class SEA:
         merged = dict(self.values)
         merged.update(values)
         given = {a: self.__dict__[f"_given_{a}"] for a in _ATTRS}
-        return SEA(**given, values=merged, name=self.name)
+        return SEA(**given, values=merged, name=self.name, plant=self.plant)
 
     def describe(self) -> dict[str, str]:
         """Element expressions as strings (``0`` for absent elements)."""
@@ -291,190 +344,13 @@ class SEA:
             if str(getattr(self, attr)) != attr:
                 fields[attr] = str(getattr(self, attr))
         fields["values"] = dict(self.values) if self.values else None
+        fields["plant"] = self.plant or None
         return short_repr("SEA", fields)
 
     def _repr_html_(self) -> str:
         rows: list[tuple[str, Any]] = [(a, str(getattr(self, a))) for a in (*_ELEMENTS, "m", "b")]
         rows += [(k, "free" if v is None else v) for k, v in self.values.items()]
         return html_card(f"SEA {self.name}".strip(), rows)
-
-
-@dataclass(frozen=True, repr=False)
-class Impedance:
-    """A raw rational impedance ``Z(s)`` with optional parameter values.
-
-    Give either ``expr`` (text or sympy) or ``num`` and ``den``.  Coefficient
-    sequences for ``num``/``den`` are in *descending* powers of ``s``, as in
-    numpy and python-control.
-    """
-
-    expr: Any = _ImpedanceExpr()
-    num: Any = None
-    den: Any = None
-    values: Mapping[str, float | None] = field(default_factory=dict)
-
-    def __post_init__(self) -> None:
-        vals = freeze_values(self.values)
-        object.__setattr__(self, "values", vals)
-        state = self.__dict__
-        allowed = frozenset(STANDARD_SYMBOLS) | frozenset(vals)
-        state["_allowed"] = allowed
-        given = state.get("_given_expr")
-        if given is not None:
-            if self.num is not None or self.den is not None:
-                raise ExpressionError("give either expr or num/den, not both")
-            sources: Any = ("expr", element_source(given, allowed, "Z"))
-        else:
-            if self.num is None or self.den is None:
-                raise ExpressionError("give Z as an expression or as both num and den")
-            sources = ("coeffs", _coefficients(self.num, allowed, "num"))
-            sources += (_coefficients(self.den, allowed, "den"),)
-        state["_sources"] = sources
-        state["_given"] = (given, self.num, self.den)
-        # before cancelling: a parameter that cancels out was still used
-        check_used(vals, _impedance_parts(sources, allowed)[1], "Z")
-        left = self.exact().parameters()
-        if set(vals) - left:  # a parameter that cancelled out no longer matters
-            object.__setattr__(
-                self, "values", MappingProxyType({k: v for k, v in vals.items() if k in left})
-            )
-        object.__setattr__(self, "num", None)
-        object.__setattr__(self, "den", None)
-
-    def __reduce__(self) -> tuple[Any, ...]:
-        expr, num, den = self.__dict__["_given"]
-        return (_rebuild_impedance, (expr, num, den, dict(self.values)))
-
-    def exact(self) -> RatFunc:
-        """``Z`` as an exact rational function in lowest terms (no values substituted)."""
-        return _impedance_parts(self.__dict__["_sources"], self.__dict__["_allowed"])[0]
-
-    def sources(self) -> tuple[Any, ...]:
-        """``Z`` as parsed, in a hashable form (cache keys)."""
-        return tuple(self.__dict__["_sources"])
-
-    def with_values(self, **values: float | None) -> Impedance:
-        """A copy with some parameter values changed or added."""
-        expr, num, den = self.__dict__["_given"]
-        return Impedance(expr=expr, num=num, den=den, values={**self.values, **values})
-
-    @property
-    def parameters(self) -> tuple[str, ...]:
-        return tuple(sorted(self.exact().parameters()))
-
-    @property
-    def free_parameters(self) -> tuple[str, ...]:
-        return tuple(p for p in self.parameters if self.values.get(p) is None)
-
-    def substitutions(self) -> dict[sp.Symbol, sp.Rational]:
-        import sympy as sp
-
-        from .expr import symbol
-
-        return {
-            symbol(k): sp.Rational(to_fraction(v, k))
-            for k, v in self.values.items()
-            if v is not None
-        }
-
-    def to_control(self) -> Any:
-        """``Z(s)`` as a ``control.TransferFunction`` (input ``v``, output ``F``)."""
-        from .pycontrol import impedance_transfer_function
-
-        return impedance_transfer_function(self)
-
-    @classmethod
-    def from_control(cls, system: Any) -> Impedance:
-        """An `Impedance` from a SISO continuous-time ``control.TransferFunction`` or ``StateSpace``.
-
-        The float coefficients are taken as the exact rationals they represent.
-
-        Examples
-        --------
-        >>> import control
-        >>> Impedance.from_control(control.tf([1, 1], [1, 2]))
-        Impedance(Z='(s + 1)/(s + 2)')
-        """
-        from .pycontrol import impedance_from_control
-
-        return impedance_from_control(system)
-
-    def __repr__(self) -> str:
-        return short_repr("Impedance", {"Z": str(self.expr), "values": dict(self.values) or None})
-
-    def _repr_html_(self) -> str:
-        rows: list[tuple[str, Any]] = [("Z(s)", str(self.expr))]
-        rows += [(k, "free" if v is None else v) for k, v in self.values.items()]
-        return html_card("Impedance", rows)
-
-
-def _coefficients(coeffs: Any, allowed: frozenset[str], what: str) -> tuple[Source, ...]:
-    """Sources of a coefficient sequence (descending powers), or of one expression."""
-    if isinstance(coeffs, str) or is_sympy(coeffs):
-        return (element_source(coeffs, allowed, what),)
-    try:
-        seq = list(coeffs)
-    except TypeError:
-        return (element_source(coeffs, allowed, what),)
-    if not seq:
-        raise ExpressionError(f"{what}: empty coefficient list")
-    return tuple(element_source(c, allowed, f"{what}[{i}]") for i, c in enumerate(seq))
-
-
-@functools.lru_cache(maxsize=512)
-def _impedance_parts(
-    sources: tuple[Any, ...], allowed: frozenset[str]
-) -> tuple[RatFunc, frozenset[str]]:
-    """``Z`` in lowest terms and the names its parts use before cancelling (cached)."""
-    if sources[0] == "expr":
-        whole = exact_of(sources[1], allowed, "Z")
-        return whole, source_names(sources[1], allowed)
-    parts = {
-        what: [exact_of(src, allowed, f"{what}[{i}]") for i, src in enumerate(srcs)]
-        for what, srcs in (("num", sources[1]), ("den", sources[2]))
-    }
-    names: set[str] = set()
-    for src in (*sources[1], *sources[2]):
-        names |= source_names(src, allowed)
-    exact_names: set[str] = set()
-    for fs in parts.values():
-        for f in fs:
-            exact_names |= f.parameters()
-    ctx = context(variables(exact_names))
-    s = RatFunc.variable(ctx, "s")
-    total = {}
-    for what, fs in parts.items():
-        acc = RatFunc.constant(ctx, 0)
-        for i, f in enumerate(fs):
-            acc = acc + f.to_context(ctx) * s ** (len(fs) - 1 - i)
-        total[what] = acc
-    if total["den"].is_zero:
-        raise DegenerateModelError("Z has a zero denominator")
-    return total["num"] / total["den"], frozenset(names)
-
-
-def _impedance_sympy(obj: Impedance) -> Any:
-    """``Z`` as sympy, cancelled, exactly as it was built before the exact path existed."""
-    import sympy as sp
-
-    from .symbolic import S
-
-    sources, allowed = obj.__dict__["_sources"], obj.__dict__["_allowed"]
-
-    def poly(srcs: tuple[Source, ...]) -> Any:
-        n = len(srcs) - 1
-        return sp.Add(*[sympy_of(src, allowed) * S ** (n - i) for i, src in enumerate(srcs)])
-
-    if sources[0] == "expr":
-        z = sympy_of(sources[1], allowed)
-    else:
-        z = poly(sources[1]) / poly(sources[2])
-    num, den = sp.fraction(sp.cancel(sp.together(z)))
-    return num / den
-
-
-def _rebuild_impedance(expr: Any, num: Any, den: Any, values: dict[str, Any]) -> Impedance:
-    return Impedance(expr=expr, num=num, den=den, values=values)
 
 
 def unrealizable_controllers(sea: SEA) -> dict[str, int]:

@@ -69,7 +69,10 @@ def plot_rig_sweep(result: ExperimentResult, *, axes: Any = None) -> Any:
         ax_t, ax_e = grid[0, col], grid[1, col]
         sweeps = [s for s in result.sweeps if s.load_mass == mass]
         for s in sweeps:
-            kw = {"color": _COLORS[s.design], "label": _LABEL[s.design]}
+            kw = {
+                "color": _COLORS.get(s.design, "tab:green"),
+                "label": _LABEL.get(s.design, s.design),
+            }
             ax_t.plot(s.kd, s.settling_time, marker="o", ms=3.5, lw=1.3, **kw)
             err = np.where(s.steady_state_error > 0, s.steady_state_error * 1e3, np.nan)
             ax_e.plot(s.kd, err, marker="o", ms=3.5, lw=0.8, alpha=0.9, **kw)
@@ -82,7 +85,8 @@ def plot_rig_sweep(result: ExperimentResult, *, axes: Any = None) -> Any:
         ax_t.set_ylim(bottom=0)
         ax_e.set_yscale("log")
         ax_e.yaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
-        ax_e.set_xlabel("controller stiffness $k_d$ (N/m)")
+        gain = sweeps[0].gain if sweeps else "kd"
+        ax_e.set_xlabel("controller stiffness $k_d$ (N/m)" if gain == "kd" else f"gain {gain}")
         for ax in (ax_t, ax_e):
             ax.grid(True, alpha=0.3)
     grid[0, 0].set_ylabel("2 % settling time (s)\n[gaps: did not settle in 2 s]")
@@ -100,10 +104,11 @@ def plot_traces(
     picks = kd_values or list(np.unique(np.quantile(sweep.kd, [0.1, 0.4, 0.7, 1.0])))
     for kd in picks:
         i = int(np.argmin(np.abs(sweep.kd - kd)))
-        ax.plot(sweep.t, sweep.x_L[i] * 1e3, label=f"$k_d$ = {sweep.kd[i]:g} ({sweep.status[i]})")
+        name = "$k_d$" if sweep.gain == "kd" else sweep.gain
+        ax.plot(sweep.t, sweep.x_L[i] * 1e3, label=f"{name} = {sweep.kd[i]:g} ({sweep.status[i]})")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("load position $x_L$ (mm)")
-    ax.set_title(f"{_LABEL[sweep.design]}, $m_L$ = {sweep.load_mass:g} kg")
+    ax.set_title(f"{_LABEL.get(sweep.design, sweep.design)}, $m_L$ = {sweep.load_mass:g} kg")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     return ax

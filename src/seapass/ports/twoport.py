@@ -3,7 +3,7 @@
 A `TwoPort` holds its four entries symbolically (cancelled sympy expressions in
 ``s`` and the parameters), its form (z, y, h or g; see
 [`seapass.ports.forms`][seapass.ports.forms]) and parameter values, like
-[`Impedance`][seapass.model.sea.Impedance] does for a one-port.  `two_port`
+[`Impedance`][seapass.model.impedance.Impedance] does for a one-port.  `two_port`
 derives it from an SEA's free-body equations
 ([`seapass.ports.derive`][seapass.ports.derive]); `TwoPort.from_matrix` takes
 four expressions in any form.  `TwoPort.convert` changes the form exactly and

@@ -17,7 +17,8 @@ nonlinear plant: friction, saturation, encoders), [`twin`][seapass.rig.twin]
 the ``mujoco`` extra).
 
 May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
-[`seapass.sim`][seapass.sim].
+[`seapass.sim`][seapass.sim], [`seapass.sampled`][seapass.sampled] (the discrete controllers the twin
+runs).
 """
 
 from .chirp import ChirpPlan, chirp_plan

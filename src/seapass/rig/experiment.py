@@ -29,7 +29,7 @@ References
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
@@ -54,6 +54,7 @@ __all__ = [
     "run_rig_sweep",
     "run_rig_sweeps",
     "settling_metrics",
+    "sweep_result",
 ]
 
 FINAL_WINDOW = 0.25  # s at the end of the horizon that decide the final value
@@ -132,6 +133,8 @@ class RigSweepResult:
     unstable_gain_sampled: float | None
     t: FloatArray = field(repr=False)
     x_L: FloatArray = field(repr=False)
+    gain: str = "kd"
+    """The swept gain (``kd`` for LP and Ours; any gain of a design file), its values in ``kd``."""
 
     def __repr__(self) -> str:
         settled = int(np.sum(~np.isnan(self.settling_time)))
@@ -155,7 +158,7 @@ class RigSweepResult:
                 {
                     "design": self.design,
                     "load_mass": self.load_mass,
-                    "kd": float(kd),
+                    self.gain: float(kd),
                     "bd": self.bd if self.design == "ours" else 0.0,
                     "status": self.status[i],
                     "settling_time": None if math.isnan(ts) else float(ts),
@@ -165,8 +168,10 @@ class RigSweepResult:
         return out
 
     def to_dict(self) -> dict[str, Any]:
+        extra = {} if self.gain == "kd" else {"gain": self.gain}
         return {
             "design": self.design,
+            **extra,
             "load_mass": self.load_mass,
             "bd": self.bd if self.design == "ours" else 0.0,
             "unstable_gain_twin": self.unstable_gain_twin,
@@ -292,6 +297,27 @@ def _sweep_result(
     x_L: FloatArray, diverged: NDArray[np.bool_], predictions: bool,
 ) -> RigSweepResult:  # fmt: skip
     """Settling metrics of one sweep's runs and, optionally, the linear instability gains."""
+    search = max(10.0 * float(gains.max()), 1e4)
+
+    def limit(sampled: bool) -> float | None:
+        if not predictions:
+            return None
+        return critical_gain(
+            rig, design=d, load_mass=load_mass, sampled=sampled, bd=bdv, kd_search=search
+        )
+
+    return sweep_result(rig, d, load_mass, gains, t, x_L, diverged, limit=limit, bd=bdv)
+
+
+def sweep_result(
+    rig: Rig, design: str, load_mass: float, gains: FloatArray, t: FloatArray,
+    x_L: FloatArray, diverged: NDArray[np.bool_], *, limit: Callable[[bool], float | None],
+    bd: float = 0.0, gain: str = "kd",
+) -> RigSweepResult:  # fmt: skip
+    """Settling metrics of one sweep's runs (axis 0 of ``x_L``: the gains) as a `RigSweepResult`.
+
+    ``limit(sampled)`` gives the linear instability gain (continuous and sampled), or None.
+    """
     ex = rig.experiment
     band = ex.settle_band * abs(ex.initial_position)
     ts = np.full(gains.size, np.nan)
@@ -308,19 +334,10 @@ def _sweep_result(
         fin[i] = np.nan if f is None else f
         err[i] = np.nan if e is None else e
     unstable = [float(g) for g, s in zip(gains, status, strict=True) if s == Settling.UNSTABLE]
-    search = max(10.0 * float(gains.max()), 1e4)
-
-    def limit(sampled: bool) -> float | None:
-        if not predictions:
-            return None
-        return critical_gain(
-            rig, design=d, load_mass=load_mass, sampled=sampled, bd=bdv, kd_search=search
-        )
-
     return RigSweepResult(
-        design=d,
+        design=design,
         load_mass=float(load_mass),
-        bd=bdv,
+        bd=bd,
         kd=gains,
         settling_time=ts,
         steady_state_error=err,
@@ -331,6 +348,7 @@ def _sweep_result(
         unstable_gain_sampled=limit(True),
         t=t,
         x_L=x_L,
+        gain=gain,
     )
 
 

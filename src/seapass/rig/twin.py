@@ -3,14 +3,14 @@
 `simulate_loop` runs many closed loops at once (axis ``run``) of the
 plant of [`seapass.rig.plant`][seapass.rig.plant] under a discrete PD controller with encoder
 positions, filtered finite-difference velocities, ZOH and an optional
-one-sample delay; `linear_matrices` is the friction-free linear model the
-twin reduces to.
+one-sample delay, or under the realized controller of any design (or the exported C);
+`linear_matrices` is the friction-free linear model the twin reduces to.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
@@ -21,6 +21,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import ParameterError
 from ..files.limits import MAX_RIG_INTEGRATOR_STEPS, MAX_TWIN_VALUES
 from ..model.loop import SampledLoop, loop_argument
+from ..sampled.joint import BatchDifferenceEquation
 from .plant import Encoders, PlantKernel, as_batch
 from .rigfile import Rig
 
@@ -86,6 +87,7 @@ def simulate_loop(
     saturate: bool = True,
     loop: SampledLoop | None = None,
     seed: int | None = None,
+    controllers: Sequence[Any] | None = None,
     **old: Any,
 ) -> LoopResult:
     """Simulate a batch of sampled closed loops on the twin.
@@ -97,6 +99,14 @@ def simulate_loop(
     period (ZOH), optionally one sample late (the loop's delay).
     LP of the paper is ``kp_load = kd``; "Ours" is ``kp_actuator = kd,
     kv_actuator = bd``.
+
+    Any other controller runs through ``controllers``: one per run (or one for every
+    run), each a [`DiscreteController`][seapass.sampled.controllers.DiscreteController]
+    (the realized ``K`` of any design, run batched as one difference equation per run,
+    bit for bit as it runs alone) or anything with its ``step((x̂_A, x̂_L), (r, r))`` and
+    ``reset()``, such as the exported C loaded by
+    [`compile_c`][seapass.export.compiled.compile_c] (run one call per period).  The
+    PD gains must then be left at 0.
 
     Parameters
     ----------
@@ -122,6 +132,8 @@ def simulate_loop(
         matter here: the twin's controller is proportional-derivative.
     seed : int or None
         Encoder phase offsets (see `TwinPlant`).
+    controllers : sequence, optional
+        The runs' controllers (see above), at the loop's period.
     **old
         The loop's old keywords (delay and velocity filter in Hz, 0 for none), accepted
         for one release with a warning.
@@ -158,7 +170,11 @@ def simulate_loop(
     enc = Encoders(rig, n, seed, quantize)
     kern.set_state(arr["x0"] - arr["deflection0"], 0.0, arr["x0"], 0.0)
     contact = _Contact(arr, kern) if hand is not None else None
-    ctrl = _Controller(arr, period=T, filter_hz=fc, delay=delay, reference=reference)
+    ctrl: Any
+    if controllers is None:
+        ctrl = _Controller(arr, period=T, filter_hz=fc, delay=delay, reference=reference)
+    else:
+        ctrl = _realized_controller(controllers, arr, n, period=T, delay=delay, reference=reference)
     stop = _EndStop(n, rig.load.travel)
     rec = _Record(n, steps)
 
@@ -262,6 +278,77 @@ class _Controller:
             - self.kva * self.va
             + self.kpl * (r - xl_hat)
             - self.kvl * self.vl
+        )
+        applied = self.pending if self.delay else u
+        self.pending = u
+        return applied
+
+
+def _realized_controller(
+    controllers: Sequence[Any], arr: dict[str, FloatArray], n: int, *, period: float,
+    delay: int, reference: float,
+) -> Any:  # fmt: skip
+    """The controller of the runs: batched difference equations, or one object per run."""
+    from ..sampled.controllers import SIGNALS, DiscreteController
+
+    gains = ("kp_actuator", "kv_actuator", "kp_load", "kv_load")
+    if any(np.any(arr[g] != 0) for g in gains):
+        raise ParameterError("controllers: give either the PD gains or controllers, not both")
+    ctrls = list(controllers)
+    if len(ctrls) == 1:
+        ctrls = ctrls * n
+    if len(ctrls) != n:
+        raise ParameterError(f"controllers: {len(ctrls)} given for {n} runs (give 1 or {n})")
+    if all(isinstance(c, DiscreteController) for c in ctrls):
+        for c in ctrls:
+            if float(c.period) != period:
+                raise ParameterError(
+                    f"controllers: a controller runs at {float(c.period):g} s, the twin at "
+                    f"{period:g} s (the rig's control.rate); discretize it at the rig's period"
+                )
+        batch = BatchDifferenceEquation([c.realization for c in ctrls], SIGNALS)
+        return _BatchController(batch, delay=delay, reference=reference, n=n)
+    return _StepController(ctrls, delay=delay, reference=reference)
+
+
+class _BatchController:
+    """The runs' realized controllers ``u = K(r − x̂)`` (derivative paths on ``−x̂``)."""
+
+    def __init__(
+        self, batch: BatchDifferenceEquation, *, delay: int, reference: float, n: int
+    ) -> None:
+        self.batch, self.delay, self.r = batch, delay, reference
+        self.pending = np.zeros(n)
+
+    def start(self, xa_hat: FloatArray, xl_hat: FloatArray) -> None:
+        self.batch.reset()
+
+    def command(self, xa_hat: FloatArray, xl_hat: FloatArray) -> FloatArray:
+        r = self.r
+        u = self.batch.step([r - xa_hat, -xa_hat, r - xl_hat, -xl_hat])
+        applied = self.pending if self.delay else u
+        self.pending = u
+        return applied
+
+
+class _StepController:
+    """One controller object per run, stepped one call per period (e.g. the exported C)."""
+
+    def __init__(self, ctrls: Sequence[Any], *, delay: int, reference: float) -> None:
+        self.ctrls, self.delay, self.r = ctrls, delay, reference
+        self.pending = np.zeros(len(ctrls))
+
+    def start(self, xa_hat: FloatArray, xl_hat: FloatArray) -> None:
+        for c in self.ctrls:
+            c.reset()
+
+    def command(self, xa_hat: FloatArray, xl_hat: FloatArray) -> FloatArray:
+        r = self.r
+        u = np.array(
+            [
+                float(c.step((float(a), float(b)), (r, r)))
+                for c, a, b in zip(self.ctrls, xa_hat, xl_hat, strict=True)
+            ]
         )
         applied = self.pending if self.delay else u
         self.pending = u

@@ -33,7 +33,7 @@ from ..model.loop import LoopAttributes, SampledLoop, loop_argument
 from ..model.sea import SEA
 from ..outcome import Outcome
 from .boxes import MAX_BOXES, BoxVerdict, bound_boxes
-from .controllers import controller_tfs
+from .controllers import DiscreteController, controller_parts
 from .family import controller_family
 from .lowfreq import low_frequency_limit
 from .passivity import check_precision, check_values, sampled_passivity
@@ -347,24 +347,24 @@ def sampled_passive_bound(
     if base.free_parameters != (param,):
         others = [p for p in base.free_parameters if p != param]
         raise ParameterError("sampled bound needs values for: " + ", ".join(others))
-    check_values(base.with_values(**{param: hi}))
+    check_values(probe := base.with_values(**{param: hi}))
     T = loop.exact_period
-    probe = base.with_values(**{param: hi})
     plant_of(probe)
     key = plant_key(probe)
     fam = controller_family(base, param, loop)
     # the precision the point verdicts need at a few values starts the boxes
     start = PRECISIONS[0]
     for v in {lo, hi, (lo + hi) / 2, *(() if design_value is None else (design_value,))}:
-        ka, kl = controller_tfs(base.with_values(**{param: v}), loop)
-        start = max(start, decide(key, ka, kl, T, max_precision=max_precision).precision)
+        ctrl = DiscreteController.for_loop(base.with_values(**{param: v}), loop)
+        ka, kl, hidden = controller_parts(ctrl, loop.delay)
+        d = decide(key, ka, kl, T, max_precision=max_precision, hidden=hidden)
+        start = max(start, d.precision)
     flo, fhi = Fraction(lo), Fraction(hi)
-    span = fhi - flo
     advance = _progress_bar(progress, f"sampled bound of {param}")
     try:
         boxes = bound_boxes(
             key, T, fam, flo, fhi,
-            rtol=Fraction(rtol), atol=Fraction(rtol) * span / 10**6,
+            rtol=Fraction(rtol), atol=Fraction(rtol) * (fhi - flo) / 10**6,
             start_precision=start, max_precision=max_precision, max_boxes=max_boxes,
             advance=advance,
         )  # fmt: skip

@@ -39,7 +39,7 @@ from .certified import (
     schur_stable,
     sign_on,
 )
-from .family import ControllerFamily, poly_product
+from .family import ControllerFamily, joint_polys
 from .plant import PlantKey
 from .power import weighted_polynomials
 from .verdict import (
@@ -56,6 +56,10 @@ __all__ = ["BoxVerdict", "bound_boxes"]
 
 #: Most boxes examined in one bound (bounds time; what is left is reported undecided).
 MAX_BOXES = 20000
+
+SPECIAL_GAP = Fraction(1, 10**6)
+"""Boxes touching a special value of the family (see `bound_boxes`) narrower than this
+fraction of the range (or ``rtol`` of it, if larger) are left undecided, not bisected."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -110,11 +114,7 @@ def _setup(
 ) -> _Setup:
     sums = cached_sums(key, period, names, prec)
     a, load = fam.actuator, fam.load
-    vfam = [
-        poly_product(list(a.den), list(load.den)),
-        poly_product(list(a.num), list(load.den)),
-        poly_product(list(load.num), list(a.den)),
-    ]
+    vfam, rest = joint_polys(a, load)
     with precision(prec):
         p_family = weighted_polynomials(sums, vfam)
         e = max((p.degree() for p in (*a.num, *a.den)), default=0)
@@ -129,8 +129,8 @@ def _setup(
             chi.append([c.real for c in coeffs])
         n = max((len(c) for c in chi), default=0)
         chi = [c + [arb(0)] * (n - len(c)) for c in chi]
-        el = max((p.degree() for p in load.den), default=0)
-        dl = _z_coeffs(list(load.den), max(el, 0))
+        el = max((p.degree() for p in rest), default=0)
+        dl = _z_coeffs(list(rest), max(el, 0))
         return _Setup(sums, p_family, chi, dl, prec, modulus_on_circle(chi), modulus_on_circle(dl))
 
 
@@ -281,6 +281,11 @@ def bound_boxes(
 
     tol_rel = rtol / 4  # adjacent leaves may merge into one enclosure
     undecided = Outcome.UNDECIDED
+    # where the family's structure changes (ki = 0 removes an integrator) the power may
+    # vanish at ω = 0 and no box touching the value is ever decided: below `gap` such a
+    # box stays undecided (the value itself is decided alone by the caller)
+    gap = max(rtol, SPECIAL_GAP) * (hi - lo)
+    specials = [v for v in fam.special if lo <= v <= hi]
     done: list[BoxVerdict] = []
     stack: list[tuple[Fraction, Fraction, int, tuple[tuple[Fraction, Fraction], ...]]]
     stack = [(lo, hi, 0, ())]
@@ -299,6 +304,9 @@ def bound_boxes(
                 done.append(BoxVerdict(lo=a, hi=b, outcome=outcome, reason=reason))
                 if advance:
                     advance(float((b - a) / (hi - lo)))
+                continue
+            if b - a <= gap and any(a <= v <= b for v in specials):
+                done.append(BoxVerdict(lo=a, hi=b, outcome=undecided, reason=SampledReason.SPECIAL))
                 continue
             if b - a <= max(tol_rel * max(abs(a), abs(b)), atol):
                 leaves.append((a, b, level))

@@ -18,7 +18,7 @@ from ..errors import ModelError, ParameterError
 from ..model.expr import S
 from ..model.loop import SampledLoop
 from ..model.sea import SEA
-from .controllers import DiscreteTF, controller_tfs, state_space
+from .controllers import DiscreteController, controller_state_space
 
 __all__ = ["CoupledCheck", "coupled_check", "coupled_closed_loop", "worst_sampled_environment"]
 
@@ -75,12 +75,14 @@ def coupled_closed_loop(
     env_mass: float,
     env_stiffness: float = 0.0,
     env_damping: float = 0.0,
-    tfs: tuple[DiscreteTF, DiscreteTF] | None = None,
+    controller: DiscreteController | None = None,
     _plant: tuple[float, ...] | None = None,
 ) -> np.ndarray:
     """Closed-loop transition matrix over one period (plant states first: x_A, v_A, x_L, v_L).
 
-    ``tfs`` (from `controller_tfs`) skips re-discretizing the controller.
+    The controller is its one minimal realization
+    ([`controller_state_space`][seapass.sampled.controllers.controller_state_space]) followed by
+    the loop's delay; ``controller`` (a `DiscreteController`) skips re-discretizing it.
     """
     from scipy.linalg import expm
 
@@ -102,24 +104,16 @@ def coupled_closed_loop(
     big[:4, :4], big[:4, 4:] = A * period, B * period
     E = expm(big)
     Ad, Bd = E[:4, :4], E[:4, 4:]
-    ka, kl = tfs or controller_tfs(sea, loop)
-    blocks = []
-    rows = [np.array([[1.0, 0.0, 0.0, 0.0]]), np.array([[0.0, 0.0, 1.0, 0.0]])]
-    acl = Ad.copy()
-    for tf, cy in zip((ka, kl), rows, strict=True):
-        Ak, Bk, Ck, Dk = state_space(tf)
-        acl = acl - Bd @ Dk @ cy
-        blocks.append((Ak, Bk, Ck, cy))
-    nk = [blk[0].shape[0] for blk in blocks]
-    n = 4 + sum(nk)
-    out = np.zeros((n, n))
-    out[:4, :4] = acl
-    off = 4
-    for (Ak, Bk, Ck, cy), nki in zip(blocks, nk, strict=True):
-        out[:4, off : off + nki] = -Bd @ Ck
-        out[off : off + nki, :4] = Bk @ cy
-        out[off : off + nki, off : off + nki] = Ak
-        off += nki
+    ctrl = controller or DiscreteController.for_loop(sea, loop)
+    Ak, Bk, Ck, Dk = controller_state_space(ctrl, loop.delay)
+    cy = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]])
+    nk = Ak.shape[0]
+    out = np.zeros((4 + nk, 4 + nk))
+    # u = −(Ck ξ + Dk y), y = (x_A, x_L); ξ⁺ = Ak ξ + Bk y
+    out[:4, :4] = Ad - Bd @ Dk.reshape(1, 2) @ cy
+    out[:4, 4:] = -Bd @ Ck.reshape(1, nk)
+    out[4:, :4] = Bk @ cy
+    out[4:, 4:] = Ak
     return out
 
 
@@ -166,7 +160,7 @@ def worst_sampled_environment(
     """
     ms = np.logspace(-3, 1, 13) if masses is None else np.atleast_1d(masses)
     ks = np.r_[0.0, np.logspace(1, 5, 13)] if stiffnesses is None else np.atleast_1d(stiffnesses)
-    tfs = controller_tfs(sea, loop)
+    ctrl = DiscreteController.for_loop(sea, loop)
     params = _coupled_plant(sea)
     best: CoupledCheck | None = None
     for me in ms:
@@ -177,7 +171,7 @@ def worst_sampled_environment(
                 env_mass=float(me),
                 env_stiffness=float(ke),
                 env_damping=damping,
-                tfs=tfs,
+                controller=ctrl,
                 _plant=params,
             )
             if best is None or c.spectral_radius > best.spectral_radius:

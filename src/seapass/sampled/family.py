@@ -11,6 +11,7 @@ the discretization is undefined); those are returned so callers decide them one 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -22,11 +23,18 @@ from ..exact.poly import as_poly, rational
 from ..model.expr import S, symbol, to_fraction
 from ..model.loop import Method, SampledLoop
 from ..model.sea import SEA
-from .controllers import discrete_paths
+from .emulation import discrete_paths
 
-__all__ = ["ControllerFamily", "ControllerPolys", "controller_family", "poly_product"]
+__all__ = [
+    "ControllerFamily",
+    "ControllerPolys",
+    "controller_family",
+    "joint_polys",
+    "poly_product",
+]
 
 _Q = sp.Symbol("q")  # z^-1
+_LAM = sp.Symbol("lambda_")  # the free parameter in the joint gcd
 
 
 @dataclass(frozen=True)
@@ -125,6 +133,49 @@ def _discretize(
     num = _add(poly_product(ne, dm), poly_product(nm, de))
     den = poly_product(de, dm)
     return ControllerPolys(tuple(num), tuple(den)), [*special, *s1, *s2]
+
+
+def _to_sympy(polys: Sequence[fmpq_poly]) -> sp.Expr:
+    """``Σ_a λ^a p_a(q)`` as a sympy expression in ``q`` and ``λ`` (the symbol `_LAM`)."""
+    out = sp.Integer(0)
+    for a, p in enumerate(polys):
+        for i, c in enumerate(p.coeffs()):
+            if c != 0:
+                out += sp.Rational(int(c.p), int(c.q)) * _Q**i * _LAM**a
+    return out
+
+
+def _from_sympy(expr: sp.Expr) -> list[fmpq_poly]:
+    return _in_q(sp.expand(expr), _LAM)[0] if expr != 0 else [fmpq_poly([0])]
+
+
+def joint_polys(
+    actuator: ControllerPolys, load: ControllerPolys
+) -> tuple[list[list[fmpq_poly]], list[fmpq_poly]]:
+    """``v'(λ) = (D, n_A D/d_A, n_L D/d_L)`` and ``d_L/g`` over the common denominator.
+
+    ``g = gcd(d_A, d_L)`` is taken in ``Q[q, λ]`` (exact, sympy): a pole both controllers
+    share for generic ``λ`` (a force loop's integrator) is one factor of ``D = d_A d_L/g``.
+    At the finitely many ``λ`` where more cancels the family keeps a common factor, which
+    only makes a verdict more conservative there (an extra ``|factor|² ≥ 0`` in the power,
+    extra roots in the stability test); those values are decided alone anyway when rational.
+    Without a shared factor this is ``(d_A d_L, n_A d_L, n_L d_A)`` and ``d_L``.
+    """
+    da, dl = _to_sympy(actuator.den), _to_sympy(load.den)
+    g = sp.gcd(da, dl) if not load.is_zero else sp.Integer(1)
+    if _Q not in g.free_symbols:
+        return [
+            poly_product(list(actuator.den), list(load.den)),
+            poly_product(list(actuator.num), list(load.den)),
+            poly_product(list(load.num), list(actuator.den)),
+        ], list(load.den)
+    ra = _from_sympy(sp.cancel(dl / g))  # d_L/g: the poles of K_L that K_A lacks
+    rl = _from_sympy(sp.cancel(da / g))
+    return [
+        poly_product(list(actuator.den), ra),
+        poly_product(list(actuator.num), ra),
+        poly_product(list(load.num), rl),
+    ], ra
 
 
 @dataclass(frozen=True)

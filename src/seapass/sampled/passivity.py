@@ -55,7 +55,7 @@ from ..errors import ModelError, NotPassiveError, ParameterError
 from ..model.display import html_card, short_repr
 from ..model.loop import LoopAttributes, SampledLoop, loop_argument
 from ..model.sea import SEA
-from .controllers import DiscreteController, controller_tfs
+from .controllers import DiscreteController, controller_parts, controller_tfs
 from .lowfreq import LowFrequency, low_frequency_of
 from .plant import plant_key, plant_of
 from .power import power_values
@@ -321,13 +321,12 @@ def sampled_passivity(
             "sampled passivity needs values for: " + ", ".join(sea.free_parameters)
         )
     check_values(sea)
-    if controller is not None:
-        ka, kl = (tf.delayed(loop.delay) for tf in controller.transfer_functions())
-    else:
-        ka, kl = controller_tfs(sea, loop)
+    if controller is None:
+        controller = DiscreteController.for_loop(sea, loop)
+    ka, kl, hidden = controller_parts(controller, loop.delay)
     key = plant_key(sea)
     plant_of(sea)  # validates the physical plant (ModelError outside the supported class)
-    d = decide(key, ka, kl, loop.exact_period, max_precision=max_precision)
+    d = decide(key, ka, kl, loop.exact_period, max_precision=max_precision, hidden=hidden)
     lf = low_frequency_of(
         sea,
         ka,

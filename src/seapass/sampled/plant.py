@@ -23,6 +23,7 @@ from flint import acb, ctx, fmpq, fmpq_poly
 
 from ..errors import ModelError, ParameterError
 from ..exact.poly import as_poly, rational, to_fraction, to_fractions
+from ..model.minimal import RationalFunction, reduce_rational
 from ..model.sea import SEA, exact_values
 
 if TYPE_CHECKING:
@@ -42,8 +43,6 @@ __all__ = [
     "reflect",
 ]
 
-RationalFunction = tuple[fmpq_poly, fmpq_poly]  # (numerator, denominator), reduced, monic den
-
 _ONE = fmpq_poly([1])
 _S = fmpq_poly([0, 1])
 
@@ -60,12 +59,7 @@ def reduced(num: fmpq_poly, den: fmpq_poly) -> RationalFunction:
     """``num/den`` in lowest terms with a monic denominator."""
     if den.is_zero():
         raise ModelError("a plant element has a denominator that is identically zero")
-    if num.is_zero():
-        return fmpq_poly([0]), _ONE
-    g = num.gcd(den)
-    num, den = num // g, den // g
-    lead = den.leading_coefficient()
-    return num / lead, den / lead
+    return reduce_rational(num, den)
 
 
 def rational_of(expr: sp.Expr) -> RationalFunction:
@@ -268,20 +262,21 @@ def continuous_impedance(sea: SEA) -> RationalFunction:
     """``Z_L(s) = [D2 + D1 (α + C_A + C_L)/(α + D1 + C_A)]/s`` exactly, not reduced.
 
     The continuous-time port impedance (the paper's Eq. 4 with the ``D1·D2`` term), built
-    from the element rationals without symbolic derivation.
+    from the element rationals without symbolic derivation.  The factors it keeps are the
+    modes of the loop: the controller ``[C_A  C_L]`` is one system over ``D = lcm(d_A, d_L)``
+    (a pole both share is one mode, closed through ``C_A``), and the poles of ``C_L`` that
+    ``C_A`` lacks, ``r_L = D/d_A``, are the controller's modes with the port held.
     """
     e = {k: numeric_element(sea, k) for k in ("D1", "D2", "CA", "CL", "m", "b")}
     m, b = e["m"][0][0] / e["m"][1][0], e["b"][0][0] / e["b"][1][0]
-    alpha = (fmpq_poly([0, b, m]), _ONE)
-
-    def add(*fs: RationalFunction) -> RationalFunction:
-        num, den = fmpq_poly([0]), _ONE
-        for n, d in fs:
-            num, den = num * d + n * den, den * d
-        return num, den
-
-    inner_num = add(alpha, e["CA"], e["CL"])
-    inner_den = add(alpha, e["D1"], e["CA"])
-    frac = (e["D1"][0] * inner_num[0] * inner_den[1], e["D1"][1] * inner_num[1] * inner_den[0])
-    k_num, k_den = add(e["D2"], frac)
-    return k_num, k_den * _S
+    alpha = fmpq_poly([0, b, m])
+    (n1, d1), (n2, d2) = e["D1"], e["D2"]
+    (na, da), (nl, dl) = e["CA"], e["CL"]
+    g = da.gcd(dl)
+    ra, rl = dl // g, da // g  # D = d_A r_A = d_L r_L
+    inner_num = alpha * da * ra + na * ra + nl * rl  # (α + C_A + C_L)·D
+    inner_den = alpha * da * d1 + n1 * da + na * d1  # (α + D1 + C_A)·d_A d1
+    # D1 (α + C_A + C_L)/(α + D1 + C_A) = n1 inner_num d1 / (d1 r_A inner_den)
+    frac_num, frac_den = n1 * inner_num * d1, d1 * ra * inner_den
+    k_num = n2 * frac_den + frac_num * d2
+    return k_num, d2 * frac_den * _S

@@ -60,6 +60,10 @@ class SampledReason(StrEnum):
     bits, not a split (bounds only; never left in a finished partition)."""
     BUDGET = "budget"
     """Not examined: the bound's budget of boxes (``max_boxes``) ran out (bounds only)."""
+    SPECIAL = "special"
+    """An undecided box next to a value where the controller's structure changes (an
+    integral gain of 0, say) and the power vanishes at ``ω = 0`` (bounds only; the value
+    itself is decided alone)."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -78,10 +82,29 @@ def precision_ladder(max_bits: int) -> tuple[int, ...]:
 
 
 def point_family(ka: object, kl: object) -> ControllerFamily:
-    """``v' = (d_A d_L, n_A d_L, n_L d_A)`` of fixed controllers (λ-degree 0)."""
+    """``v' = (D, n_A D/d_A, n_L D/d_L)`` of fixed controllers (λ-degree 0), ``D = lcm(d_A, d_L)``.
+
+    The controller is one system over its least common denominator: a pole ``K_A`` and
+    ``K_L`` share (a force loop's integrator) is one factor of ``D``, so ``v'`` has no
+    common factor and the weighted power polynomial no spurious zero on the unit circle.
+    Without shared poles ``D = d_A d_L``: ``v' = (d_A d_L, n_A d_L, n_L d_A)``.
+    """
+    return joint_family(ka, kl)[0]
+
+
+def joint_family(ka: object, kl: object) -> tuple[ControllerFamily, fmpq_poly]:
+    """`point_family` and ``d_L/gcd(d_A, d_L)``: the poles of ``K_L`` that ``K_A`` lacks
+    (in ``z⁻¹``); with the port held they are open-loop modes of the controller."""
     na, da = as_poly(ka.num), as_poly(ka.den)  # type: ignore[attr-defined]
     nl, dl = as_poly(kl.num), as_poly(kl.den)  # type: ignore[attr-defined]
-    return [[da * dl], [na * dl], [nl * da]]
+    g = da.gcd(dl) if not (da.is_zero() or dl.is_zero()) else fmpq_poly([1])
+    ra, rl = dl // g, da // g
+    return [[da * ra], [na * ra], [nl * rl]], ra
+
+
+def _z_ascending(p: fmpq_poly) -> list[Fraction]:
+    """Coefficients in ``z`` (ascending) of ``z^n p(1/z)`` for ``p`` in ``z⁻¹`` of degree n."""
+    return [Fraction(int(c.p), int(c.q)) for c in reversed(p.coeffs())] or [Fraction(1)]
 
 
 def needed_sums(ka_zero: bool, kl_zero: bool) -> tuple[str, ...]:
@@ -170,17 +193,31 @@ def theta_of(x: Fraction) -> float:
     return 2.0 * math.asin(math.sqrt(max(0.0, min(1.0, float((1 - x) / 2)))))
 
 
-def loop_radius(key: PlantKey, ka: object, kl: object, period: Fraction) -> float:
+def loop_radius(
+    key: PlantKey,
+    ka: object,
+    kl: object,
+    period: Fraction,
+    hidden: Sequence[Fraction] = (Fraction(1),),
+) -> float:
     """Spectral radius (floating point, for information) of the loop with the port held:
-    the roots of ``χ`` and the load-side controller's own poles."""
+    the roots of ``χ`` and the controller's modes ``K_A`` does not close the loop over (poles
+    of ``K_L`` only, hidden modes)."""
     sums = cached_sums(key, period, ("Sg",), PRECISIONS[0])
     with precision(sums.prec):
         chi = characteristic(sums, as_poly(ka.num), as_poly(ka.den))  # type: ignore[attr-defined]
     rho = _radius(chi)
-    poles = kl.poles()  # type: ignore[attr-defined]
-    if not kl.is_zero and poles.size:  # type: ignore[attr-defined]
-        rho = max(rho, float(np.max(np.abs(poles))))
+    extra = _open_modes(ka, kl, hidden)
+    if extra.degree() > 0:
+        roots = np.roots([float(c) for c in _z_ascending(extra)][::-1])
+        rho = max(rho, float(np.max(np.abs(roots))))
     return rho
+
+
+def _open_modes(ka: object, kl: object, hidden: Sequence[Fraction]) -> fmpq_poly:
+    """``(d_L/gcd(d_A, d_L))·hidden`` in ``z⁻¹``: modes outside the loop ``χ`` describes."""
+    rest = joint_family(ka, kl)[1] if not kl.is_zero else fmpq_poly([1])  # type: ignore[attr-defined]
+    return rest * as_poly(list(hidden))
 
 
 def decide(
@@ -190,24 +227,37 @@ def decide(
     period: Fraction,
     *,
     max_precision: int = PRECISIONS[-1],
+    hidden: Sequence[Fraction] = (Fraction(1),),
 ) -> Decision:
-    """Certified sampled-data passivity of the plant ``key`` under ``(K_A, K_L)``."""
+    """Certified sampled-data passivity of the plant ``key`` under ``(K_A, K_L)``.
+
+    ``K_A`` and ``K_L`` are one controller: a pole they share is one mode, closed by the
+    loop through ``K_A``; poles of ``K_L`` alone, and ``hidden`` modes of the running
+    realization (`DiscreteController.hidden_modes`, ascending in ``z⁻¹``), are open-loop
+    modes with the port held and must be stable (decided exactly).
+    """
     ka_zero, kl_zero = ka.is_zero, kl.is_zero  # type: ignore[attr-defined]
-    if ka_zero and kl_zero:
+    if ka_zero and kl_zero and as_poly(list(hidden)).degree() <= 0:
         return Decision(
             outcome=Outcome.PASSIVE,
             reason=SampledReason.NO_CONTROL,
             spectral_radius=loop_radius(key, ka, kl, period),
         )
-    if not kl_zero and not schur_stable_exact(list(reversed(kl.den))):  # type: ignore[attr-defined]
-        rho = loop_radius(key, ka, kl, period)
+    if not schur_stable_exact(_z_ascending(_open_modes(ka, kl, hidden))):
+        rho = loop_radius(key, ka, kl, period, hidden)
         return Decision(
             outcome=Outcome.NOT_PASSIVE,
             reason=SampledReason.UNSTABLE,
             spectral_radius=max(rho, 1.0),
         )
+    if ka_zero and kl_zero:
+        return Decision(
+            outcome=Outcome.PASSIVE,
+            reason=SampledReason.NO_CONTROL,
+            spectral_radius=loop_radius(key, ka, kl, period, hidden),
+        )
     if not kl_zero and alias_injection(key):
-        rho = loop_radius(key, ka, kl, period)
+        rho = loop_radius(key, ka, kl, period, hidden)
         return Decision(
             outcome=Outcome.NOT_PASSIVE, reason=SampledReason.ALIAS_INJECTION, spectral_radius=rho
         )

@@ -254,6 +254,7 @@ def tune(
     progress: bool | None = None,
     callback: Callable[[int, float], None] | None = None,
     throw: bool = False,
+    allow_plant: bool = False,
     **changes: Any,
 ) -> TuningResult:
     """Tune the gains of ``design`` for the best passive step response.
@@ -269,7 +270,7 @@ def tune(
         The gains to tune, each with its box ``(lo, hi)`` or None for the
         design's default box.  Every other parameter keeps its value.  Default:
         the catalog's gains, else the controller gains (the parameters of
-        ``C_A`` and ``C_L``) of a design file or an SEA; see
+        ``C_A`` and ``C_L`` that are not plant parameters) of a design file or an SEA; see
         [`resolve_problem`][seapass.tuning.problem.resolve_problem].
     values : mapping of str to float, optional
         Values of fixed parameters overriding the design's, e.g. the plant of a
@@ -284,6 +285,9 @@ def tune(
     throw : bool, default False
         Raise [`NotPassiveError`][seapass.errors.NotPassiveError] when the result is
         not feasible (not passive, or a limit is violated).
+    allow_plant : bool, default False
+        Allow ``tune`` to name plant parameters (``k1``, a ``[plant]`` value) that the
+        design does not offer for tuning; see `resolve_problem`.
     **changes
         Any field of `TuningOptions`, replacing the one in ``options``, e.g.
         ``objective="itae"``, ``loop=SampledLoop(period=0.002)``, ``seed=3``.
@@ -312,7 +316,7 @@ def tune(
     (True, ['bd', 'kd'])
     """
     opts = (options or TuningOptions()).replace(**changes)
-    problem = resolve_problem(design, tune, opts, values)
+    problem = resolve_problem(design, tune, opts, values, allow_plant=allow_plant)
     bounds = narrowed_box(problem)
     if problem.options.loop is not None:  # fail now on what the sampled analysis refuses
         _sampled_verdict(problem, problem.candidate(sum(bounds[g]) / 2 for g in problem.gains))

@@ -303,12 +303,43 @@ def design_parts(
         boxes = {**design.analysis_ranges(), **design.ranges}
         return design.name, sea, design.gains, boxes
     if isinstance(design, SEA):
-        controller = {str(x) for x in design.CA.free_symbols | design.CL.free_symbols}
-        gains = tuple(p for p in design.parameters if p in controller)
-        return design.name or "design", design, gains, {}
+        return design.name or "design", design, design.gains, {}
     raise ParameterError(
         f"design: expected an SEA, a Design, a CatalogDesign or a catalog name, "
         f"got {type(design).__name__}"
+    )
+
+
+def _design_variables(design: DesignLike) -> set[str]:
+    """Plant parameters the design itself offers for tuning: a catalog entry's gains (the
+    paper's damper ``b1``), a design file's ``[ranges]``."""
+    if isinstance(design, str):
+        design = catalog_design(design)
+    if isinstance(design, CatalogDesign):
+        return set(design.gains)
+    if isinstance(design, Design):
+        return set(design.ranges)
+    return set()
+
+
+def _check_plant(name: str, sea: SEA, design: DesignLike, allow_plant: bool) -> None:
+    """Refuse to tune a plant parameter the user did not ask for on purpose."""
+    where = f"tune[{name!r}]"
+    if symbol(name) in sea.m.free_symbols | sea.b.free_symbols:
+        raise ParameterError(
+            f"{where}: {name} sets the actuator mass or damping (the plant); tune the "
+            "controller gains or the transmission instead"
+        )
+    if allow_plant or name not in sea.plant_parameters or name in _design_variables(design):
+        return
+    value = sea.values.get(name)
+    at = "" if value is None else f" ({name} = {value:g})"
+    ranges = (
+        " (or give it a [ranges] entry in the design file)" if isinstance(design, Design) else ""
+    )
+    raise ParameterError(
+        f"{where}: {name} is a plant parameter{at}, part of the hardware, not a controller "
+        f"gain; to redesign the hardware, tune it on purpose with allow_plant=True{ranges}"
     )
 
 
@@ -330,11 +361,6 @@ def _wanted(tune: BoxLike | None, defaults: tuple[str, ...], sea: SEA) -> dict[s
             raise ParameterError(
                 f"{where}: not a parameter of the design "
                 f"({', '.join(sea.parameters)}){did_you_mean(str(name), sea.parameters)}"
-            )
-        if symbol(name) in sea.m.free_symbols | sea.b.free_symbols:
-            raise ParameterError(
-                f"{where}: {name} sets the actuator mass or damping (the plant); tune the "
-                "controller gains or the transmission instead"
             )
         if wanted[name] is not None:
             wanted[name] = _box(wanted[name], where)
@@ -369,6 +395,8 @@ def resolve_problem(
     tune: BoxLike | None = None,
     options: TuningOptions | None = None,
     values: Mapping[str, float] | None = None,
+    *,
+    allow_plant: bool = False,
 ) -> TuningProblem:
     """Validate a tuning problem before any work starts.
 
@@ -380,19 +408,26 @@ def resolve_problem(
         The gains to tune and their boxes.  A name without a box takes it from
         the design (a catalog entry's box, the file's ``[ranges]``, else
         `default_box` for a gain with a value).  Default: the catalog's gains,
-        else the controller gains (the parameters of ``C_A`` and ``C_L``) of a
-        design file or an SEA.  Every other parameter keeps its value.
+        else the controller gains of a design file or an SEA (the parameters of
+        ``C_A`` and ``C_L`` that are not plant parameters,
+        [`SEA.gains`][seapass.model.sea.SEA.gains]).  Every other parameter keeps its value.
     options : TuningOptions, optional
     values : mapping of str to float, optional
         Values of fixed parameters overriding the design's (a catalog design's
         plant, say).
+    allow_plant : bool
+        Allow tuning plant parameters
+        ([`SEA.plant_parameters`][seapass.model.sea.SEA.plant_parameters]: the
+        springs and dampers of the hardware, ``[plant]``) named in ``tune``.
+        Without it only those the design offers may be tuned (a catalog entry's
+        gains, a design file's ``[ranges]``); ``m`` and ``b`` never.
 
     Raises
     ------
     ParameterError
         Naming the argument: an unknown gain or value (with a did-you-mean), an
         empty or inverted box, a value for a tuned gain, a fixed parameter
-        without a value.
+        without a value, a plant parameter without ``allow_plant``.
     """
     opts = options or TuningOptions()
     name, sea, defaults, boxes = design_parts(design)
@@ -405,6 +440,8 @@ def resolve_problem(
     if values:
         sea = sea.with_values(**values)
     wanted = _wanted(tune, defaults, sea)
+    for gain in wanted:
+        _check_plant(gain, sea, design, allow_plant)
     clash = sorted(set(values or {}) & set(wanted))
     if clash:
         raise ParameterError(

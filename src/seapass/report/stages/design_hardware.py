@@ -19,6 +19,7 @@ from ...model.design_file import Design
 from ...model.expr import S, symbol
 from ...outcome import Outcome
 from ...plot.rig import plot_rig_sweep
+from ...rig.design_sweep import design_gain, run_design_sweeps
 from ...rig.experiment import ExperimentResult, RigSweepResult, run_rig_sweeps
 from ...rig.rigfile import Rig, load_rig, paper_rig
 from ...sampled.bound import sampled_passive_bound
@@ -164,13 +165,20 @@ def rig_data(design: Design, quick: bool) -> DesignRigData | Section:
         )
     rig = paper_rig() if design.rig_file == "paper" else load_rig(design.rig_file)
     key = matching_experiment_design(design)
-    if key is None:
-        return Section(
-            "rig", _RIG_TITLE, status=SectionStatus.SKIPPED,
-            text="Skipped: the twin's experiment runs load-side P (`C_L = kd`) or "
-            "actuator-side PD (`C_A = kd + bd*s`) controllers only.",
-        )  # fmt: skip
     ex = rig.experiment
+    if key is None:  # any other controller: its realization runs on the twin
+        if not design.gains:
+            return Section(
+                "rig", _RIG_TITLE, status=SectionStatus.SKIPPED,
+                text="Skipped: the design has no controller gain to sweep on the twin.",
+            )  # fmt: skip
+        gain = design_gain(design)
+        stage_progress(0, 2, f"{gain} sweeps on the twin of {rig.name}")
+        lo, hi = design.analysis_ranges()[gain]
+        step = (hi - lo) / (10 if quick else 20)
+        sweeps = run_design_sweeps(rig, design, gain=gain, load_masses=ex.load_masses,
+                                   gain_step=step)  # fmt: skip
+        return DesignRigData(rig=rig, sweeps=tuple(sweeps))
     bd = design.values.get("bd") if key == "ours" else None
     step = ex.kd_step * (4 if quick else 1)
     stage_progress(0, 2, f"kd sweeps on the twin of {rig.name}")
@@ -181,14 +189,26 @@ def rig_data(design: Design, quick: bool) -> DesignRigData | Section:
 def rig_figures(data: DesignRigData) -> tuple[FigureData, ...]:
     stage_progress(1, 2, "figure")
     fig = plot_rig_sweep(ExperimentResult(rig_name=data.rig.name, sweeps=data.sweeps, findings=()))
-    return (FigureData.of("rig_sweep", "kd sweep on the twin.", fig),)
+    gain = data.sweeps[0].gain if data.sweeps else "kd"
+    return (FigureData.of("rig_sweep", f"{gain} sweep on the twin.", fig),)
 
 
 def rig_section(design: Design, data: DesignRigData, figures: Sequence[FigureData]) -> Section:
     """The section of `rig_data` with the figures of `rig_figures`."""
     rig, sweeps = data.rig, data.sweeps
     ex = rig.experiment
-    kd = design.values["kd"]
+    gain = sweeps[0].gain if sweeps else "kd"
+    kd = design.values[gain]
+    unit = " [N/m]" if gain == "kd" else ""
+    if gain == "kd":
+        swept = f"kd is swept from 0 to {ex.kd_max:g} N/m."
+    else:
+        lo, hi = float(min(s.kd.min() for s in sweeps)), float(max(s.kd.max() for s in sweeps))
+        swept = (
+            f"{gain} is swept from {lo:g} to {hi:g}. The design's controller (its other gains "
+            "as in the file) runs as one difference equation, discretized at the rig's rate "
+            "(`seapass.rig.design_sweep`)."
+        )
     rows = []
     for s in sweeps:
         i = int(np.argmin(np.abs(s.kd - kd)))
@@ -205,20 +225,19 @@ def rig_section(design: Design, data: DesignRigData, figures: Sequence[FigureDat
             f"with the **rig's** plant (m = {rig.actuator_mass:.4g} kg, b = "
             f"{rig.actuator_damping:g} N·s/m, k1 = {rig.damper.k1:g} N/m, b1 = "
             f"{rig.damper.b1:g} N·s/m), not the file's: the load starts "
-            f"{ex.initial_position * 1e3:g} mm from the reference; kd is swept from 0 to "
-            f"{ex.kd_max:g} N/m."
+            f"{ex.initial_position * 1e3:g} mm from the reference; " + swept
         ),
         tables=(
             Table(
                 name="rig_at_design_kd",
-                title="At the gain nearest to the design's kd",
+                title=f"At the gain nearest to the design's {gain}",
                 columns=(
                     "load mass [kg]",
-                    "kd [N/m]",
+                    f"{gain}{unit}",
                     "status",
                     "settling time [s]",
                     "steady-state error [mm]",
-                    "unstable from kd (twin) [N/m]",
+                    f"unstable from {gain} (twin){unit}",
                 ),
                 rows=tuple(rows),
             ),

@@ -19,6 +19,7 @@ from ...analysis.passivity import is_passive
 from ...analysis.region import PassiveIntervals, passive_intervals
 from ...analysis.witness import WitnessResult, find_destabilizing_environment
 from ...errors import SeapassError
+from ...model.controller import BLOCKS
 from ...model.design_file import Design
 from ...model.stiffness import derive_stiffness
 from ...model.units import unit_label
@@ -78,6 +79,33 @@ def _elements_table(design: Design, k: sp.Expr, k_values: sp.Expr) -> Table:
     )
 
 
+def _controller_table(design: Design) -> tuple[tuple[Table, ...], dict[str, str]]:
+    """How ``C_A`` and ``C_L`` follow from the ``[controller]`` blocks, and its data file."""
+    d = design.derivation()
+    if d is None:
+        return (), {}
+    names = {sym: what for sym, what, _ in BLOCKS.values()}
+    rows: list[tuple[str, Any]] = [
+        ("kind", f"{d.controller.kind.value}: {d.controller.kind.description}")
+    ]
+    rows += [(f"{sym} ({names[sym]})", Math(text)) for sym, text in d.blocks.items()]
+    rows.append(("force feed-forward", "yes" if d.controller.feedforward else "no"))
+    rows += [(f"{sig} (block diagram)", Math(rhs)) for sig, rhs in d.diagram]
+    rows += [
+        ("C_A solved from the diagram", Math(d.general["CA"])),
+        ("C_L solved from the diagram", Math(d.general["CL"])),
+        ("C_A with the blocks", Math(d.CA)),
+        ("C_L with the blocks", Math(d.CL)),
+    ]
+    table = Table(
+        name="controller",
+        title="Controller blocks → C_A, C_L (f_A = C_A (θ − x_A) + C_L (θ − x_L))",
+        columns=("", "expression"),
+        rows=tuple(rows),
+    )
+    return (table,), {"controller.json": to_json(d.to_dict())}
+
+
 def _condition_text(sea: Any) -> tuple[str, dict[str, str]]:
     """The exact symbolic condition as math blocks, and its data file."""
     try:
@@ -125,6 +153,7 @@ def stage_passivity(design: Design, quick: bool) -> Section:
     k = derive_stiffness(sea).stiffness
     k_values = sp.factor(sp.cancel(sea.numeric(k)))
     cond_text, files = _condition_text(sea)
+    controller, controller_files = _controller_table(design)
     finding = Finding(
         f"{design.name} is passive at {values_text(dict(design.values))}",
         Verdict.AGREES if res.passive else Verdict.DIFFERS,
@@ -139,12 +168,13 @@ def stage_passivity(design: Design, quick: bool) -> Section:
         key="passivity",
         title="Passivity verdict",
         text=_verdict_text(res) + "\n\n" + cond_text,
-        tables=(_elements_table(design, k, k_values),),
+        tables=(_elements_table(design, k, k_values), *controller),
         findings=(finding,),
         files={
             "passivity.json": to_json(res.to_dict()),
             "stiffness.json": to_json(stiffness),
             **files,
+            **controller_files,
         },
     )
 
