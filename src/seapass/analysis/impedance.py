@@ -14,8 +14,9 @@ from typing import Any
 import sympy as sp
 from flint import fmpq, fmpq_poly
 
-from ..errors import ParameterError
+from ..errors import DelayError, ParameterError
 from ..exact import poly as ep
+from ..model.delayatom import delay_text, has_delay
 from ..model.expr import S, to_fraction
 from ..model.sea import SEA, Impedance
 from ..model.stiffness import load_impedance
@@ -61,6 +62,12 @@ def evaluate_system(
         z = system.expr
     else:
         raise TypeError(f"cannot test passivity of {type(system).__name__}")
+    if has_delay(z):
+        raise DelayError(
+            f"{delay_text(z)} in the model: this exact rational test does not apply to a "
+            "delayed design; seapass.is_passive, seapass.delay_margin and the commands "
+            "'seapass check' and 'seapass delay-margin' decide delayed designs"
+        )
     missing = system.free_parameters
     if missing:
         raise ParameterError(

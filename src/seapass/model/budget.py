@@ -23,6 +23,7 @@ import sympy as sp
 
 from ..errors import SymbolicLimitError
 from ..files.limits import MAX_S_DEGREE, MAX_TERMS, SYMBOLIC_TIME_LIMIT
+from .delayatom import Delay
 
 __all__ = [
     "TERM_CAP",
@@ -84,7 +85,7 @@ def fraction_size(expr: sp.Expr) -> FractionSize:
     def walk(e: sp.Basic) -> tuple[int, int, int, int]:  # deg N, deg D, terms N, terms D
         if e == _S:
             return 1, 0, 1, 1
-        if e.is_Atom:
+        if e.is_Atom or isinstance(e, Delay):  # a delay e^{-sτ} is a constant generator
             return 0, 0, 1, 1
         if isinstance(e, sp.Add):
             dn, dd, tn, td = walk(e.args[0])

@@ -2,9 +2,11 @@
 
 User text is never given to `eval` or to a plain `sympy.sympify`.
 It is parsed by `ast` in ``eval`` mode and every node is checked against a
-whitelist: numeric literals, whitelisted names, ``+ - * /``, unary signs and
-integer powers (``**`` or ``^``).  The sympy expression is then built node by
-node, so no user string ever reaches a code path that can execute code.
+whitelist: numeric literals, whitelisted names, ``+ - * /``, unary signs,
+integer powers (``**`` or ``^``) and one delay factor ``exp(-NAME*s)`` (the only
+call allowed; see [`seapass.model.delayatom`][seapass.model.delayatom]).  The sympy
+expression is then built node by node, so no user string ever reaches a code path
+that can execute code.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ import sympy as sp
 from ..errors import ExpressionError, ParameterError, did_you_mean
 from ..files.limits import MAX_EXPONENT, MAX_EXPRESSION_LENGTH, MAX_NODES
 from .budget import check_symbolic_size
+from .delayatom import check_one_delay, delay_factor
 
 __all__ = [
     "STANDARD_SYMBOLS",
@@ -144,6 +147,7 @@ def parse_expression(text: str, allowed: Iterable[str] = STANDARD_SYMBOLS) -> sp
     if nodes > MAX_NODES:
         raise ExpressionError(f"expression {src!r} is too large ({nodes} nodes > {MAX_NODES})")
     expr = _build(tree.body, allowed_set, src)
+    check_one_delay(expr, src)
     check_symbolic_size(expr, repr(src))
     return expr
 
@@ -199,10 +203,10 @@ def _build(node: ast.AST, allowed: set[str], src: str) -> sp.Expr:
             if right == 0 or sp.expand(sp.numer(sp.together(right))) == 0:
                 raise ExpressionError(f"division by zero in {src!r}")
             return left / right
+    if isinstance(node, ast.Call):  # the one extension point: a delay exp(-NAME*s)
+        return delay_factor(node, allowed, src)
     what = type(node).__name__
-    if isinstance(node, ast.Call):
-        what = "function call"
-    elif isinstance(node, ast.Attribute):
+    if isinstance(node, ast.Attribute):
         what = "attribute access"
     raise ExpressionError(
         f"{what} is not allowed in {src!r}: use numbers, parameter names, s, + - * / and integer powers"
