@@ -29,6 +29,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("exact",),
     ("model",),
     ("analysis",),
+    ("delay",),
     ("sim",),
     ("batch",),
     ("sampled",),

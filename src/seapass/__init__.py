@@ -9,6 +9,7 @@ subpackage          what lives there
 ``seapass.exact``   the exact polynomial kernel
 ``seapass.model``   ``SEA``, the safe parser, stiffness, catalog, design files
 ``seapass.analysis``  exact passivity, conditions, passive sets, witnesses
+``seapass.delay``   continuous time delay: certified passivity, delay margin
 ``seapass.sim``     simulation, tracking metrics
 ``seapass.batch``   vectorized verdicts and step metrics
 ``seapass.sampled``  discrete controllers, sampled-data passivity, runtime
@@ -47,7 +48,8 @@ _LAZY: dict[str, str] = {
     "Design": "model.design_file",
     "load_design": "model.design_file",
     "derive_stiffness": "model.stiffness",
-    "is_passive": "analysis.passivity",
+    "is_passive": "delay.passivity",
+    "delay_margin": "delay.margin",
     "PassivityResult": "analysis.passivity",
     "passivity_indices": "analysis.indices",
     "passive_intervals": "analysis.region",
@@ -71,8 +73,8 @@ _LAZY: dict[str, str] = {
 }
 
 _SUBPACKAGES = frozenset(
-    {"analysis", "batch", "cli", "errors", "exact", "export", "files", "model", "paper",
-     "plot", "report", "rig", "sampled", "sim", "sweep", "tuning"}
+    {"analysis", "batch", "cli", "delay", "errors", "exact", "export", "files", "model",
+     "paper", "plot", "report", "rig", "sampled", "sim", "sweep", "tuning"}
 )  # fmt: skip
 
 __all__ = [
@@ -85,6 +87,7 @@ __all__ = [
     "TuningOptions",
     "__version__",
     "analyze",
+    "delay_margin",
     "derive_stiffness",
     "exact_passivity_condition",
     "export_c",
@@ -125,9 +128,11 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
     from .analysis.conditions import exact_passivity_condition
     from .analysis.freqresp import stiffness_response
     from .analysis.indices import passivity_indices
-    from .analysis.passivity import PassivityResult, is_passive
+    from .analysis.passivity import PassivityResult
     from .analysis.region import passive_intervals, passive_map
     from .analysis.witness import find_destabilizing_environment
+    from .delay.margin import delay_margin
+    from .delay.passivity import is_passive
     from .export.c_code import export_c
     from .model.design_file import Design, load_design
     from .model.sea import SEA, Impedance
