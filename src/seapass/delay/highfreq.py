@@ -33,10 +33,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from flint import arb, arb_poly, fmpq, fmpq_poly
+from flint import arb, fmpq, fmpq_poly
 
 from ..exact import poly as ep
-from .balls import ball, lower, precision
+from .lowfreq import lower_bound_on
 from .trig import TrigRealPart
 
 __all__ = ["HighFrequency", "chebyshev", "high_frequency"]
@@ -130,29 +130,6 @@ def _negative_point(p: fmpq_poly) -> fmpq | None:
     return None
 
 
-def _minimum_lower_bound(h: fmpq_poly) -> fmpq:
-    """A rational lower bound of ``h`` on ``[-1, 1]``, positive when ``h > 0`` there."""
-    cands = [h(fmpq(-1)), h(fmpq(1))]
-    dh = h.derivative()
-    if not dh.is_zero() and dh.degree() > 0:
-        for iv in ep.isolate_real_roots(dh, -1, 1):
-            a, b = iv
-            width = (b - a) / 2**20 if b > a else fmpq(0)
-            for _ in range(6):
-                a, b = ep.refine(dh, iv, width) if b > a else (a, b)
-                with precision(128):
-                    val = lower(_eval_interval(h, a, b))
-                if val > 0 or width == 0:
-                    break
-                width /= 2**20
-            cands.append(val)
-    return min(cands)
-
-
-def _eval_interval(h: fmpq_poly, a: fmpq, b: fmpq) -> arb:
-    return arb_poly(h)(ball(a, b))
-
-
 def high_frequency(f: TrigRealPart) -> HighFrequency:
     """Classify ``ω → ∞`` (see the module docstring)."""
     d = f.degree
@@ -172,7 +149,7 @@ def high_frequency(f: TrigRealPart) -> HighFrequency:
         return HighFrequency("unbounded", d, cos_theta=neg, upper_half=True)
     if ep.count_real_roots(h, -1, 1) > 0 or h(fmpq(-1)) == 0:
         return HighFrequency("tangent", d)
-    h_min = _minimum_lower_bound(h)
+    h_min = lower_bound_on(h, fmpq(-1), fmpq(1))
     if h_min <= 0:  # pragma: no cover - h > 0 on a compact set: refinement always ends
         return HighFrequency("tangent", d)
     return HighFrequency("positive", d, omega1=_omega1(f, d, h_min), h_min=h_min)

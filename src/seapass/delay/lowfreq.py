@@ -38,9 +38,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from flint import fmpq, fmpq_poly
+from flint import arb_poly, fmpq, fmpq_poly
 
 from ..exact import poly as ep
+from .balls import ball, lower, precision
 from .trig import TrigRealPart
 
 __all__ = [
@@ -48,7 +49,10 @@ __all__ = [
     "LowFrequency",
     "at_fixed_delay",
     "bounds",
+    "dyadic_down",
+    "dyadic_up",
     "limit_polynomial",
+    "lower_bound_on",
     "taylor",
     "uniform_cutoff",
 ]
@@ -156,8 +160,10 @@ def at_fixed_delay(f: TrigRealPart, tau: fmpq) -> LowFrequency:
             shift = fmpq_poly([0, 1]) ** first
             if coeffs[first] > 0:
                 core = lo // shift  # lo has no terms below ω^first (they are f_i = 0)
+                core = fmpq_poly([dyadic_down(c) for c in core.coeffs()])  # still <= F
                 return LowFrequency(1, first, _first_root_below(core))
             core = -(hi // shift)
+            core = fmpq_poly([dyadic_down(c) for c in core.coeffs()])  # -core still >= F
             cut = _first_root_below(core)
             return LowFrequency(-1, first, witness=(cut / 2) if cut is not None else fmpq(1))
         q *= 2
@@ -177,28 +183,99 @@ def limit_polynomial(f: TrigRealPart) -> tuple[int, _TauPoly]:
     return -1, fmpq_poly([])
 
 
+def dyadic_down(q: fmpq, bits: int = 60) -> fmpq:
+    """A dyadic rational ``<= q`` within a relative ``2^-bits`` (keeps exact bounds cheap)."""
+    if q == 0:
+        return q
+    num, den = int(q.p), int(q.q)
+    k = bits - (abs(num).bit_length() - den.bit_length())
+    if k >= 0:
+        return fmpq((num << k) // den, 1 << k)
+    return fmpq((num // (den << -k)) << -k, 1)  # floor division rounds toward -inf
+
+
+def dyadic_up(q: fmpq, bits: int = 60) -> fmpq:
+    """A dyadic rational ``>= q`` within a relative ``2^-bits``."""
+    return -dyadic_down(-q, bits)
+
+
+def _cutoff_leaf(
+    f: TrigRealPart, i0: int, coeffs: list[_TauPoly], q: int, a: fmpq, b: fmpq
+) -> tuple[fmpq | None, bool]:
+    """`uniform_cutoff` for ``τ ∈ [a, b]``: lower bounds of every Taylor coefficient there."""
+    floor = lower_bound_on(coeffs[i0], a, b)
+    if floor <= 0:
+        return fmpq(0), False
+    bound = [fmpq(0)] * len(coeffs)
+    bound[i0] = dyadic_down(floor)
+    with precision(128):
+        t = ball(a, b)
+        for i in range(i0 + 1, len(coeffs)):
+            c = coeffs[i]
+            if not c.is_zero():
+                bound[i] = dyadic_down(lower(arb_poly(c)(t)))
+    r = _remainder(f, q, b)
+    low = fmpq_poly(bound) - fmpq_poly([dyadic_up(v) for v in r.coeffs()])
+    core = low // fmpq_poly([0, 1]) ** i0
+    cut = _first_root_below(core)
+    return cut, cut is None
+
+
 def uniform_cutoff(
-    f: TrigRealPart, i0: int, floor: fmpq, tau_max: fmpq
+    f: TrigRealPart, i0: int, tau_max: fmpq, *, target: fmpq | None = None, depth: int = 10
 ) -> tuple[fmpq | None, bool]:
     """``(ω0, everywhere)``: ``F(ω; τ) > 0`` on ``(0, ω0]`` for every ``τ ∈ [0, tau_max]``
     (on all of ``ω > 0`` when ``everywhere``).
 
-    ``floor > 0`` must be a lower bound of ``f_i0`` on ``[0, tau_max]`` and every ``f_i``,
-    ``i < i0``, must vanish identically (as `limit_polynomial` gives).
+    Every ``f_i``, ``i < i0``, must vanish identically and ``f_i0 > 0`` on ``[0, tau_max]``
+    (as `limit_polynomial` and the caller ensure).  The delays are split into sub-intervals
+    (at most ``depth`` halvings) until ``ω0 >= target``: on each, every Taylor coefficient
+    is bounded below, so a positive next coefficient keeps ``ω0`` away from 0 even when
+    ``f_i0`` is tiny near ``tau_max``.
     """
-    if floor <= 0:
-        raise ValueError("the floor of f_i0 must be positive")
     q = max(2 * max(f.degree, 1) + 4, i0 + (i0 % 2))
     coeffs = taylor(f, q)
-    bound = [fmpq(0)] * len(coeffs)
-    bound[i0] = floor
-    for i, c in enumerate(coeffs):
-        if i <= i0:
-            if i < i0 and not c.is_zero():
-                raise ArithmeticError("a Taylor coefficient below i0 does not vanish")
+    if any(not c.is_zero() for c in coeffs[:i0]):
+        raise ArithmeticError("a Taylor coefficient below i0 does not vanish")
+    todo = [(fmpq(0), tau_max, 0)]
+    best: fmpq | None = None
+    while todo:
+        a, b, level = todo.pop()
+        cut, everywhere = _cutoff_leaf(f, i0, coeffs, q, a, b)
+        if everywhere:
             continue
-        bound[i] = -sum((abs(v) * tau_max**j for j, v in enumerate(c.coeffs())), fmpq(0))
-    low = fmpq_poly(bound) - _remainder(f, q, tau_max)
-    core = low // fmpq_poly([0, 1]) ** i0
-    cut = _first_root_below(core)
-    return cut, cut is None
+        assert cut is not None
+        if (target is None or cut < target) and level < depth and b - a > tau_max / 2**depth:
+            m = (a + b) / 2
+            todo += [(a, m, level + 1), (m, b, level + 1)]
+            continue
+        if cut <= 0:
+            return fmpq(0), False
+        best = cut if best is None else min(best, cut)
+    return best, best is None
+
+
+def lower_bound_on(p: fmpq_poly, lo: fmpq, hi: fmpq) -> fmpq:
+    """A rational lower bound of ``p`` on ``[lo, hi]``, as tight as the minimum allows.
+
+    The minimum is at an end or at a root of ``p'``; each root is isolated exactly, its
+    interval refined, and ``p`` bounded on it with a ball.  Positive whenever ``p > 0`` on
+    ``[lo, hi]`` (the refinement continues until the ball is positive, a bounded number of
+    times).
+    """
+    cands = [p(lo), p(hi)]
+    dp = p.derivative()
+    if not dp.is_zero() and dp.degree() > 0:
+        for a, b in ep.isolate_real_roots(dp, lo, hi):
+            width = (b - a) / 2**20 if b > a else fmpq(0)
+            val = p(b)
+            for _ in range(8):
+                if b > a:
+                    a, b = ep.refine(dp, (a, b), width)
+                with precision(128):
+                    val = lower(arb_poly(p)(ball(a, b)))
+                if val > 0 or a == b:
+                    break
+                width /= 2**20
+            cands.append(val)
+    return min(cands)
