@@ -38,6 +38,7 @@ COMMANDS: tuple[str, ...] = (
     "simulate",
     "tune",
     "sampled",
+    "delay_margin",
     "sweep",
     "rig",
     "export",

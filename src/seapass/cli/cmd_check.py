@@ -21,10 +21,15 @@ EXAMPLE = """examples:
       --set b1=20 --set bd=25 --set kd=5000 --json
   seapass check --Z "(s + 1)/(s + 2)"
   seapass check --Z "k*s/(s**2 + k)" --set k=1e8
+  seapass check --D1 "k1 + b1*s" --CA "(kd + bd*s)*exp(-tau*s)" --set m=1 --set b=10 \
+      --set k1=1000 --set b1=20 --set kd=500 --set bd=25 --set tau=0.001 --json
+
+A delay factor exp(-NAME*s) (NAME a parameter in seconds) is decided with certified
+ball arithmetic; an answer it cannot certify is 'undecided' (exit 1), never passive.
 
 exit codes (like cmp, so a CI job can gate on it):
   0  passive
-  1  not passive
+  1  not passive (or, with a delay, undecided)
   2  bad input or another error (one 'error:' line on stderr)
 """
 
@@ -48,11 +53,21 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 def run(args: argparse.Namespace) -> int:
     from ..analysis.indices import passivity_indices
-    from ..analysis.passivity import Reason, is_passive
+    from ..analysis.passivity import Reason
+    from ..delay.passivity import DelayPassivityResult, is_passive
 
     system = system_from_args(args)
     realizable = warn_unrealizable(system)
     result = is_passive(system)
+    if isinstance(result, DelayPassivityResult):  # a delay exp(-NAME*s): certified, no indices
+        if args.json:
+            print_json({**result.to_dict(), "indices": None, "realizable": realizable})
+        else:
+            print(f"{result.status}: {result.detail}")
+            if result.omega is not None:
+                print(f"witness: Re Z(jw) < 0 at w = {result.omega:.6g} rad/s (proven)")
+            print(f"delay: {result.delay} = {result.tau:g} s; loop with the port held: {result.stability}")
+        return 0 if result.passive else 1
     indices = passivity_indices(system)
     if args.json:
         print_json({**result.to_dict(), "indices": indices.to_dict(), "realizable": realizable})

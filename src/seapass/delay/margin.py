@@ -39,6 +39,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import sympy as sp
 from flint import fmpq
 
 from ..analysis.passivity import positive_real_test
@@ -47,6 +48,7 @@ from ..exact import poly as ep
 from ..exact.axis import safe_float
 from ..files.limits import MIN_RTOL
 from ..model.display import html_card, short_repr
+from ..model.sea import Impedance
 from ..outcome import Outcome
 from .balls import arb_of, lower, precision, upper
 from .bands import dangerous_bands
@@ -56,7 +58,13 @@ from .lowfreq import limit_polynomial, uniform_cutoff
 from .passivity import _at_infinity
 from .search import prove_at_least, search_minimum
 from .stability import characteristic, delay_independent_stability, first_crossing, rhp_count
-from .structure import DelayedImpedance, SystemLike, delayed_impedance
+from .structure import (
+    DelayedImpedance,
+    SystemLike,
+    controller_delay,
+    delayed_impedance,
+    has_model_delay,
+)
 from .trig import TrigRealPart, real_part
 
 __all__ = ["DEFAULT_RTOL", "LOSS_KINDS", "DelayMarginResult", "delay_margin", "margin_of"]
@@ -426,8 +434,10 @@ def delay_margin(
 
     Parameters
     ----------
-    system : SEA, Impedance, str or sympy.Expr
-        The design (its load impedance) or a raw impedance with one delay factor.
+    system : SEA, Design, CatalogDesign, Impedance, str or sympy.Expr
+        The design (its load impedance) or a raw impedance with one delay factor.  A
+        design without a delay gets ``exp(-delay*s)`` on its controllers
+        ([`controller_delay`][seapass.delay.structure.controller_delay]).
     delay : str, optional
         The delay parameter (``"tau"``); checked against the design's delay.
     values : mapping, optional
@@ -460,6 +470,10 @@ def delay_margin(
         )
     if not (isinstance(budget, int) and budget > 0):
         raise ParameterError(f"budget must be a positive whole number, got {budget!r}")
+    if not isinstance(system, str | sp.Expr | Impedance) and not has_model_delay(system):
+        if delay is None:
+            raise ParameterError("delay: name the delay, e.g. delay_margin(sea, 'tau')")
+        system = controller_delay(system, delay)  # a delay-free design: its controllers lag
     z = delayed_impedance(system, values, free_delay=True)
     if delay is not None and delay != z.name:
         raise ParameterError(

@@ -38,6 +38,7 @@ from ..model.stiffness import load_impedance
 __all__ = [
     "MAX_DELAY_SECONDS",
     "DelayedImpedance",
+    "controller_delay",
     "delay_parameter",
     "delayed_impedance",
     "has_model_delay",
@@ -299,3 +300,62 @@ def _normalized(
     if lead < 0:
         num, den = tuple(-p for p in num), tuple(-p for p in den)
     return num, den
+
+
+def controller_delay(
+    design: Any, delay: str, values: Mapping[str, float | None] | None = None
+) -> SEA:
+    """The design with the delay ``exp(-delay*s)`` on its controllers (if it has none yet).
+
+    ``design`` is an `SEA`, a catalog key (``"LP"``, ``"APD"``, ``"ours"``: the paper's
+    plant ``m = 1, b = 10, k1 = 1000`` with the gains from ``values``), a
+    `CatalogDesign` or a design file's `Design`.  A design that already has the delay
+    ``delay`` is returned as it is; the delay's own value is left free.  The controllers
+    ``C_A`` and ``C_L`` both act on measured positions, so both are delayed (a loop
+    latency: bus, computation, a remote master).
+
+    Examples
+    --------
+    >>> controller_delay("LP", "tau", dict(kd=500)).CL
+    kd*exp(-tau*s)
+    """
+    from ..model.catalog import PAPER_VALUES, CatalogDesign
+    from ..model.catalog import design as catalog_design
+    from ..model.design_file import Design
+
+    if isinstance(design, str):
+        design = catalog_design(design)
+    extra = dict(values or {})
+    if isinstance(design, CatalogDesign):
+        base: dict[str, float | None] = {g: None for g in design.gains}
+        base.update(PAPER_VALUES)
+        base.update(extra)
+        sea = SEA(D1=design.D1, D2=design.D2, CA=design.CA, CL=design.CL, values=base,
+                  name=design.key)  # fmt: skip
+    elif isinstance(design, Design):
+        sea = design.sea().with_values(**extra) if extra else design.sea()
+    elif isinstance(design, SEA):
+        sea = design.with_values(**extra) if extra else design
+    else:
+        raise TypeError(f"design: expected an SEA, a Design or a catalog name, got {type(design).__name__}")
+    names = {str(a.args[0]) for attr in ("D1", "D2", "CA", "CL") for a in delay_atoms(getattr(sea, attr))}
+    if names:
+        if names != {delay}:
+            raise DelayError(
+                f"the design's delay is exp(-{sorted(names)[0]}*s), not exp(-{delay}*s); "
+                "give that name"
+            )
+        return sea
+    if delay in sea.parameters:
+        raise ParameterError(
+            f"delay: {delay!r} is already a parameter of the design; name the delay "
+            "something else, e.g. 'tau'",
+            argument="delay",
+        )
+    if sea.CA == 0 and sea.CL == 0:
+        raise DelayError("the design has no controller to delay; write the delay into an element, e.g. --CA 'kd*exp(-tau*s)'")  # fmt: skip
+    e = Delay(sp.Symbol(delay, positive=True))
+    vals = dict(sea.values)
+    vals[delay] = None
+    return SEA(D1=sea.D1, D2=sea.D2, CA=sea.CA * e, CL=sea.CL * e, m=sea.m, b=sea.b,
+               values=vals, name=sea.name)  # fmt: skip
