@@ -115,7 +115,9 @@ def run(args: argparse.Namespace) -> int:
                 "low_frequency": "as w -> 0",
                 "unbounded_band": "at arbitrarily high frequencies, for every delay > 0",
             }.get(result.loss or "", "")
-            print(f"tau* in [{lo:.10g}, {hi:.10g}] s ({result.loss} {where})".replace("  ", " "))
+            # repr: the shortest text of each float, so the printed lo is exactly the
+            # certified (rounded-down) lo and the printed hi the rounded-up hi
+            print(f"tau* in [{lo!r}, {hi!r}] s ({result.loss} {where})".replace(" )", ")"))
         elif result.delay_independent:
             print(f"passive for every delay {args.name} >= 0")
         else:

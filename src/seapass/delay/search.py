@@ -43,8 +43,8 @@ def search_minimum(
         grid = [a * (b / a) ** (i / (points - 1)) for i in range(points)]
         vals = [_value(g, w) for w in grid]
         i = min(range(points), key=vals.__getitem__)
-        if not math.isfinite(vals[i]):
-            continue
+        if not math.isfinite(vals[i]) or (i == 0 and lo == 0):
+            continue  # g falls towards ω → 0: that limit is the exact low-frequency root
         left, right = grid[max(i - 1, 0)], grid[min(i + 1, points - 1)]
         phi = (math.sqrt(5) - 1) / 2
         x1, x2 = right - phi * (right - left), left + phi * (right - left)
