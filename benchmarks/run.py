@@ -26,6 +26,7 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+import bench_delay  # noqa: E402
 import bench_exact  # noqa: E402
 import bench_explore  # noqa: E402
 import bench_export  # noqa: E402
@@ -101,7 +102,8 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     rows: list[Row] = []
     notes: list[str] = []
-    for mod in (bench_passivity, bench_metrics, bench_sweep, bench_export, bench_sampled):
+    for mod in (bench_passivity, bench_metrics, bench_sweep, bench_export, bench_sampled,
+                bench_delay):  # fmt: skip
         print(f"running {mod.__name__} ...", file=sys.stderr, flush=True)
         r, n = mod.run(args.quick)
         rows += r
