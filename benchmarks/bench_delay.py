@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
 from _util import Row, timed
 from seapass.delay.margin import delay_margin
 from seapass.delay.passivity import delayed_passivity
@@ -27,7 +28,9 @@ GRID = np.geomspace(0.1, 1e4, 4000)
 
 def _delayed(key: str, **extra: float) -> SEA:
     d = design(key)
-    wrap = {k: (f"({getattr(d, k)})*exp(-tau*s)" if getattr(d, k) != "0" else "0") for k in ("CA", "CL")}
+    wrap = {
+        k: (f"({getattr(d, k)})*exp(-tau*s)" if getattr(d, k) != "0" else "0") for k in ("CA", "CL")
+    }
     return SEA(D1=d.D1, D2=d.D2, **wrap, values={**PLANT, **GAINS[key], "tau": None, **extra})
 
 
@@ -90,7 +93,11 @@ def run(quick: bool) -> tuple[list[Row], list[str]]:
             err = (g - hi) / hi
             verdict = (f"relative error {err:+.1e}" + (": it calls non-passive delays passive"
                                                       if g > hi else ""))  # fmt: skip
-        where = f" at {r.frequency:.4g} rad/s" if r.frequency else (" as w -> 0" if r.loss == "low_frequency" else "")
+        where = (
+            f" at {r.frequency:.4g} rad/s"
+            if r.frequency
+            else (" as w -> 0" if r.loss == "low_frequency" else "")
+        )
         notes.append(
             f"Delay margin of {design(key).label} with a delay on the controller "
             f"({', '.join(f'{k} = {v:g}' for k, v in GAINS[key].items())}; m = 1, b = 10, "

@@ -34,7 +34,9 @@ def test_margin_of_ours_as_catalog_design_and_as_flags_agree():
     assert d["loss"] == "interior" and d["passive_at_zero"] and not d["delay_independent"]
     lo, hi = d["tau_star"]
     assert 0.0412 < lo < hi < 0.0413 and hi - lo <= 1e-6 * hi
-    code, out2, _ = run(["delay-margin", "tau", *MODEL, "--CA", "(kd + bd*s)*exp(-tau*s)", "--json"])
+    code, out2, _ = run(
+        ["delay-margin", "tau", *MODEL, "--CA", "(kd + bd*s)*exp(-tau*s)", "--json"]
+    )
     assert code == 0 and json.loads(out2)["tau_star"] == d["tau_star"]
     code, out3, _ = run(["delay-margin", "tau", *MODEL, "--CA", "kd + bd*s", "--json"])
     assert code == 0 and json.loads(out3)["tau_star"] == d["tau_star"]  # delay on the controller
@@ -49,7 +51,9 @@ def test_text_output_and_rtol():
 
 
 def test_zero_margin_null_margin_and_delay_independent():
-    code, out, _ = run(["delay-margin", "tau", "APD", "--set", "kd=500", "--set", "bd=25", "--json"])
+    code, out, _ = run(
+        ["delay-margin", "tau", "APD", "--set", "kd=500", "--set", "bd=25", "--json"]
+    )
     d = json.loads(out)
     assert code == 0 and d["tau_star"] == [0.0, 0.0] and d["loss"] == "unbounded_band"
     code, out, _ = run(["delay-margin", "tau", "LP", "--set", "kd=1500", "--json"])
@@ -67,12 +71,39 @@ def test_zero_margin_null_margin_and_delay_independent():
         (["delay-margin", "tau", "ours"], "no value for parameter"),
         (["delay-margin", "tau", "bogus"], "neither a design file"),
         (["delay-margin", "tau"], "nothing to analyse"),
-        (["delay-margin", "tau", "ours", "--set", "tau=1", "--set", "kd=1", "--set", "bd=1", "--set", "b1=1"], "do not give it a value"),
+        (
+            [
+                "delay-margin",
+                "tau",
+                "ours",
+                "--set",
+                "tau=1",
+                "--set",
+                "kd=1",
+                "--set",
+                "bd=1",
+                "--set",
+                "b1=1",
+            ],
+            "do not give it a value",
+        ),
         (["delay-margin", "tau", "LP", "--set", "kd=1", "--rtol", "nan"], "--rtol"),
         (["delay-margin", "tau", "--Z", "m*s + b", "--set", "m=1", "--set", "b=1"], "no delay"),
         (["delay-margin", "2x", "LP", "--set", "kd=1"], "NAME"),
         (["delay-margin", "kd", "LP", "--set", "b1=1"], "not a parameter"),
-        (["delay-margin", "tau", "--Z", "m*s + K*exp(-2*tau*s)/s", "--set", "m=1", "--set", "K=1"], "first power"),
+        (
+            [
+                "delay-margin",
+                "tau",
+                "--Z",
+                "m*s + K*exp(-2*tau*s)/s",
+                "--set",
+                "m=1",
+                "--set",
+                "K=1",
+            ],
+            "first power",
+        ),
         (["delay-margin", "tau", "LP", "--D1", "k1", "--set", "kd=1"], "not DESIGN and"),
     ],
 )

@@ -77,8 +77,11 @@ def rhp_roots_quasi(p: list[float], q: list[float], tau: float, radius: float,
     Argument principle on the right half-disk, indented around ``s = 0`` by ``1e-9``;
     returns the (real-valued) winding number, which should be close to an integer.
     """
+
     def f(s):
-        return np.polynomial.polynomial.polyval(s, p) + np.polynomial.polynomial.polyval(s, q) * np.exp(-s * tau)
+        return np.polynomial.polynomial.polyval(s, p) + np.polynomial.polynomial.polyval(
+            s, q
+        ) * np.exp(-s * tau)
 
     eps = 1e-9
     t = np.linspace(0.0, 1.0, n)
@@ -104,8 +107,8 @@ def simulate_ours(values: dict[str, float], tau: float, env: dict[str, float], *
     m, b, k1, b1 = values["m"], values["b"], values["k1"], values["b1"]
     kd, bd = values["kd"], values["bd"]
     big_m, be, ke = env["M"], env["B"], env["K"]
-    lag = max(int(round(tau / dt)), 0)
-    steps = int(round(horizon / dt))
+    lag = max(round(tau / dt), 0)
+    steps = round(horizon / dt)
     hist_x = np.zeros(steps + 2)
     hist_v = np.zeros(steps + 2)
 
@@ -113,7 +116,7 @@ def simulate_ours(values: dict[str, float], tau: float, env: dict[str, float], *
         j = i - lag
         if j <= 0:
             return 0.0
-        lo = int(math.floor(j))
+        lo = math.floor(j)
         frac = j - lo
         return buf[lo] * (1 - frac) + buf[min(lo + 1, len(buf) - 1)] * frac
 

@@ -43,7 +43,9 @@ def test_bands_match_the_minimum_over_the_delay(values):
 
 def test_delay_independent_design_has_no_band():
     # Z = m s + b + B e^{-sτ}: A = b, B = B, C = 0; A ≥ |B| when B ≤ b
-    f = real_part(delayed_impedance("m*s + b + B*exp(-tau*s)", values=dict(m=1, b=2, B=1), free_delay=True))
+    f = real_part(
+        delayed_impedance("m*s + b + B*exp(-tau*s)", values=dict(m=1, b=2, B=1), free_delay=True)
+    )
     assert dangerous_bands(f) == []
     bp = band_polynomials(f)
     with precision(64):
@@ -51,6 +53,8 @@ def test_delay_independent_design_has_no_band():
 
 
 def test_band_polynomials_need_first_order():
-    f = real_part(delayed_impedance("m*s + b + B*exp(-2*tau*s)", values=dict(m=1, b=2, B=1), free_delay=True))
+    f = real_part(
+        delayed_impedance("m*s + b + B*exp(-2*tau*s)", values=dict(m=1, b=2, B=1), free_delay=True)
+    )
     with pytest.raises(ValueError, match="first power"):
         band_polynomials(f)

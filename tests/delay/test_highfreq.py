@@ -31,7 +31,9 @@ def test_damped_transmission_is_positive_with_a_finite_omega1():
             assert _exact_f(_f(), w, tau) > 0
 
 
-@pytest.mark.parametrize(("b", "bd", "kind"), [(10, 25, "unbounded"), (10, 5, "positive"), (10, 10, "tangent")])
+@pytest.mark.parametrize(
+    ("b", "bd", "kind"), [(10, 25, "unbounded"), (10, 5, "positive"), (10, 10, "tangent")]
+)
 def test_apd_high_frequency_compares_b_and_bd(b, bd, kind):
     assert high_frequency(_f(b1=0.0, b=b, bd=bd)).kind == kind
 

@@ -57,7 +57,9 @@ def test_polynomial_bounds_enclose_the_real_part(w, tau, q):
 
 
 def test_virtual_spring_limit_polynomial_and_decisions():
-    f = real_part(delayed_impedance("m*s + b + K*exp(-tau*s)/s", values=dict(m=1, b=2, K=50), free_delay=True))
+    f = real_part(
+        delayed_impedance("m*s + b + K*exp(-tau*s)/s", values=dict(m=1, b=2, K=50), free_delay=True)
+    )
     i0, poly = limit_polynomial(f)
     assert (i0, poly) == (2, poly.__class__([2, -50]))
     assert at_fixed_delay(f, fmpq(1, 100)).sign == 1
@@ -68,7 +70,9 @@ def test_virtual_spring_limit_polynomial_and_decisions():
 
 @pytest.mark.parametrize("tau_max", [fmpq(1, 100), fmpq(4, 100) * (1 - fmpq(1, 10**6))])
 def test_uniform_cutoff_holds_for_every_delay_below(tau_max):
-    f = real_part(delayed_impedance("m*s + b + K*exp(-tau*s)/s", values=dict(m=1, b=2, K=50), free_delay=True))
+    f = real_part(
+        delayed_impedance("m*s + b + K*exp(-tau*s)/s", values=dict(m=1, b=2, K=50), free_delay=True)
+    )
     cut, everywhere = uniform_cutoff(f, 2, tau_max, target=fmpq(1))
     assert not everywhere and cut is not None and cut > 1
     for k in range(1, 21):

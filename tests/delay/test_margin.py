@@ -3,6 +3,7 @@ time-domain simulation with energy bookkeeping (all written independently of the
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 
@@ -12,7 +13,7 @@ from scipy.optimize import brentq, minimize_scalar
 
 import seapass as sp
 from seapass.delay.margin import delay_margin, round_down, round_up
-from seapass.delay.passivity import delayed_passivity, is_passive
+from seapass.delay.passivity import delayed_passivity
 from seapass.errors import DelayError, ParameterError
 from seapass.exact.poly import rational
 from seapass.model.catalog import design
@@ -64,7 +65,9 @@ def test_virtual_damper_above_the_physical_one_has_zero_margin():
 
 @pytest.mark.parametrize("key", ["LP", "APD", "ours"])
 def test_paper_designs_with_a_controller_delay(key):
-    values = {"LP": dict(kd=500), "APD": dict(kd=500, bd=25), "ours": dict(kd=500, bd=25, b1=20)}[key]
+    values = {"LP": dict(kd=500), "APD": dict(kd=500, bd=25), "ours": dict(kd=500, bd=25, b1=20)}[
+        key
+    ]
     r = sp.delay_margin(design(key).sea(dict(m=1, b=10, k1=1000, **values)), "tau")
     if key == "ours":
         lo, hi = r.tau_star
@@ -92,7 +95,7 @@ def test_more_physical_damping_never_lowers_the_margin_in_the_rigid_limit():
     for bb in (0.0, 0.5):
         margins = [delay_margin(WALL, "tau", values=dict(m=1, b=b, K=50, B=bb)).tau_star
                    for b in (1.0, 1.5, 2.0, 4.0, 8.0)]  # fmt: skip
-        for (lo1, _hi1), (_lo2, hi2) in zip(margins, margins[1:], strict=False):
+        for (lo1, _hi1), (_lo2, hi2) in itertools.pairwise(margins):
             assert lo1 <= hi2
 
 

@@ -25,7 +25,10 @@ def test_rhp_count_on_random_products():
         p, expected, axis = fmpq_poly([rng.choice([1, -2, 3])]), 0, False
         while p.degree() < rng.randint(1, 8):
             if rng.random() < 0.4:
-                re, im = fmpq(rng.randint(-5, 5), rng.randint(1, 3)), fmpq(rng.randint(1, 5), rng.randint(1, 4))
+                re, im = (
+                    fmpq(rng.randint(-5, 5), rng.randint(1, 3)),
+                    fmpq(rng.randint(1, 5), rng.randint(1, 4)),
+                )
                 p *= fmpq_poly([re * re + im * im, -2 * re, 1])
                 expected += 2 if re > 0 else 0
                 axis |= re == 0
@@ -80,11 +83,20 @@ def test_kinds_and_delay_independence():
     assert stability_at(_ch([1, 1], [0, 2]), fmpq(1)).stable is False  # |q_n/p_n| > 1
     assert stability_at(_ch([1, 1], [0, 1]), fmpq(1)).stable is None  # = 1: undecided
     assert stability_at(_ch([1], [0, 1]), fmpq(1)).stable is False  # advanced
-    assert stability_at(characteristic((fmpq_poly([1, 1]), fmpq_poly([1]), fmpq_poly([1]))), fmpq(1)).stable is None
+    assert (
+        stability_at(
+            characteristic((fmpq_poly([1, 1]), fmpq_poly([1]), fmpq_poly([1]))), fmpq(1)
+        ).stable
+        is None
+    )
 
 
 def test_first_crossing_and_counting_many_crossings():
     ch = _ch([fmpq(1, 2), 1], [2])
     cr = first_crossing(ch)
-    assert cr is not None and cr.count_below(fmpq(100)) == int((100 * float(cr.omega.mid()) - float(cr.phase.mid())) // (2 * 3.141592653589793)) + 1
+    assert (
+        cr is not None
+        and cr.count_below(fmpq(100))
+        == int((100 * float(cr.omega.mid()) - float(cr.phase.mid())) // (2 * 3.141592653589793)) + 1
+    )
     assert stability_at(ch, fmpq(100)).rhp_roots == 2 * cr.count_below(fmpq(100))

@@ -40,7 +40,9 @@ def test_real_part_has_the_sign_and_size_of_re_z(b1, kd, bd, cl, tau):
     with precision(128):
         form = f.balls()
         got = np.array([float(form.value(arb(float(x)), arb_of(z.tau)).mid()) for x in w])
-    np.testing.assert_allclose(got / np.abs(den) ** 2, ref, rtol=1e-7, atol=1e-9 * np.abs(ref).max())
+    np.testing.assert_allclose(
+        got / np.abs(den) ** 2, ref, rtol=1e-7, atol=1e-9 * np.abs(ref).max()
+    )
 
 
 def test_zero_delay_is_the_rational_real_part():

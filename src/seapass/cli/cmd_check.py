@@ -66,7 +66,9 @@ def run(args: argparse.Namespace) -> int:
             print(f"{result.status}: {result.detail}")
             if result.omega is not None:
                 print(f"witness: Re Z(jw) < 0 at w = {result.omega:.6g} rad/s (proven)")
-            print(f"delay: {result.delay} = {result.tau:g} s; loop with the port held: {result.stability}")
+            print(
+                f"delay: {result.delay} = {result.tau:g} s; loop with the port held: {result.stability}"
+            )
         return 0 if result.passive else 1
     indices = passivity_indices(system)
     if args.json:

@@ -21,6 +21,7 @@ Examples
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -96,7 +97,9 @@ class DelayRegion:
             "gains": list(self.gains),
             "taus": list(self.taus),
             "codes": [list(c) for c in self.codes],
-            "margins": [None if m is None or not math.isfinite(m) else m for m in self.margins or ()],
+            "margins": [
+                None if m is None or not math.isfinite(m) else m for m in self.margins or ()
+            ],
             "margins_note": "certified lower ends of tau*; null: not passive without delay "
             "or passive for every delay (see 'results')",
             "results": [r.to_dict() for r in self.results],
@@ -191,7 +194,10 @@ class DelayGainEdges:
                                              "edges": [list(e) for e in self.edges]})  # fmt: skip
 
     def _repr_html_(self) -> str:
-        rows = [(f"edge {i + 1}", f"{a:.8g} passive, {b:.8g} not") for i, (a, b) in enumerate(self.edges)]
+        rows = [
+            (f"edge {i + 1}", f"{a:.8g} passive, {b:.8g} not")
+            for i, (a, b) in enumerate(self.edges)
+        ]
         return html_card(f"Gains of {self.gain} passive for every delay up to {self.tau:g} s",
                          rows or [("edges", "none found")])  # fmt: skip
 
@@ -232,7 +238,7 @@ def delay_gain_edges(
     grid = [float(k) for k in np.linspace(lo, hi, points)]
     decided = [(k, o) for k in grid if (o := decide(k)) is not Outcome.UNDECIDED]
     edges: list[tuple[float, float]] = []
-    for (a, oa), (b, ob) in zip(decided, decided[1:], strict=False):
+    for (a, oa), (b, ob) in itertools.pairwise(decided):
         if oa is ob:
             continue
         good, bad = (a, b) if oa is Outcome.PASSIVE else (b, a)

@@ -189,7 +189,7 @@ def _omega1(f: TrigRealPart, d: int, h_min: fmpq) -> fmpq:
     if not g.is_zero() and g.leading_coefficient() > 0:
         return max([_last_root(g), *(_last_root(p) for p in parts)])
     s = [fmpq(0)] * d
-    for p in (*f.cos, *f.sin):
-        for i, c in enumerate(p.coeffs()[:d]):
-            s[i] += abs(c)
+    for poly in (*f.cos, *f.sin):
+        for i, coeff in enumerate(poly.coeffs()[:d]):
+            s[i] += abs(coeff)
     return _last_root(fmpq_poly([-v for v in s] + [h_min]))

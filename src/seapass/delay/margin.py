@@ -55,7 +55,7 @@ from .bands import dangerous_bands
 from .firstdelay import FirstDelay
 from .highfreq import high_frequency
 from .lowfreq import limit_polynomial, uniform_cutoff
-from .passivity import _at_infinity
+from .passivity import growth_at_infinity
 from .search import prove_at_least, search_minimum
 from .stability import characteristic, delay_independent_stability, first_crossing, rhp_count
 from .structure import (
@@ -237,7 +237,7 @@ def _undecided(z: DelayedImpedance, detail: str, hi: fmpq | None = None) -> Dela
     return _result(z, outcome=Outcome.UNDECIDED, tau_star=star, certified=False, detail=detail)
 
 
-def _low_frequency_root(fp: Any, rtol: float) -> tuple[fmpq, fmpq] | None | str:
+def _low_frequency_root(fp: Any, rtol: float) -> tuple[fmpq, fmpq] | str | None:
     """The first positive sign change of ``f_i0(τ)`` as a tight interval, None if none,
     ``"even"`` when an even-multiplicity root comes first (undecided)."""
     odd = ep.positive_roots_odd_multiplicity(fp)
@@ -259,9 +259,7 @@ def _low_frequency_root(fp: Any, rtol: float) -> tuple[fmpq, fmpq] | None | str:
     return a, b
 
 
-def _verified_interior(
-    f: TrigRealPart, g: FirstDelay, omega: fmpq, rtol: float
-) -> fmpq | None:
+def _verified_interior(f: TrigRealPart, g: FirstDelay, omega: fmpq, rtol: float) -> fmpq | None:
     """A delay just above ``g(ω)`` at which ``F(ω; τ) < 0`` is proven (None if not found)."""
     with precision(128):
         gv = g.at(omega)
@@ -302,7 +300,7 @@ def margin_of(
         return _undecided(z, "neutral loop with |q_n/p_n| = 1: root chains approach the axis")
     if ch.s_power >= 2:
         return _undecided(z, "a pole of order >= 2 at s = 0 in D: the pole order may change with the delay")  # fmt: skip
-    inf, _confirm = _at_infinity(z)
+    inf, _confirm = growth_at_infinity(z)
     if inf is not None:
         return _zero_margin(z, f"for every delay > 0: {inf.detail}", "unbounded_band", cause="infinity")  # fmt: skip
     hf = high_frequency(f)
@@ -348,9 +346,7 @@ def _enclose(
     crossing = first_crossing(ch) if ch.kind in ("retarded", "neutral") else None
     if crossing is not None:
         tau_c = upper(crossing.delay) * (1 + ep.rational(rtol) / 16)
-        cands.append(
-            _Candidate(tau_c, "interior", float(crossing.omega.mid()), "stability")
-        )
+        cands.append(_Candidate(tau_c, "interior", float(crossing.omega.mid()), "stability"))
     g = FirstDelay(f) if bands else None
     hf = high_frequency(f)
     omega1 = hf.omega1 if hf.omega1 is not None else fmpq(0)
@@ -412,7 +408,11 @@ def _final(
 ) -> DelayMarginResult:
     lo_f, hi_f = round_down(lo), round_up(hi)
     where = "as w -> 0" if best.frequency is None else f"at w = {best.frequency:.6g} rad/s"
-    what = "a root of the loop reaches the imaginary axis" if best.cause == "stability" else "Re Z(jw) < 0"
+    what = (
+        "a root of the loop reaches the imaginary axis"
+        if best.cause == "stability"
+        else "Re Z(jw) < 0"
+    )
     return _result(
         z, outcome=Outcome.PASSIVE, tau_star=(lo_f, hi_f), exact=(lo, hi),
         frequency=best.frequency, loss=best.loss, cause=best.cause, rtol=rtol,

@@ -63,6 +63,7 @@ __all__ = [
     "DelayReason",
     "decide",
     "delayed_passivity",
+    "growth_at_infinity",
     "is_passive",
 ]
 
@@ -242,7 +243,7 @@ def _top(parts: tuple[fmpq_poly, ...], deg: int) -> list[fmpq]:
     return [p[deg] if p.degree() >= deg else fmpq(0) for p in parts]
 
 
-def _at_infinity(z: DelayedImpedance) -> tuple[DelayPassivityResult | None, bool]:
+def growth_at_infinity(z: DelayedImpedance) -> tuple[DelayPassivityResult | None, bool]:
     """Growth at infinity: ``(exact failure or None, whether the axis test must confirm)``."""
     dn = max((p.degree() for p in z.num if not p.is_zero()), default=-1)
     dd = max(p.degree() for p in z.den if not p.is_zero())
@@ -259,7 +260,9 @@ def _at_infinity(z: DelayedImpedance) -> tuple[DelayPassivityResult | None, bool
     ratio = n[0] / d[0] if d[0] != 0 else None
     if ratio is not None and all(a == ratio * b for a, b in zip(n, d, strict=True)):
         if ratio <= 0:
-            return _fail(DelayReason.INFINITY_RESIDUE, "Z ~ c*s at high frequency with c <= 0"), False
+            return _fail(
+                DelayReason.INFINITY_RESIDUE, "Z ~ c*s at high frequency with c <= 0"
+            ), False
         return None, False
     return None, True
 
@@ -295,7 +298,7 @@ def decide(
     zero = _at_zero(z, ch, tau) if st.stable else None
     if zero is not None:
         return _fail(zero.reason, zero.detail, **base)
-    inf, confirm = _at_infinity(z)
+    inf, confirm = growth_at_infinity(z)
     if inf is not None:
         return _fail(inf.reason, inf.detail, **base)
     cert = certify(real_part(z), tau, budget=budget, max_precision=max_precision)

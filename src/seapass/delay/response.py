@@ -32,7 +32,8 @@ Band = tuple[float, float]
 def evaluate(z: DelayedImpedance, omega: Any, tau: float | None = None) -> np.ndarray:
     """``Z(jω)`` in floating point on a grid (for pictures and independent cross-checks)."""
     w = np.asarray(omega, dtype=float)
-    t = float(z.tau if tau is None else tau) if (tau is not None or z.tau is not None) else 0.0
+    delay = tau if tau is not None else z.tau
+    t = float(delay) if delay is not None else 0.0
     s = 1j * w
     e = np.exp(-s * t)
 

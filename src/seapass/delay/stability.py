@@ -49,6 +49,7 @@ Examples
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass, field
 
 from flint import acb, arb, arb_poly, fmpq, fmpq_poly
@@ -124,7 +125,7 @@ def rhp_count(p: fmpq_poly) -> int | None:
     samples = _gap_points(prod) if prod.degree() > 0 else [fmpq(0)]
     quads = [_quadrant(re(w), im(w)) for w in samples]
     unwrapped = [quads[0]]
-    for q_prev, q in zip(quads, quads[1:], strict=False):
+    for q_prev, q in itertools.pairwise(quads):
         step = (q - q_prev) % 4
         if step == 2:
             raise ArithmeticError("the curve jumped two quadrants; refusing to guess")
@@ -225,7 +226,8 @@ class Crossing:
                 return 0
             if t.contains_integer():
                 return None
-            return int(t.floor().unique_fmpz()) + 1
+            k = t.floor().unique_fmpz()
+            return None if k is None else int(k) + 1
 
 
 def _crossing_at(ch: Characteristic, w_poly: fmpq_poly, iv: tuple[fmpq, fmpq]) -> Crossing:

@@ -23,7 +23,7 @@ import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any
+from typing import Any, TypeAlias
 
 import sympy as sp
 from flint import fmpq, fmpq_poly
@@ -50,7 +50,7 @@ MAX_DELAY_SECONDS = 1000.0
 
 _E = sp.Symbol("E_delay")  # the generator E = e^{-sτ}; never a user name (underscore)
 
-SystemLike = SEA | Impedance | str | sp.Expr
+SystemLike: TypeAlias = SEA | Impedance | str | sp.Expr
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -225,7 +225,7 @@ def delayed_impedance(
     else:
         merged.pop(name, None)
     names, num_terms, den_terms = _compiled(expr, name)
-    env = [ep.rational(to_fraction(merged[n], n)) for n in names]  # type: ignore[arg-type]
+    env = [ep.rational(to_fraction(merged[n], n)) for n in names]  # type: ignore[arg-type,unused-ignore]
     num = _evaluate(num_terms, env)
     den = _evaluate(den_terms, env)
     num, den = _normalized(num, den)
@@ -337,8 +337,12 @@ def controller_delay(
     elif isinstance(design, SEA):
         sea = design.with_values(**extra) if extra else design
     else:
-        raise TypeError(f"design: expected an SEA, a Design or a catalog name, got {type(design).__name__}")
-    names = {str(a.args[0]) for attr in ("D1", "D2", "CA", "CL") for a in delay_atoms(getattr(sea, attr))}
+        raise TypeError(
+            f"design: expected an SEA, a Design or a catalog name, got {type(design).__name__}"
+        )
+    names = {
+        str(a.args[0]) for attr in ("D1", "D2", "CA", "CL") for a in delay_atoms(getattr(sea, attr))
+    }
     if names:
         if names != {delay}:
             raise DelayError(

@@ -133,6 +133,10 @@ def plot_delay_region(region: Any, *, ax: Any = None, title: str = "") -> Any:
     ax.set_ylabel(f"delay {region.delay} [s]")
     if np.all(taus > 0) and math.isfinite(float(taus.max())):
         ax.set_yscale("log")
-    ax.set_title(title or "passive for every delay up to τ (green), not (red), undecided (grey);"
-                 "\ncertified at each computed gain", fontsize=9)
+    ax.set_title(
+        title
+        or "passive for every delay up to τ (green), not (red), undecided (grey);"
+        "\ncertified at each computed gain",
+        fontsize=9,
+    )
     return ax
