@@ -158,3 +158,17 @@ def test_check_with_a_long_delay_is_bounded():
 def test_help_shows_examples():
     code, out, _ = run(["delay-margin", "--help"])
     assert code == 0 and "examples:" in out and "tau_star" in out
+
+
+def test_design_file_gets_the_delay_on_its_controllers(tmp_path):
+    path = tmp_path / "wall.toml"
+    path.write_text(
+        'name = "wall"\n[model]\nD1 = "k1"\nCA = "kd"\n'
+        "[parameters]\nm = 1.0\nb = 10.0\nk1 = 1000.0\nkd = 2500.0\n",
+        encoding="utf-8",
+    )
+    code, out, err = run(["delay-margin", "tau", str(path), "--json"])
+    d = json.loads(out)
+    assert code == 0 and err == "" and d["loss"] == "low_frequency"
+    lo, hi = d["tau_star"]
+    assert lo <= 10 / 2500 <= hi  # tau* = b/kd

@@ -12,7 +12,8 @@ import pytest
 from scipy.optimize import brentq, minimize_scalar
 
 import seapass as sp
-from seapass.delay.margin import delay_margin, round_down, round_up
+from seapass.delay.balls import round_down, round_up
+from seapass.delay.margin import delay_margin
 from seapass.delay.passivity import delayed_passivity
 from seapass.errors import DelayError, ParameterError
 from seapass.exact.poly import rational

@@ -129,3 +129,13 @@ def test_long_delays_are_decided_or_refused_in_bounded_work(tau):
     r = is_passive("m*s + b + K*exp(-tau*s)/s", values=dict(m=1, b=1, K=1, tau=tau))
     assert r.outcome is Outcome.NOT_PASSIVE
     assert is_passive("m*s + b + B*exp(-tau*s)", values=dict(m=1, b=2, B=1.9, tau=tau)).passive
+
+
+def test_work_bound_refuses_a_scan_beyond_the_limit():
+    from flint import fmpq
+
+    from seapass.delay.sign import MAX_PIECES, scan_pieces
+
+    with pytest.raises(DelayError, match="oscillate"):
+        scan_pieces([(fmpq(1), fmpq(10**4))], fmpq(100))
+    assert len(scan_pieces([(fmpq(1), fmpq(100))], fmpq(1, 100))) < MAX_PIECES

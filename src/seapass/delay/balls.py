@@ -14,6 +14,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -26,6 +27,8 @@ __all__ = [
     "ball",
     "lower",
     "precision",
+    "round_down",
+    "round_up",
     "sqrt_bounds",
     "upper",
 ]
@@ -83,3 +86,26 @@ def sqrt_bounds(x: fmpq, bits: int = 128) -> tuple[fmpq, fmpq]:
         r = arb(x).sqrt()
         lo, hi = lower(r), upper(r)
     return max(lo, fmpq(0)), hi
+
+
+def _safe_float(q: fmpq) -> float:
+    try:
+        return float(q)
+    except OverflowError:
+        return math.inf if q > 0 else -math.inf
+
+
+def round_down(q: fmpq) -> float:
+    """The largest float ``<= q`` (a printed passive end stays passive)."""
+    x = _safe_float(q)
+    if math.isfinite(x) and fmpq(*x.as_integer_ratio()) > q:
+        x = math.nextafter(x, -math.inf)
+    return x
+
+
+def round_up(q: fmpq) -> float:
+    """The smallest float ``>= q``."""
+    x = _safe_float(q)
+    if math.isfinite(x) and fmpq(*x.as_integer_ratio()) < q:
+        x = math.nextafter(x, math.inf)
+    return x

@@ -50,14 +50,20 @@ from ..files.limits import MIN_RTOL
 from ..model.display import html_card, short_repr
 from ..model.sea import Impedance
 from ..outcome import Outcome
-from .balls import arb_of, lower, precision, upper
+from .balls import arb_of, lower, precision, round_down, round_up, upper
 from .bands import dangerous_bands
 from .firstdelay import FirstDelay
 from .highfreq import high_frequency
 from .lowfreq import limit_polynomial, uniform_cutoff
 from .passivity import growth_at_infinity
 from .search import prove_at_least, search_minimum
-from .stability import characteristic, delay_independent_stability, first_crossing, rhp_count
+from .stability import (
+    characteristic,
+    delay_independent_stability,
+    first_crossing,
+    rhp_count,
+    stability_at,
+)
 from .structure import (
     DelayedImpedance,
     SystemLike,
@@ -76,22 +82,6 @@ DEFAULT_MARGIN_BUDGET = 50_000
 """Pieces of the branch and bound on ``g(ω)`` before the enclosure is undecided."""
 
 LOSS_KINDS = ("interior", "low_frequency", "unbounded_band")
-
-
-def round_down(q: fmpq) -> float:
-    """The largest float ``<= q`` (a printed passive end stays passive)."""
-    x = safe_float(q)
-    if math.isfinite(x) and ep.rational(x) > q:
-        x = math.nextafter(x, -math.inf)
-    return x
-
-
-def round_up(q: fmpq) -> float:
-    """The smallest float ``>= q``."""
-    x = safe_float(q)
-    if math.isfinite(x) and ep.rational(x) < q:
-        x = math.nextafter(x, math.inf)
-    return x
 
 
 @dataclass(frozen=True, kw_only=True, repr=False)
@@ -313,6 +303,8 @@ def margin_of(
         return _undecided(z, "the leading high-frequency term of Re Z touches 0: undecided")
     if ch.kind != "rational" and rhp_count(ch.p + ch.q) is None:
         return _undecided(z, "a root on the imaginary axis at zero delay")
+    if ch.common.degree() > 0 and rhp_count(ch.common) is None:
+        return _undecided(z, "a pole on the imaginary axis for every delay: its residue moves with the delay")  # fmt: skip
     bands = dangerous_bands(f) if f.order == 1 and hf.kind == "positive" else []
     di_stable = delay_independent_stability(ch)
     if not bands and di_stable:
@@ -346,7 +338,8 @@ def _enclose(
     crossing = first_crossing(ch) if ch.kind in ("retarded", "neutral") else None
     if crossing is not None:
         tau_c = upper(crossing.delay) * (1 + ep.rational(rtol) / 16)
-        cands.append(_Candidate(tau_c, "interior", float(crossing.omega.mid()), "stability"))
+        if stability_at(ch, tau_c).stable is False:  # proven unstable just past the crossing
+            cands.append(_Candidate(tau_c, "interior", float(crossing.omega.mid()), "stability"))
     g = FirstDelay(f) if bands else None
     hf = high_frequency(f)
     omega1 = hf.omega1 if hf.omega1 is not None else fmpq(0)

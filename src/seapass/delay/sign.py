@@ -53,6 +53,7 @@ __all__ = [
     "SignCertificate",
     "certify",
     "negative_intervals",
+    "scan_pieces",
     "witness_in_bands",
 ]
 
@@ -143,7 +144,7 @@ def witness_in_bands(f: TrigRealPart, tau: fmpq, bands: list[tuple[fmpq, fmpq]])
     return None
 
 
-def _pieces(segments: list[tuple[fmpq, fmpq]], tau: fmpq) -> list[tuple[fmpq, fmpq]]:
+def scan_pieces(segments: list[tuple[fmpq, fmpq]], tau: fmpq) -> list[tuple[fmpq, fmpq]]:
     """Cut each segment so that ``θ`` advances at most 1 rad and ``hi/lo <= 2`` per piece."""
     step = 1 / tau if tau > 0 else None
     count = 0.0
@@ -295,7 +296,7 @@ def certify(
     if not segments:
         return SignCertificate(Outcome.PASSIVE, omega0=w0, omega1=w1)
     res = _scan(
-        f, tau, _pieces(segments, tau), budget=budget, max_precision=max_precision,
+        f, tau, scan_pieces(segments, tau), budget=budget, max_precision=max_precision,
         collect=collect,
     )  # fmt: skip
     return SignCertificate(
@@ -321,7 +322,7 @@ def negative_intervals(
     if not segments:
         return [], []
     res = _scan(
-        f, tau, _pieces(segments, tau), budget=budget, max_precision=PRECISIONS[1], collect=True
+        f, tau, scan_pieces(segments, tau), budget=budget, max_precision=PRECISIONS[1], collect=True
     )
     merged: list[tuple[fmpq, fmpq]] = []
     for a, b in sorted(res.negative):
