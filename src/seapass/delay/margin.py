@@ -59,8 +59,8 @@ from .passivity import growth_at_infinity
 from .search import prove_at_least, search_minimum
 from .stability import (
     characteristic,
+    crossings,
     delay_independent_stability,
-    first_crossing,
     rhp_count,
     stability_at,
 )
@@ -301,7 +301,7 @@ def margin_of(
         )  # fmt: skip
     if hf.kind == "tangent":
         return _undecided(z, "the leading high-frequency term of Re Z touches 0: undecided")
-    if ch.kind != "rational" and rhp_count(ch.p + ch.q) is None:
+    if rhp_count(ch.p + ch.q) is None:
         return _undecided(z, "a root on the imaginary axis at zero delay")
     if ch.common.degree() > 0 and rhp_count(ch.common) is None:
         return _undecided(z, "a pole on the imaginary axis for every delay: its residue moves with the delay")  # fmt: skip
@@ -335,7 +335,10 @@ def _enclose(
         if isinstance(root, tuple):
             low = root
             cands.append(_Candidate(root[1], "low_frequency", None, "real_part"))
-    crossing = first_crossing(ch) if ch.kind in ("retarded", "neutral") else None
+    every = crossings(ch) if ch.kind in ("retarded", "neutral") else []
+    # lo must stay below every first crossing delay (balls may overlap: take them all)
+    stab_floor = min((lower(c.delay) for c in every), default=None)
+    crossing = min(every, key=lambda c: upper(c.delay)) if every else None
     if crossing is not None:
         tau_c = upper(crossing.delay) * (1 + ep.rational(rtol) / 16)
         if stability_at(ch, tau_c).stable is False:  # proven unstable just past the crossing
@@ -361,8 +364,8 @@ def _enclose(
             lo = low[0]
         if lo <= 0:
             return _undecided(z, "the margin is below the resolution of rtol", hi)
-        if crossing is not None and not lower(crossing.delay) > lo:
-            lo = min(lo, lower(crossing.delay) * (1 - ep.rational(rtol) / 4))
+        if stab_floor is not None and not stab_floor > lo:
+            lo = stab_floor * (1 - ep.rational(rtol) / 4)
         omega0 = fmpq(0)
         if i0 >= 0 and not fp.is_zero():
             if ep.count_real_roots(fp, 0, lo) != 0:
