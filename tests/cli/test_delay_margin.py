@@ -172,3 +172,18 @@ def test_design_file_gets_the_delay_on_its_controllers(tmp_path):
     assert code == 0 and err == "" and d["loss"] == "low_frequency"
     lo, hi = d["tau_star"]
     assert lo <= 10 / 2500 <= hi  # tau* = b/kd
+
+
+@pytest.mark.parametrize(
+    "command",
+    [["bound", "kd", "--range", "0:1000"], ["witness"], ["response"], ["simulate", "--load-mass", "1"],
+     ["sampled", "check", "--period", "0.002"], ["tune", "--tune", "kd=0:1000"]],
+)  # fmt: skip
+def test_commands_without_delay_support_refuse_clearly(command):
+    delayed = ["--D1", "k1 + b1*s", "--CA", "(kd + bd*s)*exp(-tau*s)", "--set", "m=1",
+               "--set", "b=10", "--set", "k1=1000", "--set", "b1=20", "--set", "bd=25",
+               "--set", "tau=0.001"]  # fmt: skip
+    if command[0] != "bound" and command[0] != "tune":
+        delayed += ["--set", "kd=500"]
+    code, _out, err = run([*command, *delayed])
+    assert code == 2 and err.count("\n") == 1 and "does not handle a delay" in err, err

@@ -48,7 +48,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     add_model_options(p)
     p.add_argument("--Z", help="raw impedance Z(s) instead of an SEA model, e.g. '(s + 1)/(s + 2)'")
     add_json_option(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, allow_delay=True)
 
 
 def run(args: argparse.Namespace) -> int:

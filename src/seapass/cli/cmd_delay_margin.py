@@ -49,7 +49,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "--rtol", type=float, default=1e-6, help="relative width of the enclosure of tau*"
     )
     add_json_option(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, allow_delay=True)
 
 
 def _system(args: argparse.Namespace) -> object:
