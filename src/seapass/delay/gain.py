@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError
+from ..files.limits import MAX_DELAY_GAINS
 from ..model.display import html_card, short_repr
 from ..model.sea import SEA
 from ..outcome import Outcome
@@ -37,8 +38,8 @@ from .margin import DelayMarginResult, delay_margin
 
 __all__ = ["DelayGainEdges", "DelayRegion", "delay_gain_edges", "delay_region"]
 
-MAX_GAIN_POINTS = 200
-"""Gains evaluated by one region or edge search (each is a certified delay margin)."""
+MAX_GAIN_POINTS = MAX_DELAY_GAINS
+"""`seapass.files.limits.MAX_DELAY_GAINS`: gains of one region or edge search."""
 
 
 def _check(sea: SEA, gain: str, lo: float, hi: float, points: int) -> None:

@@ -40,6 +40,7 @@ from flint import arb, fmpq
 from ..errors import DelayError
 from ..exact import poly as ep
 from ..exact.axis import even_to_x, negative_point
+from ..files.limits import MAX_DELAY_PIECES
 from ..outcome import Outcome
 from .balls import PRECISIONS, arb_of, ball, precision
 from .bands import dangerous_bands
@@ -60,9 +61,9 @@ __all__ = [
 DEFAULT_BUDGET = 200_000
 """Sub-intervals evaluated before the answer is undecided (a count, not a time)."""
 
-MAX_PIECES = 100_000
-"""Largest number of initial pieces of the middle range (``θ = ωτ`` advances at most 1 rad
-per piece): a delay so long that ``Re Z`` oscillates more often is refused up front."""
+MAX_PIECES = MAX_DELAY_PIECES
+"""`seapass.files.limits.MAX_DELAY_PIECES`: pieces of the middle range (``θ = ωτ`` advances
+at most 1 rad per piece); a delay so long that ``Re Z`` oscillates more often is refused."""
 
 
 @dataclass(frozen=True)

@@ -30,6 +30,7 @@ from flint import fmpq, fmpq_poly
 
 from ..errors import DelayError, ParameterError
 from ..exact import poly as ep
+from ..files.limits import MAX_DELAY_SECONDS
 from ..model.delayatom import Delay, delay_atoms
 from ..model.expr import S, to_fraction
 from ..model.sea import SEA, Impedance
@@ -45,8 +46,6 @@ __all__ = [
     "model_expression",
 ]
 
-MAX_DELAY_SECONDS = 1000.0
-"""Largest delay accepted, in seconds (beyond it a value is almost surely a unit slip)."""
 
 _E = sp.Symbol("E_delay")  # the generator E = e^{-sτ}; never a user name (underscore)
 

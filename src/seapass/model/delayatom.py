@@ -33,6 +33,7 @@ from typing import Any
 import sympy as sp
 
 from ..errors import ExpressionError
+from ..files.limits import MAX_DELAY_MULTIPLE
 
 __all__ = [
     "DELAY_HINT",
@@ -47,9 +48,6 @@ __all__ = [
 ]
 
 DELAY_HINT = "the one function allowed is a delay exp(-NAME*s) with NAME a parameter in seconds"
-
-#: Largest whole multiple in ``exp(-k*NAME*s)`` (the power of ``E`` it becomes).
-MAX_DELAY_MULTIPLE = 4
 
 
 def symbol(name: str) -> sp.Symbol:
