@@ -187,3 +187,11 @@ def test_commands_without_delay_support_refuse_clearly(command):
         delayed += ["--set", "kd=500"]
     code, _out, err = run([*command, *delayed])
     assert code == 2 and err.count("\n") == 1 and "does not handle a delay" in err, err
+
+
+def test_plot_is_written_and_announced(tmp_path):
+    fig = tmp_path / "margin.png"
+    code, out, err = run(["delay-margin", "tau", "--Z", "m*s + b + (K + B*s)*exp(-tau*s)/s",
+                          "--set", "m=1", "--set", "b=2", "--set", "K=50", "--set", "B=1",
+                          "--plot", str(fig)])  # fmt: skip
+    assert code == 0 and fig.stat().st_size > 1000 and err == f"wrote {fig}\n"

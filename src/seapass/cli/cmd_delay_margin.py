@@ -6,10 +6,20 @@ import argparse
 from pathlib import Path
 
 from ..errors import ParameterError
-from .common import add_json_option, add_model_options, check_rtol, print_json, values_from_args
+from .common import (
+    add_json_option,
+    add_model_options,
+    add_plot_option,
+    check_rtol,
+    plot_path,
+    print_json,
+    values_from_args,
+    write_figure,
+)
 
 EXAMPLE = """examples:
   seapass delay-margin tau ours --set kd=500 --set bd=25 --set b1=20 --json
+  seapass delay-margin tau ours --set kd=500 --set bd=25 --set b1=20 --plot margin.png
   seapass delay-margin tau --D1 "k1 + b1*s" --CA "(kd + bd*s)*exp(-tau*s)" --set m=1 \\
       --set b=10 --set k1=1000 --set b1=20 --set kd=500 --set bd=25
   seapass delay-margin tau --Z "m*s + b + K*exp(-tau*s)/s" --set m=1 --set b=2 --set K=50
@@ -48,6 +58,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     p.add_argument(
         "--rtol", type=float, default=1e-6, help="relative width of the enclosure of tau*"
     )
+    add_plot_option(p, "the first failing delay per frequency with the enclosure of tau*")
     add_json_option(p)
     p.set_defaults(func=run, allow_delay=True)
 
@@ -104,7 +115,10 @@ def run(args: argparse.Namespace) -> int:
     from ..outcome import Outcome
 
     check_rtol(args.rtol)
+    figure = plot_path(args.plot)  # checked before the work starts
     result = delay_margin(_system(args), args.name, rtol=args.rtol)
+    if figure is not None:
+        write_figure(lambda: result.plot(), figure)
     if args.json:
         print_json(result.to_dict())
     else:
