@@ -33,6 +33,7 @@ import bench_export  # noqa: E402
 import bench_metrics  # noqa: E402
 import bench_passivity  # noqa: E402
 import bench_sampled  # noqa: E402
+import bench_startup  # noqa: E402
 import bench_sweep  # noqa: E402
 from _util import Row, fmt_rate  # noqa: E402
 from seapass.files.atomic import atomic_write_text  # noqa: E402
@@ -120,6 +121,10 @@ def main(argv: list[str] | None = None) -> int:
     notes += n
     for row in r:
         print(f"  {row.task}: ratio {row.ratio:,.1f}x", file=sys.stderr)
+    print("running bench_startup ...", file=sys.stderr, flush=True)
+    r, n, startup_section = bench_startup.run(args.quick)
+    rows += r
+    notes += n
     verdicts = bench_passivity.verdict_table()
     print("running bench_explore (headless Chromium) ...", file=sys.stderr, flush=True)
     try:
@@ -149,6 +154,7 @@ def main(argv: list[str] | None = None) -> int:
         *[f"* {n}" for n in notes],
         "",
         *exact_section,
+        *startup_section,
         "## Explorer latency (`seapass explore`)",
         "",
         "Wall-clock time in headless Chromium from a click on the `kd` slider to the frame "

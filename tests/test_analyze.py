@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from cpu_budget import limit_child_cpu
 from seapass.cli import main
 from seapass.model.design_file import load_design
 from seapass.report.analyze import ANALYSIS_STAGES, analyze
@@ -190,7 +191,8 @@ def test_docs_build_strict_and_offline(tmp_path: Path) -> None:
     site = tmp_path / "site"
     proc = subprocess.run(
         [exe, "build", "--strict", "--site-dir", str(site)],
-        cwd=EXAMPLES.parent, capture_output=True, text=True, timeout=300,
+        cwd=EXAMPLES.parent, capture_output=True, text=True,
+        preexec_fn=limit_child_cpu(600),  # CPU time, not wall-clock time
     )  # fmt: skip
     assert proc.returncode == 0, proc.stderr[-3000:]
     for page in ("index.html", "tutorial/index.html", "api/index.html"):

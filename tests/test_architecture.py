@@ -14,6 +14,7 @@
 from __future__ import annotations
 
 import ast
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -148,6 +149,56 @@ def test_every_subpackage_states_its_contents_and_imports() -> None:
             assert "May import" in doc, init
 
 
+def _used_layers(package: Path) -> set[str]:
+    """The layered units a subpackage imports (outside itself), as the layer test sees them."""
+    unit = package.name
+    used = set()
+    for path in sorted(package.rglob("*.py")):
+        for _line, module, _names, func in _imports_in_functions(path):
+            parts = module.split(".")
+            if parts[0] != "seapass" or len(parts) < 2 or parts[1] == unit:
+                continue
+            if parts[1] == "plot" and func == "plot":
+                continue  # a result's .plot() hands itself to the plot layer
+            used.add(parts[1])
+    return used
+
+
+def _may_import(doc: str) -> tuple[set[str], str | None]:
+    """The units a docstring's "May import:" sentence names, and X of "everything in X and below"."""
+    start = doc.index("May import:") + len("May import:")
+    end = re.search(r"\.(\s|$)", doc[start:])
+    sentence = doc[start : start + end.start()] if end else doc[start:]
+    named = set(re.findall(r"`seapass\.(\w+)", sentence))
+    below = re.search(r"everything in \[?`seapass\.(\w+)`", sentence)
+    return named, below.group(1) if below and "and below" in sentence else None
+
+
+@pytest.mark.parametrize(
+    "package",
+    sorted(p.parent for p in SRC.glob("*/__init__.py") if p.parent.name != "cli"),
+    ids=lambda p: p.name,
+)
+def test_may_import_says_what_the_code_imports(package: Path) -> None:
+    """The "May import" line of a subpackage docstring is its real imports.
+
+    An explicit list must equal the units the code imports; "everything in X and
+    below" must cover them, and X must be one of them (the tightest such line).
+    """
+    import importlib
+
+    doc = importlib.import_module(f"seapass.{package.name}").__doc__ or ""
+    named, below = _may_import(doc)
+    used = _used_layers(package)
+    if below is None:
+        assert named == used, f"the docstring says {sorted(named)}; the code imports {sorted(used)}"
+    else:
+        allowed = {u for u, r in RANK.items() if r <= RANK[below]}
+        assert used <= allowed and below in used, (
+            f"'everything in {below} and below' but the code imports {sorted(used)}"
+        )
+
+
 def test_import_seapass_is_light() -> None:
     code = (
         "import sys, seapass; "
@@ -185,3 +236,15 @@ def test_lazy_names_resolve() -> None:
     assert set(dir(seapass)) >= set(seapass.__all__)
     with pytest.raises(AttributeError, match="nothing"):
         _ = seapass.nothing  # type: ignore[attr-defined]
+
+
+def test_every_layer_is_reachable_from_the_front_door() -> None:
+    """``seapass.<unit>`` works for every subpackage and top-level module of `LAYERS`."""
+    import seapass
+
+    for group in LAYERS:
+        for name in group:
+            if name == "version":
+                continue  # ``seapass.__version__`` is its one name
+            assert getattr(seapass, name).__name__ == f"seapass.{name}", name
+            assert name in dir(seapass), name

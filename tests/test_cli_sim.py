@@ -109,7 +109,8 @@ def test_figure_sims_quick(capsys, tmp_path):
     assert main(["figure", "sims", "--out", str(out), "--quick", "--no-progress",
                  "--horizon", "6"]) == 0  # fmt: skip
     names = {p.name for p in out.iterdir()}
-    assert names == {"sims.png", "sims.pdf", "sims.csv", "sims_table.csv", "sims_table.json"}
+    assert names == {"sims.png", "sims.pdf", "sims.csv", "sims_table.csv", "sims_table.json",
+                     ".seapass-written"}  # fmt: skip
     table = json.loads((out / "sims_table.json").read_text())
     assert len(table["rows"]) == 9
     header = (out / "sims.csv").read_text().splitlines()[0]

@@ -66,15 +66,15 @@ def test_sampled_limit_below_continuous_and_converges_with_rate():
         kc = critical_gain(RIG, design="LP", load_mass=ml, sampled=False)
         ks = critical_gain(RIG, design="LP", load_mass=ml, sampled=True)
         assert ks < kc
-    fast = RIG.replace(control={"rate": 50_000.0, "delay_samples": 0})
+    fast = RIG.replace(control={"rate": 50_000.0, "delay": 0})
     kc = critical_gain(fast, design="LP", load_mass=0.6, sampled=False)
     ks = critical_gain(fast, design="LP", load_mass=0.6, sampled=True)
     assert ks == pytest.approx(kc, rel=0.02)
 
 
 def test_sampled_matrix_without_delay_is_zoh_loop():
-    m0 = sampled_loop_matrix(RIG, load_mass=0.1, kp_load=500.0, delay_samples=0)
-    m1 = sampled_loop_matrix(RIG, load_mass=0.1, kp_load=500.0, delay_samples=1)
+    m0 = sampled_loop_matrix(RIG, load_mass=0.1, kp_load=500.0, loop=RIG.loop.replace(delay=0))
+    m1 = sampled_loop_matrix(RIG, load_mass=0.1, kp_load=500.0, loop=RIG.loop.replace(delay=1))
     assert m0.shape == (9, 9)
     r0 = np.abs(np.linalg.eigvals(m0)).max()
     r1 = np.abs(np.linalg.eigvals(m1)).max()

@@ -10,7 +10,7 @@ import pytest
 from seapass.analysis.freqresp import stiffness_response
 from seapass.analysis.passivity import is_passive
 from seapass.explore.panels import compute, slider_grid
-from seapass.explore.state import check_state
+from seapass.explore.validation import check_state
 from seapass.model.catalog import SIMULATION_DESIGNS, TABLE_ROWS, design
 from seapass.model.sea import SEA
 
@@ -38,6 +38,22 @@ def test_lp_interval_is_exactly_up_to_k1() -> None:
     d = compute("interval", _state(LP, {**PLANT, "kd": 500.0}, ranges={"kd": [0, 5000]}))
     assert d["param"] == "kd" and d["intervals"] == [[0.0, 1000.0]]
     assert 1000.0 in d["critical_values"]
+    assert d["shown"] == [["0", "1000"]]  # the text the page prints, rounded inward
+
+
+def test_interval_text_is_rounded_inward() -> None:
+    """The issue-20 design: every end the page prints is inside its interval and passive."""
+    from seapass.analysis.passivity import is_passive
+    from seapass.model.sea import SEA
+
+    values = dict(m=14.214, b=11.6744, b1=15.1808, bd=387.517, k1=108.642)
+    model = {"D1": "k1 + b1*s", "CA": "kd + bd*s", "CL": "kd"}
+    d = compute("interval", _state(model, {**values, "kd": 50.0}, ranges={"kd": [0, 20000]}))
+    sea = SEA(**model, values=values)
+    for (a, b), (ta, tb) in zip(d["intervals"], d["shown"], strict=True):
+        assert a <= float(ta) <= float(tb) <= b
+        assert is_passive(sea.with_values(kd=float(tb))).passive
+    assert d["shown"][0] == ["0", "118.467"]
 
 
 @pytest.mark.parametrize(

@@ -8,7 +8,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from seapass.explore.state import LIMITS, check_state, default_range, slider_scale
+from seapass.explore.state import LIMITS, default_range, slider_scale
+from seapass.explore.validation import check_state
 from seapass.model.design_file import load_design
 
 LP = {

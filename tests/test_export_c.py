@@ -25,7 +25,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import seapass
-from seapass.errors import NotPassiveError, ParameterError
+from seapass.errors import NotPassiveError, OutputPathError, ParameterError
 from seapass.export import (
     c_literal,
     compile_c,
@@ -106,7 +106,7 @@ def design(name: str, **control: object):
     else:
         dsg = parse_design(tomllib.loads(LEAD))
     if "delay" in control:
-        dsg = dataclasses.replace(dsg, control_delay=control["delay"])
+        dsg = dataclasses.replace(dsg, loop=dsg.loop.replace(delay=control["delay"]))
     return dsg
 
 
@@ -133,7 +133,7 @@ def python_applied(
     """Commands the Python runtime applies: ControlLoop saturates, SimulatedHardware delays."""
     steps = inputs.shape[1]
     period = float(dsg.period)
-    hw = SimulatedHardware(ScriptedPlant(inputs[0], inputs[1]), delay_samples=delay)
+    hw = SimulatedHardware(ScriptedPlant(inputs[0], inputs[1]), delay=delay)
     loop = ControlLoop(hw, controller, period=period, force_limit=limit)
     refs = inputs[2:]
 
@@ -212,7 +212,7 @@ def test_twin_closed_loop_with_c_matches_python(hardware_delay: int, tmp_path: P
         plant = TwinPlant(rig, load_mass=0.1)
         plant.reset(x_A=0.02, x_L=0.02)
         push = lambda t: 8.0 if 0.5 <= t < 0.6 else 0.0  # noqa: E731
-        hw = SimulatedHardware(plant, delay_samples=delay, external_force=push)
+        hw = SimulatedHardware(plant, delay=delay, external_force=push)
         loop = ControlLoop(
             hw, controller, period=rig.period, force_limit=rig.force_limit,
             position_limits=(-0.15, 0.15),
@@ -384,7 +384,7 @@ def test_not_passive_design_is_refused_unless_allowed(tmp_path: Path) -> None:
 def test_bad_options_fail_before_any_work(change, kwargs, match, tmp_path: Path) -> None:
     dsg = design("LP")
     if "control" in change:
-        dsg = dataclasses.replace(dsg, control_rate=None)
+        dsg = dataclasses.replace(dsg, loop=None)
     with pytest.raises(ParameterError, match=match):
         export_c(dsg, tmp_path / "out", **kwargs)
     assert not (tmp_path / "out").exists()
@@ -393,10 +393,17 @@ def test_bad_options_fail_before_any_work(change, kwargs, match, tmp_path: Path)
 def test_files_not_written_by_seapass_are_never_replaced(tmp_path: Path) -> None:
     mine = tmp_path / "seapass_ctrl.c"
     mine.write_text("int main(void) { return 0; }\n")
-    with pytest.raises(ParameterError, match="not written by seapass"):
+    with pytest.raises(OutputPathError, match="not written by seapass"):
         export_c(design("LP"), tmp_path, force_limit=FORCE_LIMIT)
     assert mine.read_text() == "int main(void) { return 0; }\n"
     assert not (tmp_path / "seapass_ctrl.h").exists()
+    # a file seapass wrote and the user then edited is the user's too
+    export_c(design("LP"), tmp_path, force_limit=FORCE_LIMIT, force=True)
+    assert mine.read_text().startswith("/* seapass_ctrl.c")
+    (tmp_path / "seapass_ctrl.h").write_text("/* edited */\n")
+    with pytest.raises(OutputPathError, match=r"seapass_ctrl\.h exists and was not written"):
+        export_c(design("LP"), tmp_path, force_limit=FORCE_LIMIT)
+    assert (tmp_path / "seapass_ctrl.h").read_text() == "/* edited */\n"
 
 
 def test_export_is_deterministic_and_replaces_its_own_files(tmp_path: Path) -> None:
@@ -404,7 +411,11 @@ def test_export_is_deterministic_and_replaces_its_own_files(tmp_path: Path) -> N
     texts = (first.header.read_text(), first.source.read_text())
     again = export_c(design("APD"), tmp_path, force_limit=FORCE_LIMIT)
     assert (again.header.read_text(), again.source.read_text()) == texts
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["seapass_ctrl.c", "seapass_ctrl.h"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        ".seapass-written",  # the manifest of what seapass wrote here
+        "seapass_ctrl.c",
+        "seapass_ctrl.h",
+    ]
 
 
 def test_generated_files_carry_the_envelope(tmp_path: Path) -> None:

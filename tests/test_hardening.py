@@ -22,14 +22,16 @@ from pathlib import Path
 import msgpack
 import pytest
 
+from cpu_budget import BLOCKED_S
 from seapass.cli import main
 from seapass.errors import FileFormatError, OutputPathError, ParameterError
 from seapass.files import limits
+from seapass.files.owned import file_digest, read_manifest, write_manifest
 from seapass.files.textfile import read_text_file
 from seapass.files.toml import loads_strict
 from seapass.model.design_file import load_design
 from seapass.report.document import Report, Section
-from seapass.report.output import MARKER, check_output_dir, write_report
+from seapass.report.output import LEGACY_MARKER, check_output_dir, write_report
 from seapass.report.render import render_markdown
 from seapass.rig.rigfile import load_rig, paper_rig
 from seapass.sweep.cluster import probe_scheduler
@@ -229,18 +231,20 @@ def dask_greeting() -> bytes:
 )
 def test_scheduler_probe_is_bounded_and_one_line(reply: bytes | None, needle: str) -> None:
     with fake_server(reply) as address:
+        # silent: the probe's own deadline must end it (whatever the load, nothing comes);
+        # http: the answer ends it, the deadline only guards against a fake that never runs
         with pytest.raises(ConnectionError, match=needle):
-            probe_scheduler(address, timeout=0.5)
+            probe_scheduler(address, timeout=0.5 if reply is None else BLOCKED_S)
 
 
 def test_scheduler_probe_accepts_a_dask_greeting_and_refuses_closed_ports() -> None:
     with fake_server(dask_greeting()) as address:
-        probe_scheduler(address, timeout=5.0)
+        probe_scheduler(address, timeout=BLOCKED_S)  # the greeting ends it
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
     with pytest.raises(ConnectionError, match="refused"):
-        probe_scheduler(f"tcp://127.0.0.1:{port}", timeout=2.0)
+        probe_scheduler(f"tcp://127.0.0.1:{port}", timeout=BLOCKED_S)  # refused at once
 
 
 def test_cli_sweep_with_a_fake_scheduler_is_one_line(
@@ -375,10 +379,9 @@ def test_symlinked_out_is_updated_through_the_link(tmp_path: Path) -> None:
     link = tmp_path / "link"
     write_report(tiny_report(text="first"), real)
     (real / "data" / "stale.csv").write_text("seapass wrote this once")  # listed below
-    manifest = (real / MARKER).read_text()
-    (real / MARKER).write_text(
-        manifest.replace('"data/findings.json"', '"data/stale.csv", "data/findings.json"')
-    )
+    listed = read_manifest(real)
+    assert listed is not None and "data/findings.json" in listed
+    write_manifest(real, {**listed, "data/stale.csv": file_digest(real / "data" / "stale.csv")})
     link.symlink_to(real, target_is_directory=True)
     write_report(tiny_report(text="second"), link)
     assert link.is_symlink() and os.readlink(link) == str(real)
@@ -424,7 +427,7 @@ def test_old_marker_without_manifest_keeps_files_outside_the_report_names(tmp_pa
     (out / "data").mkdir(parents=True)
     (out / "data" / "old.csv").write_text("old")
     (out / "report.md").write_text("old")
-    (out / MARKER).write_text("written by seapass; this directory is replaced as a whole\n")
+    (out / LEGACY_MARKER).write_text("written by seapass; this directory is replaced as a whole\n")
     (out / "notes.txt").write_text("mine")
     write_report(tiny_report(), out)
     assert (out / "notes.txt").read_text() == "mine"

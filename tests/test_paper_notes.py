@@ -30,7 +30,7 @@ def test_ground_damper_beats_pure_spring():
         res = passive_intervals(
             SEA(D1="k1", D2="b2*s", CL="kd", values={**PAPER, "b2": b2}), "kd", 0, 1e5
         )
-        assert res.intervals == [(0.0, expected)]
+        assert res.intervals == ((0.0, expected),)
         assert expected > PAPER["k1"]
 
 

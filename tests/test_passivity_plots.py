@@ -173,7 +173,10 @@ def test_cli_plot_json_and_errors(capsys: pytest.CaptureFixture[str]) -> None:
     assert data["negative_real_bands"] == [] and data["static"] == 0.0
     for argv, msg in [
         (["plot", "real", "--Z", "1/(s+1)", "--plot", "x.jpg"], "unknown figure format"),
-        (["plot", "real", "--Z", "1/(s+1)", "--omega", "0:10"], "0 < LO < HI"),
+        (
+            ["plot", "real", "--Z", "1/(s+1)", "--omega", "0:10"],
+            "--omega must be positive frequencies 0 < lo < hi",
+        ),
         (["plot", "nyquist", "--Z", "1/(s+1)", "--points", "1"], "--points 1"),
     ]:
         assert main(argv) == 2

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import pytest
 
+from cpu_budget import limit_child_cpu
 from seapass.cli import main
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
@@ -35,10 +36,13 @@ def _render(page: Path, tmp: Path) -> tuple[str, str, Path]:
         "--disable-sync", f"--user-data-dir={profile}", "--enable-logging=stderr", "--v=0",
         "--virtual-time-budget=10000", "--window-size=1200,3000",
     ]  # fmt: skip
+    # chromium's work is bounded by CPU time per process, not by a wall-clock timeout
+    limit = limit_child_cpu(300)
     dom = subprocess.run(
-        [*base, "--dump-dom", page.as_uri()], capture_output=True, text=True, timeout=120
+        [*base, "--dump-dom", page.as_uri()], capture_output=True, text=True, preexec_fn=limit
     )
-    subprocess.run([*base, f"--screenshot={shot}", page.as_uri()], capture_output=True, timeout=120)
+    subprocess.run([*base, f"--screenshot={shot}", page.as_uri()], capture_output=True,
+                   preexec_fn=limit)  # fmt: skip
     return dom.stdout, dom.stderr, shot
 
 

@@ -125,11 +125,11 @@ def test_same_outputs_every_run(core: Path, tmp_path: Path) -> None:
 
 
 def _tiny(key: str = "a") -> Section:
-    png = figure_bytes(__import__("matplotlib.pyplot").pyplot.figure(figsize=(1, 1)))
+    fig = __import__("matplotlib.pyplot").pyplot.figure(figsize=(1, 1))
     return Section(
         key=key, title=key.upper(), text="hello `x` **y**\n\n- one\n- two",
         tables=(Table("t_" + key, "T", ("a", "b"), ((1.5, True), (None, False))),),
-        figures=(FigureData("f_" + key, "cap", png),),
+        figures=(FigureData.of("f_" + key, "cap", fig),),
         findings=(Finding("c", "agrees", "d"),),
         files={"x.json": "{}\n"},
     )  # fmt: skip

@@ -17,15 +17,19 @@ from seapass.analysis.coupled import Environment
 from seapass.analysis.environment_box import HUMAN_LIMB
 from seapass.analysis.indices import passivity_indices
 from seapass.analysis.witness import WitnessResult, find_destabilizing_environment
+from seapass.exact.rounding import decimal_down
+from seapass.model.loop import SampledLoop
 from seapass.model.sea import SEA
+from seapass.outcome import Outcome
 from seapass.plot.style import bare_figures
 from seapass.sampled.bound import intervals_text, sampled_passive_bound
 from seapass.sampled.passivity import sampled_passivity
-from seapass.sampled.region import LoopSetup, ZWidthMap, sampled_region
+from seapass.sampled.region import ZWidthMap, sampled_region
 from seapass.sweep import GridAxis, SweepSpec, run_design_sweep
 from seapass.tuning.optimize import tune
 
 T = 0.002
+LOOP = SampledLoop(period=T)
 RIG = {"m": 1.02, "b": 10.0, "k1": 1005.0, "b1": 30.0}
 HOSTILE = "<script>alert(1)</script>"
 
@@ -56,13 +60,13 @@ def results(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
             SEA(D1="k1", CL="kd", values={"m": 1, "b": 10, "k1": 1000, "kd": 2000})
         ),
         "indices": passivity_indices("s/(s**2 + 0.2*s + 1)"),
-        "sampled": sampled_passivity(lp, period=T, values={"kd": 900.0}, delay=1),
-        "bound": sampled_passive_bound(lp, "kd", period=T, lo=0, hi=5000, design_value=500.0),
+        "sampled": sampled_passivity(lp, loop=LOOP.replace(delay=1), values={"kd": 900.0}),
+        "bound": sampled_passive_bound(lp, "kd", loop=LOOP, lo=0, hi=5000, design_value=500.0),
         "zwidth": sampled_region(
             SEA(D1="k1 + b1*s", CA="kd + bd*s", values=RIG),
             "kd",
             "bd",
-            period=T,
+            loop=LOOP.replace(delay=1, velocity_filter=50.0),
             p1_range=(0, 5000),
             p2_range=(0, 20),
             n=3,
@@ -119,8 +123,9 @@ def test_reprs_say_the_key_facts(results: dict[str, Any]) -> None:
     top = r["bound"].max_passive
     assert 798 < top < 799
     assert repr(r["bound"]) == (
-        f"SampledBoundResult(param='kd', period=0.002, delay=0, passive=[0, {top:.6g}], "
-        f"max_passive={top:.6g}, design_passive=True)"
+        # the largest passive value is shown rounded down (inward), issue 20
+        f"SampledBoundResult(param='kd', period=0.002, delay=0, passive=[0, {decimal_down(top, 6)}], "
+        f"max_passive={decimal_down(top, 6)}, design_passive=True)"
     )
     assert repr(r["zwidth"]) == "ZWidthMap(p1='kd', p2='bd', period=0.002, rows=3, setups=3)"
     sweep = r["sweep"]
@@ -141,11 +146,11 @@ def test_html_cards_hold_the_key_numbers(results: dict[str, Any]) -> None:
     html = r["sampled"]._repr_html_()
     assert "not passive" in html and f"ω = {r['sampled'].omega:.6g}" in html
     html = r["bound"]._repr_html_()
-    assert f"[0, {r['bound'].max_passive:.6g}]" in html and "design kd = 500" in html
+    assert f"[0, {decimal_down(r['bound'].max_passive, 6)}]" in html and "design kd = 500" in html
     html = r["zwidth"]._repr_html_()
     z = r["zwidth"]
     for s in z.setups:
-        assert f"{np.nanmax(z.upper_boundary(s.label)):.6g}" in html
+        assert decimal_down(np.nanmax(z.upper_boundary(s.label)), 6) in html
     html = r["sweep"]._repr_html_()
     assert f"{r['sweep'].n_passive} (" in html and "4 of 4" in html
 
@@ -153,11 +158,9 @@ def test_html_cards_hold_the_key_numbers(results: dict[str, Any]) -> None:
 def test_html_escapes_user_text(results: dict[str, Any]) -> None:
     r = results
     z = r["zwidth"]
-    label = z.setups[0].label
     renamed = ZWidthMap(
-        z.p1, z.p2, z.period, z.p1_range, z.p2_values,
-        (LoopSetup(HOSTILE, z.setups[0].delay), *z.setups[1:]),
-        {HOSTILE if k == label else k: v for k, v in z.rows.items()},
+        p1=HOSTILE, p2=z.p2, p1_range=z.p1_range, p2_values=z.p2_values,
+        setups=z.setups, rows=z.rows,
     )  # fmt: skip
     hostile = [
         dataclasses.replace(r["tuning"], design=HOSTILE),
@@ -177,7 +180,7 @@ def test_witness_not_found_and_passive() -> None:
     assert repr(passive) == "WitnessResult(status='passive')"
     assert "Destabilizing environment: passive" in passive._repr_html_()
     proven = WitnessResult(
-        passive=False,
+        outcome=Outcome.NOT_PASSIVE,
         reason="negative_real_part",
         found=False,
         candidates=40,

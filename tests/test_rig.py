@@ -83,7 +83,7 @@ def test_load_rig_from_file(tmp_path):
         (lambda d: d["damper"].update(k1=0.0), "damper.k1"),
         (lambda d: d["encoders"].update(motor_cpt=1000.5), "encoders.motor_cpt"),
         (lambda d: d["encoders"].update(motor_quadrature=8), "encoders.motor_quadrature"),
-        (lambda d: d["control"].update(delay_samples=2), "control.delay_samples"),
+        (lambda d: d["control"].update(delay=2), "control.delay"),
         (lambda d: d["experiment"].update(load_masses=[0.1, "x"]), "experiment.load_masses[1]"),
         (lambda d: d["experiment"].update(load_masses=0.1), "experiment.load_masses"),
         (lambda d: d["motor"].update(peak_torque=0.01), "motor.peak_torque"),

@@ -95,6 +95,8 @@ def test_a_square_wave_confounds_mass_and_friction() -> None:
     log = twin_log(RIG, 60.0 * np.sign(np.sin(2 * np.pi * 5 * t)), load_mass=0.1, seed=1)
     fit = fit_rig(log, RIG)
     assert "m" in fit.poorly_determined and fit.confounded("m")
+    (note,) = [w for w in fit.warnings if w.startswith("m is poorly determined")]
+    assert "correlated with" in note and len(fit.warnings) == len(fit.poorly_determined)
 
 
 def test_a_ringing_closed_loop_step_recovers_the_twin() -> None:
@@ -208,6 +210,7 @@ def test_cli_fit_writes_plot_and_rig(
     text = capsys.readouterr().out
     assert "95 % intervals" in text and "b1" in text and "±" in text
     mm = RigLog(chirp_log.t, chirp_log.force, 1e3 * chirp_log.x_A, 1e3 * chirp_log.x_L)
+    assert mm.warnings and "(millimetres given?)" in mm.warnings[0] and chirp_log.warnings == ()
     (tmp_path / "mm.csv").write_text(mm.to_csv())
     main(["rig", "fit", str(tmp_path / "mm.csv"), "--rig", str(rig)])
     assert "(millimetres given?)" in capsys.readouterr().err

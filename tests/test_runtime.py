@@ -259,11 +259,11 @@ def test_bad_arguments() -> None:
     with pytest.raises(ParameterError):
         ControlLoop(hw, OursController(1.0, 1.0, T), period=T, force_limit=-1.0)
     with pytest.raises(ParameterError):
-        SimulatedHardware(LinearPlant(), delay_samples=-1)
+        SimulatedHardware(LinearPlant(), delay=-1)
 
 
 def test_delayed_hardware_applies_commands_late() -> None:
-    hw = SimulatedHardware(LinearPlant(), delay_samples=1)
+    hw = SimulatedHardware(LinearPlant(), delay=1)
     hw.enable()
     hw.write_command(3.0)
     assert hw.active_command == 0.0
@@ -276,9 +276,9 @@ def test_twin_end_to_end() -> None:
     rig = pytest.importorskip("seapass.rig.rigfile").paper_rig()
     plant = twin.TwinPlant(rig, load_mass=0.1, seed=None)
     plant.reset(x_L=0.02)
-    hw = SimulatedHardware(plant, delay_samples=rig.control.delay_samples)
+    hw = SimulatedHardware(plant, delay=rig.control.delay)
     design = ours_design(1000.0).with_values(**rig.model_values())
-    ctrl = OursController(1000.0, 25.0, rig.period, velocity_filter=rig.control.velocity_filter_hz)
+    ctrl = OursController(1000.0, 25.0, rig.period, velocity_filter=rig.control.velocity_filter)
     loop = ControlLoop(
         hw,
         ctrl,
@@ -286,7 +286,7 @@ def test_twin_end_to_end() -> None:
         force_limit=rig.force_limit,
         position_limits=(-rig.load.travel, rig.load.travel),
         design=design,
-        delay=rig.control.delay_samples,
+        delay=rig.control.delay,
     )
     rec = loop.run(1.5)
     assert rec.stop_reason == ""
@@ -300,7 +300,7 @@ def test_twin_nonpassive_lp_is_refused_then_stopped_safely() -> None:
     design = SEA(D1="k1 + b1*s", CL="kd", values={**rig.model_values(), "kd": 3000.0})
     plant = twin.TwinPlant(rig, load_mass=0.6, seed=None)
     plant.reset(x_L=0.02)
-    hw = SimulatedHardware(plant, delay_samples=1)
+    hw = SimulatedHardware(plant, delay=1)
     ctrl = LPController(3000.0, rig.period, velocity_filter=50.0)
     kw = {
         "period": rig.period,

@@ -16,6 +16,7 @@ from hypothesis import strategies as st
 from seapass.cli import main
 from seapass.errors import ModelError, NotPassiveError, ParameterError
 from seapass.model.expr import S
+from seapass.model.loop import SampledLoop
 from seapass.model.sea import SEA
 from seapass.sampled import coupling as smc
 from seapass.sampled.alias import alias_sums, zeta_numerators
@@ -103,7 +104,7 @@ def _brute_power(sea: SEA, w: float, *, delay: int = 0, K: int = 20000) -> float
     al = m * s**2 + b * s
     a, p = d1 / (al + d1), 1 / (al + d1)
     r = ((d1 * al + d2 * (al + d1)) / (s * (al + d1))).real
-    ka, kl = controller_tfs(sea, period=T, delay=delay)
+    ka, kl = controller_tfs(sea, SampledLoop(period=T, delay=delay))
     z = np.exp(1j * w * T)
     KA, KL = ka(z), kl(z)
     d = 1 + KA * np.sum(p * (1 - 1 / z) / s) / T
@@ -125,7 +126,7 @@ def test_power_function_matches_brute_force(design: str, w: float) -> None:
         ),
     }[design]
     delay = 1 if design == "ours-delay" else 0
-    ka, kl = controller_tfs(sea, period=T, delay=delay)
+    ka, kl = controller_tfs(sea, SampledLoop(period=T, delay=delay))
     sums = cached_sums(plant_key(sea), Fraction(1, 500), ("S1", "S2", "S3", "S4", "Sg"), 128)
     (closed,) = power_values(sums, point_family(ka, kl), [w * T])
     assert float(closed.mid()) == pytest.approx(
@@ -137,7 +138,7 @@ def test_weighted_power_is_the_interpolated_polynomial() -> None:
     """P̃ interpolated at Chebyshev nodes reproduces N·weight at other frequencies (balls
     overlap), and its degree is the proven bound: the θ = 0 factor divides out exactly."""
     sea = ours(kd=2000.0)
-    ka, kl = controller_tfs(sea, period=T, delay=1, velocity_filter=50.0)
+    ka, kl = controller_tfs(sea, SampledLoop(period=T, delay=1, velocity_filter=50.0))
     fam = point_family(ka, kl)
     sums = cached_sums(plant_key(sea), Fraction(1, 500), ("S1", "S2", "Sg"), 256)
     (poly,) = weighted_polynomials(sums, fam)
@@ -156,35 +157,40 @@ def test_weighted_power_is_the_interpolated_polynomial() -> None:
 
 def test_slow_pole_counterexample_is_not_passive() -> None:
     """Issue 11, defect 1: passive in continuous time, not passive sampled (N(0) < 0)."""
-    r = sampled_passivity(SEA(D1="k1 + b1*s", CL="kd", values={**SLOW, "kd": 950.0}), period=T)
+    r = sampled_passivity(
+        SEA(D1="k1 + b1*s", CL="kd", values={**SLOW, "kd": 950.0}), loop=SampledLoop(period=T)
+    )
     assert r.status is SampledStatus.NOT_PASSIVE and r.reason == "low_frequency"
     assert r.omega is not None and 0 < r.omega * T < 1e-3
     assert "R_lf" in r.detail and r.precision >= 256
     # just inside the closed-form limit kd <= 2 b k1/(2b + k1 T) = 909.09 it is passive
     assert sampled_passivity(
-        SEA(D1="k1 + b1*s", CL="kd", values={**SLOW, "kd": 900.0}), period=T
+        SEA(D1="k1 + b1*s", CL="kd", values={**SLOW, "kd": 900.0}), loop=SampledLoop(period=T)
     ).passive
 
 
 def test_precision_cap_gives_undecided_never_passive() -> None:
     sea = SEA(D1="k1 + b1*s", CL="kd", values={**SLOW, "kd": 950.0})
-    r = sampled_passivity(sea, period=T, max_precision=64)
-    assert r.status is SampledStatus.UNDECIDED and not r.passive and r.marginal
+    r = sampled_passivity(sea, loop=SampledLoop(period=T), max_precision=64)
+    # undecided is the outcome, never "marginal" (decided near the boundary)
+    assert r.outcome is SampledStatus.UNDECIDED and not r.passive and not r.marginal
     with pytest.raises(NotPassiveError):
-        sampled_passivity(sea, period=T, max_precision=64, throw=True)
+        sampled_passivity(sea, loop=SampledLoop(period=T), max_precision=64, throw=True)
 
 
 def test_colgate_schenkel_virtual_spring_limit() -> None:
     kmax = 2 * RIG["b"] / T
     sea = SEA(D1="k1", CA="kd", values={**RIG_K1, "kd": 0.0})
-    assert sampled_passivity(sea, period=T, values={"kd": 0.95 * kmax}).passive
-    assert not sampled_passivity(sea, period=T, values={"kd": 1.05 * kmax}).passive
+    assert sampled_passivity(sea, loop=SampledLoop(period=T), values={"kd": 0.95 * kmax}).passive
+    assert not sampled_passivity(
+        sea, loop=SampledLoop(period=T), values={"kd": 1.05 * kmax}
+    ).passive
 
 
 def test_colgate_schenkel_virtual_damper_limit() -> None:
     sea = SEA(D1="k1", CA="kd + bd*s", values={**RIG_K1, "kd": 100.0, "bd": 0.0})
-    assert sampled_passivity(sea, period=T, values={"bd": 8.0}).passive
-    r = sampled_passivity(sea, period=T, values={"bd": 12.0})
+    assert sampled_passivity(sea, loop=SampledLoop(period=T), values={"bd": 8.0}).passive
+    r = sampled_passivity(sea, loop=SampledLoop(period=T), values={"bd": 12.0})
     assert not r.passive and r.omega == pytest.approx(math.pi / T)
 
 
@@ -193,28 +199,30 @@ def test_lp_approaches_continuous_bound_for_fast_sampling() -> None:
 
     kc = passive_intervals(lp(kd=None), "kd", 0, 1e5).intervals[0][1]
     assert kc == pytest.approx(849.148, rel=1e-4)
-    assert sampled_passivity(lp(kd=0.97 * kc), period=1e-4).passive
-    assert not sampled_passivity(lp(kd=1.01 * kc), period=1e-4).passive
-    assert not sampled_passivity(lp(kd=0.97 * kc), period=T).passive
+    assert sampled_passivity(lp(kd=0.97 * kc), loop=SampledLoop(period=1e-4)).passive
+    assert not sampled_passivity(lp(kd=1.01 * kc), loop=SampledLoop(period=1e-4)).passive
+    assert not sampled_passivity(lp(kd=0.97 * kc), loop=SampledLoop(period=T)).passive
 
 
 def test_undamped_transmission_with_load_feedback_is_never_passive() -> None:
-    r = sampled_passivity(lp(b1=0.0, kd=10.0), period=T)
+    r = sampled_passivity(lp(b1=0.0, kd=10.0), loop=SampledLoop(period=T))
     assert not r.passive and r.reason == "alias_injection"
     assert 0 < r.spectral_radius < 1  # always a finite number (strict JSON)
     with pytest.raises(ModelError):
-        sampled_power_curve(lp(b1=0.0, kd=10.0), period=T)
+        sampled_power_curve(lp(b1=0.0, kd=10.0), loop=SampledLoop(period=T))
 
 
 def test_unstable_internal_loop() -> None:
-    r = sampled_passivity(ours(kd=3e6), period=T, delay=1)
+    r = sampled_passivity(ours(kd=3e6), loop=SampledLoop(period=T, delay=1))
     assert not r.passive and r.reason == "unstable" and r.spectral_radius > 1
 
 
 def test_delay_and_filter_shrink_the_passive_set() -> None:
     sea = ours(kd=30000.0)
-    assert sampled_passivity(sea, period=T).passive
-    assert not sampled_passivity(sea, period=T, delay=1, velocity_filter=50.0).passive
+    assert sampled_passivity(sea, loop=SampledLoop(period=T)).passive
+    assert not sampled_passivity(
+        sea, loop=SampledLoop(period=T, delay=1, velocity_filter=50.0)
+    ).passive
 
 
 @pytest.mark.parametrize(
@@ -222,10 +230,10 @@ def test_delay_and_filter_shrink_the_passive_set() -> None:
 )
 def test_bound_agrees_with_coupled_stability(make, inside: float, outside: float) -> None:  # type: ignore[no-untyped-def]
     good, bad = make(kd=inside), make(kd=outside)
-    assert sampled_passivity(good, period=T).passive
-    assert not sampled_passivity(bad, period=T).passive
-    assert smc.worst_sampled_environment(good, period=T).stable
-    found = smc.worst_sampled_environment(bad, period=T)
+    assert sampled_passivity(good, loop=SampledLoop(period=T)).passive
+    assert not sampled_passivity(bad, loop=SampledLoop(period=T)).passive
+    assert smc.worst_sampled_environment(good, loop=SampledLoop(period=T)).stable
+    found = smc.worst_sampled_environment(bad, loop=SampledLoop(period=T))
     assert not found.stable and found.env_mass > 0 and found.env_stiffness >= 0
 
 
@@ -239,27 +247,27 @@ def test_structure_outside_the_supported_class_is_refused() -> None:
             )
         )
     with pytest.raises(ModelError, match="dissipative"):
-        sampled_passivity(lp(kd=100.0, b=0.0), period=T)
+        sampled_passivity(lp(kd=100.0, b=0.0), loop=SampledLoop(period=T))
     with pytest.raises(ParameterError):
-        sampled_passivity(lp(kd=None), period=T)
+        sampled_passivity(lp(kd=None), loop=SampledLoop(period=T))
     with pytest.raises(ParameterError, match="period"):
-        sampled_passivity(lp(kd=1.0), period=1e-9)
+        sampled_passivity(lp(kd=1.0), loop=SampledLoop(period=1e-9))
     with pytest.raises(ParameterError, match="delay"):  # bounded work, before any is done
-        sampled_passivity(lp(kd=1.0), period=T, delay=10**6)
+        sampled_passivity(lp(kd=1.0), loop=SampledLoop(period=T, delay=10**6))
 
 
 # ------------------------------------------------------------------ bounds
 
 
 def test_bound_edges_are_enclosures() -> None:
-    r = sampled_passive_bound(lp(kd=None), "kd", period=T, lo=0, hi=5000)
+    r = sampled_passive_bound(lp(kd=None), "kd", loop=SampledLoop(period=T), lo=0, hi=5000)
     assert r.intervals[0][0] == 0.0 and len(r.intervals) == 1
     (edge,) = r.edges
     assert 798 < edge.lo <= edge.hi < 799
     assert edge.hi - edge.lo <= 1e-9 * edge.hi
     assert r.intervals[0][1] == edge.lo and r.max_passive == edge.lo
-    assert sampled_passivity(lp(kd=edge.lo * (1 - 1e-7)), period=T).passive
-    assert not sampled_passivity(lp(kd=edge.hi * (1 + 1e-7)), period=T).passive
+    assert sampled_passivity(lp(kd=edge.lo * (1 - 1e-7)), loop=SampledLoop(period=T)).passive
+    assert not sampled_passivity(lp(kd=edge.hi * (1 + 1e-7)), loop=SampledLoop(period=T)).passive
     out = r.to_dict()
     assert out["edges"][0]["lo"] == edge.lo and out["range"] == [0.0, 5000.0]
 
@@ -267,7 +275,11 @@ def test_bound_edges_are_enclosures() -> None:
 def test_range_from_zero_on_the_textbook_spring() -> None:
     """Issue 11, defect 2: the plain virtual spring from kd = 0; the limit is 2b/T."""
     r = sampled_passive_bound(
-        SEA(D1="k1", CA="kd", values={**RIG_K1, "kd": None}), "kd", period=T, lo=0, hi=2e4
+        SEA(D1="k1", CA="kd", values={**RIG_K1, "kd": None}),
+        "kd",
+        loop=SampledLoop(period=T),
+        lo=0,
+        hi=2e4,
     )
     assert r.intervals[0][0] == 0.0
     assert r.max_passive == pytest.approx(2 * RIG["b"] / T, rel=1e-9)
@@ -290,34 +302,36 @@ def test_narrow_island_is_found_and_design_value_covered() -> None:
             "tz": None,
         },
     )
-    r = sampled_passive_bound(sea, "tz", period=0.001, lo=0.05, hi=1000, design_value=0.01)
+    r = sampled_passive_bound(
+        sea, "tz", loop=SampledLoop(period=0.001), lo=0.05, hi=1000, design_value=0.01
+    )
     assert r.lo == 0.01 and r.design_passive is True
     ((a, b),) = r.intervals
     assert a == 0.01 and 0.0999 < b < 0.1
-    r = sampled_passive_bound(sea, "tz", period=0.001, lo=0, hi=1000)
+    r = sampled_passive_bound(sea, "tz", loop=SampledLoop(period=0.001), lo=0, hi=1000)
     ((a, b),) = r.intervals
     assert 0.00199 < a < 0.002 and 0.0999 < b < 0.1
 
 
 def test_isolated_special_values() -> None:
     """kd = 0 is passive even where every kd > 0 injects aliased energy."""
-    r = sampled_passive_bound(lp(b1=0.0, kd=None), "kd", period=T, lo=0, hi=100)
-    assert r.intervals == [(0.0, 0.0)]
+    r = sampled_passive_bound(lp(b1=0.0, kd=None), "kd", loop=SampledLoop(period=T), lo=0, hi=100)
+    assert r.intervals == ((0.0, 0.0),)
 
 
 @pytest.mark.parametrize("rtol", [0.0, -1.0, 1e-15, 0.5, float("nan")])
 def test_bad_rtol_is_one_clear_error(rtol: float) -> None:
     with pytest.raises(ParameterError, match="rtol"):
-        sampled_passive_bound(lp(kd=None), "kd", period=T, lo=0, hi=10, rtol=rtol)
+        sampled_passive_bound(lp(kd=None), "kd", loop=SampledLoop(period=T), lo=0, hi=10, rtol=rtol)
 
 
 def test_bound_errors() -> None:
     with pytest.raises(ParameterError, match="plant parameter"):
-        sampled_passive_bound(lp(kd=10.0, b1=None), "b1", period=T, lo=0, hi=10)
+        sampled_passive_bound(lp(kd=10.0, b1=None), "b1", loop=SampledLoop(period=T), lo=0, hi=10)
     with pytest.raises(ParameterError):
-        sampled_passive_bound(lp(kd=None), "kd", period=T, lo=5, hi=1)
+        sampled_passive_bound(lp(kd=None), "kd", loop=SampledLoop(period=T), lo=5, hi=1)
     with pytest.raises(ParameterError, match="does not appear"):
-        sampled_passive_bound(lp(kd=None), "zz", period=T, lo=0, hi=1)
+        sampled_passive_bound(lp(kd=None), "zz", loop=SampledLoop(period=T), lo=0, hi=1)
 
 
 @pytest.mark.parametrize(
@@ -338,9 +352,9 @@ def test_parametric_controllers_equal_the_deployed_ones(
     from seapass.sampled.family import controller_family
 
     sea = SEA(D1="k1 + b1*s", CA=ca, CL=cl, values={**RIG, **given, free: None})
-    fam = controller_family(sea, free, period=T, **loop)  # type: ignore[arg-type]
+    fam = controller_family(sea, free, SampledLoop(period=T, **loop))  # type: ignore[arg-type]
     for v in (1e-4, 0.37, 3.0, 7.0e3):
-        ka, kl = controller_tfs(sea.with_values(**{free: v}), period=T, **loop)  # type: ignore[arg-type]
+        ka, kl = controller_tfs(sea.with_values(**{free: v}), SampledLoop(period=T, **loop))  # type: ignore[arg-type]
         for tf, polys in ((ka, fam.actuator), (kl, fam.load)):
             num, den = polys.at(Fraction(v))
             lead = den[0]
@@ -359,7 +373,8 @@ def test_parametric_controllers_equal_the_deployed_ones(
 def zmap():  # type: ignore[no-untyped-def]
     return sampled_region(
         SEA(D1="k1 + b1*s", CA="kd + bd*s", values=RIG),
-        "kd", "bd", period=T, p1_range=(0, 1e5), p2_range=(0, 50), n=3,
+        "kd", "bd", loop=SampledLoop(period=T, delay=1, velocity_filter=50.0),
+        p1_range=(0, 1e5), p2_range=(0, 50), n=3,
     )  # fmt: skip
 
 
@@ -369,17 +384,26 @@ def test_zwidth_map_matches_bounds(zmap) -> None:  # type: ignore[no-untyped-def
     assert ideal[1] == pytest.approx(33450.2, rel=1e-5)
     assert np.all(filtered <= delayed) and np.all(delayed < ideal)
     csv = z.to_csv().splitlines()
-    assert csv[0] == "setup,delay,velocity_filter_hz,bd,kd_lo,kd_hi" and len(csv) == 10
+    assert csv[0] == "setup,delay,velocity_filter,bd,kd_lo,kd_hi" and len(csv) == 10
     assert z.to_dict()["setups"][2]["velocity_filter"] == 50.0
 
 
 def test_region_errors() -> None:
     sea = SEA(D1="k1 + b1*s", CA="kd + bd*s", values=RIG)
     with pytest.raises(ParameterError):
-        sampled_region(sea, "kd", "kd", period=T, p1_range=(0, 1), p2_range=(0, 1))
+        sampled_region(
+            sea, "kd", "kd", loop=SampledLoop(period=T), p1_range=(0, 1), p2_range=(0, 1)
+        )
     with pytest.raises(ParameterError, match="rows"):
-        sampled_region(sea, "kd", "bd", period=T, p1_range=(0, 1), p2_range=(0, 1), n=10**6)
-    assert [s.delay for s in default_setups(2, None)] == [0, 2]
+        sampled_region(
+            sea, "kd", "bd", loop=SampledLoop(period=T), p1_range=(0, 1), p2_range=(0, 1), n=10**6
+        )
+    assert [s.delay for s in default_setups(SampledLoop(period=T, delay=2))] == [0, 2]
+    assert [s.label for s in default_setups(SampledLoop(period=T, velocity_filter=50.0))] == [
+        "ideal ZOH",
+        "1-sample delay",
+        "1-sample delay + 50 Hz filter",
+    ]
 
 
 # ------------------------------------------------------------------ CLI
@@ -437,7 +461,9 @@ def test_plots(tmp_path, zmap) -> None:  # type: ignore[no-untyped-def]
     from seapass.plot.sampled import plot_bound, plot_zwidth
     from seapass.plot.style import figure_of, save_figure
 
-    r = sampled_passive_bound(lp(kd=None), "kd", period=T, lo=0, hi=2000, rtol=1e-6)
+    r = sampled_passive_bound(
+        lp(kd=None), "kd", loop=SampledLoop(period=T), lo=0, hi=2000, rtol=1e-6
+    )
     save_figure(figure_of(plot_bound(r)), tmp_path / "b.png")
     save_figure(figure_of(plot_zwidth(zmap)), tmp_path / "z.png")
     assert (tmp_path / "b.png").stat().st_size > 0 and (tmp_path / "z.png").stat().st_size > 0

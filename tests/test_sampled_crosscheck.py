@@ -16,6 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from lifting_energy import sea_port, wall_port
+from seapass.model.loop import SampledLoop
 from seapass.model.sea import SEA
 from seapass.sampled.bound import sampled_passive_bound
 from seapass.sampled.controllers import DiscreteTF, controller_tfs
@@ -58,7 +59,7 @@ def random_design(rng: random.Random) -> tuple[SEA, float, int, float | None]:
 def lifted_verdict(
     sea: SEA, T: float, delay: int, filt: float | None, witness: float | None
 ) -> str:
-    ka, kl = controller_tfs(sea, period=T, delay=delay, velocity_filter=filt)
+    ka, kl = controller_tfs(sea, SampledLoop(period=T, delay=delay, velocity_filter=filt))
     lifted = sea_port(sea, ka, kl, T, M=8)
     # port held: remove the port position; the redundant transmission integrator sits at 1
     eig = [abs(e) for e in lifted.loop_eigenvalues(held=[2]) if abs(e - 1) > 1e-9]
@@ -76,7 +77,9 @@ def test_agreement_on_random_designs() -> None:
     for _ in range(210):
         sea, T, delay, filt = random_design(rng)
         r = sampled_passivity(
-            sea, period=T, delay=delay, velocity_filter=filt, continuous_gate=False
+            sea,
+            loop=SampledLoop(period=T, delay=delay, velocity_filter=filt),
+            continuous_gate=False,
         )
         witness = None if r.omega is None else r.omega * T
         lifted = lifted_verdict(sea, T, delay, filt, witness)
@@ -119,7 +122,9 @@ def test_certified_bound_reproduces_colgate_schenkel(bd: float, delay: int) -> N
     Colgate–Schenkel device: its certified kd bound is the closed form."""
     b, T = 2.0, 0.001
     sea = SEA(D1="k1", CA="kd + bd*s", values={"m": 1e-4, "b": b, "k1": 1e10, "bd": bd, "kd": None})
-    r = sampled_passive_bound(sea, "kd", period=T, lo=0, hi=1e4, delay=delay, rtol=1e-9)
+    r = sampled_passive_bound(
+        sea, "kd", loop=SampledLoop(period=T, delay=delay), lo=0, hi=1e4, rtol=1e-9
+    )
     kmax = 2 * (b - abs(bd)) / T if delay == 0 else 2 * b / ((2 * delay + 1) * T)
     assert r.max_passive == pytest.approx(kmax, rel=1e-6)
 
@@ -142,11 +147,11 @@ def test_low_frequency_condition_is_necessary(
     sea = SEA(
         D1="k1 + b1*s", CL="kd", values={"m": 1.0, "b": b, "k1": k1, "b1": b1, "kd": ratio * kd_lf}
     )
-    r = sampled_passivity(sea, period=period, continuous_gate=False)
+    r = sampled_passivity(sea, loop=SampledLoop(period=period), continuous_gate=False)
     assert not r.passive
     assert r.low_frequency is not None and r.low_frequency.violated
     if r.reason == "low_frequency":
-        ka, kl = controller_tfs(sea, period=period)
+        ka, kl = controller_tfs(sea, SampledLoop(period=period))
         lifted = sea_port(sea, ka, kl, period, M=4)
         assert lifted.min_energy(max(r.omega * period, 1e-12)) < NEGATIVE
     else:
@@ -156,7 +161,7 @@ def test_low_frequency_condition_is_necessary(
 def test_low_frequency_closed_form_is_exact() -> None:
     """R_lf of load-side P is b − kd T/2 − b kd/k1, exactly (rationals)."""
     vals = {"m": 1.0, "b": 10.0, "k1": 1000.0, "b1": 1e6, "kd": 950.0}
-    r = sampled_passivity(SEA(D1="k1 + b1*s", CL="kd", values=vals), period=0.002)
+    r = sampled_passivity(SEA(D1="k1 + b1*s", CL="kd", values=vals), loop=SampledLoop(period=0.002))
     b, k1, kd = (Fraction(vals[k]) for k in ("b", "k1", "kd"))
     T = Fraction(1, 500)
     assert r.low_frequency is not None

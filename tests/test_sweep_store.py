@@ -18,6 +18,7 @@ import pyarrow.dataset as ds
 import pyarrow.parquet as pq
 import pytest
 
+from cpu_budget import limit_child_cpu
 from seapass.errors import FileFormatError, ParameterError
 from seapass.sweep import (
     MANIFEST,
@@ -186,7 +187,7 @@ def kill_midway(
     proc = subprocess.run(
         [sys.executable, str(script), *args],
         capture_output=True,
-        timeout=120,
+        preexec_fn=limit_child_cpu(300),  # work bounded in CPU time, not wall-clock time
     )
     assert proc.returncode == -signal.SIGKILL, proc.stderr.decode()[-2000:]
 

@@ -29,7 +29,7 @@ def test_ours_is_passive_for_every_kd_by_the_exact_api():
     # the paper's condition kd <= ((b+bd)^2 + b b1 + b1 bd)/(2m) is sufficient, not necessary
     for bd, b1 in ((0.0, 50.0), (25.0, 20.0), (300.0, 300.0)):
         sea = design_sea("ours", gains={"bd": bd, "b1": b1})
-        assert passive_intervals(sea, "kd", 0.0, 1e7).intervals == [(0.0, 1e7)]
+        assert passive_intervals(sea, "kd", 0.0, 1e7).intervals == ((0.0, 1e7),)
     # while LP is passive exactly up to kd = k1
     lp = design_sea("LP")
     assert is_passive(lp.with_values(kd=1000.0)).passive
@@ -115,7 +115,26 @@ def test_ours_fastest_on_pinned_rows(times, expected):
     rows = []
     for d, ts in times.items():
         status = Settling.SETTLED if ts is not None else Settling.NOT_SETTLED
-        met = TrackingMetrics(status, ts, 0.0, 0.0, 0.0, 0.0, 0.0, 0.01, 0.5)
-        rows.append(StudyRow(d, 10.0, met))
-    study = SimulationStudy(("LP", "APD", "ours"), (10.0,), {}, {}, tuple(rows), 0.5, 10.0, 1e-3)
+        met = TrackingMetrics(
+            status=status,
+            settling_time=ts,
+            final_error=0.0,
+            overshoot=0.0,
+            peak_force=0.0,
+            energy=0.0,
+            positive_work=0.0,
+            band=0.01,
+            target=0.5,
+        )
+        rows.append(StudyRow(design=d, load_mass=10.0, metrics=met))
+    study = SimulationStudy(
+        designs=("LP", "APD", "ours"),
+        masses=(10.0,),
+        tuning={},
+        runs={},
+        rows=tuple(rows),
+        step=0.5,
+        horizon=10.0,
+        dt=1e-3,
+    )
     assert study.ours_fastest() == {10.0: expected}

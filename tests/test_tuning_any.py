@@ -15,6 +15,7 @@ import seapass
 from seapass.cli import main
 from seapass.errors import ParameterError, TuningWarning
 from seapass.model.design_file import load_design
+from seapass.model.loop import SampledLoop
 from seapass.sim.metrics import tracking_metrics
 from seapass.sim.scenarios import Step
 from seapass.sim.simulate import simulate
@@ -130,13 +131,18 @@ def test_force_limit_is_a_constraint():
 def test_sampled_passivity_constraint_and_an_infeasible_problem(capsys):
     # LP on an undamped spring: sampled load feedback (kd > 0) is never passive at 500 Hz
     box = {"kd": (100.0, 1000.0)}
-    r = _quiet_tune("LP", tune=box, options=FAST.replace(period=0.002, maxiter=1))
+    r = _quiet_tune("LP", tune=box, options=FAST.replace(loop=SampledLoop(period=0.002), maxiter=1))
     assert r.passive and r.sampled_passive is False and not r.feasible
     assert r.violations == ("sampled passivity",) and r.sampled_checks > 0
     with pytest.raises(seapass.errors.NotPassiveError, match="sampled-data control"):
-        _quiet_tune("LP", tune=box, options=FAST.replace(period=0.002, maxiter=1), throw=True)
+        _quiet_tune(
+            "LP",
+            tune=box,
+            options=FAST.replace(loop=SampledLoop(period=0.002), maxiter=1),
+            throw=True,
+        )
     # kd = 0 (no control at all) is passive at any rate, and it is said not to settle
-    problem = resolve_problem("LP", options=FAST.replace(period=0.002))
+    problem = resolve_problem("LP", options=FAST.replace(loop=SampledLoop(period=0.002)))
     none = verify(problem, [0.0], bounds=problem.box)
     assert none.feasible and none.sampled_passive and none.on_bound == {"kd": "lower"}
     assert any("do not settle" in w for w in none.warnings)
@@ -157,7 +163,7 @@ def test_cli_tune_feasible_and_infeasible_exit_codes():
         (["ours", "--tune", "kx=0:5"], "--tune kx: not a parameter of the design"),
         (["ours", "--bound", "kdd=0:5"], "did you mean 'kd'"),
         (["ours", "--tune", "kd=0:5", "--tune", "kd=0:9"], "twice"),
-        (["ours", "--tune", "kd=5:1"], "LO < HI"),
+        (["ours", "--tune", "kd=5:1"], "--tune kd: need lo < hi"),
         (["ours", "--set", "kdd=5000"], "did you mean 'kd'"),
         (["ours", "--set", "k1=1", "--set", "k1=2"], "twice"),
         (["LP", "--set", "kd=3"], "kd is tuned"),
@@ -182,8 +188,8 @@ def test_python_errors_name_the_python_argument():
         resolve_problem(CUSTOM, {"kdd": (0, 1)})
     with pytest.raises(ParameterError, match=r"values\['kd'\]: kd is tuned"):
         resolve_problem(CUSTOM, {"kd": (0, 1)}, values={"kd": 5.0})
-    with pytest.raises(ParameterError, match=r"unknown tuning option 'perod'.*'period'"):
-        tune(CUSTOM, tune={"kd": (0, 1)}, perod=0.002)
+    with pytest.raises(ParameterError, match=r"unknown tuning option 'lop'.*'loop'"):
+        tune(CUSTOM, tune={"kd": (0, 1)}, lop=SampledLoop(period=0.002))
     free = CUSTOM.with_values(kd=None)
     with pytest.raises(ParameterError, match=r"tune\['kd'\]: kd has no value and no search box"):
         resolve_problem(free)

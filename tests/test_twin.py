@@ -138,7 +138,7 @@ def _manual_loop(kd, bd, load_mass, seed):
     plant = TwinPlant(RIG, load_mass=load_mass, seed=seed)
     plant.reset(x_A=0.02, x_L=0.02)
     T = RIG.period
-    alpha = math.exp(-2 * math.pi * RIG.control.velocity_filter_hz * T)
+    alpha = math.exp(-2 * math.pi * RIG.loop.velocity_filter * T)
     xa, xl = plant.counts_to_positions(*plant.read_encoders())
     prev, v, pending, out = xa, 0.0, 0.0, []
     for _ in range(400):
@@ -183,7 +183,7 @@ def test_batch_shape_errors_name_the_argument():
     with pytest.raises(ParameterError, match="duration"):
         simulate_loop(RIG, load_mass=0.1, duration=0.0)
     with pytest.raises(ParameterError, match="delay"):
-        simulate_loop(RIG, load_mass=0.1, duration=0.1, delay_samples=3)
+        simulate_loop(RIG, load_mass=0.1, duration=0.1, loop=RIG.loop.replace(delay=3))
 
 
 def test_unstable_run_is_frozen_and_flagged():

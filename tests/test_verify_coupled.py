@@ -182,7 +182,10 @@ def test_environment_validation_and_degenerate_coupling():
 
 def test_result_rejects_unknown_status():
     with pytest.raises(ValueError, match="status"):
-        CoupledResult("fine", False, False, (), (), np.zeros(0))
+        CoupledResult(
+            status="fine", rhp=False, repeated_axis=False, characteristic=(), common=(),
+            poles=np.zeros(0),
+        )  # fmt: skip
 
 
 # ---------------------------------------------------------------- witnesses
@@ -324,7 +327,8 @@ def test_cli_witness_json_and_files(capsys, tmp_path):
     assert data["coupled"]["rhp"] and len(data["coupled"]["poles"]) >= 2
     assert (out / "witness.png").stat().st_size > 1000
     assert json.loads((out / "witness.json").read_text())["found"]
-    assert not list(out.glob("*.part")) and not list(out.glob(".*"))
+    assert not list(out.glob("*.part"))
+    assert [p.name for p in out.glob(".*")] == [".seapass-written"]  # no temporary file left
 
 
 def test_cli_witness_text_and_passive(capsys):

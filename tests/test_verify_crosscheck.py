@@ -24,6 +24,7 @@ from seapass.analysis.freqresp import stiffness_coefficients, stiffness_response
 from seapass.analysis.passivity import is_passive
 from seapass.errors import UnrealizableError
 from seapass.model.expr import S
+from seapass.model.loop import SampledLoop
 from seapass.model.sea import SEA
 from seapass.model.stiffness import derive_stiffness
 
@@ -361,7 +362,7 @@ def _sampled_matches_continuous(cfg, vals, period):
     sea = SEA(**cfg, values=vals)
     cont = is_passive(sea)
     assert abs(cont.margin) > 1e-2 or cont.lossless or cont.passive
-    r = sampled.sampled_passivity(sea, period=period, continuous_gate=False)
+    r = sampled.sampled_passivity(sea, loop=SampledLoop(period=period), continuous_gate=False)
     if not cont.passive:
         # a finite-frequency violation persists under fast sampling (w*T -> 0)
         assert not r.passive, (vals, period, cont.omega)
@@ -432,7 +433,7 @@ def test_continuous_witness_destabilizes_the_sampled_loop(cfg, vals, period):
     assert env is not None and env.mass > 0  # the sampled model needs a mass at the port
     c = sc.coupled_check(
         sea,
-        period=period,
+        loop=SampledLoop(period=period),
         env_mass=env.mass,
         env_stiffness=env.stiffness,
         env_damping=env.damping,

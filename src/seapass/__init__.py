@@ -6,6 +6,9 @@ one subpackage per concept (see ``docs/architecture.md``):
 ==================  =====================================================
 subpackage          what lives there
 ==================  =====================================================
+``seapass.errors``  every exception and warning (a module)
+``seapass.outcome``  the verdict vocabulary ``Outcome`` (a module)
+``seapass.files``   guarded reading, atomic writing, TOML, input limits
 ``seapass.exact``   the exact polynomial kernel
 ``seapass.model``   ``SEA``, the safe parser, stiffness, catalog, design files
 ``seapass.analysis``  exact passivity, conditions, passive sets, witnesses
@@ -20,6 +23,7 @@ subpackage          what lives there
 ``seapass.paper``   Tables I and II, the simulation study
 ``seapass.plot``    every figure
 ``seapass.report``  ``reproduce`` and ``analyze`` reports
+``seapass.explore``  the interactive explorer in the browser
 ``seapass.cli``     the ``seapass`` command
 ==================  =====================================================
 
@@ -46,6 +50,7 @@ _LAZY: dict[str, str] = {
     "SEA": "model.sea",
     "Impedance": "model.sea",
     "Design": "model.design_file",
+    "SampledLoop": "model.loop",
     "load_design": "model.design_file",
     "derive_stiffness": "model.stiffness",
     "is_passive": "delay.passivity",
@@ -73,15 +78,17 @@ _LAZY: dict[str, str] = {
 }
 
 _SUBPACKAGES = frozenset(
-    {"analysis", "batch", "cli", "delay", "errors", "exact", "export", "files", "model",
-     "paper", "plot", "report", "rig", "sampled", "sim", "sweep", "tuning"}
+    {"analysis", "batch", "cli", "delay", "errors", "exact", "explore", "export", "files",
+     "model", "outcome", "paper", "plot", "report", "rig", "sampled", "sim", "sweep", "tuning"}
 )  # fmt: skip
+"""Every subpackage and top-level module, loaded on first attribute access."""
 
 __all__ = [
     "SEA",
     "Design",
     "Impedance",
     "PassivityResult",
+    "SampledLoop",
     "SeapassError",
     "Step",
     "TuningOptions",
@@ -135,6 +142,7 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
     from .delay.passivity import is_passive
     from .export.c_code import export_c
     from .model.design_file import Design, load_design
+    from .model.loop import SampledLoop
     from .model.sea import SEA, Impedance
     from .model.stiffness import derive_stiffness
     from .report.analyze import analyze

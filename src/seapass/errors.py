@@ -20,6 +20,7 @@ __all__ = [
     "NotPassiveError",
     "OutputPathError",
     "ParameterError",
+    "SeapassDeprecationWarning",
     "SeapassError",
     "SeapassWarning",
     "SimulationError",
@@ -108,6 +109,14 @@ class SeapassWarning(UserWarning):
     """Base class of every warning seapass issues."""
 
 
+class SeapassDeprecationWarning(SeapassWarning, DeprecationWarning):
+    """An old spelling that still works for one release: a keyword argument or a file key.
+
+    The message names the new spelling.  The command line shows it as a
+    ``warning:`` line.
+    """
+
+
 class TuningWarning(SeapassWarning):
     """A tuned result needs attention: a gain at the edge of its box, a limit not met."""
 
@@ -120,7 +129,8 @@ def did_you_mean(name: str, choices: Iterable[str]) -> str:
     """
     import difflib  # light, and only on the error path
 
-    close = difflib.get_close_matches(name, list(choices), n=1, cutoff=0.6)
+    choices = list(choices)  # an iterator is read twice below
+    close = difflib.get_close_matches(name, choices, n=1, cutoff=0.6)
     if not close:
         lowered = {c.lower(): c for c in choices}
         close = [lowered[name.lower()]] if name.lower() in lowered else []

@@ -24,6 +24,7 @@ from seapass.delay.lowfreq import limit_polynomial
 from seapass.delay.margin import delay_margin
 from seapass.delay.structure import delayed_impedance
 from seapass.delay.trig import real_part
+from seapass.model.loop import SampledLoop
 from seapass.model.sea import SEA
 from seapass.sampled.bound import sampled_passive_bound
 from seapass.sampled.lowfreq import closed_form_expr
@@ -65,7 +66,8 @@ def test_low_frequency_resistance_equals_the_continuous_delay(d, elements, value
 @pytest.mark.parametrize("d", [0, 1])
 def test_colgate_schenkel_wall_limit_and_the_continuous_margin(d):
     sea = SEA(D1="k1", CA="kd", values=dict(m=1, b=10, k1=1000, kd=None))
-    bound = sampled_passive_bound(sea, "kd", period=T, delay=d, lo=0, hi=3e4, rtol=1e-9)
+    loop = SampledLoop(period=T, delay=d)
+    bound = sampled_passive_bound(sea, "kd", loop=loop, lo=0, hi=3e4, rtol=1e-9)
     kd = bound.max_passive
     assert kd == pytest.approx(2 * 10 / ((2 * d + 1) * T), rel=1e-8)
     delayed = SEA(D1="k1", CA="kd*exp(-tau*s)", values=dict(m=1, b=10, k1=1000, kd=kd, tau=None))

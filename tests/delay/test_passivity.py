@@ -80,7 +80,7 @@ def test_front_door_dispatch():
     assert isinstance(plain, PassivityResult)
     delayed = sp.is_passive(_ours())
     assert isinstance(delayed, DelayPassivityResult) and delayed.passive
-    with pytest.raises(DelayError, match="exact rational test does not apply"):
+    with pytest.raises(DelayError, match="rational analysis does not apply"):
         from seapass.analysis.passivity import is_passive as rational
 
         rational(_ours())

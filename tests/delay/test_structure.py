@@ -10,9 +10,9 @@ from flint import fmpq
 
 from seapass.delay.structure import controller_delay, delayed_impedance, has_model_delay
 from seapass.errors import DelayError, ExpressionError, ParameterError
-from seapass.model.delayatom import Delay, delay_names, symbol
 from seapass.model.expr import parse_expression
 from seapass.model.sea import SEA, Impedance
+from seapass.model.symbolic import Delay, delay_names, symbol
 
 from .reference import sea_impedance
 

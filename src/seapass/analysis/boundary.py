@@ -19,7 +19,9 @@ gap at the middle of the x-interval labels every cell.
 
 What is exact: the curves, the x-critical values (isolated over QQ), the
 number and order of the branches, and the label of every cell.  What is
-floating point: the points on the curves drawn between (roots of
+floating point, for drawing only (no number here is reported as a passive value;
+`seapass region` prints the certified intervals of
+[`passive_map`][seapass.analysis.region.passive_map]): the points on the curves drawn between (roots of
 ``f_k(x_i, y)`` in double precision at about ``points`` values of ``x``; where
 double precision does not find the exact number of roots, they are isolated
 exactly).
@@ -44,7 +46,7 @@ from .region import critical_polynomials
 __all__ = ["PassiveRegion", "RegionCell", "passive_region"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class RegionCell:
     """One x-interval of the decomposition.
 
@@ -66,7 +68,12 @@ class RegionCell:
     passive: tuple[bool, ...]
 
     def passive_sets(self, y_range: tuple[float, float]) -> list[list[tuple[float, float]]]:
-        """The passive set of ``y`` at each ``x`` of the cell, as intervals."""
+        """The passive set of ``y`` at each ``x`` of the cell, as intervals, **for drawing**.
+
+        Its ends are the floating-point branch values: not a certificate.  The certified
+        passive set of ``y`` at one ``x``, with its ends rounded inward, is
+        [`passive_intervals`][seapass.analysis.region.passive_intervals].
+        """
         out = []
         for col in range(self.x.size):
             edges = [y_range[0], *self.branches[:, col].tolist(), y_range[1]]
@@ -87,7 +94,7 @@ class RegionCell:
         return [j for j in range(self.branches.shape[0]) if self.passive[j] != self.passive[j + 1]]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PassiveRegion:
     """The exact passive region over ``param_x × param_y`` in a box.
 

@@ -38,7 +38,7 @@ _X = sp.Symbol("x", nonnegative=True)
 MAX_OPS = 20000
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ExactCondition:
     """Symbolic exact passivity condition.
 

@@ -25,7 +25,10 @@ isolation, shared with [`seapass.analysis.passivity`][seapass.analysis.passivity
   the axis (polynomial growth).
 
 Passivity theorem [2]_: a passive (positive-real) ``Z`` coupled to any passive
-environment is never ``"unstable"``.  `simulate_coupled` gives the
+environment is never ``"unstable"``.  So the result's ``outcome`` (what the
+coupling proves about the passivity of ``Z``) is ``NOT_PASSIVE`` when a passive
+environment makes it unstable, and ``UNDECIDED`` otherwise: one environment
+never proves passivity.  `simulate_coupled` gives the
 time-domain evidence: the response of the port displacement to a force
 impulse, as an exact sum of modes.  The roots are reported in floating point
 (mpmath at 30 digits) as evidence only.
@@ -58,7 +61,9 @@ from ..exact import poly as ep
 from ..exact.axis import all_real_roots, at_j_omega, axis_factor, is_hurwitz
 from ..model.expr import to_fraction
 from ..model.sea import SEA, Impedance
+from ..outcome import Outcome
 from .impedance import exact_rational_function
+from .passivity import positive_real_test
 
 __all__ = [
     "CoupledResult",
@@ -138,7 +143,7 @@ class Environment:
         return {"mass": self.mass, "damping": self.damping, "stiffness": self.stiffness}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CoupledResult:
     """Outcome of `coupled_stability`.
 
@@ -146,6 +151,10 @@ class CoupledResult:
     ----------
     status : Stability
         Decided exactly.
+    outcome : Outcome
+        What the coupling proves about the passivity of the system:
+        ``NOT_PASSIVE`` when the environment is passive and the coupled system
+        unstable (passivity theorem), else ``UNDECIDED`` (never ``PASSIVE``).
     stable : bool
         Asymptotically stable (``status == "stable"``).
     bounded : bool
@@ -170,6 +179,7 @@ class CoupledResult:
     characteristic: tuple[float, ...]
     common: tuple[float, ...]
     poles: np.ndarray
+    outcome: Outcome = Outcome.UNDECIDED
 
     def __post_init__(self) -> None:
         try:
@@ -365,21 +375,31 @@ def coupled_stability(
     >>> from seapass.analysis.coupled import Environment, coupled_stability
     >>> print(coupled_stability("k*s/(s**2 + k)", Environment(mass=1.0), values={"k": 4.0}).status)
     marginally stable
-    >>> print(coupled_stability("(s - 1)/(s + 1)", Environment(damping=0.5)).status)
-    unstable
+    >>> r = coupled_stability("(s - 1)/(s + 1)", Environment(damping=0.5))
+    >>> print(r.status, r.outcome)
+    unstable not_passive
     """
     chi, common = coupled_polynomial(system, environment, values=values)
     status, rhp, repeated = classify_polynomial(chi)
     if chi.leading_coefficient() < 0:
         chi = -chi
+    proven = status is Stability.UNSTABLE and _passive_environment(environment)
     return CoupledResult(
         status=status,
+        outcome=Outcome.NOT_PASSIVE if proven else Outcome.UNDECIDED,
         rhp=rhp,
         repeated_axis=repeated,
         characteristic=tuple(to_float(c) for c in reversed(chi.coeffs())),
         common=tuple(to_float(c) for c in reversed(common.coeffs())),
         poles=polynomial_roots(chi),
     )
+
+
+def _passive_environment(environment: SystemLike | Environment) -> bool:
+    """An `Environment` is passive by construction; anything else is tested exactly."""
+    if isinstance(environment, Environment):
+        return True
+    return positive_real_test(*system_polynomials(environment, None)).passive
 
 
 # ---------------------------------------------------------------- simulation

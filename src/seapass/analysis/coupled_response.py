@@ -40,7 +40,7 @@ SAMPLES_PER_PERIOD = 24
 MAX_SAMPLES = 20000
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CoupledSimulation:
     """Impulse response of the coupled system (computed, not plotted).
 
@@ -88,9 +88,13 @@ def _partial_fractions(num: fmpq_poly, den: fmpq_poly) -> tuple[np.ndarray, np.n
     roots = polynomial_roots(den)
     if not roots.size or not np.all(np.isfinite(roots)):
         return roots, None
-    scale = max(float(np.max(np.abs(roots))), 1e-300)
+    # a residue is as accurate as each pole relative to its distance from the others:
+    # poles far apart in magnitude (1 and 1e14) are well separated, not "nearly repeated"
     pairs = itertools.combinations(roots, 2)
-    sep = min((abs(a - b) for a, b in pairs), default=math.inf) / scale
+    sep = min(
+        (abs(a - b) / max(abs(a), abs(b), 1e-300) for a, b in pairs),
+        default=math.inf,
+    )
     if sep <= 1e-6:
         return roots, None
     with mpmath.workdps(50):
@@ -107,6 +111,8 @@ def _impulse(
     num: fmpq_poly, den: fmpq_poly, roots: np.ndarray, res: np.ndarray | None, t: np.ndarray
 ) -> np.ndarray:
     """Impulse response: a sum of modes, or `scipy.signal.impulse` for repeated poles."""
+    if not np.all(np.isfinite(roots)):  # poles beyond the double range: nothing to show
+        return np.full(t.shape, np.nan)
     if res is not None:
         y = np.zeros_like(t, dtype=complex)
         for r, p in zip(res, roots, strict=True):

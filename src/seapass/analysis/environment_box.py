@@ -50,12 +50,13 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from flint import fmpq, fmpq_poly
+from flint import fmpq_poly
 
 from ..errors import ParameterError
 from ..exact import poly as ep
 from ..exact.axis import at_j_omega, even_to_x, real_part_polynomial, squared_magnitude_polynomial
 from ..exact.halfline import HalfLinePoint, half_line_cells
+from ..outcome import Outcome
 from .coupled import Environment, characteristic_from_polys, classify_polynomial
 from .portresponse import reduced_impedance
 
@@ -91,11 +92,14 @@ class EnvironmentBounds:
             try:
                 lo, hi = (float(v) for v in value)
             except (TypeError, ValueError):
-                raise ParameterError(f"bounds.{name}: expected (lo, hi), got {value!r}") from None
+                raise ParameterError(
+                    f"bounds.{name}: expected (lo, hi), got {value!r}", argument=f"bounds.{name}"
+                ) from None
             if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo <= hi):
                 raise ParameterError(
                     f"bounds.{name}: need finite 0 <= lo <= hi (a passive environment), "
-                    f"got ({lo:g}, {hi:g})"
+                    f"got ({lo:g}, {hi:g})",
+                    argument=f"bounds.{name}",
                 )
             object.__setattr__(self, name, (lo, hi))
 
@@ -150,18 +154,14 @@ class _Polys:
         return cls(real_part_polynomial(num, den), w, squared_magnitude_polynomial(den))
 
 
-def _q(x: float) -> fmpq:
-    return ep.rational(x)
-
-
 def _conditions(polys: _Polys, b: EnvironmentBounds) -> tuple[fmpq_poly, ...]:
     """``c1 ≤ 0, c2 ≥ 0, c3 ≤ 0, c4 ≥ 0`` (see the module docstring)."""
     (m_lo, m_hi), (b_lo, b_hi), (k_lo, k_hi) = b.mass, b.damping, b.stiffness
     xm = fmpq_poly([0, 1]) * polys.m
-    c1 = _q(b_lo) * polys.m + polys.p
-    c2 = _q(b_hi) * polys.m + polys.p
-    c3 = _q(m_lo) * xm + polys.w - _q(k_hi) * polys.m
-    c4 = _q(m_hi) * xm + polys.w - _q(k_lo) * polys.m
+    c1 = ep.rational(b_lo) * polys.m + polys.p
+    c2 = ep.rational(b_hi) * polys.m + polys.p
+    c3 = ep.rational(m_lo) * xm + polys.w - ep.rational(k_hi) * polys.m
+    c4 = ep.rational(m_hi) * xm + polys.w - ep.rational(k_lo) * polys.m
     return c1, c2, c3, c4
 
 
@@ -189,21 +189,32 @@ def crossing_cells(
     return out
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BoxCertificate:
     """Outcome of `certify_box`.
 
     Attributes
     ----------
-    certified : bool
-        Proven: no environment in the box gives the coupled system a pole in the
-        open right half-plane or a repeated pole on the imaginary axis.
+    outcome : Outcome
+        Of "is the design coupled-stable with every environment in the box":
+        ``PASSIVE`` proven (``certified``), ``NOT_PASSIVE`` when an environment
+        of the box is proven to destabilize it, else ``UNDECIDED``.
     reason : str
         Why not, when not certified (one sentence).
     """
 
-    certified: bool
+    outcome: Outcome
     reason: str = ""
+
+    @property
+    def certified(self) -> bool:
+        """Proven: no environment in the box gives the coupled system a pole in the
+        open right half-plane or a repeated pole on the imaginary axis."""
+        return self.outcome.passive
+
+
+def _undecided(reason: str) -> BoxCertificate:
+    return BoxCertificate(outcome=Outcome.UNDECIDED, reason=reason)
 
 
 def certify_box(
@@ -222,40 +233,42 @@ def certify_box(
     if den.leading_coefficient() < 0:
         num, den = -num, -den
     if num.is_zero():
-        return BoxCertificate(False, "Z is identically zero")
+        return _undecided("Z is identically zero")
     rn, rd = reduced_impedance(num, den)
-    m_lo, m_hi = (_q(v) for v in bounds.mass)
+    m_lo, m_hi = (ep.rational(v) for v in bounds.mass)
     if m_lo == 0:
-        return BoxCertificate(False, "the mass bound includes 0, where the coupled order drops")
+        return _undecided("the mass bound includes 0, where the coupled order drops")
     if rn.degree() == rd.degree() + 1:
         m_star = -rn.leading_coefficient() / rd.leading_coefficient()  # lead N + m lead D = 0
         if m_lo <= m_star <= m_hi:
-            return BoxCertificate(False, f"the coupled order drops at m = {float(m_star):.6g} kg")
+            return _undecided(f"the coupled order drops at m = {float(m_star):.6g} kg")
     elif rn.degree() > rd.degree() + 1:
-        return BoxCertificate(False, "Z grows faster than s at high frequency")
+        return _undecided("Z grows faster than s at high frequency")
     zero = _zero_crossing(rn, rd, bounds)
     if zero:
-        return BoxCertificate(False, zero)
+        return _undecided(zero)
     if cells is None:
         cells = crossing_cells(rn, rd, bounds)
     if cells:
         w = math.sqrt(float(cells[0][0]))
-        return BoxCertificate(
-            False,
-            f"an environment in the bounds puts a coupled pole on the axis at w = {w:.6g} rad/s",
+        return _undecided(
+            f"an environment in the bounds puts a coupled pole on the axis at w = {w:.6g} rad/s"
         )
     b_lo, k_lo, k_hi = bounds.damping[0], bounds.stiffness[0], bounds.stiffness[1]
     corner = Environment(mass=bounds.mass[0], damping=b_lo, stiffness=k_hi if k_hi else k_lo)
     chi, _ = characteristic_from_polys(num, den, *corner.polynomials())
     _status, rhp, repeated = classify_polynomial(chi)
     if rhp or repeated:
-        return BoxCertificate(False, f"the environment {_env_text(corner)} destabilizes it")
-    return BoxCertificate(True)
+        return BoxCertificate(
+            outcome=Outcome.NOT_PASSIVE,
+            reason=f"the environment {_env_text(corner)} destabilizes it",
+        )
+    return BoxCertificate(outcome=Outcome.PASSIVE)
 
 
 def _zero_crossing(rn: fmpq_poly, rd: fmpq_poly, bounds: EnvironmentBounds) -> str:
     """Why a coupled pole may sit at ``s = 0`` for an environment in the box (``""``: none)."""
-    (k_lo, k_hi), b_lo = bounds.stiffness, _q(bounds.damping[0])
+    (k_lo, k_hi), b_lo = bounds.stiffness, ep.rational(bounds.damping[0])
     if rd[0] != 0:  # Z(0) finite: F(0) = D(0) k
         if k_lo > 0:
             return ""
@@ -269,7 +282,7 @@ def _zero_crossing(rn: fmpq_poly, rd: fmpq_poly, bounds: EnvironmentBounds) -> s
     residue = rn[0] / rd[1] if rd[1] != 0 else None
     if residue is None:
         return "Z has a repeated pole at s = 0"
-    if _q(k_lo) <= -residue <= _q(k_hi):
+    if ep.rational(k_lo) <= -residue <= ep.rational(k_hi):
         return f"a spring of k = {float(-residue):.6g} N/m cancels Z's static stiffness"
     return ""
 

@@ -2,23 +2,28 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import sympy as sp
 
 from ..errors import ParameterError
+from ..files.limits import MAX_FREQUENCY_POINTS
 from ..model.display import Shown, html_card, short_repr
-from ..model.expr import S
 from ..model.sea import SEA, Impedance
-from ..model.stiffness import derive_stiffness
 
-__all__ = ["FrequencyResponse", "stiffness_coefficients", "stiffness_response"]
+__all__ = [
+    "FrequencyResponse",
+    "check_points",
+    "log_frequencies",
+    "stiffness_coefficients",
+    "stiffness_response",
+]
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class FrequencyResponse:
     """``|F_L/X_L(jω)|`` and its phase.
 
@@ -97,6 +102,11 @@ def stiffness_coefficients(
 
     For a raw `Impedance` ``Z`` (force over velocity) the stiffness is ``s·Z``.
     """
+    import sympy as sp  # the symbolic stiffness; the frequency-grid checks need no sympy
+
+    from ..model.expr import S
+    from ..model.stiffness import derive_stiffness
+
     if isinstance(sea, Impedance):
         model: SEA | Impedance = (
             Impedance(expr=sea.expr, values={**sea.values, **values}) if values else sea
@@ -165,3 +175,45 @@ def stiffness_response(
         high_frequency=float(high),
         label=label or getattr(sea, "name", ""),
     )
+
+
+def check_points(points: int) -> int:
+    """``points``, a number of frequencies from 2 to ``MAX_FREQUENCY_POINTS``, or an error.
+
+    >>> check_points(1)
+    Traceback (most recent call last):
+    ...
+    seapass.errors.ParameterError: points must be between 2 and 100000, got points=1
+    """
+    if (
+        isinstance(points, bool)
+        or not isinstance(points, int)
+        or not (2 <= points <= MAX_FREQUENCY_POINTS)
+    ):
+        raise ParameterError(
+            f"points must be between 2 and {MAX_FREQUENCY_POINTS}, got points={points!r}",
+            argument="points",
+        )
+    return points
+
+
+def log_frequencies(lo: float, hi: float, points: int) -> np.ndarray:
+    """``points`` log-spaced frequencies from ``lo`` to ``hi`` (rad/s), both ends included.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``0 < lo < hi`` are finite and `check_points` accepts ``points``.
+
+    Examples
+    --------
+    >>> log_frequencies(0.1, 10, 3).tolist()
+    [0.1, 1.0, 10.0]
+    """
+    check_points(points)
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
+        raise ParameterError(
+            f"omega must be positive frequencies 0 < lo < hi (log-spaced), got omega={lo:g}:{hi:g}",
+            argument="omega",
+        )
+    return np.logspace(math.log10(lo), math.log10(hi), points)

@@ -1,31 +1,49 @@
 """The exact rational impedance ``Z = N/D`` of a system at given parameter values.
 
 Every float value is converted to the rational it represents, so ``N`` and
-``D`` are exact.  The symbolic coefficients of a configuration are compiled
-once (cached), so repeated evaluation costs only rational arithmetic.
+``D`` are exact.  ``Z`` is derived once per configuration, without sympy, as an
+exact rational function of ``s`` and the parameters
+([`seapass.model.freebody`][seapass.model.freebody]) and cached, so repeated
+evaluation costs only rational arithmetic.
 """
 
 from __future__ import annotations
 
-import functools
+import threading
+from collections import OrderedDict
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
-import sympy as sp
-from flint import fmpq, fmpq_poly
+from flint import fmpq, fmpq_mpoly, fmpq_poly
 
-from ..errors import DelayError, ParameterError
+from ..errors import ParameterError
 from ..exact import poly as ep
-from ..model.delayatom import delay_text, has_delay
-from ..model.expr import S, to_fraction
-from ..model.sea import SEA, Impedance
-from ..model.stiffness import load_impedance
+from ..exact.axis import at_j_omega, even_to_x
+from ..model.delayatom import delay_refusal, model_delays
+from ..model.expr import to_fraction
+from ..model.freebody import exact_impedance
+from ..model.rational import S_NAME, univariate
+from ..model.sea import SEA, Impedance, exact_values
 
-__all__ = ["evaluate_system", "exact_rational_function", "structural_support"]
+if TYPE_CHECKING:
+    import sympy as sp
+
+__all__ = [
+    "SystemLike",
+    "compiled_impedance",
+    "evaluate_system",
+    "exact_rational_function",
+    "exact_support",
+    "structural_support",
+]
+
+SystemLike: TypeAlias = "SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]]"
+"""A system the exact analyses accept: an `SEA`, an `Impedance`, an expression in ``s``
+(a string or a sympy expression) or a ``(num, den)`` pair of descending coefficients."""
 
 
 def exact_rational_function(
-    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    system: SystemLike,
     values: Mapping[str, float] | None = None,
 ) -> tuple[fmpq_poly, fmpq_poly]:
     """Exact ``(N, D)`` of the impedance of ``system``, as `flint.fmpq_poly`.
@@ -39,78 +57,117 @@ def exact_rational_function(
 
 
 def evaluate_system(
-    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    system: SystemLike,
     values: Mapping[str, float] | None,
 ) -> tuple[fmpq_poly, fmpq_poly, tuple[bool, ...] | None]:
-    """`exact_rational_function` plus the structural support of ``P`` (None for raw coefficients)."""
+    """`exact_rational_function` plus the structural support of ``P`` (None for raw coefficients).
+
+    ``N/D`` is ``Z`` in lowest terms *for every parameter value* (the exact
+    derivation of [`seapass.model.freebody`][seapass.model.freebody] keeps the
+    parameters as variables), then evaluated at the values: a factor that cancels
+    only at these values stays in both, and the passivity test reports it as a
+    hidden mode.  ``N`` and ``D`` are scaled as sympy's ``cancel`` scales them.
+    """
     if isinstance(system, tuple) and len(system) == 2:
         num = ep.as_poly([to_fraction(c, "num") for c in reversed(list(system[0]))])
         den = ep.as_poly([to_fraction(c, "den") for c in reversed(list(system[1]))])
         if den.is_zero():
             raise ParameterError("den: the denominator is identically zero")
         return num, den, None
-    if isinstance(system, str | sp.Expr):
+    if isinstance(system, str) or type(system).__module__.startswith("sympy"):
         system = Impedance(expr=system, values=dict(values or {}))
         values = None
     if values:
         if not isinstance(system, SEA | Impedance):
             raise TypeError("values= applies to SEA and Impedance systems only")
-        system = _with_values(system, values)
-    if isinstance(system, SEA):
-        z = load_impedance(system)
-    elif isinstance(system, Impedance):
-        z = system.expr
-    else:
+        system = system.with_values(**values)
+    if not isinstance(system, SEA | Impedance):
         raise TypeError(f"cannot test passivity of {type(system).__name__}")
-    if has_delay(z):
-        raise DelayError(
-            f"{delay_text(z)} in the model: this exact rational test does not apply to a "
-            "delayed design; seapass.is_passive, seapass.delay_margin and the commands "
-            "'seapass check' and 'seapass delay-margin' decide delayed designs"
-        )
+    num_c, den_c, support = compiled_impedance(system)
     missing = system.free_parameters
     if missing:
         raise ParameterError(
             f"no value for parameter(s) {', '.join(missing)}: give them, "
             f"e.g. values={{{missing[0]!r}: 1.0}}"
         )
-    names, num_terms, den_terms, support = _compiled(z)
-    vals = {k: ep.rational(to_fraction(v, k)) for k, v in system.values.items() if v is not None}
-    env = [vals[n] for n in names]
-    n, d = _eval_coeffs(num_terms, env), _eval_coeffs(den_terms, env)
+    env = exact_values(system.values)
+    n, d = univariate(num_c, env), univariate(den_c, env)
     if d.is_zero():
         raise ParameterError("the impedance has a zero denominator for these values")
     return n, d, support
 
 
-_Terms = tuple[tuple[tuple[tuple[int, ...], fmpq], ...], ...]
+def compiled_impedance(system: SEA | Impedance) -> tuple[fmpq_mpoly, fmpq_mpoly, tuple[bool, ...]]:
+    """``N`` and ``D`` in sympy's normal form and the structural support of ``P``.
 
-
-@functools.lru_cache(maxsize=512)
-def _compiled(z: sp.Expr) -> tuple[tuple[str, ...], _Terms, _Terms, tuple[bool, ...]]:
-    """Coefficients of ``N`` and ``D`` in ``s`` as exact polynomials in the parameters,
-    and the structural support of ``P(x)`` (`structural_support`).
-
-    Cached on the symbolic impedance, so repeated tests of one configuration
-    cost only exact rational arithmetic.
+    Cached on the parsed elements, so repeated tests of one configuration cost only the
+    exact evaluation at the values.
     """
-    num, den = sp.fraction(sp.cancel(sp.together(z)))
-    params = sorted((x for x in (num.free_symbols | den.free_symbols) if x != S), key=str)
-    names = tuple(str(x) for x in params)
+    key = ("sea", system.sources()) if isinstance(system, SEA) else ("z", system.sources())
+    with _LOCK:
+        found = _CACHE.get(key)
+        if found is not None:
+            _CACHE.move_to_end(key)
+            return found
+    z = exact_impedance(system)
+    delays = model_delays(z)
+    if delays:  # E = e^{-s tau} is no parameter: the exact rational test does not apply
+        raise delay_refusal(delays[0])
+    num, den = z.canonical()
+    found = (num, den, exact_support(num, den))
+    with _LOCK:
+        _CACHE[key] = found
+        if len(_CACHE) > _CACHE_SIZE:
+            _CACHE.popitem(last=False)
+    return found
 
-    def terms(expr: sp.Expr) -> _Terms:
-        out = []
-        for c in sp.Poly(sp.expand(expr), S).all_coeffs()[::-1]:
-            pc = sp.Poly(c, *params, domain="QQ") if params else sp.Poly(c, S, domain="QQ")
-            out.append(
-                tuple(
-                    (tuple(mon) if params else (), fmpq(int(q.p), int(q.q)))
-                    for mon, q in zip(pc.monoms(), pc.coeffs(), strict=True)
-                )
-            )
-        return tuple(out)
 
-    return names, terms(num), terms(den), structural_support(num, den)
+_CACHE: OrderedDict[tuple[Any, ...], tuple[fmpq_mpoly, fmpq_mpoly, tuple[bool, ...]]]
+_CACHE = OrderedDict()
+_CACHE_SIZE = 512
+_LOCK = threading.Lock()
+
+
+def _in_s(p: fmpq_mpoly) -> dict[int, fmpq_mpoly]:
+    """``p`` as ``{k: coefficient of s^k}`` (coefficients polynomials in the parameters)."""
+    ctx = p.context()
+    i = ctx.variable_to_index(S_NAME)
+    parts: dict[int, dict[tuple[int, ...], fmpq]] = {}
+    for exps, c in zip(p.monoms(), p.coeffs(), strict=True):
+        rest = tuple(0 if j == i else e for j, e in enumerate(exps))
+        parts.setdefault(exps[i], {})[rest] = c
+    return {k: ctx.from_dict(v) for k, v in parts.items()}
+
+
+def exact_support(num: fmpq_mpoly, den: fmpq_mpoly) -> tuple[bool, ...]:
+    """`structural_support` of ``N/D`` given as polynomials in ``s`` and the parameters.
+
+    A power of ``x`` whose coefficient is nonzero at one point of the parameters is
+    nonzero for generic values; only the powers that vanish there are decided by forming
+    their coefficient, ``Σ ± n_k d_l`` over ``k + l = 2i``, as a polynomial.
+    """
+    names = [n for n in num.context().names() if n != S_NAME]
+    point = {n: fmpq(2 * j + 3, 5 * j + 7) for j, n in enumerate(names)}  # any point will do
+    nr, ni = at_j_omega(univariate(num, point))
+    dr, di = at_j_omega(univariate(den, point))
+    at_point = even_to_x(nr * dr + ni * di)
+    n, d = _in_s(num), _in_s(den)
+    zero = num.context().constant(0)
+    top = (max(n, default=0) + max(d, default=0)) // 2
+    support = []
+    for i in range(top + 1):
+        if i <= at_point.degree() and at_point[i] != 0:
+            support.append(True)
+            continue
+        coeff = zero
+        for k, nk in n.items():
+            j = 2 * i - k
+            if j in d:  # Re of j^k (−j)^j = (−1)^(j + i)
+                coeff = coeff + (-1 if (j + i) % 2 else 1) * nk * d[j]
+        support.append(not coeff.is_zero())
+    while support and not support[-1]:
+        support.pop()
+    return tuple(support)
 
 
 def structural_support(num: sp.Expr, den: sp.Expr) -> tuple[bool, ...]:
@@ -120,6 +177,10 @@ def structural_support(num: sp.Expr, den: sp.Expr) -> tuple[bool, ...]:
     parameter values (e.g. the ``ω⁴`` terms of a pure spring with load-side P)
     are structural, not a sign of a nearby boundary, so the margin ignores them.
     """
+    import sympy as sp
+
+    from ..model.expr import S
+
     w = sp.Dummy("w", real=True)
     coeffs_n = sp.Poly(sp.expand(num), S).all_coeffs()[::-1]
     coeffs_d = sp.Poly(sp.expand(den), S).all_coeffs()[::-1]
@@ -138,25 +199,3 @@ def structural_support(num: sp.Expr, den: sp.Expr) -> tuple[bool, ...]:
     pw = sp.Poly(sp.expand(nr * dr + ni * di), w)
     deg = pw.degree() if not pw.is_zero else -1
     return tuple(pw.coeff_monomial(w ** (2 * i)) != 0 for i in range(deg // 2 + 1))
-
-
-def _eval_coeffs(terms: _Terms, env: list[fmpq]) -> fmpq_poly:
-    out = []
-    for coeff in terms:
-        acc = fmpq(0)
-        for mon, q in coeff:
-            t = q
-            for v, e in zip(env, mon, strict=False):
-                if e:
-                    t *= v**e
-            acc += t
-        out.append(acc)
-    return fmpq_poly(out)
-
-
-def _with_values(system: SEA | Impedance, values: Mapping[str, float]) -> SEA | Impedance:
-    merged = dict(system.values)
-    merged.update(values)
-    if isinstance(system, SEA):
-        return system.with_values(**merged)
-    return Impedance(expr=system.expr, values=merged)

@@ -44,19 +44,18 @@ References
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-import sympy as sp
 from flint import fmpq
 
 from ..exact import poly as ep
 from ..exact.axis import real_part_polynomial, sqrt_float, squared_magnitude_polynomial
 from ..exact.halfline import minimum_on_half_line
 from ..model.display import html_card, short_repr
-from ..model.sea import SEA, Impedance
-from .impedance import evaluate_system
+from ..outcome import Outcome
+from .impedance import SystemLike, evaluate_system
 from .passivity import Reason, positive_real_test
 
 __all__ = ["PassivityIndex", "PassivityIndices", "index_of", "passivity_indices"]
@@ -73,7 +72,7 @@ _POLE_REASONS = frozenset(
 )
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class PassivityIndex:
     """One passivity index (see the module docstring).
 
@@ -105,6 +104,11 @@ class PassivityIndex:
     def strict(self) -> bool:
         """Strictly passive in this sense (``index > 0``), decided exactly."""
         return self.sign > 0
+
+    @property
+    def outcome(self) -> Outcome:
+        """``PASSIVE`` when the index is ``>= 0`` (``G`` is positive real), decided exactly."""
+        return Outcome.from_bool(self.sign >= 0)
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -148,7 +152,7 @@ class PassivityIndex:
         return html_card("Passivity index", [("index", self.describe())])
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class PassivityIndices:
     """ν and ρ of a port impedance (`passivity_indices`).
 
@@ -162,6 +166,11 @@ class PassivityIndices:
 
     input: PassivityIndex
     output: PassivityIndex
+
+    @property
+    def outcome(self) -> Outcome:
+        """The exact passivity of ``Z``: ``ν >= 0`` (equivalently ``ρ >= 0``)."""
+        return self.input.outcome
 
     @property
     def nu(self) -> float:
@@ -232,7 +241,7 @@ def index_of(a: ep.PolyLike, b: ep.PolyLike) -> PassivityIndex:
         raise ZeroDivisionError("the denominator is identically zero")
     if a.is_zero():
         zero = fmpq(0)
-        return PassivityIndex(0.0, zero, zero, 0, 0.0)
+        return PassivityIndex(value=0.0, lower=zero, upper=zero, sign=0, omega=0.0)
     # the poles of G - c are those of G: test them on G + K, which has relative degree
     # <= 0 (K chosen so that no leading coefficient cancels)
     k = fmpq(1)
@@ -240,14 +249,23 @@ def index_of(a: ep.PolyLike, b: ep.PolyLike) -> PassivityIndex:
         k += abs(a.leading_coefficient() / b.leading_coefficient())
     shifted = positive_real_test(a + k * b, b)
     if shifted.reason in _POLE_REASONS:
-        return PassivityIndex(-math.inf, None, None, -1, None, shifted.reason)
+        return _minus_infinity(shifted.reason)
     p = real_part_polynomial(a, b)
     m = squared_magnitude_polynomial(b)
     low = minimum_on_half_line(p, m)
     if low.lower is None:  # pragma: no cover - admissible poles keep Re G bounded
-        return PassivityIndex(-math.inf, None, None, -1, None, Reason.AXIS_RESIDUE)
+        return _minus_infinity(Reason.AXIS_RESIDUE)
     omega = None if low.at is None else _sqrt(low.at)
-    return PassivityIndex(low.value, low.lower, low.upper, low.sign, omega)
+    return PassivityIndex(
+        value=low.value, lower=low.lower, upper=low.upper, sign=low.sign, omega=omega
+    )
+
+
+def _minus_infinity(reason: Reason) -> PassivityIndex:
+    """No constant makes the system passive: a pole ``reason`` forbids."""
+    return PassivityIndex(
+        value=-math.inf, lower=None, upper=None, sign=-1, omega=None, reason=reason
+    )
 
 
 def _sqrt(point: Any) -> float:
@@ -257,7 +275,7 @@ def _sqrt(point: Any) -> float:
 
 
 def passivity_indices(
-    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    system: SystemLike,
     *,
     values: Mapping[str, float] | None = None,
 ) -> PassivityIndices:
@@ -283,6 +301,6 @@ def passivity_indices(
     num, den, _support = evaluate_system(system, values)
     nu = index_of(num, den)
     if num.is_zero():
-        inf = PassivityIndex(math.inf, None, None, 1, None)
-        return PassivityIndices(nu, inf)
-    return PassivityIndices(nu, index_of(den, num))
+        inf = PassivityIndex(value=math.inf, lower=None, upper=None, sign=1, omega=None)
+        return PassivityIndices(input=nu, output=inf)
+    return PassivityIndices(input=nu, output=index_of(den, num))

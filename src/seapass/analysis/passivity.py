@@ -36,7 +36,6 @@ from enum import StrEnum
 from typing import Any
 
 import numpy as np
-import sympy as sp
 from flint import fmpq, fmpq_poly
 
 from ..errors import NotPassiveError, ParameterError
@@ -52,8 +51,8 @@ from ..exact.axis import (
     safe_float,
 )
 from ..model.display import html_card, poly_text, short_repr
-from ..model.sea import SEA, Impedance
-from .impedance import evaluate_system
+from ..outcome import Outcome
+from .impedance import SystemLike, evaluate_system
 from .portresponse import ImpedanceResponse, response_of
 
 __all__ = [
@@ -109,14 +108,15 @@ _DESCRIPTIONS = {
 }
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class PassivityResult:
     """Outcome of an exact positive-real test.
 
     Attributes
     ----------
-    passive : bool
-        Exact verdict for the given numbers.
+    outcome : Outcome
+        Exact verdict for the given numbers: ``PASSIVE`` or ``NOT_PASSIVE``, never
+        ``UNDECIDED`` (``passive`` is ``outcome.passive``).
     reason : Reason
         `Reason.NONE` (``""``) when passive, else why not, e.g.
         `Reason.NEGATIVE_REAL_PART`.
@@ -131,7 +131,8 @@ class PassivityResult:
         about ``ε`` at relative distance ``ε`` from a boundary).  Informative,
         not used for the verdict.
     marginal : bool
-        The verdict sits within `MARGINAL_RTOL` of the boundary.
+        Decided, but ``|margin| <= MARGINAL_RTOL`` (or lossless): the one meaning
+        of [`seapass.outcome`][seapass.outcome].
     lossless : bool
         ``Re Z(jω) ≡ 0``.
     num, den : tuple of float
@@ -153,7 +154,7 @@ class PassivityResult:
     [0.0, 1.414214]
     """
 
-    passive: bool
+    outcome: Outcome
     reason: Reason = Reason.NONE
     detail: str = ""
     omega: float | None = None
@@ -169,10 +170,13 @@ class PassivityResult:
     exact_den: fmpq_poly | None = field(default=None, compare=False)
 
     @property
+    def passive(self) -> bool:  # the exact verdict as a bool
+        return self.outcome.passive
+
+    @property
     def status(self) -> str:
-        """``"passive"``, ``"not passive"``, or either with ``" (marginal)"``."""
-        base = "passive" if self.passive else "not passive"
-        return f"{base} (marginal)" if self.marginal else base
+        """Words for people (the JSON ``status``): ``outcome.label``, with ``" (marginal)"``."""
+        return f"{self.outcome.label} (marginal)" if self.marginal else self.outcome.label
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -244,9 +248,6 @@ class PassivityResult:
         )
 
 
-# ---------------------------------------------------------------- conversion
-
-
 # ---------------------------------------------------------------- helpers
 
 
@@ -304,7 +305,8 @@ def _margin_of(num: fmpq_poly, den: fmpq_poly, support: Sequence[bool] | None) -
 
 
 def _fail(reason: Reason, detail: str, **kw: Any) -> PassivityResult:
-    return PassivityResult(passive=False, reason=reason, detail=detail or reason.description, **kw)
+    no = Outcome.NOT_PASSIVE
+    return PassivityResult(outcome=no, reason=reason, detail=detail or reason.description, **kw)
 
 
 def _to_floats(p: fmpq_poly, descending: bool) -> tuple[float, ...]:
@@ -364,7 +366,7 @@ def positive_real_test(
     }
     if num.is_zero():
         return PassivityResult(
-            passive=True,
+            outcome=Outcome.PASSIVE,
             detail="Z is identically zero",
             marginal=True,
             lossless=True,
@@ -415,13 +417,12 @@ def positive_real_test(
     # 4. Re Z(jω) >= 0 for all ω
     marginal = abs(margin) <= MARGINAL_RTOL
     if px.is_zero():
-        return PassivityResult(
-            passive=True, detail="lossless: Re Z(jw) = 0 for all w", marginal=True, **base
-        )
+        lossless = "lossless: Re Z(jw) = 0 for all w"
+        return PassivityResult(outcome=Outcome.PASSIVE, detail=lossless, marginal=True, **base)
     odd = ep.positive_roots_odd_multiplicity(px)
     if ep.count_real_roots(odd, 0) == 0 and px.leading_coefficient() > 0:
         return PassivityResult(
-            passive=True, detail=Reason.NONE.description, marginal=marginal, **base
+            outcome=Outcome.PASSIVE, detail=Reason.NONE.description, marginal=marginal, **base
         )
     witness = negative_point(px)
     return _fail(
@@ -460,7 +461,7 @@ def _pole_defect(den: fmpq_poly) -> tuple[Reason, fmpq_poly]:
 
 
 def is_passive(
-    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    system: SystemLike,
     *,
     values: Mapping[str, float] | None = None,
     throw: bool = False,

@@ -25,15 +25,15 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-import sympy as sp
 from flint import fmpq_poly
 
 from ..errors import ParameterError
 from ..exact import poly as ep
 from ..exact.axis import negative_bands, real_part_polynomial, safe_float
 from ..model.display import Shown, html_card, short_repr
-from ..model.sea import SEA, Impedance
-from .impedance import evaluate_system
+from ..model.sea import SEA
+from .freqresp import check_points
+from .impedance import SystemLike, evaluate_system
 
 __all__ = [
     "Band",
@@ -125,7 +125,7 @@ def _roots(coeffs: Sequence[float]) -> np.ndarray:
     return np.roots(c)
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class ImpedanceResponse:
     """``Z(jω)`` of a port on a grid, and the exact bands where ``Re Z(jω) < 0``.
 
@@ -221,7 +221,7 @@ def _bands_text(bands: Sequence[Band]) -> str:
 
 
 def impedance_response(
-    system: SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]],
+    system: SystemLike,
     omega: Sequence[float] | np.ndarray | None = None,
     *,
     values: Mapping[str, float] | None = None,
@@ -276,9 +276,7 @@ def response_of(
     n = tuple(safe_float(c) for c in reversed(n_exact.coeffs())) or (0.0,)
     d = tuple(safe_float(c) for c in reversed(d_exact.coeffs()))
     if omega is None:
-        if not 2 <= points <= 1_000_000:
-            raise ParameterError(f"points must be between 2 and 1000000, got {points}")
-        w = default_frequencies(n, d, bands, points)
+        w = default_frequencies(n, d, bands, check_points(points))
     else:
         w = np.asarray(omega, dtype=float)
         if w.ndim != 1 or w.size < 2 or np.any(~np.isfinite(w)) or np.any(w <= 0):

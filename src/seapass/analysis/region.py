@@ -16,28 +16,44 @@ value* of ``p``: a real root of one of
 
 Between consecutive critical values the verdict is constant, so one exact
 test at a rational point inside each gap, plus exact tests at the rational
-critical values, gives the exact passive set.  Irrational end points are
-reported as floats rounded to nearest.
+critical values, gives the exact passive set.
+
+End points are algebraic numbers, isolated exactly.  They are reported as
+doubles rounded **inward** (a lower end up, an upper end down), each decided
+exactly against the isolating interval of the end point (`seapass.exact.rounding`):
+every double in a reported interval is passive, and so is every number printed
+for an end ([`seapass.exact.rounding.interval_text`][seapass.exact.rounding.interval_text]).  ``edges`` gives
+the certified enclosure of each true end point beside it.  An end that is a
+passive rational number is reported exactly when it is a double.  Two passive
+gaps on both sides of an irrational critical value are reported as one interval:
+no rational number, hence no double, lies on that value.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import sympy as sp
-from flint import fmpq, fmpq_poly
 
 from ..errors import ParameterError
-from ..exact import poly as ep
+from ..exact.rounding import (
+    float_above_root,
+    float_below_root,
+    float_down,
+    float_up,
+    interval_text,
+)
 from ..model.display import Shown, html_card, short_repr
-from ..model.expr import S, symbol, to_fraction
-from ..model.sea import SEA, Impedance
-from ..model.stiffness import load_impedance
-from .passivity import is_passive
+from ..model.expr import to_fraction
+from ..model.sea import SEA, Impedance, exact_values
+from .critical import CriticalValue, critical_polynomials_in, critical_values_in, exact_with
+from .passivity import positive_real_test
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = [
     "PassiveIntervals",
@@ -47,11 +63,15 @@ __all__ = [
     "passive_map",
 ]
 
-_X = sp.Symbol("x")
-_OM = sp.Symbol("omega")
+
+def _symbols() -> tuple[sp.Symbol, sp.Symbol]:
+    """``x = ω²`` and ``ω`` of the symbolic critical polynomials."""
+    import sympy as sp
+
+    return sp.Symbol("x"), sp.Symbol("omega")
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class PassiveIntervals:
     """Exact passive set of one parameter within ``[lo, hi]``.
 
@@ -60,18 +80,26 @@ class PassiveIntervals:
     param : str
     lo, hi : float
         The search range.
-    intervals : list of (float, float)
-        Disjoint closed intervals, sorted, whose union is the passive set
-        (a single passive point appears as ``(v, v)``).
-    critical_values : list of float
-        Every value in the range where the verdict may change.
+    intervals : tuple of (float, float)
+        Disjoint closed intervals of doubles, sorted: every double in them is
+        passive, and every passive double is in them (a single passive point
+        appears as ``(v, v)``).  The ends are the true end points rounded
+        inward to doubles.
+    critical_values : tuple of float
+        Every value in the range where the verdict may change (nearest doubles,
+        for information).
+    edges : tuple of ((float, float), (float, float))
+        For each interval, certified enclosures ``(lo, hi)`` of its true lower and
+        upper end points (rounded outward; ``(v, v)`` for an end that is the
+        double ``v`` exactly).
     """
 
     param: str
     lo: float
     hi: float
-    intervals: list[tuple[float, float]] = field(default_factory=list)
-    critical_values: list[float] = field(default_factory=list)
+    intervals: tuple[tuple[float, float], ...] = ()
+    critical_values: tuple[float, ...] = ()
+    edges: tuple[tuple[tuple[float, float], tuple[float, float]], ...] = ()
 
     def contains(self, value: float) -> bool:
         return any(a <= value <= b for a, b in self.intervals)
@@ -85,6 +113,7 @@ class PassiveIntervals:
             "param": self.param,
             "range": [self.lo, self.hi],
             "intervals": [list(iv) for iv in self.intervals],
+            "edges": [[list(lo), list(hi)] for lo, hi in self.edges],
             "critical_values": list(self.critical_values),
         }
 
@@ -117,22 +146,55 @@ class PassiveIntervals:
 def _intervals_text(intervals: Sequence[tuple[float, float]], limit: int = 4) -> str:
     if not intervals:
         return "[] (nowhere)"
-    text = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in intervals[:limit])
+    text = ", ".join(interval_text(a, b) for a, b in intervals[:limit])
     more = len(intervals) - limit
     return text + (f" and {more} more" if more > 0 else "")
 
 
-def _univariate(expr: sp.Expr, p: sp.Symbol) -> fmpq_poly:
-    """Exact polynomial in ``p`` (zero if identically zero)."""
-    expr = sp.expand(expr)
-    if expr == 0:
-        return fmpq_poly([])
-    poly = sp.Poly(expr, p, domain="QQ")
-    return fmpq_poly([fmpq(int(c.p), int(c.q)) for c in poly.all_coeffs()[::-1]])
+@dataclass(frozen=True, kw_only=True)
+class _Piece:
+    """A cell of ``[lo, hi]``: an open gap between two critical values (or the range
+    ends, which belong to it when they are not critical) or one rational critical value."""
+
+    left: CriticalValue
+    right: CriticalValue
+    left_closed: bool
+    right_closed: bool
+    passive: bool
+
+
+def _inward(
+    piece_run: list[_Piece],
+) -> tuple[tuple[float, float], tuple[tuple[float, float], tuple[float, float]]] | None:
+    """A run of passive pieces as an interval of doubles rounded inward, and the
+    enclosures of its true ends; ``None`` when no double lies in it."""
+    left, right = piece_run[0], piece_run[-1]
+    a, b = left.left, right.right
+    if a.poly is not None:
+        lo_f = float_above_root(a.poly, (a.lo, a.hi))
+    else:
+        lo_f = float_up(a.lo)
+        if not left.left_closed and Fraction(lo_f) == a.lo:
+            lo_f = float(np.nextafter(lo_f, np.inf))
+    if b.poly is not None:
+        hi_f = float_below_root(b.poly, (b.lo, b.hi))
+    else:
+        hi_f = float_down(b.hi)
+        if not right.right_closed and Fraction(hi_f) == b.hi:
+            hi_f = float(np.nextafter(hi_f, -np.inf))
+    if lo_f > hi_f:
+        return None
+    edges = ((float_down(a.lo), float_up(a.hi)), (float_down(b.lo), float_up(b.hi)))
+    return (lo_f, hi_f), edges
 
 
 def _re_im_at_jw(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
     """Real and imaginary parts of ``expr(jω)`` for a polynomial in ``s`` with real coefficients."""
+    import sympy as sp
+
+    from ..model.expr import S
+
+    _X, _OM = _symbols()
     coeffs = sp.Poly(expr, S).all_coeffs()[::-1]
     re = sum((c * (-1) ** (k // 2) * _OM**k for k, c in enumerate(coeffs) if k % 2 == 0), sp.S.Zero)
     im = sum((c * (-1) ** (k // 2) * _OM**k for k, c in enumerate(coeffs) if k % 2 == 1), sp.S.Zero)
@@ -140,6 +202,11 @@ def _re_im_at_jw(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
 
 
 def _critical_polys(z: sp.Expr, p: sp.Symbol) -> list[sp.Expr]:
+    import sympy as sp
+
+    from ..model.expr import S
+
+    _X, _OM = _symbols()
     num, den = sp.fraction(sp.cancel(sp.together(z)))
     # clear denominators in p so both are polynomials in (s, p)
     num, den = sp.expand(num), sp.expand(den)
@@ -199,6 +266,9 @@ def critical_polynomials(
     described in the module docstring, with all of ``params`` symbolic (used
     for 2-D regions by [`seapass.analysis.boundary`][seapass.analysis.boundary]).
     """
+    from ..model.expr import symbol
+    from ..model.stiffness import load_impedance
+
     base = _with(system, {**(values or {}), **dict.fromkeys(params)})
     free = [n for n in base.parameters if n not in params and base.values.get(n) is None]
     if free:
@@ -209,33 +279,6 @@ def critical_polynomials(
     for name in params:
         out.update(dict.fromkeys(_critical_polys(z, symbol(name))))
     return list(out)
-
-
-def _critical_values(
-    polys: list[sp.Expr], p: sp.Symbol, lo: Fraction, hi: Fraction
-) -> list[tuple[Fraction, Fraction]]:
-    """Sorted critical values in ``[lo, hi]``: ``(r, r)`` for rational roots, tight
-    isolating intervals ``(a, b]`` (relative width 2^-60) for irrational ones."""
-    factors: set[sp.Expr] = set()
-    for e in polys:
-        if not e.has(p):
-            continue
-        for f, _mult in sp.factor_list(sp.Poly(e, p, domain="QQ"))[1]:
-            factors.add(f.monic().as_expr())
-    out: list[tuple[Fraction, Fraction]] = []
-    for f in factors:
-        q = _univariate(f, p)
-        if q.degree() == 1:
-            r = ep.to_fraction(-q[0] / q[1])
-            if lo <= r <= hi:
-                out.append((r, r))
-            continue
-        for a, b in ep.isolate_real_roots(q, lo, hi):
-            a, b = ep.refine(q, (a, b), max(abs(b), fmpq(1)) / fmpq(2) ** 40)
-            scale_ = min(abs(a), abs(b)) or fmpq(1, 2**40)
-            a, b = ep.refine(q, (a, b), scale_ / fmpq(2) ** 60)
-            out.append((ep.to_fraction(a), ep.to_fraction(b)))
-    return sorted(set(out))
 
 
 def passive_intervals(
@@ -279,42 +322,70 @@ def passive_intervals(
             f"no value for parameter(s) {', '.join(free)}: give them, "
             f"e.g. values={{{free[0]!r}: 1.0}}"
         )
-    p = symbol(param)
-    base = _with(system, {**merged, param: None})
-    z = load_impedance(base) if isinstance(base, SEA) else base.expr
-    z = z.xreplace(base.substitutions())
-    crit = _critical_values(_critical_polys(z, p), p, lo_q, hi_q)
+    fixed = {k: v for k, v in merged.items() if v is not None}
+    polys = critical_polynomials_in(system, param, exact_values(fixed))
+    crit = critical_values_in(polys, lo_q, hi_q)
 
     def verdict(x: Fraction) -> bool:
-        return is_passive(_with(system, {**merged, param: x})).passive
+        num, den, support = exact_with(system, fixed, param, x)
+        if den.is_zero():
+            raise ParameterError("the impedance has a zero denominator for these values")
+        return positive_real_test(num, den, support=support).passive
 
     # one exact test per open gap and at each rational critical value
-    pieces: list[tuple[Fraction, Fraction, bool]] = []
-    cursor = lo_q
-    for a, b in crit:
-        if a > cursor:
-            pieces.append((cursor, a, verdict((cursor + a) / 2)))
-        if a == b:
-            pieces.append((a, a, verdict(a)))
-        cursor = b
-    if hi_q > cursor or not pieces:
-        pieces.append((cursor, hi_q, verdict((cursor + hi_q) / 2)))
+    pieces: list[_Piece] = []
+    cursor, closed = CriticalValue(lo=lo_q, hi=lo_q), True  # the range end belongs to its gap
+    for c in crit:
+        if c.lo > cursor.hi:
+            gap = verdict((cursor.hi + c.lo) / 2)
+            pieces.append(
+                _Piece(left=cursor, right=c, left_closed=closed, right_closed=False, passive=gap)
+            )
+        if c.poly is None:
+            point = verdict(c.lo)
+            pieces.append(
+                _Piece(left=c, right=c, left_closed=True, right_closed=True, passive=point)
+            )
+        cursor, closed = c, False
+    if hi_q > cursor.hi or not pieces:
+        end, gap = CriticalValue(lo=hi_q, hi=hi_q), verdict((cursor.hi + hi_q) / 2)
+        pieces.append(
+            _Piece(left=cursor, right=end, left_closed=closed, right_closed=True, passive=gap)
+        )
+    # consecutive passive pieces share their critical value: one interval
+    runs: list[list[_Piece]] = []
+    previous_passive = False
+    for piece in pieces:
+        if piece.passive:
+            if previous_passive:
+                runs[-1].append(piece)
+            else:
+                runs.append([piece])
+        previous_passive = piece.passive
     result: list[tuple[float, float]] = []
-    for start, end, ok in pieces:
-        if not ok:
-            continue
-        a_f, b_f = float(start), float(end)
-        if result and a_f <= np.nextafter(result[-1][1], np.inf):
-            result[-1] = (result[-1][0], max(result[-1][1], b_f))
-        else:
-            result.append((a_f, b_f))
-    crit_f = [float((a + b) / 2) for a, b in crit]
+    edges: list[tuple[tuple[float, float], tuple[float, float]]] = []
+    for run in runs:
+        shown = _inward(run)
+        if shown is not None:
+            result.append(shown[0])
+            edges.append(shown[1])
+    crit_f = [float((c.lo + c.hi) / 2) for c in crit]
     return PassiveIntervals(
-        param=param, lo=float(lo_q), hi=float(hi_q), intervals=result, critical_values=crit_f
+        param=param,
+        lo=float(lo_q),
+        hi=float(hi_q),
+        intervals=tuple(result),
+        critical_values=tuple(crit_f),
+        edges=tuple(edges),
     )
 
 
 def _with(system: SEA | Impedance, values: Mapping[str, Any]) -> SEA | Impedance:
+    import sympy as sp
+
+    from ..model.expr import symbol
+    from ..model.stiffness import load_impedance
+
     vals = {k: (float(v) if isinstance(v, Fraction) else v) for k, v in values.items()}
     exact = {k: v for k, v in values.items() if isinstance(v, Fraction)}
     if exact and any(Fraction(float(v)) != v for v in exact.values()):
@@ -331,7 +402,7 @@ def _with(system: SEA | Impedance, values: Mapping[str, Any]) -> SEA | Impedance
     return Impedance(expr=system.expr, values={**system.values, **vals})
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class PassiveMap:
     """Passive region over two parameters.
 
@@ -343,7 +414,7 @@ class PassiveMap:
     param_y: str
     x: np.ndarray
     y: np.ndarray
-    intervals: list[list[tuple[float, float]]]
+    intervals: tuple[tuple[tuple[float, float], ...], ...]
     mask: np.ndarray
 
     def to_dict(self) -> dict[str, Any]:
@@ -400,7 +471,7 @@ def passive_map(
     if xs.ndim != 1 or xs.size == 0:
         raise ParameterError(f"x_values must be a non-empty 1-D sequence, got shape {xs.shape}")
     ys = np.linspace(float(y_range[0]), float(y_range[1]), y_points)
-    ivs: list[list[tuple[float, float]]] = []
+    ivs: list[tuple[tuple[float, float], ...]] = []
     mask = np.zeros((ys.size, xs.size), dtype=bool)
     for i, xv in enumerate(xs):
         res = passive_intervals(
@@ -409,4 +480,4 @@ def passive_map(
         ivs.append(res.intervals)
         for a, b in res.intervals:
             mask[:, i] |= (ys >= a) & (ys <= b)
-    return PassiveMap(param_x=param_x, param_y=param_y, x=xs, y=ys, intervals=ivs, mask=mask)
+    return PassiveMap(param_x=param_x, param_y=param_y, x=xs, y=ys, intervals=tuple(ivs), mask=mask)

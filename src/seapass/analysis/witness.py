@@ -35,6 +35,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from enum import StrEnum
 from typing import Any, TypeAlias
 
 import numpy as np
@@ -45,6 +46,7 @@ from ..errors import NotPassiveError
 from ..exact.halfline import HalfLinePoint
 from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA, Impedance
+from ..outcome import Outcome
 from .coupled import CoupledResult, Environment, coupled_stability
 from .coupled_response import CoupledSimulation, simulate_coupled
 from .environment_box import (
@@ -57,26 +59,47 @@ from .environment_box import (
 from .impedance import exact_rational_function
 from .passivity import PassivityResult, Reason, is_passive
 from .portresponse import reduced_impedance
-from .witness_search import Candidate, bounded_candidates, refine, score, unbounded_candidates
+from .witness_search import (
+    Candidate,
+    Growth,
+    bounded_candidates,
+    refine,
+    score,
+    unbounded_candidates,
+)
 
 __all__ = [
     "WitnessResult",
+    "WitnessStatus",
     "find_destabilizing_environment",
 ]
 
 SystemLike: TypeAlias = SEA | Impedance | str | sp.Expr | tuple[Sequence[Any], Sequence[Any]]
 
 
-@dataclass(frozen=True, repr=False)
+class WitnessStatus(StrEnum):
+    """What the search for a destabilizing environment ended with."""
+
+    PASSIVE = "passive"
+    """The design is passive: no passive environment destabilizes it."""
+    FOUND = "found"
+    """A destabilizing passive environment within the bounds, verified exactly."""
+    NONE_PROVEN = "none in bounds (proven)"
+    """Not passive, but proven that no environment in the bounds destabilizes it."""
+    NONE_FOUND = "none found"
+    """Not passive; none was found in the bounds (a search, not a proof)."""
+
+
+@dataclass(frozen=True, repr=False, kw_only=True)
 class WitnessResult:
     """Outcome of `find_destabilizing_environment`.
 
     Attributes
     ----------
-    passive : bool
-        The design is passive; then no passive environment destabilizes it and
-        ``found`` is False.
-    reason : str
+    outcome : Outcome
+        The exact passivity of the design (``passive`` is ``outcome.passive``);
+        when passive, no passive environment destabilizes it and ``found`` is False.
+    reason : Reason
         The positive-real test's failure code (``""`` when passive).
     found : bool
         A destabilizing passive environment within ``bounds`` was found and
@@ -107,8 +130,8 @@ class WitnessResult:
         bounds that does.
     """
 
-    passive: bool
-    reason: str
+    outcome: Outcome
+    reason: Reason
     found: bool
     environment: Environment | None = None
     method: str = ""
@@ -141,11 +164,15 @@ class WitnessResult:
         }
 
     @property
-    def status(self) -> str:
-        """``"passive"``, ``"found"``, ``"none in bounds (proven)"`` or ``"none found"``."""
+    def passive(self) -> bool:
+        return self.outcome.passive
+
+    @property
+    def status(self) -> WitnessStatus:
+        """How the search ended (`WitnessStatus`)."""
         if self.passive or self.found:
-            return "passive" if self.passive else "found"
-        return "none in bounds (proven)" if self.certified else "none found"
+            return WitnessStatus.PASSIVE if self.passive else WitnessStatus.FOUND
+        return WitnessStatus.NONE_PROVEN if self.certified else WitnessStatus.NONE_FOUND
 
     def plot(self, *, axes: Any = None, **kwargs: Any) -> Any:
         """The growing coupled response and the coupled poles (needs ``found`` and a simulation).
@@ -171,7 +198,7 @@ class WitnessResult:
         return short_repr(
             "WitnessResult",
             {
-                "status": self.status,
+                "status": self.status.value,
                 "reason": str(self.reason) or None,
                 ("environment" if self.found else "outside"): shown,
                 "growth_rate": self.coupled.max_real_part if self.coupled else None,
@@ -258,8 +285,8 @@ def find_destabilizing_environment(
     pr = is_passive(system, values=values)
     if pr.passive:
         return WitnessResult(
-            passive=True,
-            reason="",
+            outcome=pr.outcome,
+            reason=pr.reason,
             found=False,
             detail="passive: no passive environment can destabilize it (passivity theorem)",
             passivity=pr,
@@ -301,10 +328,10 @@ def _search(
         best: tuple[float, Environment, float | None] | None = None
         for env, wc in cands:
             count += 1
-            status, rate = score(num, den, env)
-            if status == "rhp" and (best is None or rate > best[0]):
+            growth, rate = score(num, den, env)
+            if growth is Growth.RHP and (best is None or rate > best[0]):
                 best = (rate, env, wc)
-            elif status == "unstable" and fallback is None:
+            elif growth is Growth.REPEATED_AXIS and fallback is None:
                 fallback = (method, env, wc)
         if best is not None:
             env, extra = refine(num, den, best[1], best[0], bounds)
@@ -329,8 +356,8 @@ def _not_found(
     where = "" if bounds is None else f" within {bounds.describe()}"
     if bounds is None:
         return WitnessResult(
-            passive=False, reason=pr.reason, found=False, candidates=count, passivity=pr,
-            detail=f"not passive ({Reason(pr.reason).description}), but none of {count} mass-spring-damper "
+            outcome=pr.outcome, reason=pr.reason, found=False, candidates=count, passivity=pr,
+            detail=f"not passive ({pr.reason.description}), but none of {count} mass-spring-damper "
             "environments tried destabilizes it",
         )  # fmt: skip
     cert = certify_box(num, den, bounds, cells)
@@ -346,7 +373,7 @@ def _not_found(
             f"k_e = {e.stiffness:.4g} N/m does."
         )
     return WitnessResult(
-        passive=False,
+        outcome=pr.outcome,
         reason=pr.reason,
         found=False,
         candidates=count + extra,
@@ -361,12 +388,12 @@ def _not_found(
 def _not_found_text(pr: PassivityResult, count: int, where: str, cert: BoxCertificate) -> str:
     if cert.certified:
         return (
-            f"not passive ({Reason(pr.reason).description}), but no passive environment{where} destabilizes it: "
+            f"not passive ({pr.reason.description}), but no passive environment{where} destabilizes it: "
             "proven exactly (no environment in these bounds puts a coupled pole on the "
             "imaginary axis, and one of them is stable)."
         )
     return (
-        f"not passive ({Reason(pr.reason).description}); none of {count} passive environments{where} tried "
+        f"not passive ({pr.reason.description}); none of {count} passive environments{where} tried "
         f"destabilizes it, but this is a search, not a proof ({cert.reason})."
     )
 
@@ -397,14 +424,14 @@ def _found(
     )
     within = "" if bounds is None else f" (within {bounds.describe()})"
     detail = (
-        f"not passive ({Reason(pr.reason).description}); the passive environment m_e = {env.mass:.6g} kg, "
+        f"not passive ({pr.reason.description}); the passive environment m_e = {env.mass:.6g} kg, "
         f"b_e = {env.damping:.6g} N*s/m, k_e = {env.stiffness:.6g} N/m{within} makes the "
         f"coupled system unstable: {kind}{note}"
     )
     if throw:
         raise NotPassiveError(detail)
     return WitnessResult(
-        passive=False,
+        outcome=pr.outcome,
         reason=pr.reason,
         found=True,
         environment=env,

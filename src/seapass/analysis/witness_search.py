@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from enum import StrEnum
 
 import numpy as np
 from flint import fmpq, fmpq_poly
@@ -47,6 +48,7 @@ __all__ = [
     "REFINE_STEPS",
     "TANK_FACTORS",
     "Candidate",
+    "Growth",
     "bounded_candidates",
     "refine",
     "score",
@@ -263,20 +265,31 @@ def bounded_candidates(
 # ---------------------------------------------------------------- scoring
 
 
-def score(num: ep.PolyLike, den: ep.PolyLike, env: Environment) -> tuple[str, float]:
-    """Exact class (``"rhp"``, ``"unstable"``, ``"bounded"``) and a float growth rate."""
+class Growth(StrEnum):
+    """How the coupled response of a candidate environment grows (decided exactly)."""
+
+    RHP = "rhp"
+    """Exponentially: a coupled pole in the open right half-plane."""
+    REPEATED_AXIS = "unstable"
+    """Polynomially: a repeated coupled pole on the imaginary axis."""
+    BOUNDED = "bounded"
+    """Not at all."""
+
+
+def score(num: ep.PolyLike, den: ep.PolyLike, env: Environment) -> tuple[Growth, float]:
+    """Exact `Growth` of the coupled system and a float growth rate."""
     ne, de = env.polynomials()
     try:
         chi, _ = characteristic_from_polys(num, den, ne, de)
         _, rhp, repeated = classify_polynomial(chi)
     except (ValueError, ArithmeticError):
-        return "bounded", -math.inf
+        return Growth.BOUNDED, -math.inf
     if not rhp:
-        return ("unstable" if repeated else "bounded"), -math.inf
+        return (Growth.REPEATED_AXIS if repeated else Growth.BOUNDED), -math.inf
     roots = polynomial_roots(chi, fast=True)
     with np.errstate(all="ignore"):
         rate = float(np.max(roots.real)) if roots.size else 0.0
-    return "rhp", rate if math.isfinite(rate) else 0.0
+    return Growth.RHP, rate if math.isfinite(rate) else 0.0
 
 
 def refine(
@@ -308,8 +321,8 @@ def refine(
                 continue
             count += 1
             cand = Environment(mass=float(y[0]), damping=float(y[1]), stiffness=float(y[2]))
-            status, r = score(num, den, cand)
-            if status == "rhp" and r > rate * (1 + 1e-6):
+            growth, r = score(num, den, cand)
+            if growth is Growth.RHP and r > rate * (1 + 1e-6):
                 x, rate, env, improved = y, r, cand, True
         if not improved:
             step /= 2

@@ -8,7 +8,8 @@ final error and overshoot from the exact modal solution) and their helpers.
 Every batch function documents its axes and broadcasts length-1 axes.
 
 May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model],
-[`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim].
+[`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim],
+[`seapass.outcome`][seapass.outcome].
 """
 
 from .kernel import PassivityKernel, compile_passivity

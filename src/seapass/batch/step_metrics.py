@@ -46,6 +46,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError, SimulationError
+from ..model.experiment import PAPER_EXPERIMENT
 from ..model.sea import SEA
 from ..sim.metrics import SETTLING_CODES, Settling
 from .inputs import broadcast_values
@@ -71,7 +72,7 @@ SETTLED, NOT_SETTLED = Settling.SETTLED.code, Settling.NOT_SETTLED.code
 UNSTABLE, INVALID = Settling.UNSTABLE.code, Settling.INVALID.code
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BatchMetrics:
     """Step-response metrics of a batch; every array has the broadcast design shape.
 
@@ -343,9 +344,9 @@ def batch_step_metrics(
     values: Mapping[str, Any],
     *,
     load_mass: Any,
-    step: float = 0.5,
-    horizon: float = 5.0,
-    tolerance: float = 0.02,
+    step: float = PAPER_EXPERIMENT.step,
+    horizon: float = PAPER_EXPERIMENT.screening_horizon,
+    tolerance: float = PAPER_EXPERIMENT.tolerance,
     chunk_size: int = 2048,
 ) -> BatchMetrics:
     """Settling time, final error and overshoot of a reference step for many designs.
@@ -360,9 +361,10 @@ def batch_step_metrics(
     load_mass : array_like
         Load mass ``m_L`` (kg), positive; broadcast with ``values``.
     step : float
-        Reference step ``θ_A = θ_L = step`` (m) at ``t = 0`` from rest.
+        Reference step ``θ_A = θ_L = step`` (m) at ``t = 0`` from rest; default the
+        paper's ([`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT]).
     horizon : float
-        Simulated time ``T`` (s).
+        Simulated time ``T`` (s); default the experiment's 5 s screening horizon.
     tolerance : float
         Settling band as a fraction of ``|step|``.
     chunk_size : int

@@ -22,6 +22,7 @@ from ..analysis.passivity import positive_real_test
 from ..errors import ParameterError
 from ..exact import poly as ep
 from ..model.sea import SEA
+from ..outcome import Outcome
 from .certificates import decide_chunk
 from .inputs import broadcast_values
 from .kernel import PassivityKernel, compile_passivity
@@ -41,7 +42,7 @@ __all__ = ["BatchPassivity", "batch_is_passive"]
 # --------------------------------------------------------------------------- result
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BatchPassivity:
     """Verdicts for a batch of designs.
 
@@ -74,6 +75,14 @@ class BatchPassivity:
     def __post_init__(self) -> None:
         for name in ("passive", "margin", "certified", "undefined"):
             getattr(self, name).flags.writeable = False
+
+    @property
+    def outcome(self) -> np.ndarray:
+        """`Outcome` of every design (object array): exact, so never ``UNDECIDED``."""
+        out = np.empty(self.passive.shape, dtype=object)
+        out[...] = Outcome.NOT_PASSIVE  # (np.full would store plain strings)
+        out[self.passive] = Outcome.PASSIVE
+        return out
 
     @property
     def n_exact(self) -> int:

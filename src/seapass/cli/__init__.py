@@ -18,12 +18,13 @@ import argparse
 import importlib
 import os
 import sys
+import warnings
 from collections.abc import Sequence
 from typing import Any
 
-from ..errors import SeapassError
+from ..errors import SeapassDeprecationWarning, SeapassError
 from ..version import __version__
-from .common import EXIT_CODES, HelpFormatter, error_text
+from .common import EXIT_CODES, HelpFormatter, error_text, warn
 
 __all__ = ["COMMANDS", "main", "run"]
 
@@ -110,7 +111,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(list(argv) if argv is not None else None)
-        return int(args.func(args) or 0)
+        with warnings.catch_warnings():  # an old spelling (a rig-file key) is one warning line
+            warnings.simplefilter("default", SeapassDeprecationWarning)
+            warnings.showwarning = _show_deprecation(warnings.showwarning)
+            return int(args.func(args) or 0)
     except _UsageError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -132,6 +136,16 @@ def main(argv: Sequence[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 2
+
+
+def _show_deprecation(show: Any) -> Any:
+    def shown(message: Any, category: type[Warning], *args: Any, **kwargs: Any) -> None:
+        if issubclass(category, SeapassDeprecationWarning):
+            warn(str(message))
+        else:
+            show(message, category, *args, **kwargs)
+
+    return shown
 
 
 def run() -> None:

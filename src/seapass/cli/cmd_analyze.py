@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from .common import (
+    add_force_option,
     add_jobs_argument,
     add_json_option,
     announce_report,
@@ -47,6 +48,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     )
     add_jobs_argument(p)
     p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
+    add_force_option(p)
     add_json_option(p, "a summary (files, sections, verdict)")
     p.set_defaults(func=run)
 
@@ -62,7 +64,7 @@ def run(args: argparse.Namespace) -> int:
         from ..rig.rigfile import load_rig
 
         load_rig(design.rig_file)  # a bad rig file fails now, not in the hardware stage
-    check_output_dir(args.out)  # fail now, not after the work
+    check_output_dir(args.out, force=args.force)  # fail now, not after the work
     t0 = time.perf_counter()
     report = analyze(
         design,
@@ -73,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
         jobs=args.jobs,
     )
     out = Path(args.out)
-    written = write_report(report, out)
+    written = write_report(report, out, force=args.force)
     announce_report(out, written)
     line = verdict_line(report.sections, design)
     if args.json:

@@ -39,6 +39,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 def run(args: argparse.Namespace) -> int:
     from ..analysis.region import passive_intervals
+    from ..exact.rounding import inward_text
 
     lo, hi = parse_range(args.range)
     sea = model_from_args(args, extra_free={args.param: f"bound {args.param}"})
@@ -49,6 +50,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         if not result.intervals:
             print(f"not passive for any {args.param} in [{lo:g}, {hi:g}]")
-        for a, b in result.intervals:
-            print(f"passive for {a:.10g} <= {args.param} <= {b:.10g}")
+        for a, b in result.intervals:  # rounded inward: the printed ends are passive
+            a_text, b_text = inward_text(a, b, 10)
+            print(f"passive for {a_text} <= {args.param} <= {b_text}")
     return 0

@@ -53,7 +53,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 def run(args: argparse.Namespace) -> int:
     from ..analysis.indices import passivity_indices
-    from ..analysis.passivity import Reason
     from ..delay.passivity import DelayPassivityResult, is_passive
 
     system = system_from_args(args)
@@ -74,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json({**result.to_dict(), "indices": indices.to_dict(), "realizable": realizable})
     else:
-        print(f"{result.status}: {result.detail or Reason(result.reason).description}")
+        print(f"{result.status}: {result.detail or result.reason.description}")
         if result.omega is not None:
             print(f"witness: Re Z(jw) < 0 at w = {result.omega:.6g} rad/s")
         print(_indices_text(indices))

@@ -6,11 +6,12 @@ import argparse
 from pathlib import Path
 
 from ..errors import ParameterError
+from ..files.limits import check_rtol
 from .common import (
+    add_force_option,
     add_json_option,
     add_model_options,
     add_plot_option,
-    check_rtol,
     plot_path,
     print_json,
     values_from_args,
@@ -59,6 +60,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "--rtol", type=float, default=1e-6, help="relative width of the enclosure of tau*"
     )
     add_plot_option(p, "the first failing delay per frequency with the enclosure of tau*")
+    add_force_option(p)
     add_json_option(p)
     p.set_defaults(func=run, allow_delay=True)
 
@@ -115,10 +117,10 @@ def run(args: argparse.Namespace) -> int:
     from ..outcome import Outcome
 
     check_rtol(args.rtol)
-    figure = plot_path(args.plot)  # checked before the work starts
+    figure = plot_path(args.plot, force=args.force)  # checked before the work starts
     result = delay_margin(_system(args), args.name, rtol=args.rtol)
     if figure is not None:
-        write_figure(lambda: result.plot(), figure)
+        write_figure(lambda: result.plot(), figure, force=args.force)
     if args.json:
         print_json(result.to_dict())
     else:

@@ -83,7 +83,7 @@ def run(args: argparse.Namespace) -> int:
             "pip install 'seapass[explore]'"
         ) from None
     from ..explore.server import serve
-    from ..explore.state import check_state
+    from ..explore.validation import check_state
 
     initial = _initial(args.design)
     check = check_state(initial)

@@ -6,20 +6,19 @@ import argparse
 from typing import Any
 
 from ..errors import CompilerError, ParameterError, SeapassError
-from .common import add_json_option, announce, check_out_dir, check_rtol, print_json
+from ..files.limits import MAX_RTOL, MIN_RTOL, check_rtol
+from .common import add_force_option, add_json_option, announce, check_out_dir, print_json
 
 EXAMPLE = """examples:
   seapass export c examples/ours.toml --out firmware/
   seapass export c examples/ours.toml --out firmware/ --hardware-delay 1 --verify
   seapass export c design.toml --out firmware/ --force-limit 120 --set-gains --tunable kd
+  seapass export c design.toml --out firmware/ --force   # replace files seapass did not write
 
 exit status: 0 written (and verified); 1 --verify found the compiled C and the Python
 controller more than 1e-12 apart; 2 bad input, a design that is not passive, or no
 working C compiler for --verify (nothing is written then).
 """
-
-#: Largest relative difference ``--verify`` accepts between the C and the Python commands.
-VERIFY_RTOL = 1e-12
 
 # the Python API's errors name its arguments; say the options here instead
 _OPTIONS = {
@@ -89,7 +88,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         type=float,
         default=1e-6,
         help="relative width of the certified edge enclosures of each tunable gain's "
-        "interval, in [1e-12, 1e-2] (default: 1e-6)",
+        f"interval, in [{MIN_RTOL:g}, {MAX_RTOL:g}] (default: 1e-6)",
     )
     c.add_argument(
         "--verify",
@@ -97,12 +96,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="compile the files with the system C compiler and compare them with the Python "
         "controller on 10,000 steps",
     )
+    add_force_option(c)
     add_json_option(c)
     c.set_defaults(func=run_c)
 
 
 def run_c(args: argparse.Namespace) -> int:
-    from ..export.c_code import export_c
+    from ..export.c_code import HEADER, SOURCE, export_c
     from ..export.compiled import find_c_compiler, verify_c
 
     tunable = None
@@ -111,7 +111,7 @@ def run_c(args: argparse.Namespace) -> int:
         if not tunable:
             raise ParameterError("--tunable needs gain names, e.g. --tunable kd,bd")
     check_rtol(args.rtol)
-    check_out_dir(args.out)
+    check_out_dir(args.out, files=(HEADER, SOURCE), force=args.force)
     if args.verify and find_c_compiler() is None:  # before anything is written
         raise CompilerError("--verify needs a C compiler: none found (set CC or install gcc)")
     try:
@@ -125,6 +125,7 @@ def run_c(args: argparse.Namespace) -> int:
             allow_nonpassive=args.allow_nonpassive,
             rtol=args.rtol,
             progress=True,
+            force=args.force,
         )
     except SeapassError as exc:
         text = str(exc)
@@ -134,14 +135,14 @@ def run_c(args: argparse.Namespace) -> int:
     for path in (res.header, res.source):
         announce(path)
     ver = verify_c(res) if args.verify else None
-    ok = ver is None or ver.max_rel <= VERIFY_RTOL
+    ok = ver is None or ver.ok
     if args.json:
         out: dict[str, Any] = {
             "files": [str(res.header), str(res.source)],
             "deployment": res.deployment.to_dict(),
         }
         if ver is not None:
-            out["verify"] = {**ver.to_dict(), "rtol": VERIFY_RTOL, "ok": ok}
+            out["verify"] = ver.to_dict()
         print_json(out)
     else:
         _print_summary(res, ver, ok)
@@ -149,6 +150,8 @@ def run_c(args: argparse.Namespace) -> int:
 
 
 def _print_summary(res: Any, ver: Any, ok: bool) -> None:
+    from ..exact.rounding import exact_text, interval_text
+
     dep = res.deployment
     vf = f"{dep.velocity_filter:g} Hz" if dep.velocity_filter else "none"
     print(f"design {dep.design.name!r}: seapass_ctrl.h and seapass_ctrl.c in {res.header.parent}")
@@ -163,14 +166,15 @@ def _print_summary(res: Any, ver: Any, ok: bool) -> None:
         print(f"  NOT CERTIFIED (exported on request): {dep.verdict}")
     for g in dep.gains:
         if g.tunable:
-            print(f"  {g.name} = {g.nominal:g}, tunable in [{g.low:.10g}, {g.high:.10g}]")
+            shown = interval_text(g.low, g.high, digits=10)  # rounded inward
+            print(f"  {g.name} = {exact_text(g.nominal)}, tunable in {shown}")
         else:
             print(f"  {g.name} = {g.nominal:g}")
     for note in dep.notes:
         print(f"  note: {note}")
     if ver is not None:
         how = "identical to" if ver.identical else f"within {ver.max_rel:.3g} (relative) of"
-        verdict = "ok" if ok else f"FAILED (more than {VERIFY_RTOL:g} apart)"
+        verdict = "ok" if ok else f"FAILED (more than {ver.rtol:g} apart)"
         print(
             f"  verify: {ver.steps} steps of the compiled C are {how} the Python controller "
             f"({ver.saturated} saturated): {verdict}"

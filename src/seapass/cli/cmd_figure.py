@@ -5,7 +5,17 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .common import add_json_option, add_out_dir_option, check_out_dir, save_plot, write_text
+from .common import (
+    add_force_option,
+    add_json_option,
+    add_out_dir_option,
+    check_out_dir,
+    save_plot,
+    write_text,
+)
+
+FILES = ("sims.png", "sims.pdf", "sims.csv", "sims_table.csv", "sims_table.json")
+"""What ``seapass figure`` writes into ``--out``."""
 
 EXAMPLE = """examples:
   seapass figure sims --out figures/
@@ -29,6 +39,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("target", choices=TARGETS, help="which figure")
     add_out_dir_option(p, "the figure (PNG, PDF) and its data (CSV, JSON)", required=True)
+    add_force_option(p)
     p.add_argument("--quick", action="store_true", help="small optimiser budget (preview)")
     p.add_argument("--horizon", type=float, default=10.0, help="evaluation horizon [s]")
     p.add_argument("--seed", type=int, default=0, help="optimiser seed")
@@ -44,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
     from ..plot.sim import plot_simulation_study
     from ..tuning.problem import TuningOptions
 
-    out = check_out_dir(args.out)
+    out = check_out_dir(args.out, files=FILES, force=args.force)
     assert out is not None  # --out is required
     opts = replace(TuningOptions(), seed=args.seed, horizon=args.horizon)
     study = run_simulation_study(
@@ -54,10 +65,12 @@ def run(args: argparse.Namespace) -> int:
         progress=False if args.no_progress else None,
     )
     # compute everything first, then write each file atomically
-    save_plot(lambda: plot_simulation_study(study), out / "sims", formats=("png", "pdf"))
-    write_text(out / "sims.csv", study.timeseries_csv())
-    write_text(out / "sims_table.csv", study.table_csv())
-    write_text(out / "sims_table.json", study.table_json())
+    save_plot(
+        lambda: plot_simulation_study(study), out / "sims", formats=("png", "pdf"), force=args.force
+    )
+    write_text(out / "sims.csv", study.timeseries_csv(), force=args.force)
+    write_text(out / "sims_table.csv", study.table_csv(), force=args.force)
+    write_text(out / "sims_table.json", study.table_json(), force=args.force)
     if args.json:
         sys.stdout.write(study.table_json().rstrip("\n") + "\n")
     else:

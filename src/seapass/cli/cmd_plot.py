@@ -9,11 +9,17 @@ real-part polynomial), never read off the plotted grid.
 from __future__ import annotations
 
 import argparse
-import math
 from typing import TYPE_CHECKING, Any
 
-from ..errors import ParameterError
-from .common import add_model_options, print_json, system_from_args, write_figure
+from .common import (
+    add_force_option,
+    add_model_options,
+    parse_range,
+    plot_path,
+    print_json,
+    system_from_args,
+    write_figure,
+)
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     import numpy as np
@@ -63,24 +69,17 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "--plot", metavar="FILE", help="write the figure; .png, .svg or .pdf (default .png)"
     )
     p.add_argument("--json", action="store_true", help="print the curve and the bands as JSON")
+    add_force_option(p)
     p.set_defaults(func=run)
 
 
 def _frequencies(text: str | None, points: int) -> np.ndarray | None:
-    import numpy as np
+    from ..analysis.freqresp import check_points, log_frequencies
 
-    from .cmd_bound import parse_range
-
-    if not 2 <= points <= 100_000:
-        raise ParameterError(f"--points {points}: use between 2 and 100000")
     if text is None:
+        check_points(points)
         return None
-    lo, hi = parse_range(text)
-    if not (lo > 0 and hi > lo and math.isfinite(hi)):
-        raise ParameterError(
-            f"--omega {text!r}: expected 0 < LO < HI (a log-spaced range), e.g. --omega 0.1:1e4"
-        )
-    return np.logspace(math.log10(lo), math.log10(hi), points)
+    return log_frequencies(*parse_range(text, "--omega"), points)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -88,6 +87,7 @@ def run(args: argparse.Namespace) -> int:
     from ..analysis.portresponse import impedance_response
     from ..model.sea import SEA
 
+    plot_path(args.plot, force=args.force)  # before the work
     system = system_from_args(args)
     grid = _frequencies(args.omega, args.points)
     label = "Z" if args.Z is not None else "Z_L"
@@ -99,6 +99,7 @@ def run(args: argparse.Namespace) -> int:
             write_figure(
                 lambda: fr.plot(title=args.title, reference=k1, bands=resp.negative_bands),
                 args.plot,
+                force=args.force,
             )
         if args.json:
             print_json({**fr.to_dict(), "negative_real_bands": _bands(resp)})
@@ -106,7 +107,7 @@ def run(args: argparse.Namespace) -> int:
             _print_bode(fr, resp)
         return 0
     if args.plot:
-        write_figure(lambda: resp.plot(args.kind, title=args.title), args.plot)
+        write_figure(lambda: resp.plot(args.kind, title=args.title), args.plot, force=args.force)
     if args.json:
         print_json(resp.to_dict())
     else:

@@ -7,6 +7,7 @@ import argparse
 from ..errors import ParameterError
 from ..files.limits import MAX_REGION_COLUMNS
 from .common import (
+    add_force_option,
     add_json_option,
     add_model_options,
     add_plot_option,
@@ -44,6 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "--nx", type=int, default=41, help=f"number of X values (2 to {MAX_REGION_COLUMNS})"
     )
     add_plot_option(p, "the map")
+    add_force_option(p)
     p.add_argument("--out", help=argparse.SUPPRESS)  # before 0.3: the figure; now --plot
     add_json_option(p)
     p.set_defaults(func=run)
@@ -53,6 +55,7 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..analysis.region import passive_map
+    from ..exact.rounding import exact_text, interval_text
 
     if args.x == args.y:
         raise ParameterError("X and Y must be different parameters")
@@ -60,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError(f"--nx {args.nx}: use between 2 and {MAX_REGION_COLUMNS} columns")
     x_lo, x_hi = parse_range(args.x_range, "--x-range")
     y_range = parse_range(args.y_range, "--y-range")
-    figure = plot_path(deprecated_alias(args, "out", "plot"))
+    figure = plot_path(deprecated_alias(args, "out", "plot"), force=args.force)
     sea = model_from_args(
         args, extra_free={args.x: f"region X {args.x}", args.y: f"region Y {args.y}"}
     )
@@ -72,14 +75,19 @@ def run(args: argparse.Namespace) -> int:
 
         # the figure: the exact boundary curves between the columns, not a raster edge
         region = passive_region(sea, args.x, (x_lo, x_hi), args.y, y_range)
-        save_plot(lambda: plot_passive_region(region, title="exact passive region"), figure)
+        save_plot(
+            lambda: plot_passive_region(region, title="exact passive region"),
+            figure,
+            force=args.force,
+            flag="--plot",
+        )
     if args.json:
         print_json(pmap.to_dict())
     else:
         for xv, ivs in zip(pmap.x, pmap.intervals, strict=True):
-            shown = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in ivs)
+            shown = ", ".join(interval_text(a, b) for a, b in ivs)  # rounded inward
             print(
-                f"{args.x} = {xv:.6g}: "
+                f"{args.x} = {exact_text(float(xv))}: "
                 + (f"passive {args.y} in {shown}" if shown else f"no passive {args.y}")
             )
     return 0

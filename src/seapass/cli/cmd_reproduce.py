@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from .common import (
+    add_force_option,
     add_jobs_argument,
     add_json_option,
     announce_report,
@@ -51,6 +52,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     )
     add_jobs_argument(p)
     p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
+    add_force_option(p)
     add_json_option(p, "a summary (files, sections, findings)")
     p.set_defaults(func=run)
 
@@ -65,11 +67,12 @@ def parse_stages(text: str | None) -> list[str] | None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..report.document import Verdict
     from ..report.output import check_output_dir, write_report
     from ..report.reproduce import reproduce
 
     out = Path(args.out)
-    check_output_dir(out)  # fail now, not after minutes of work
+    check_output_dir(out, force=args.force)  # fail now, not after minutes of work
     t0 = time.perf_counter()
     report = reproduce(
         quick=args.quick,
@@ -78,25 +81,17 @@ def run(args: argparse.Namespace) -> int:
         log=lambda line: print(line, file=sys.stderr),
         jobs=args.jobs,
     )
-    written = write_report(report, out)
+    written = write_report(report, out, force=args.force)
     announce_report(out, written)
+    counts = report.summary().counts
+    agrees, differs = counts[Verdict.AGREES], counts[Verdict.DIFFERS]
     if args.json:
-        n = {
-            v: sum(1 for _s, f in report.findings if f.verdict == v) for v in ("agrees", "differs")
-        }
-        print_json({**report_summary(report, out, written), "findings": n})
+        findings = {"agrees": agrees, "differs": differs}
+        print_json({**report_summary(report, out, written), "findings": findings})
     else:
-        _summary(report, time.perf_counter() - t0)
+        print(
+            f"report in {time.perf_counter() - t0:.1f} s: {len(report.sections)} sections, "
+            f"{agrees} findings agree with the paper, {differs} differ"
+        )
     print_section_problems(report)
     return 1 if report.failed else 0
-
-
-def _summary(report: object, seconds: float) -> None:
-    from ..report.document import Report
-
-    assert isinstance(report, Report)
-    n = {v: sum(1 for _s, f in report.findings if f.verdict == v) for v in ("agrees", "differs")}
-    print(
-        f"report in {seconds:.1f} s: {len(report.sections)} sections, {n['agrees']} findings "
-        f"agree with the paper, {n['differs']} differ"
-    )

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from ..errors import ParameterError
 from ..files.limits import MAX_FREQUENCY_POINTS
 from .common import (
+    add_force_option,
     add_json_option,
     add_model_options,
     add_plot_option,
@@ -43,6 +43,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help=f"number of frequencies (2 to {MAX_FREQUENCY_POINTS})",
     )
     add_plot_option(p, "the magnitude plot")
+    add_force_option(p)
     p.add_argument("--out", help=argparse.SUPPRESS)  # before 0.3: the figure; now --plot
     add_json_option(p)
     p.set_defaults(func=run)
@@ -51,23 +52,22 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from ..analysis.freqresp import stiffness_response
+    from ..analysis.freqresp import log_frequencies, stiffness_response
 
-    lo, hi = parse_range(args.omega, "--omega", strict=True)
-    if lo <= 0:
-        raise ParameterError("--omega: the lower frequency must be positive for a log scale")
-    if not 2 <= args.points <= MAX_FREQUENCY_POINTS:
-        raise ParameterError(f"--points {args.points}: use between 2 and {MAX_FREQUENCY_POINTS}")
-    figure = plot_path(deprecated_alias(args, "out", "plot"))
+    omega = log_frequencies(*parse_range(args.omega, "--omega"), args.points)
+    figure = plot_path(deprecated_alias(args, "out", "plot"), force=args.force)
     sea = model_from_args(args)
     warn_unrealizable(sea)
-    resp = stiffness_response(sea, np.logspace(np.log10(lo), np.log10(hi), args.points))
+    resp = stiffness_response(sea, omega)
     if figure is not None:
         from ..plot.response import plot_stiffness_response
 
         k1 = sea.values.get("k1")
         save_plot(
-            lambda: plot_stiffness_response(resp, title="rendered stiffness", reference=k1), figure
+            lambda: plot_stiffness_response(resp, title="rendered stiffness", reference=k1),
+            figure,
+            force=args.force,
+            flag="--plot",
         )
     if args.json:
         print_json(resp.to_dict())

@@ -3,9 +3,7 @@
 from __future__ import annotations
 
 import argparse
-import csv
 import functools
-import io
 import math
 import sys
 from typing import TYPE_CHECKING, Any
@@ -13,11 +11,15 @@ from typing import TYPE_CHECKING, Any
 from ..errors import ParameterError
 from ..files.limits import MAX_KD_GAINS_CLI
 from .common import (
+    add_force_option,
     add_json_option,
     add_out_dir_option,
     check_out_dir,
+    check_out_file,
+    plot_path,
     print_json,
     save_plot,
+    warn,
     write_figure,
     write_text,
 )
@@ -82,6 +84,7 @@ def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--rig", metavar="FILE", help="rig TOML file (default: packaged paper rig)")
     add_json_option(p, "the full result")
     add_out_dir_option(p, "figures (PNG and PDF) and CSV")
+    add_force_option(p)
 
 
 def register(subparsers: Any) -> None:
@@ -164,7 +167,7 @@ def register(subparsers: Any) -> None:
     ft.add_argument(
         "--delay",
         type=int,
-        help="samples between a logged command and its action (default: the rig's delay_samples)",
+        help="samples between a logged command and its action (default: the rig's control.delay)",
     )
     ft.add_argument(
         "--confidence", type=float, default=0.95, help="level of the intervals (default: 0.95)"
@@ -174,6 +177,7 @@ def register(subparsers: Any) -> None:
         "--rig-out", metavar="FILE", help="write the rig file with the fitted values (TOML)"
     )
     ft.add_argument("--json", action="store_true", help="print the fit as JSON")
+    add_force_option(ft)
     ft.set_defaults(func=_fit)
 
 
@@ -183,22 +187,11 @@ def _rig(args: argparse.Namespace) -> Rig:
     return load_rig(args.rig) if args.rig else paper_rig()
 
 
-def _csv(rows: list[dict[str, Any]]) -> str:
-    if not rows:
-        return ""
-    buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
-    w.writeheader()
-    for r in rows:
-        w.writerow({k: "" if v is None else v for k, v in r.items()})
-    return buf.getvalue()
-
-
 def _sweep(args: argparse.Namespace) -> int:
     from ..rig.experiment import run_experiment
 
     rig = _rig(args)
-    out = check_out_dir(args.out)
+    out = check_out_dir(args.out, files=("sweep.csv", "sweep.png", "sweep.pdf"), force=args.force)
     designs = ["LP", "ours"] if args.design == "both" else [args.design]
     kd_max = args.kd_max if args.kd_max is not None else rig.experiment.kd_max
     kd_step = args.kd_step if args.kd_step is not None else rig.experiment.kd_step
@@ -217,12 +210,15 @@ def _sweep(args: argparse.Namespace) -> int:
     if out is not None:
         from ..plot.rig import plot_rig_sweep, plot_traces
 
-        rows = [r for s in result.sweeps for r in s.rows()]
-        write_text(out / "sweep.csv", _csv(rows))
-        save_plot(lambda: plot_rig_sweep(result), out / "sweep", formats=("png", "pdf"))
+        write_text(out / "sweep.csv", result.to_csv(), force=args.force)
+        save_plot(
+            lambda: plot_rig_sweep(result), out / "sweep", formats=("png", "pdf"), force=args.force
+        )
         for s in result.sweeps:
             stem = out / f"traces_{s.design}_{s.load_mass:g}kg"
-            save_plot(functools.partial(plot_traces, s), stem, formats=("png", "pdf"))
+            save_plot(
+                functools.partial(plot_traces, s), stem, formats=("png", "pdf"), force=args.force
+            )
     if args.json:
         print_json(result.to_dict())
         return 0
@@ -256,17 +252,17 @@ def _impacts(args: argparse.Namespace) -> int:
     from ..rig.impacts import run_impacts
 
     rig = _rig(args)
-    out = check_out_dir(args.out)
+    out = check_out_dir(
+        args.out, files=("impacts.csv", "impacts.png", "impacts.pdf"), force=args.force
+    )
     result = run_impacts(rig)
     if out is not None:
         from ..plot.rig import plot_impacts
 
-        rows = [
-            {"impact": i, "force": float(f), "k_out": float(k)}
-            for i, (f, k) in enumerate(zip(result.forces, result.k_out, strict=True))
-        ]
-        write_text(out / "impacts.csv", _csv(rows))
-        save_plot(lambda: plot_impacts(result), out / "impacts", formats=("png", "pdf"))
+        write_text(out / "impacts.csv", result.to_csv(), force=args.force)
+        save_plot(
+            lambda: plot_impacts(result), out / "impacts", formats=("png", "pdf"), force=args.force
+        )
     if args.json:
         print_json(result.to_dict())
         return 0
@@ -311,32 +307,19 @@ def _fit(args: argparse.Namespace) -> int:
     from ..rig.rigfile import load_rig
 
     rig = load_rig(args.rig)
+    plot = plot_path(args.plot, force=args.force)  # before the work
+    check_out_file(args.rig_out, "--rig-out", force=args.force)
     log = load_log(args.log)
-    reach = float(max(abs(log.x_A).max(), abs(log.x_L).max()))
-    if reach > 1.0:
-        print(
-            f"warning: positions reach {reach:g} m; the log's positions must be in metres "
-            "(millimetres given?)",
-            file=sys.stderr,
-        )
+    for message in log.warnings:
+        warn(message)
     fit = fit_rig(log, rig, window=args.window, delay=args.delay, confidence=args.confidence)
     updated = fit.updated_rig() if args.rig_out else None
-    if args.plot:
-        write_figure(fit.plot, args.plot)
+    if plot is not None:
+        write_figure(fit.plot, plot, force=args.force)
     if updated is not None:
-        write_text(args.rig_out, updated.to_toml())
-    for name in fit.poorly_determined:
-        others = fit.confounded(name)
-        why = (
-            f"correlated with {', '.join(others)} beyond ±0.98"
-            if others
-            else f"standard error {fit[name].relative_error:.0%} of the estimate"
-        )
-        print(
-            f"warning: {name} is poorly determined by this log ({why}); log a chirp with the "
-            "load free to move",
-            file=sys.stderr,
-        )
+        write_text(args.rig_out, updated.to_toml(), force=args.force, flag="--rig-out")
+    for message in fit.warnings:
+        warn(message)
     if args.json:
         print_json(fit.to_dict())
         return 0

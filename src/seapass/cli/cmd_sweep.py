@@ -9,6 +9,7 @@ import sys
 from ..errors import ParameterError, did_you_mean
 from ..files.atomic import check_writable
 from .common import (
+    add_force_option,
     add_json_option,
     add_model_options,
     add_plot_option,
@@ -30,6 +31,7 @@ EXAMPLE = """examples:
   seapass sweep --D1 k1 --CL kd --set m=1 --set b=10 --sample 100000 \\
       --range k1=100:5000 --range kd=0:5000 --seed 1 --no-metrics --out lp.csv
   seapass sweep ... --out big.parquet --resume            # continue an interrupted sweep
+  seapass sweep ... --out lp.csv --force    # replace an lp.csv that seapass did not write
   seapass sweep ... --out big/ --scheduler local          # one Dask worker per core
   seapass sweep ... --out big/ --scheduler local --workers 4
   seapass sweep ... --out s3://bucket/big/ --scheduler tcp://HOST:8786
@@ -65,9 +67,12 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
                    help="uniform random range, repeatable, e.g. kd=0:5000")  # fmt: skip
     g.add_argument("--seed", type=int, default=0, help="random seed")
     m = p.add_argument_group("metrics")
-    m.add_argument("--load-mass", type=float, default=10.0, help="load mass m_L [kg]")
-    m.add_argument("--step", type=float, metavar="M", help="reference step [m] (the default: 0.5)")
-    m.add_argument("--horizon", type=float, default=5.0, help="simulated time [s]")
+    m.add_argument(
+        "--load-mass", type=float, help="load mass m_L [kg] (the default: the paper's 10)"
+    )
+    m.add_argument("--step", type=float, metavar="M",
+                   help="reference step [m] (the default: the paper's 0.5)")  # fmt: skip
+    m.add_argument("--horizon", type=float, help="simulated time [s] (the default: a 5 s screen)")
     m.add_argument("--no-metrics", action="store_true", help="passivity only")
     m.add_argument(
         "--no-margin", action="store_true", help="skip the passivity margin (3x faster verdicts)"
@@ -99,6 +104,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     )
     add_plot_option(o, "the heat maps")
     o.add_argument("--out-fig", help=argparse.SUPPRESS)  # before 0.3; now --plot
+    add_force_option(o)
     add_json_option(o, "the summary")
     p.set_defaults(func=run)
 
@@ -128,7 +134,7 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError("--range needs --sample N, the number of random designs")
     if grid and args.sample is not None:
         raise ParameterError("--sample is only for random ranges; a grid has its own size")
-    figure = plot_path(deprecated_alias(args, "out_fig", "plot"))
+    figure = plot_path(deprecated_alias(args, "out_fig", "plot"), force=args.force)
     heat = None
     if args.heatmap is not None:
         heat = [s.strip() for s in args.heatmap.split(",")]
@@ -162,7 +168,7 @@ def run(args: argparse.Namespace) -> int:
         samples=args.sample,
         seed=args.seed,
         load_mass=args.load_mass,
-        step=0.5 if args.step is None else args.step,
+        step=args.step,
         horizon=args.horizon,
         metrics=not args.no_metrics,
         margin=not args.no_margin,
@@ -186,6 +192,7 @@ def run(args: argparse.Namespace) -> int:
             scheduler=args.scheduler,
             workers=args.workers,
             progress=not args.no_progress,
+            force=args.force,
         )
     except KeyboardInterrupt:
         print(
@@ -200,7 +207,12 @@ def run(args: argparse.Namespace) -> int:
         from ..plot.sweep import plot_sweep_heatmap
 
         data = heatmap_data(result.path, heat[0], heat[1])
-        save_plot(lambda: plot_sweep_heatmap(data, title=f"{spec.n_designs} designs"), figure)
+        save_plot(
+            lambda: plot_sweep_heatmap(data, title=f"{spec.n_designs} designs"),
+            figure,
+            force=args.force,
+            flag="--plot",
+        )
         summary["figure"] = str(figure)
     if args.json:
         print_json(summary)
@@ -212,6 +224,6 @@ def run(args: argparse.Namespace) -> int:
         frac = summary["passive_fraction"]
         print(f"passive: {result.n_passive:,}" + ("" if frac is None else f" ({100 * frac:.1f} %)"))
         if result.n_settled is not None:
-            print(f"settled within {args.horizon:g} s: {result.n_settled:,}")
+            print(f"settled within {spec.horizon:g} s: {result.n_settled:,}")
         print(f"results: {result.path} (columns: {', '.join(result.columns)})")
     return 0

@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .common import (
+    add_force_option,
     add_json_option,
     add_out_dir_option,
     check_out_dir,
@@ -39,17 +40,22 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     )
     add_out_dir_option(p, "each row's stiffness frequency response (PNG)")
     p.add_argument("--plots", help=argparse.SUPPRESS)  # before 0.3; now --out
+    add_force_option(p)
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..paper.tablefmt import format_latex, format_markdown, format_text
-    from ..paper.tables import build_tables
+    from ..paper.tables import PAPER_ROWS, build_tables
 
-    out = check_out_dir(deprecated_alias(args, "plots", "out"))
+    out = check_out_dir(
+        deprecated_alias(args, "plots", "out"),
+        files=[_row_file(r.name) for r in PAPER_ROWS],
+        force=args.force,
+    )
     rows = build_tables()
     if out is not None:
-        write_row_plots(rows, out)
+        write_row_plots(rows, out, force=args.force)
     if args.json:
         print_json([r.to_dict() for r in rows])
     elif args.format == "markdown":
@@ -61,24 +67,35 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def write_row_plots(rows: list[TableRow], out: Path) -> list[Path]:
-    """One PNG per row with the reference values of `REFERENCE_VALUES`."""
+def write_row_plots(rows: list[TableRow], out: Path, *, force: bool = False) -> list[Path]:
+    """One PNG per row with the reference values of `REFERENCE_VALUES`.
+
+    Every file is checked before the first is drawn: one seapass did not write
+    is replaced only with ``force``.
+    """
     from ..analysis.freqresp import stiffness_response
+    from ..files.owned import check_replaceable
     from ..model.catalog import REFERENCE_VALUES
     from ..plot.response import plot_stiffness_response
 
+    for r in rows:
+        check_replaceable(out / _row_file(r.paper.name), force=force, argument="--out")
     paths = []
     for r in rows:
         vals = {k: REFERENCE_VALUES[k] for k in r.sea.parameters}
         resp = stiffness_response(r.sea, values=vals, label=r.paper.name)
         shown = ", ".join(f"{k}={v:g}" for k, v in vals.items())
-        path = out / f"{r.paper.name.replace('/', '_')}.png"
+        path = out / _row_file(r.paper.name)
         draw = functools.partial(
             plot_stiffness_response,
             resp,
             title=f"{r.paper.title}\n{shown}",
             reference=vals.get("k1"),
         )
-        save_plot(draw, path)
+        save_plot(draw, path, force=force)
         paths.append(path)
     return paths
+
+
+def _row_file(name: str) -> str:
+    return f"{name.replace('/', '_')}.png"

@@ -6,15 +6,23 @@ import argparse
 import sys
 import warnings
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..errors import ParameterError, TuningWarning, did_you_mean
-from .common import add_json_option, add_model_options, check_period, check_step, print_json, warn
+from ..errors import ParameterError, TuningWarning
+from .common import (
+    add_json_option,
+    add_model_options,
+    check_step,
+    cli_words,
+    model_from_args,
+    print_json,
+    values_from_args,
+    warn,
+)
+from .loop_options import add_loop_options, loop_from_args
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     from ..model.design_file import Design
-    from ..model.sea import SEA
     from ..tuning.optimize import TuningResult
     from ..tuning.problem import DesignLike, TuningOptions
 
@@ -58,16 +66,12 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
                    help="settling: 2%% settling time; itae: integral of t*|error| (default: settling)")  # fmt: skip
     g.add_argument("--max-overshoot", type=float, metavar="PCT",
                    help="overshoot limit in percent of the step (default: none)")  # fmt: skip
-    g.add_argument("--force-limit", type=float, default=1000.0, metavar="N",
-                   help="peak actuator force |f_A| [N] (default: 1000)")  # fmt: skip
+    g.add_argument("--force-limit", type=float, metavar="N",
+                   help="peak actuator force |f_A| [N] (default: the paper's experiment, 1000)")  # fmt: skip
     g.add_argument("--no-force-limit", action="store_true", help="no force limit")
-    g.add_argument("--period", type=float, metavar="T",
-                   help="also require passivity under sampled-data control with period T [s]")  # fmt: skip
-    g.add_argument("--delay", type=int, metavar="N",
-                   help="samples of delay of that controller (default: the file's, else 0)")  # fmt: skip
-    g.add_argument("--velocity-filter", type=float, metavar="HZ",
-                   help="its velocity low-pass cut-off [Hz] (default: the file's, else none)")  # fmt: skip
-    s = p.add_argument_group("the step response (default: the file's [simulation], else 10 kg, 0.5 m, 10 s)")  # fmt: skip
+    add_loop_options(p, method=False, what="the sampled loop (with --period)",
+                     period_help="also require passivity under sampled-data control with period T [s]")  # fmt: skip
+    s = p.add_argument_group("the step response (default: the file's [simulation], else the paper's experiment: 10 kg, 0.5 m, 10 s)")  # fmt: skip
     s.add_argument("--load-mass", type=float, metavar="KG", help="tuning load mass m_L [kg]")
     s.add_argument("--step", type=float, metavar="M", help="reference step [m]")
     s.add_argument("--horizon", type=float, metavar="S", help="simulated time [s]")
@@ -85,7 +89,11 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def parse_tune(items: Sequence[str], flag: str = "--tune") -> dict[str, tuple[float, float] | None]:
-    """``NAME=LO:HI`` or ``NAME`` items into ``{name: (lo, hi) or None}``; repeats are errors."""
+    """``NAME=LO:HI`` or ``NAME`` items into ``{name: (lo, hi) or None}``; repeats are errors.
+
+    The boxes themselves are checked by the library
+    ([`resolve_problem`][seapass.tuning.problem.resolve_problem]).
+    """
     from ..model.expr import parse_value
 
     out: dict[str, tuple[float, float] | None] = {}
@@ -102,89 +110,56 @@ def parse_tune(items: Sequence[str], flag: str = "--tune") -> dict[str, tuple[fl
         lo, sep2, hi = rng.partition(":")
         if not sep2:
             raise ParameterError(f"{flag} {item!r}: expected NAME=LO:HI, e.g. {name}=0:5000")
-        a = parse_value(lo.strip(), f"{flag} {name} lower bound")
-        z = parse_value(hi.strip(), f"{flag} {name} upper bound")
-        if not a < z:
-            raise ParameterError(f"{flag} {item!r}: need LO < HI")
-        out[name] = (a, z)
+        out[name] = (
+            parse_value(lo.strip(), f"{flag} {name} lower bound"),
+            parse_value(hi.strip(), f"{flag} {name} upper bound"),
+        )
     return out
 
 
-def _assignments(items: Sequence[str]) -> dict[str, float]:
-    from ..model.expr import parse_assignment
+def _design(
+    args: argparse.Namespace, boxes: Mapping[str, object]
+) -> tuple[DesignLike, Design | None, dict[str, float]]:
+    """The design named on the command line, its design file (if any) and the ``--set`` values.
 
-    out: dict[str, float] = {}
-    for item in items:
-        name, value = parse_assignment(item)
-        if name in out:
-            raise ParameterError(f"--set {name} is given twice; give each value once")
-        out[name] = value
-    return out
-
-
-def _design(args: argparse.Namespace) -> tuple[DesignLike, Design | None, dict[str, float]]:
-    """The design named on the command line, its design file (if any) and the ``--set`` values."""
-    from ..model.catalog import CATALOG
-    from ..model.design_file import load_design
-    from ..model.sea import SEA
+    A model given with ``--D1 ...`` holds the ``--set`` values; a gain named only
+    by ``--tune`` (and an expression) is a free parameter of it, so it needs no
+    ``--set``.
+    """
+    from ..model.design_file import Design, load_design_or_catalog
 
     if args.design and args.design_option:
         raise ParameterError("give the design once (DESIGN or --design)")
     name = args.design or args.design_option
     model_given = any(getattr(args, e) != "0" for e in ("D1", "D2", "CA", "CL"))
-    values = _assignments(args.set)
     if name is not None and model_given:
         raise ParameterError("give either DESIGN or the model --D1/--D2/--CA/--CL, not both")
     if name is None and not model_given:
         raise ParameterError(
             "nothing to tune: give a design file, LP/APD/ours, or the model with --D1 ... --set"
         )
+    values = values_from_args(args)
     if name is None:
-        sea = SEA(D1=args.D1, D2=args.D2, CA=args.CA, CL=args.CL, values=values)
-        from ..delay.structure import has_model_delay
-
-        if has_model_delay(sea):
-            raise ParameterError(
-                "tune does not handle a delay exp(-NAME*s) yet; 'seapass delay-margin' gives "
-                "the delay a tuned design tolerates"
-            )
-        _check_names(values, sea.parameters, "--set")
-        return sea, None, {}
-    if name.lower() in {k.lower() for k in CATALOG} and not Path(name).is_file():
-        return name, None, values
-    path = Path(name)
-    if path.suffix != ".toml" and not path.exists():
-        keys = ", ".join(CATALOG)
-        raise ParameterError(
-            f"DESIGN {name!r} is neither a design file nor a catalog name ({keys})"
-        )
-    design = load_design(path)
-    return design, design, values
-
-
-def _check_names(values: Mapping[str, object], parameters: Sequence[str], flag: str) -> None:
-    for name in values:
-        if name not in parameters:
-            raise ParameterError(
-                f"{flag} {name}: not a parameter of the design ({', '.join(parameters)})"
-                f"{did_you_mean(name, parameters)}"
-            )
+        free = {n: f"--tune {n}" for n in boxes if n not in values}
+        return model_from_args(args, extra_free=free), None, {}
+    design = load_design_or_catalog(name)
+    return design, design if isinstance(design, Design) else None, values
 
 
 def options_from_args(args: argparse.Namespace, file: Design | None) -> TuningOptions:
-    """`TuningOptions` from the command line (design-file defaults are resolved later)."""
+    """`TuningOptions` from the command line; what it leaves out (None) the library takes
+    from the design file, else from the paper's experiment."""
     from ..tuning.problem import QUICK_OPTIONS, TuningOptions
 
+    limit = {} if args.force_limit is None else {"force_limit": args.force_limit}
     opts = TuningOptions(
         objective=args.objective,
         max_overshoot=None if args.max_overshoot is None else args.max_overshoot / 100.0,
-        force_limit=None if args.no_force_limit else args.force_limit,
+        **({"force_limit": None} if args.no_force_limit else limit),
         load_mass=args.load_mass,
-        step=0.5 if args.step is None else args.step,
+        step=args.step,
         horizon=args.horizon,
-        period=args.period,
-        delay=args.delay,
-        velocity_filter=args.velocity_filter,
+        loop=loop_from_args(args, file),
         seed=args.seed,
     )
     if args.quick:
@@ -204,28 +179,12 @@ def options_from_args(args: argparse.Namespace, file: Design | None) -> TuningOp
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..model.sea import SEA
     from ..tuning.optimize import tune
-    from ..tuning.problem import design_parts
 
-    design, file, values = _design(args)
     boxes = parse_tune([*args.tune, *args.bound])
+    design, file, values = _design(args, boxes)
     opts = options_from_args(args, file)
-    check_period(opts.period)
     check_step(args.step)
-    if args.load_mass is not None and not args.load_mass > 0:
-        raise ParameterError(f"--load-mass must be positive, got {args.load_mass:g}")
-    _name, sea, default_gains, _boxes = design_parts(design)
-    _check_names(values, sea.parameters, "--set")
-    _check_names(boxes, sea.parameters, "--tune")
-    if isinstance(design, SEA):
-        boxes = _model_gains(sea, boxes)
-    clash = sorted(set(values) & set(boxes or default_gains))
-    if clash:
-        raise ParameterError(
-            f"--set {clash[0]}: {clash[0]} is tuned; drop --set {clash[0]} or name the gains "
-            "to tune with --tune NAME=LO:HI"
-        )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", TuningWarning)  # printed below, once, as lines
         result = tune(
@@ -236,7 +195,7 @@ def run(args: argparse.Namespace) -> int:
             progress=False if args.no_progress else None,
         )
     for message in result.warnings:
-        warn(message)
+        warn(cli_words(message))
     if args.json:
         print_json(result.to_dict())
     else:
@@ -247,28 +206,8 @@ def run(args: argparse.Namespace) -> int:
     return 0 if result.feasible else 1
 
 
-def _model_gains(
-    sea: SEA, boxes: dict[str, tuple[float, float] | None]
-) -> dict[str, tuple[float, float] | None]:
-    """The gains of a model given with --D1 ...: --tune, else the controller's parameters."""
-    controller = sorted(str(x) for x in sea.CA.free_symbols | sea.CL.free_symbols)
-    gains = boxes or dict.fromkeys(controller)
-    missing = [p for p in sea.parameters if p not in gains and sea.values.get(p) is None]
-    if missing:
-        raise ParameterError(
-            f"no value for {', '.join(missing)}: give --set {missing[0]}=VALUE "
-            f"(or tune it with --tune {missing[0]}=LO:HI)"
-        )
-    for name, box in gains.items():
-        if box is None and sea.values.get(name) is None:
-            raise ParameterError(
-                f"--tune {name}=LO:HI: {name} has no value (--set), so give its search box"
-            )
-    return gains
-
-
 def _control_hint(file: Design | None, opts: TuningOptions) -> str:
-    if file is None or file.period is None or opts.period is not None:
+    if file is None or file.period is None or opts.loop is not None:
         return ""
     return (
         f"the design file sets a {file.control_rate:g} Hz controller; add --period "
@@ -277,18 +216,18 @@ def _control_hint(file: Design | None, opts: TuningOptions) -> str:
 
 
 def _print_text(result: TuningResult) -> None:
+    from ..tuning.problem import Objective
+
     m = result.metrics
     gains = ", ".join(f"{k} = {v:.6g}" for k, v in result.gains.items())
     print(f"{result.design}: {gains}")
-    kind = result.options.objective
-    unit = "s" if kind == "settling" else "m*s^2"
-    what = "settling time" if kind == "settling" else "ITAE"
-    print(f"{what}: {result.objective:.6g} {unit} ({m.status})")
+    kind = Objective(result.options.objective)
+    print(f"{kind.label}: {result.objective:.6g} {kind.unit} ({m.status})")
     verdicts = f"passive: {'yes' if result.passive else 'NO'}"
-    if result.sampled_passive is not None:
+    loop = result.options.loop
+    if result.sampled_passive is not None and loop is not None:
         verdicts += (
-            f"; passive at T = {result.options.period:g} s: "
-            f"{'yes' if result.sampled_passive else 'NO'}"
+            f"; passive at T = {loop.period:g} s: {'yes' if result.sampled_passive else 'NO'}"
         )
     print(verdicts)
     overshoot = "-" if m.overshoot is None else f"{100 * m.overshoot:.3g} %"

@@ -7,11 +7,13 @@ from typing import TYPE_CHECKING
 
 from ..errors import ParameterError
 from .common import (
+    add_force_option,
     add_json_option,
     add_model_options,
     add_out_dir_option,
     check_out_dir,
     json_text,
+    parse_range,
     print_json,
     save_plot,
     system_from_args,
@@ -65,23 +67,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
                    help="any passive mass-spring-damper (may find physically meaningless ones)")  # fmt: skip
     add_json_option(p)
     add_out_dir_option(p, "witness.png and witness.json")
+    add_force_option(p)
     p.set_defaults(func=run)
-
-
-def parse_range(text: str, flag: str) -> tuple[float, float]:
-    """``LO:HI`` with ``0 <= LO <= HI``, both finite."""
-    from ..model.expr import parse_value
-
-    lo, sep, hi = text.partition(":")
-    if not sep:
-        raise ParameterError(f"{flag} {text!r}: expected LO:HI, e.g. {flag} 0.1:10")
-    a, b = (
-        parse_value(lo.strip(), f"{flag} lower bound"),
-        parse_value(hi.strip(), f"{flag} upper bound"),
-    )
-    if not 0 <= a <= b:
-        raise ParameterError(f"{flag} {text!r}: need 0 <= LO <= HI (a passive environment)")
-    return a, b
 
 
 def bounds_from_args(args: argparse.Namespace) -> EnvironmentBounds | None:
@@ -100,7 +87,7 @@ def bounds_from_args(args: argparse.Namespace) -> EnvironmentBounds | None:
 def run(args: argparse.Namespace) -> int:
     from ..analysis.witness import find_destabilizing_environment
 
-    out = check_out_dir(args.out)
+    out = check_out_dir(args.out, files=("witness.png", "witness.json"), force=args.force)
     system = system_from_args(args)
     warn_unrealizable(system)
     bounds = bounds_from_args(args)
@@ -111,9 +98,9 @@ def run(args: argparse.Namespace) -> int:
         if result.found and result.simulation is not None:
             from ..plot.witness import plot_witness
 
-            save_plot(lambda: plot_witness(result), out / "witness.png")
+            save_plot(lambda: plot_witness(result), out / "witness.png", force=args.force)
             data["figure"] = str(out / "witness.png")
-        write_text(out / "witness.json", json_text(data))
+        write_text(out / "witness.json", json_text(data), force=args.force)
     if args.json:
         print_json(data)
     elif result.found:

@@ -12,6 +12,9 @@ in the project notes and the README's command-line section):
   `add_out_dir_option` / `check_out_dir`; files are written and announced
   (``wrote PATH`` on stderr) by `save_plot`, `write_text`, `write_bytes` in
   [`seapass.cli.output`][seapass.cli.output];
+* the sampled loop: `add_loop_options` and `loop_from_args` (one
+  [`SampledLoop`][seapass.model.loop.SampledLoop] from ``--period --delay
+  --velocity-filter --method`` and a design file's ``[control]``);
 * messages: `warn` (``warning: ...`` on stderr), the unit-slip checks
   `check_period` and `check_step`, and `error_text` (one line, CLI flags in place
   of Python argument names).
@@ -20,7 +23,6 @@ in the project notes and the README's command-line section):
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import re
 import sys
@@ -30,6 +32,7 @@ from typing import Any
 
 from ..errors import ParameterError, SeapassError, did_you_mean
 from .output import (
+    add_force_option,
     add_json_option,
     add_out_dir_option,
     add_plot_option,
@@ -38,6 +41,7 @@ from .output import (
     atomic_write,
     atomic_write_text,
     check_out_dir,
+    check_out_file,
     json_text,
     plot_path,
     print_json,
@@ -49,6 +53,7 @@ from .output import (
 __all__ = [
     "EXIT_CODES",
     "HelpFormatter",
+    "add_force_option",
     "add_jobs_argument",
     "add_json_option",
     "add_model_options",
@@ -61,10 +66,11 @@ __all__ = [
     "atomic_write_text",
     "check_names",
     "check_out_dir",
+    "check_out_file",
     "check_period",
-    "check_rtol",
     "check_step",
     "cli_flag",
+    "cli_words",
     "deprecated_alias",
     "error_text",
     "json_text",
@@ -153,17 +159,22 @@ _FLAGS = {
 }
 
 
+_KEYED = {"values": "--set", "bounds": "--bound", "tune": "--tune"}
+
+
 def cli_flag(argument: str) -> str:
     """The command-line spelling of a Python argument: ``values['kd']`` → ``--set kd``.
 
-    >>> cli_flag("values['kd']"), cli_flag("load_mass"), cli_flag("CA")
-    ('--set kd', '--load-mass', '--CA')
+    >>> cli_flag("values['kd']"), cli_flag("tune['kd']"), cli_flag("load_mass"), cli_flag("CA")
+    ('--set kd', '--tune kd', '--load-mass', '--CA')
     """
-    m = re.fullmatch(r"(values|bounds)\['([^']*)'\]", argument)
+    m = re.fullmatch(r"(values|bounds|tune)\['([^']*)'\]", argument)
     if m:
-        return f"{'--set' if m.group(1) == 'values' else '--bound'} {m.group(2)}"
+        return f"{_KEYED[m.group(1)]} {m.group(2)}"
     if argument in _FLAGS:
         return _FLAGS[argument]
+    if argument.startswith("bounds."):  # an environment box: --mass, --damping, --stiffness
+        return "--" + argument[len("bounds.") :]
     if re.fullmatch(r"[a-z][a-z0-9_]*", argument):
         return "--" + argument.replace("_", "-")
     return argument
@@ -183,13 +194,32 @@ def error_text(exc: BaseException) -> str:
         msg = str(exc)
         if isinstance(exc, KeyError) and exc.args:
             msg = str(exc.args[0])
-        arg = getattr(exc, "argument", None)
-        if arg and msg.startswith(f"{arg}: "):
-            msg = f"{cli_flag(arg)}: {msg[len(arg) + 2 :]}"
-        msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"e.g. --set \1=VALUE", msg)
-        msg = re.sub(r"values\['(\w+)'\]", r"--set \1", msg)
-        msg = re.sub(r"\b([a-z][a-z_]*)=True\b", lambda m: "--" + m.group(1).replace("_", "-"), msg)
+        msg = cli_words(msg, getattr(exc, "argument", None))
     return " ".join(msg.split()) or type(exc).__name__
+
+
+def cli_words(text: str, argument: str | None = None) -> str:
+    """A library message or warning in the words of the command line.
+
+    The library names Python arguments (``values['kd']``, ``tune={'kd': (lo, hi)}``,
+    ``rtol``); the command line shows its flags instead.  ``argument`` is the
+    argument an error names (its ``argument`` attribute).
+
+    >>> cli_words("widen the box (tune={'kd': (lo, hi)})")
+    'widen the box (--tune kd=LO:HI)'
+    >>> cli_words("rtol must be in [1e-12, 0.01]; got rtol=0", "rtol")
+    '--rtol must be in [1e-12, 0.01]; got --rtol 0'
+    """
+    msg = text
+    if argument and msg.startswith(f"{argument}: "):
+        msg = f"{cli_flag(argument)}: {msg[len(argument) + 2 :]}"
+    elif argument and re.fullmatch(r"[a-z][a-z0-9_]*", argument):  # "rtol must ...; rtol=0"
+        flag = cli_flag(argument)
+        msg = re.sub(rf"(?<![\w.'\[-]){argument}(=| )", lambda m: f"{flag} ", msg)
+    msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"e.g. --set \1=VALUE", msg)
+    msg = re.sub(r"tune=\{'(\w+)': \([^)]*\)\}", r"--tune \1=LO:HI", msg)
+    msg = re.sub(r"(values|tune)\['(\w+)'\]", lambda m: f"{_KEYED[m.group(1)]} {m.group(2)}", msg)
+    return re.sub(r"\b([a-z][a-z_]*)=True\b", lambda m: "--" + m.group(1).replace("_", "-"), msg)
 
 
 def deprecated_alias(args: argparse.Namespace, old: str, new: str) -> Any:
@@ -272,17 +302,6 @@ def parse_range(text: str, flag: str = "--range", *, strict: bool = False) -> tu
 # --------------------------------------------------------------------------- models
 
 
-def check_rtol(rtol: float, flag: str = "--rtol") -> None:
-    """The relative width of a certified edge enclosure: ``MIN_RTOL`` to 1e-2 (0 never ends)."""
-    from ..files.limits import MIN_RTOL
-
-    if not (math.isfinite(rtol) and MIN_RTOL <= rtol <= 1e-2):
-        raise ParameterError(
-            f"{flag} must be in [{MIN_RTOL:g}, 1e-2], the relative width of a certified edge "
-            f"enclosure; got {flag} {rtol:g}"
-        )
-
-
 def add_jobs_argument(p: argparse.ArgumentParser) -> None:
     """``--jobs N``: worker processes for a report's independent stages."""
     p.add_argument(
@@ -360,8 +379,7 @@ def model_from_args(
 
 def warn_unrealizable(system: Any) -> bool:
     """Warn for each controller that needs more than one derivative; True if realizable."""
-    from ..model.realization import unrealizable_controllers
-    from ..model.sea import SEA
+    from ..model.sea import SEA, unrealizable_controllers
 
     if not isinstance(system, SEA):
         return True
@@ -428,15 +446,17 @@ def report_summary(report: Any, out: Path, written: Sequence[Path]) -> dict[str,
     }
 
 
-def write_figure(draw: Callable[[], Any], path: str | os.PathLike[str]) -> Path:
+def write_figure(
+    draw: Callable[[], Any], path: str | os.PathLike[str], *, force: bool = False
+) -> Path:
     """`save_plot` for a ``--plot FILE`` option: one file, checked by `plot_path`, announced.
 
     The suffix picks the format (``.png``, ``.svg`` or ``.pdf``); a path without
-    one gets ``.png``.
+    one gets ``.png``.  A file seapass did not write is replaced only with ``force``.
     """
-    p = plot_path(os.fspath(path))
+    p = plot_path(os.fspath(path), force=force)
     assert p is not None
-    (written,) = save_plot(draw, p)
+    (written,) = save_plot(draw, p, force=force, flag="--plot")
     return written
 
 

@@ -13,6 +13,7 @@ Every verdict is a [`seapass.outcome.Outcome`][seapass.outcome.Outcome]; what th
 balls cannot decide at their budget is ``undecided``, never passive.  No Padé
 approximation is used anywhere.
 
-May import: ``errors``, ``outcome``, ``files``, ``exact``, ``model`` and ``analysis``
-(the layers below).  ``sim`` and everything above may import it.
+May import: [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome],
+[`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact],
+[`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis].  ``sim`` and everything above may import it.
 """

@@ -39,7 +39,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-import sympy as sp
 from flint import fmpq
 
 from ..analysis.passivity import positive_real_test
@@ -417,6 +416,11 @@ def _final(
     )  # fmt: skip
 
 
+def _raw(system: Any) -> bool:
+    """A raw impedance (an `Impedance`, text or a sympy expression): no controller to delay."""
+    return isinstance(system, str | Impedance) or type(system).__module__.startswith("sympy")
+
+
 def delay_margin(
     system: SystemLike,
     delay: str | None = None,
@@ -466,7 +470,7 @@ def delay_margin(
         )
     if not (isinstance(budget, int) and budget > 0):
         raise ParameterError(f"budget must be a positive whole number, got {budget!r}")
-    if not isinstance(system, str | sp.Expr | Impedance) and not has_model_delay(system):
+    if not _raw(system) and not has_model_delay(system):
         if delay is None:
             raise ParameterError("delay: name the delay, e.g. delay_margin(sea, 'tau')")
         system = controller_delay(system, delay)  # a delay-free design: its controllers lag

@@ -1,6 +1,6 @@
 """The exact structure of a delayed impedance: ``Z = N(s, E)/D(s, E)`` with ``E = e^{-sτ}``.
 
-The parser turns ``exp(-tau*s)`` into the atom ``Delay(tau)``
+The parser turns ``exp(-tau*s)`` into the exact variable ``E``
 ([`seapass.model.delayatom`][seapass.model.delayatom]); the free-body derivation treats
 it as a constant generator.  Here it becomes the symbol ``E`` and the impedance a quotient
 of two polynomials in ``s`` and ``E`` with exact rational coefficients, kept as the
@@ -19,22 +19,21 @@ Examples
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any, TypeAlias
 
-import sympy as sp
 from flint import fmpq, fmpq_poly
 
 from ..errors import DelayError, ParameterError
 from ..exact import poly as ep
 from ..files.limits import MAX_DELAY_SECONDS
-from ..model.delayatom import Delay, delay_atoms
-from ..model.expr import S, to_fraction
+from ..model.delayatom import delay_variable, model_delays
+from ..model.expr import to_fraction
+from ..model.freebody import exact_impedance
+from ..model.rational import S_NAME
 from ..model.sea import SEA, Impedance
-from ..model.stiffness import load_impedance
 
 __all__ = [
     "MAX_DELAY_SECONDS",
@@ -43,13 +42,11 @@ __all__ = [
     "delay_parameter",
     "delayed_impedance",
     "has_model_delay",
-    "model_expression",
 ]
 
 
-_E = sp.Symbol("E_delay")  # the generator E = e^{-sτ}; never a user name (underscore)
-
-SystemLike: TypeAlias = SEA | Impedance | str | sp.Expr
+SystemLike: TypeAlias = "SEA | Impedance | str | Any"
+"""An `SEA`, an `Impedance`, or a raw impedance as text or a sympy expression."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -128,21 +125,19 @@ def check_tau(value: Any, name: str) -> fmpq:
     return q
 
 
-def model_expression(system: SystemLike) -> tuple[sp.Expr, Mapping[str, float | None]]:
-    """The symbolic impedance of ``system`` (``Z_L`` of an SEA) and its stored values."""
-    if isinstance(system, str | sp.Expr):
-        system = Impedance(expr=system, values=_declare(system))
-    if isinstance(system, SEA):
-        return load_impedance(system), system.values
-    if isinstance(system, Impedance):
-        return system.expr, system.values
+def _as_model(system: SystemLike) -> SEA | Impedance:
+    """``system`` as a model: a raw expression becomes an `Impedance` with its names free."""
+    if isinstance(system, SEA | Impedance):
+        return system
+    if isinstance(system, str) or type(system).__module__.startswith("sympy"):
+        return Impedance(expr=system, values=_declare(system))
     raise TypeError(f"expected an SEA, an Impedance or an expression, got {type(system).__name__}")
 
 
-def _declare(expr: str | sp.Expr) -> dict[str, float | None]:
+def _declare(expr: Any) -> dict[str, float | None]:
     """Names of a raw expression, declared free (so that they parse) - values come later."""
-    if isinstance(expr, sp.Expr):
-        return {str(x): None for x in expr.free_symbols if x != S}
+    if not isinstance(expr, str):  # sympy
+        return {str(x): None for x in expr.free_symbols if str(x) != "s"}
     import ast
 
     try:
@@ -155,20 +150,20 @@ def _declare(expr: str | sp.Expr) -> dict[str, float | None]:
 
 def has_model_delay(system: Any) -> bool:
     """True if ``system`` (an SEA, Impedance or expression) contains a delay factor."""
-    if isinstance(system, SEA):
-        return any(delay_atoms(getattr(system, a)) for a in ("D1", "D2", "CA", "CL"))
-    if isinstance(system, Impedance):
-        return bool(delay_atoms(system.expr))
-    if isinstance(system, sp.Expr):
-        return bool(delay_atoms(system))
+    if isinstance(system, SEA | Impedance):
+        return bool(model_delays(system))
     if isinstance(system, str):
         return "exp" in system
+    if type(system).__module__.startswith("sympy"):
+        from ..model.symbolic import delay_atoms
+
+        return bool(delay_atoms(system))
     return False
 
 
-def delay_parameter(expr: sp.Expr) -> str:
-    """The one delay parameter of ``expr``; `DelayError` for none or for two."""
-    names = sorted({str(a.args[0]) for a in delay_atoms(expr)})
+def delay_parameter(system: Any) -> str:
+    """The one delay parameter of a model; `DelayError` for none or for two."""
+    names = model_delays(system)
     if not names:
         raise DelayError("the model has no delay: write one as exp(-NAME*s), e.g. 'kd*exp(-tau*s)'")
     if len(names) > 1:
@@ -187,6 +182,10 @@ def delayed_impedance(
 ) -> DelayedImpedance:
     """Exact ``N(s, E)`` and ``D(s, E)`` of a delayed ``system`` at its parameter values.
 
+    The impedance comes from the exact free-body derivation
+    ([`seapass.model.freebody`][seapass.model.freebody]; no sympy), in which the delay is
+    the variable ``E``.
+
     Parameters
     ----------
     system : SEA, Impedance, str or sympy.Expr
@@ -203,12 +202,19 @@ def delayed_impedance(
     ParameterError
         A missing value, or a delay that is negative or beyond `MAX_DELAY_SECONDS`.
     """
-    expr, stored = model_expression(system)
-    name = delay_parameter(expr)
-    merged: dict[str, float | None] = dict(stored)
+    model = _as_model(system)
+    z = exact_impedance(model)
+    name = delay_parameter(z)
+    merged: dict[str, float | None] = dict(model.values)
     merged.update(values or {})
-    others = sorted(str(x) for x in expr.free_symbols if x != S and str(x) != name)
-    missing = [n for n in others if merged.get(n) is None]
+    evar = delay_variable(name)
+    params = sorted(z.names() - {S_NAME, evar})
+    if name in params:
+        raise DelayError(
+            f"the delay parameter {name} also appears outside exp(-{name}*s); give that "
+            "quantity its own parameter"
+        )
+    missing = [n for n in params if merged.get(n) is None]
     if missing:
         raise ParameterError(
             f"no value for parameter(s) {', '.join(missing)}: give them, "
@@ -221,48 +227,29 @@ def delayed_impedance(
                 f"no value for the delay {name}: give it in seconds, e.g. values={{{name!r}: 0.001}}"
             )
         tau = check_tau(merged[name], name)
-    else:
-        merged.pop(name, None)
-    names, num_terms, den_terms = _compiled(expr, name)
-    env = [ep.rational(to_fraction(merged[n], n)) for n in names]  # type: ignore[arg-type,unused-ignore]
-    num = _evaluate(num_terms, env)
-    den = _evaluate(den_terms, env)
+    env = {n: ep.rational(to_fraction(merged[n], n)) for n in params}  # type: ignore[arg-type,unused-ignore]
+    num = _in_s_and_e(z.num, env, evar)
+    den = _in_s_and_e(z.den, env, evar)
     num, den = _normalized(num, den)
     return DelayedImpedance(name=name, tau=tau, num=num, den=den, label=getattr(system, "name", ""))
 
 
-_Terms = tuple[tuple[int, int, tuple[int, ...], fmpq], ...]
-
-
-@functools.lru_cache(maxsize=256)
-def _compiled(expr: sp.Expr, name: str) -> tuple[tuple[str, ...], _Terms, _Terms]:
-    """Coefficients of ``s^i E^k`` of ``N`` and ``D`` as exact polynomials in the parameters."""
-    z = expr.xreplace({a: _E for a in delay_atoms(expr)})
-    num, den = sp.fraction(sp.cancel(sp.together(z)))
-    params = sorted((x for x in (num.free_symbols | den.free_symbols) if x not in (S, _E)), key=str)
-    if any(str(x) == name for x in params):
-        raise DelayError(
-            f"the delay parameter {name} also appears outside exp(-{name}*s); give that "
-            "quantity its own parameter"
-        )
-
-    def terms(e: sp.Expr) -> _Terms:
-        poly = sp.Poly(sp.expand(e), S, _E, *params, domain="QQ")
-        out = []
-        for mon, c in zip(poly.monoms(), poly.coeffs(), strict=True):
-            out.append((int(mon[0]), int(mon[1]), tuple(mon[2:]), fmpq(int(c.p), int(c.q))))
-        return tuple(out)
-
-    return tuple(str(x) for x in params), terms(num), terms(den)
-
-
-def _evaluate(terms: _Terms, env: list[fmpq]) -> tuple[fmpq_poly, ...]:
+def _in_s_and_e(p: Any, env: Mapping[str, fmpq], evar: str) -> tuple[fmpq_poly, ...]:
+    """``p(s, E, params)`` at the parameter values, as ``N_k(s)`` for ascending ``E^k``."""
+    names = p.context().names()
     coeffs: dict[tuple[int, int], fmpq] = {}
-    for i, k, mon, q in terms:
-        t = q
-        for v, e in zip(env, mon, strict=False):
-            if e:
-                t *= v**e
+    for exps, c in zip(p.monoms(), p.coeffs(), strict=True):
+        t = fmpq(c)
+        i = k = 0
+        for n, e in zip(names, exps, strict=True):
+            if not e:
+                continue
+            if n == S_NAME:
+                i = e
+            elif n == evar:
+                k = e
+            else:
+                t *= env[n] ** e
         coeffs[(i, k)] = coeffs.get((i, k), fmpq(0)) + t
     order = max((k for (_, k) in coeffs), default=0)
     out = []
@@ -339,9 +326,7 @@ def controller_delay(
         raise TypeError(
             f"design: expected an SEA, a Design or a catalog name, got {type(design).__name__}"
         )
-    names = {
-        str(a.args[0]) for attr in ("D1", "D2", "CA", "CL") for a in delay_atoms(getattr(sea, attr))
-    }
+    names = set(model_delays(sea))
     if names:
         if names != {delay}:
             raise DelayError(
@@ -355,10 +340,19 @@ def controller_delay(
             "something else, e.g. 'tau'",
             argument="delay",
         )
-    if sea.CA == 0 and sea.CL == 0:
+    exact = sea.exact_elements()
+    if exact["CA"].is_zero and exact["CL"].is_zero:
         raise DelayError("the design has no controller to delay; write the delay into an element, e.g. --CA 'kd*exp(-tau*s)'")  # fmt: skip
-    e = Delay(sp.Symbol(delay, positive=True))
+    from ..model.expr import check_name
+
+    check_name(delay)
     vals = dict(sea.values)
     vals[delay] = None
-    return SEA(D1=sea.D1, D2=sea.D2, CA=sea.CA * e, CL=sea.CL * e, m=sea.m, b=sea.b,
-               values=vals, name=sea.name)  # fmt: skip
+    given = sea.describe()  # the elements as parseable text (sympy's printing)
+
+    def delayed(text: str) -> str:
+        return "0" if text == "0" else f"({text})*exp(-{delay}*s)"
+
+    return SEA(D1=given["D1"], D2=given["D2"], CA=delayed(given["CA"]),
+               CL=delayed(given["CL"]), m=given["m"], b=given["b"], values=vals,
+               name=sea.name)  # fmt: skip

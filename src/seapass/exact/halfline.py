@@ -129,7 +129,7 @@ def enclose(p: ep.PolyLike, lo: fmpq, hi: fmpq) -> tuple[fmpq, fmpq]:
     return pos(lo) - neg(hi), pos(hi) - neg(lo)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class HalfLineMinimum:
     """``inf_{x ≥ 0} p(x)/q(x)`` from `minimum_on_half_line`.
 
@@ -208,7 +208,9 @@ def minimum_on_half_line(
     if q.is_zero():
         raise ZeroDivisionError("q is identically zero")
     if p.is_zero():
-        return HalfLineMinimum(fmpq(0), fmpq(0), 0, HalfLinePoint(fmpq(0), fmpq(0)))
+        return HalfLineMinimum(
+            lower=fmpq(0), upper=fmpq(0), sign=0, at=HalfLinePoint(fmpq(0), fmpq(0))
+        )
     g = p.gcd(q)
     if g.degree() > 0:
         p, q = p // g, q // g
@@ -219,7 +221,7 @@ def minimum_on_half_line(
         if pt.sign(q) == 0:
             sides = [points[j] for j in (i - 1, i + 1) if 0 <= j < len(points)]
             if any(s.sign(p) * s.sign(q) < 0 for s in sides):
-                return HalfLineMinimum(None, None, -1, pt)
+                return HalfLineMinimum(lower=None, upper=None, sign=-1, at=pt)
     candidates: list[tuple[int, HalfLinePoint | None]] = [
         (pt.sign(p) * pt.sign(q), pt)
         for pt in points
@@ -228,14 +230,14 @@ def minimum_on_half_line(
     lead = p.leading_coefficient() / q.leading_coefficient()
     if p.degree() > q.degree():
         if lead < 0:
-            return HalfLineMinimum(None, None, -1, None)
+            return HalfLineMinimum(lower=None, upper=None, sign=-1, at=None)
     else:
         at_inf = lead if p.degree() == q.degree() else fmpq(0)
         candidates.append(((at_inf > 0) - (at_inf < 0), None))
     sign = min(s for s, _ in candidates)
     if sign == 0:  # the infimum is exactly 0, attained where p vanishes (or at infinity)
         where = next(c for s, c in candidates if s == 0)
-        return HalfLineMinimum(fmpq(0), fmpq(0), 0, where)
+        return HalfLineMinimum(lower=fmpq(0), upper=fmpq(0), sign=0, at=where)
     best: tuple[fmpq, fmpq, HalfLinePoint | None] | None = None
     lows = []
     for s, cand in candidates:
@@ -251,4 +253,4 @@ def minimum_on_half_line(
             best = (lo, hi, at)
     assert best is not None
     lower, upper = min(lows), best[1]
-    return HalfLineMinimum(lower, upper, sign, best[2])
+    return HalfLineMinimum(lower=lower, upper=upper, sign=sign, at=best[2])

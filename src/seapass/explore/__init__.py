@@ -8,7 +8,7 @@ field by field), [`panels`][seapass.explore.panels] (one pure function per panel
 process) and [`server`][seapass.explore.server] (the Starlette app on 127.0.0.1, needs the
 ``explore`` extra), with the page, its script and style sheet in ``static/``.
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact],
+May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact],
 [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis],
 [`seapass.sim`][seapass.sim], [`seapass.batch`][seapass.batch],
 [`seapass.sampled`][seapass.sampled]; starlette and uvicorn in `server` only.
@@ -17,6 +17,7 @@ May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact]
 from .panels import KINDS, compute
 from .pool import PanelPool
 from .presets import presets
-from .state import ExploreState, StateCheck, check_state
+from .state import ExploreState
+from .validation import StateCheck, check_state
 
 __all__ = ["KINDS", "ExploreState", "PanelPool", "StateCheck", "check_state", "compute", "presets"]

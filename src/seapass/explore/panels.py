@@ -29,6 +29,7 @@ from ..batch import batch_is_passive
 from ..errors import SeapassError
 from ..exact import poly as ep
 from ..exact.axis import real_part_polynomial
+from ..exact.rounding import inward_text
 from ..sampled import sampled_passivity
 from ..sim.metrics import tracking_metrics
 from ..sim.scenarios import Step
@@ -79,19 +80,14 @@ def _verdict(state: ExploreState) -> dict[str, Any]:
 
 
 def _sampled(state: ExploreState) -> dict[str, Any]:
-    if state.period is None:
+    loop = state.loop
+    if loop is None:
         return {"analysed": False, "detail": "no control period set: continuous control only"}
-    r = sampled_passivity(
-        state.sea(),
-        period=state.period,
-        delay=state.delay,
-        velocity_filter=state.velocity_filter,
-    )
+    r = sampled_passivity(state.sea(), loop=loop)
     return {
         "analysed": True,
         "passive": r.passive,
-        "status": ("passive" if r.passive else "not passive")
-        + (" (marginal)" if r.marginal else ""),
+        "status": r.outcome.label,
         "reason": r.reason,
         "detail": r.detail,
         "omega": r.omega,
@@ -111,6 +107,8 @@ def _interval(state: ExploreState) -> dict[str, Any]:
         "hi": hi,
         "scale": slider_scale(lo, hi),
         "intervals": [list(iv) for iv in r.intervals],
+        # the ends as text, rounded inward: every number shown is passive (issue 20)
+        "shown": [list(inward_text(a, b, 6)) for a, b in r.intervals],
         "critical_values": list(r.critical_values),
     }
 

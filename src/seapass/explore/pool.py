@@ -21,7 +21,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from .panels import REGION_RESOLUTIONS, compute, error_message
-from .state import check_state
+from .validation import check_state
 
 __all__ = ["AFFINITY", "PanelPool", "run_panel"]
 
@@ -108,7 +108,7 @@ class _Worker:
             self._proc.join(timeout=5)
         self._proc = self._conn = None
 
-    def call(self, job: tuple[str, Any, Any], timeout: float) -> dict[str, Any]:
+    def call(self, job: tuple[str, Any, Any], timeout: float | None) -> dict[str, Any]:
         """Run one job (blocking; one at a time per worker)."""
         with self._lock:
             if self._proc is None or not self._proc.is_alive():
@@ -138,13 +138,16 @@ class PanelPool:
     workers : int
         Worker processes (slots beyond this share workers); 0 computes in the
         calling thread (no time limit, for tests).
-    timeout : float
-        Seconds one panel may take before its worker is killed.
+    timeout : float or None
+        Seconds one panel may take before its worker is killed (``None``: no limit,
+        for tests, whose outcome must not depend on how busy the machine is).
     memory_limit : int
         Address-space limit of each worker in bytes (0: none).
     """
 
-    def __init__(self, workers: int = SLOTS, *, timeout: float = 60.0, memory_limit: int = 4 << 30):
+    def __init__(
+        self, workers: int = SLOTS, *, timeout: float | None = 60.0, memory_limit: int = 4 << 30
+    ):
         if workers < 0:
             raise ValueError(f"workers must be >= 0, got {workers}")
         self.timeout = timeout

@@ -12,16 +12,25 @@ import sys
 import threading
 import time
 from dataclasses import dataclass, field
+from enum import StrEnum
 from pathlib import Path
 from typing import Any
 
 from ..files.atomic import atomic_write_text
 
-__all__ = ["ReportJob", "ReportJobs"]
+__all__ = ["JobStatus", "ReportJob", "ReportJobs"]
 
 #: How long one ``analyze`` run may take.
 REPORT_TIMEOUT = 1800.0
 _LAUNCH = "import sys; from seapass.cli import main; sys.exit(main(sys.argv[1:]))"
+
+
+class JobStatus(StrEnum):
+    """Where an ``analyze`` run of the explorer is (the JSON value is the string)."""
+
+    RUNNING = "running"
+    DONE = "done"
+    FAILED = "failed"
 
 
 @dataclass
@@ -32,7 +41,7 @@ class ReportJob:
     name: str
     directory: Path
     quick: bool
-    status: str = "running"  # running, done, failed
+    status: JobStatus = JobStatus.RUNNING
     returncode: int | None = None
     started: float = field(default_factory=time.monotonic)
     seconds: float | None = None
@@ -74,7 +83,7 @@ class ReportJobs:
     def start(self, name: str, toml_text: str, *, quick: bool) -> ReportJob:
         """Write the design file and start ``analyze`` on it (raises RuntimeError when busy)."""
         with self._lock:
-            if any(j.status == "running" for j in self._jobs.values()):
+            if any(j.status is JobStatus.RUNNING for j in self._jobs.values()):
                 raise RuntimeError("a report is already running; wait for it to finish")
             job_id = max(self._jobs, default=0) + 1
             directory = self.base / f"{job_id:03d}-{name}"
@@ -112,9 +121,8 @@ class ReportJobs:
         job.returncode = rc
         job.seconds = time.monotonic() - job.started
         # analyze exits 1 when a stage failed but the report was written
-        job.status = (
-            "done" if rc in (0, 1) and (job.report_dir / "report.html").is_file() else "failed"
-        )
+        done = rc in (0, 1) and (job.report_dir / "report.html").is_file()
+        job.status = JobStatus.DONE if done else JobStatus.FAILED
 
     def get(self, job_id: int) -> ReportJob | None:
         return self._jobs.get(job_id)

@@ -38,7 +38,7 @@ from typing import Any
 from starlette.applications import Starlette
 from starlette.middleware import Middleware
 from starlette.middleware.trustedhost import TrustedHostMiddleware
-from starlette.requests import Request
+from starlette.requests import ClientDisconnect, Request
 from starlette.responses import FileResponse, JSONResponse, Response, StreamingResponse
 from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
@@ -47,7 +47,7 @@ from .panels import KINDS, REGION_CHUNK, REGION_RESOLUTIONS, check_rows
 from .pool import PanelPool
 from .presets import presets
 from .reports import ReportJobs
-from .state import check_state
+from .validation import check_state
 
 __all__ = ["MAX_BODY", "STATIC", "bind", "create_app", "graphical_session", "serve"]
 
@@ -83,13 +83,20 @@ def _error(message: str, status: int = 400) -> JSONResponse:
 
 
 def _guarded(handler: Callable[[Request], Any]) -> Callable[[Request], Any]:
-    """Every failure becomes a JSON error; the server keeps serving."""
+    """Every failure becomes a JSON error; the server keeps serving.
+
+    A client that goes away in the middle of its request (a closed tab, a
+    superseded panel request) is normal, not an error: nothing is logged.
+    """
 
     async def wrapped(request: Request) -> Response:
         try:
             return await handler(request)
         except _BadRequest as exc:
             return _error(str(exc))
+        except ClientDisconnect:
+            _log.debug("client went away during %s", request.url.path)
+            return Response(status_code=499)  # nobody reads it
         except Exception:  # the server never crashes on a request
             _log.exception("internal error on %s", request.url.path)
             return _error("internal error; the server log has the details", 500)
@@ -179,9 +186,13 @@ def create_app(
         tasks = [asyncio.ensure_future(job(k)) for k in kinds]
 
         async def lines() -> AsyncIterator[bytes]:
-            for done in asyncio.as_completed(tasks):
-                kind, reply = await done
-                yield (json.dumps({"kind": kind, **reply}) + "\n").encode()
+            try:
+                for done in asyncio.as_completed(tasks):
+                    kind, reply = await done
+                    yield (json.dumps({"kind": kind, **reply}) + "\n").encode()
+            finally:  # the client went away: the answers nobody reads are not awaited
+                for t in tasks:
+                    t.cancel()
 
         return StreamingResponse(
             lines(),
@@ -247,11 +258,47 @@ def create_app(
         Route("/reports/{id:int}/{path:path}", _guarded(report_file)),
         Mount("/static", app=StaticFiles(directory=STATIC), name="static"),
     ]
-    middleware = [Middleware(TrustedHostMiddleware, allowed_hosts=["127.0.0.1", "localhost"])]
+    middleware = [
+        Middleware(_QuietDisconnects),
+        Middleware(TrustedHostMiddleware, allowed_hosts=["127.0.0.1", "localhost"]),
+    ]
     app = Starlette(routes=routes, middleware=middleware, lifespan=lifespan)
     app.state.pool = panels
     app.state.reports = reports
     return app
+
+
+class _QuietDisconnects:
+    """ASGI middleware: a client that disconnects while its answer is sent ends the answer.
+
+    A failed write of the server (an `OSError`, which Starlette turns into
+    `ClientDisconnect` for a streamed answer) comes after the handler has
+    returned; without this it would reach the server, which logs a traceback
+    for a normal event.  Other errors pass on.
+    """
+
+    def __init__(self, app: Any) -> None:
+        self.app = app
+
+    async def __call__(self, scope: Any, receive: Any, send: Any) -> None:
+        gone = False
+
+        async def watched_send(message: Any) -> None:
+            nonlocal gone
+            try:
+                await send(message)
+            except OSError:  # the server could not write: the connection is closed
+                gone = True
+                raise
+
+        try:
+            await self.app(scope, receive, watched_send)
+        except ClientDisconnect:
+            _log.debug("client went away during %s", scope.get("path"))
+        except OSError:
+            if not gone:
+                raise
+            _log.debug("client went away during %s", scope.get("path"))
 
 
 def bind(port: int) -> socket.socket:

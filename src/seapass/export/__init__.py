@@ -6,7 +6,8 @@ controller as exact difference equations), [`envelope`][seapass.export.envelope]
 [`deployment`][seapass.export.deployment] (the two together with saturation and
 the delay line: everything decided before a file is written),
 [`c_code`][seapass.export.c_code] (``seapass_ctrl.h`` / ``seapass_ctrl.c`` from
-Jinja2 templates shipped in ``export/templates``) and
+Jinja2 templates shipped in ``export/templates``), [`ctext`][seapass.export.ctext]
+(the one escaping of user text into C: comments, strings, identifiers) and
 [`compiled`][seapass.export.compiled] (compile the generated C with the system
 compiler and run it from Python, against the Python controller or the twin).
 

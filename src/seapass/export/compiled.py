@@ -27,10 +27,12 @@ from numpy.typing import NDArray
 
 from ..errors import CompilerError, ParameterError
 from .c_code import ExportResult
+from .ctext import c_identifier
 from .deployment import Deployment
 
 __all__ = [
     "CFLAGS",
+    "VERIFY_RTOL",
     "CompiledController",
     "VerifyResult",
     "compile_c",
@@ -40,8 +42,20 @@ __all__ = [
 
 #: Flags the generated code must compile cleanly under (plus -fPIC -shared here).
 CFLAGS = ("-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic", "-O2", "-ffp-contract=off")
-_COMPILE_TIMEOUT = 120.0  # s
+_COMPILE_CPU_SECONDS = 120  # CPU time of each compiler process (work, not wall-clock time)
 _MAX_STEPS = 10_000_000
+
+VERIFY_RTOL = 1e-12
+"""Largest relative difference between the compiled C and the Python commands that
+[`verify_c`][seapass.export.compiled.verify_c] accepts (``VerifyResult.ok``)."""
+
+
+def _limit_cpu() -> None:
+    """In the compiler's process: at most `_COMPILE_CPU_SECONDS` of CPU time (a busy
+    machine slows a compile down but never fails it)."""
+    import resource
+
+    resource.setrlimit(resource.RLIMIT_CPU, (_COMPILE_CPU_SECONDS, _COMPILE_CPU_SECONDS + 5))
 
 
 def find_c_compiler() -> str | None:
@@ -77,7 +91,7 @@ void seapass_shim_run(seapass_ctrl_state *s, long n, const double *x_A, const do
 def _shim(dep: Deployment) -> str:
     text = _SHIM
     if dep.set_gains:
-        names = [g.name for g in dep.gains]
+        names = [c_identifier(g.name, "gain name") for g in dep.gains]
         sets = "".join(f"    g.{n} = v[{i}];\n" for i, n in enumerate(names))
         gets = "".join(f"    v[{i}] = s->gains.{n};\n" for i, n in enumerate(names))
         text += (
@@ -230,9 +244,9 @@ def compile_c(
         cmd += [str(export.source), str(shim)]
         try:
             proc = subprocess.run(
-                cmd, capture_output=True, text=True, timeout=_COMPILE_TIMEOUT, check=False
+                cmd, capture_output=True, text=True, check=False, preexec_fn=_limit_cpu
             )
-        except (OSError, subprocess.TimeoutExpired) as exc:
+        except OSError as exc:
             raise CompilerError(f"could not run {cc}: {exc}") from None
         if proc.returncode != 0:
             first = (proc.stderr or proc.stdout).strip().splitlines()[:3]
@@ -241,7 +255,7 @@ def compile_c(
         return CompiledController(lib, export.deployment, period=period)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class VerifyResult:
     """How closely the compiled C follows the Python controller ([`verify_c`][seapass.export.compiled.verify_c]).
 
@@ -256,6 +270,8 @@ class VerifyResult:
         Every command equal bit for bit.
     saturated : int
         Commands the C code clipped at the force limit.
+    rtol : float
+        The largest ``max_rel`` accepted (`VERIFY_RTOL`).
     """
 
     steps: int
@@ -263,6 +279,12 @@ class VerifyResult:
     max_rel: float
     identical: bool
     saturated: int
+    rtol: float = VERIFY_RTOL
+
+    @property
+    def ok(self) -> bool:
+        """The compiled C follows the Python controller within ``rtol``."""
+        return self.max_rel <= self.rtol
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -271,6 +293,8 @@ class VerifyResult:
             "max_rel": self.max_rel,
             "identical": self.identical,
             "saturated": self.saturated,
+            "rtol": self.rtol,
+            "ok": self.ok,
         }
 
 

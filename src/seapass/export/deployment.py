@@ -21,7 +21,9 @@ from typing import Any
 import sympy as sp
 
 from ..errors import NotPassiveError, ParameterError
+from ..files.limits import check_rtol
 from ..model.design_file import Design
+from ..model.loop import LoopAttributes, SampledLoop
 from ..sampled.controllers import DiscreteController, filter_pole
 from .envelope import GainEnvelope, certify_gains, sampled_verdict
 from .realization import FilterSpec, realize
@@ -29,22 +31,20 @@ from .realization import FilterSpec, realize
 __all__ = ["Deployment", "plan_deployment"]
 
 
-@dataclass(frozen=True)
-class Deployment:
+@dataclass(frozen=True, kw_only=True)
+class Deployment(LoopAttributes):
     """The deployed controller of a design with the envelope it was certified for.
 
     Attributes
     ----------
     design : Design
-    period : Fraction
-        Certified sampling period (s), exactly as the analysis used it.
-    delay : int
-        Certified delay (samples) from sampling to applying the command.
+    loop : SampledLoop
+        The certified loop: ``period`` (a Fraction, exactly as the analysis used it),
+        ``delay`` (samples from sampling to applying the command) and ``velocity_filter``
+        (cut-off in Hz of the low-pass on the finite-difference velocity) are its.
     code_delay : int
         Samples of that delay realized by the generated delay line
         (``delay − hardware_delay``).
-    velocity_filter : float or None
-        Cutoff (Hz) of the first-order low-pass on the finite-difference velocity.
     velocity_pole : Fraction
         Its pole ``exp(−2π f_c T)`` as the controller uses it (0 = no filter).
     force_limit : float
@@ -62,10 +62,8 @@ class Deployment:
     """
 
     design: Design
-    period: Fraction
-    delay: int
+    loop: SampledLoop
     code_delay: int
-    velocity_filter: float | None
     velocity_pole: Fraction
     force_limit: float
     filters: tuple[FilterSpec, ...]
@@ -74,6 +72,11 @@ class Deployment:
     certified: bool
     verdict: str
     notes: tuple[str, ...] = field(default=())
+
+    @property
+    def period(self) -> Fraction:
+        """Certified sampling period (s), exactly as the analysis used it."""
+        return self.loop.exact_period
 
     @property
     def hardware_delay(self) -> int:
@@ -89,9 +92,7 @@ class Deployment:
     def reference_controller(self, gains: Mapping[str, float] | None = None) -> DiscreteController:
         """The Python controller this deployment realizes (at ``gains``, default the certified)."""
         sea = self.design.sea().with_values(**dict(gains or {}))
-        return DiscreteController.from_sea(
-            sea, float(self.period), velocity_filter=self.velocity_filter
-        )
+        return DiscreteController.for_loop(sea, self.loop)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-ready summary (exact values as strings ``"p/q"``)."""
@@ -176,13 +177,14 @@ def plan_deployment(
     NotPassiveError
         When the design is not passive at its sampled rate and ``allow_nonpassive`` is False.
     """
-    if design.period is None:
+    loop = design.loop
+    if loop is None:
         raise ParameterError(
             f"design {design.name!r} has no [control] rate; the exported controller needs its "
             "sampling rate: add [control] rate = 500.0 (Hz) to the design file"
         )
-    period = float(design.period)
-    delay = int(design.control_delay)
+    check_rtol(rtol)  # before the (slow) certification
+    period, delay = loop.period, loop.delay
     if (
         not isinstance(hardware_delay, int)
         or isinstance(hardware_delay, bool)
@@ -209,7 +211,7 @@ def plan_deployment(
         raise ParameterError("tunable gains need set_gains=True")
     filters = realize(design, tunable=names)  # refuses non-affine gains before the slow part
     verdict = sampled_verdict(design)
-    vf = design.velocity_filter
+    vf = loop.velocity_filter
     if not verdict.passive and not allow_nonpassive:
         raise NotPassiveError(
             f"refusing to export {design.name!r}: not passive at {1 / period:g} Hz with delay "
@@ -219,10 +221,8 @@ def plan_deployment(
     envelopes, notes = certify_gains(design, names, rtol=rtol, progress=progress)
     return Deployment(
         design=design,
-        period=Fraction(repr(period)),
-        delay=delay,
+        loop=loop,
         code_delay=delay - hardware_delay,
-        velocity_filter=vf,
         velocity_pole=filter_pole(vf, period),
         force_limit=limit,
         filters=filters,

@@ -22,7 +22,7 @@ from ..sampled.passivity import SampledPassivityResult, sampled_passivity
 __all__ = ["GainEnvelope", "certify_gains", "inward_interval", "sampled_verdict"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class GainEnvelope:
     """Certified range of one controller gain.
 
@@ -75,11 +75,9 @@ def _certified_interval(
     res = sampled_passive_bound(
         design.sea().with_values(**{gain: None}),
         gain,
-        period=float(design.period or 0.0),
+        loop=design.loop,
         lo=lo,
         hi=hi,
-        delay=design.control_delay,
-        velocity_filter=design.velocity_filter,
         rtol=rtol,
         design_value=float(design.values[gain]),
         progress=progress,
@@ -92,13 +90,8 @@ def _certified_interval(
 
 
 def sampled_verdict(design: Design) -> SampledPassivityResult:
-    """Sampled-data passivity of ``design`` at its own period, delay and velocity filter."""
-    return sampled_passivity(
-        design.sea(),
-        period=float(design.period or 0.0),
-        delay=design.control_delay,
-        velocity_filter=design.velocity_filter,
-    )
+    """Sampled-data passivity of ``design`` in its own loop (``[control]``)."""
+    return sampled_passivity(design.sea(), loop=design.loop)
 
 
 def certify_gains(
@@ -132,6 +125,13 @@ def certify_gains(
                 exact = iv
         low, high = inward_interval(*exact)
         envelopes.append(
-            GainEnvelope(g, nominal, min(low, nominal), max(high, nominal), exact, search)
+            GainEnvelope(
+                name=g,
+                nominal=nominal,
+                low=min(low, nominal),
+                high=max(high, nominal),
+                exact=exact,
+                search=search,
+            )
         )
     return tuple(envelopes), tuple(notes)

@@ -29,6 +29,7 @@ import sympy as sp
 from ..errors import ParameterError
 from ..model.design_file import Design
 from ..model.expr import symbol
+from ..model.loop import SampledLoop
 from ..sampled.controllers import DiscreteController, DiscreteTF, discretize
 
 __all__ = ["SIGNALS", "FilterSpec", "realize"]
@@ -92,9 +93,7 @@ def _affine_parts(expr: sp.Expr, tunable: Sequence[str], side: str) -> list[tupl
     return parts
 
 
-def _tunable_filters(
-    design: Design, tunable: Sequence[str], period: float, vf: float | None
-) -> list[FilterSpec]:
+def _tunable_filters(design: Design, tunable: Sequence[str], loop: SampledLoop) -> list[FilterSpec]:
     sea = design.sea()
     fixed = {k: v for k, v in design.values.items() if k not in tunable}
     out: list[FilterSpec] = []
@@ -102,7 +101,10 @@ def _tunable_filters(
         for gain, part in _affine_parts(sp.sympify(expr), tunable, side):
             if part == 0:
                 continue
-            paths = discretize(part, period, velocity_filter=vf, values=fixed, split=True)
+            paths = discretize(
+                part, loop.period, method=loop.method, velocity_filter=loop.velocity_filter,
+                values=fixed, split=True,
+            )  # fmt: skip
             assert isinstance(paths, tuple)  # split=True
             signals: tuple[Signal, Signal] = (
                 ("error_A", "measurement_A") if side == "A" else ("error_L", "measurement_L")
@@ -135,7 +137,7 @@ def realize(
     Parameters
     ----------
     design : Design
-        Needs a ``[control] rate``; its ``velocity_filter`` is used.
+        Needs a ``[control] rate``; its loop's velocity filter and discretization are used.
     tunable : sequence of str
         Gains that scale filter outputs at runtime (empty: the Python
         controller's own four filters).
@@ -147,12 +149,11 @@ def realize(
     ParameterError
         When a tunable gain does not enter ``C_A`` or ``C_L`` affinely.
     """
-    if design.period is None:
+    if design.loop is None:
         raise ParameterError(f"design {design.name!r} has no [control] rate")
-    period, vf = float(design.period), design.velocity_filter
-    ctrl = controller or DiscreteController.from_sea(design.sea(), period, velocity_filter=vf)
+    ctrl = controller or DiscreteController.for_loop(design.sea(), design.loop)
     if not tunable:
         return tuple(_fixed_filters(ctrl))
-    filters = _tunable_filters(design, tunable, period, vf)
+    filters = _tunable_filters(design, tunable, design.loop)
     _check_realization(filters, ctrl, design.values)
     return tuple(filters)

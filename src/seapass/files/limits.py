@@ -22,6 +22,10 @@ __all__ = [
     "MAX_DELAY_SECONDS",
     "MAX_DESCRIPTION_CHARS",
     "MAX_DESIGNS",
+    "MAX_EXACT_BITS",
+    "MAX_EXACT_DEGREE",
+    "MAX_EXACT_TERMS",
+    "MAX_EXACT_WORK",
     "MAX_EXPONENT",
     "MAX_EXPRESSION_LENGTH",
     "MAX_FREQUENCY_POINTS",
@@ -29,6 +33,8 @@ __all__ = [
     "MAX_KD_GAINS",
     "MAX_KD_GAINS_CLI",
     "MAX_LIST_LENGTH",
+    "MAX_LOG_BYTES",
+    "MAX_LOG_ROWS",
     "MAX_MODEL_DEGREE",
     "MAX_MODEL_TERMS",
     "MAX_NAME_CHARS",
@@ -36,7 +42,9 @@ __all__ = [
     "MAX_REGION_COLUMNS",
     "MAX_RIG_INTEGRATOR_STEPS",
     "MAX_RIG_SAMPLES",
+    "MAX_RTOL",
     "MAX_SIM_STEPS",
+    "MAX_SWEEP_MANIFEST_BYTES",
     "MAX_S_DEGREE",
     "MAX_TERMS",
     "MAX_TEXT_FILE_BYTES",
@@ -48,6 +56,7 @@ __all__ = [
     "MIN_RTOL",
     "SYMBOLIC_TIME_LIMIT",
     "check_count",
+    "check_rtol",
 ]
 
 # --------------------------------------------------------------------------- files
@@ -63,6 +72,16 @@ MAX_TRAJECTORY_BYTES = 64 << 20
 
 MAX_TRAJECTORY_SAMPLES = 1_000_000
 """Samples (rows) of a reference trajectory."""
+
+MAX_LOG_BYTES = 256 << 20
+"""A logged rig run (``rig fit LOG.csv``): 256 MiB, read as a stream (memory grows with the
+rows kept, 32 bytes each, not with the file)."""
+
+MAX_LOG_ROWS = 2_000_000
+"""Samples (rows) of a logged rig run (over an hour at 500 Hz)."""
+
+MAX_SWEEP_MANIFEST_BYTES = 64 << 20
+"""A sweep's ``_manifest.json`` (its journal of finished chunks; a real one is a few kB)."""
 
 # --------------------------------------------------------------------------- text fields
 
@@ -134,7 +153,11 @@ MAX_DELAY_GAINS = 200
 """Gains evaluated by one (gain, delay) region or edge search (each a certified delay margin)."""
 
 MIN_RTOL = 1e-12
-"""Smallest relative tolerance of a bisection (``sampled bound --rtol``); 0 never ends."""
+"""Smallest relative width of a certified edge enclosure (``rtol`` of
+[`sampled_passive_bound`][seapass.sampled.bound.sampled_passive_bound]); 0 never ends."""
+
+MAX_RTOL = 1e-2
+"""Largest relative width of a certified edge enclosure (a coarser edge says little)."""
 
 # --------------------------------------------------------------------------- expressions
 
@@ -169,8 +192,34 @@ C_L ∈ {0, kd, kd + bd s}: at most 24 terms; a cascaded torque/velocity-loop im
 controller on a damped spring: 36; filtered PD and PID on both sides with a spring-damper to
 ground: 96)."""
 
+# ------------------------------------------------ the exact path (no sympy), checked per operation
+
+MAX_EXACT_DEGREE = 48
+"""Degree in any one variable (``s`` or a parameter) of a polynomial the exact path forms
+(`seapass.model.rational`: parsing an element, deriving ``Z_L``), checked before each product.
+Numbers do not count: a PID force loop with a filtered derivative inside an impedance loop
+has ``Z_L`` of degree 6 over 5 in ``s``."""
+
+MAX_EXACT_TERMS = 5000
+"""Terms of one polynomial of the exact path, in ``s`` and every parameter.  The exact path
+keeps the parameters as variables so that cancellations are decided for every value (a
+factor that cancels only at the given values is a hidden mode); numbers are coefficients
+and cost nothing here.  Real designs are far below it: the 72 standard structures need at
+most 24 terms, the PID-in-impedance cascade 55, and flint derives either in about a
+millisecond."""
+
+MAX_EXACT_WORK = 250_000
+"""Term products of one polynomial multiplication of the exact path (``terms(a) ×
+terms(b)``), checked before multiplying: bounds the time of each operation (milliseconds)."""
+
+MAX_EXACT_BITS = 20_000
+"""Size in bits of the coefficients of one product of the exact path (numerator or
+denominator of a rational coefficient), checked before multiplying: ``1e300`` is a
+997-bit integer, ``(1e300*s + 1)**12`` about 12,000 bits."""
+
 SYMBOLIC_TIME_LIMIT = 20.0
-"""Wall-clock budget [s] of one symbolic derivation (SIGALRM, main thread only)."""
+"""CPU-time budget [s] of one symbolic derivation (``ITIMER_PROF``, main thread only): the
+same input passes or fails whatever else runs on the machine."""
 
 
 def check_count(value: int, limit: int, what: str, hint: str = "") -> int:
@@ -184,3 +233,31 @@ def check_count(value: int, limit: int, what: str, hint: str = "") -> int:
             f"{what}: {value:,} exceeds the limit of {limit:,}" + (f"; {hint}" if hint else "")
         )
     return value
+
+
+def check_rtol(rtol: float) -> float:
+    """Return ``rtol`` if it is a relative edge width in ``[MIN_RTOL, MAX_RTOL]``, else raise.
+
+    The one check of ``rtol`` (sampled bounds and regions, the C export's
+    envelope); the command line shows ``--rtol`` in place of ``rtol``.
+
+    >>> check_rtol(1e-6)
+    1e-06
+    >>> check_rtol(0.0)
+    Traceback (most recent call last):
+    ...
+    seapass.errors.ParameterError: rtol must be in [1e-12, 0.01], the relative width of a certified edge enclosure; got rtol=0.0
+    """
+    if (
+        isinstance(rtol, bool)
+        or not isinstance(rtol, int | float)
+        or not (
+            MIN_RTOL <= rtol <= MAX_RTOL  # False for nan
+        )
+    ):
+        raise ParameterError(
+            f"rtol must be in [{MIN_RTOL:g}, {MAX_RTOL:g}], the relative width of a certified "
+            f"edge enclosure; got rtol={rtol!r}",
+            argument="rtol",
+        )
+    return float(rtol)

@@ -23,7 +23,6 @@ import sympy as sp
 
 from ..errors import SymbolicLimitError
 from ..files.limits import MAX_S_DEGREE, MAX_TERMS, SYMBOLIC_TIME_LIMIT
-from .delayatom import Delay
 
 __all__ = [
     "TERM_CAP",
@@ -81,6 +80,8 @@ def fraction_size(expr: sp.Expr) -> FractionSize:
     >>> fraction_size(parse_expression("kd + ki/s"))
     FractionSize(num_degree=1, den_degree=1, num_terms=2, den_terms=1)
     """
+
+    from .symbolic import Delay  # loaded by now: symbolic imports this module
 
     def walk(e: sp.Basic) -> tuple[int, int, int, int]:  # deg N, deg D, terms N, terms D
         if e == _S:
@@ -144,18 +145,19 @@ def check_symbolic_size(expr: sp.Expr, what: str = "expression") -> None:
 def symbolic_time_limit(
     seconds: float = SYMBOLIC_TIME_LIMIT, what: str = "symbolic derivation"
 ) -> Iterator[None]:
-    """Raise `SymbolicLimitError` if the block runs longer than ``seconds``.
+    """Raise `SymbolicLimitError` if the block computes longer than ``seconds`` of CPU time.
 
-    Uses ``SIGALRM`` and is therefore active only in the main thread of a
-    process whose real-time interval timer is unused; elsewhere (worker
-    threads, dask workers) the size budget of `check_symbolic_size`
-    is the only guard.
+    CPU time, not wall-clock time: the same input is accepted or refused however busy
+    the machine is.  Uses ``ITIMER_PROF``/``SIGPROF`` and is therefore active only in
+    the main thread of a process whose profiling interval timer is unused; elsewhere
+    (worker threads, dask workers, inside another CPU budget) the size budget of
+    `check_symbolic_size` is the only guard.
     """
     usable = (
         hasattr(signal, "setitimer")
         and threading.current_thread() is threading.main_thread()
-        and signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
-        and signal.getsignal(signal.SIGALRM) in (signal.SIG_DFL, None)
+        and signal.getitimer(signal.ITIMER_PROF) == (0.0, 0.0)
+        and signal.getsignal(signal.SIGPROF) in (signal.SIG_DFL, None)
     )
     if not usable:
         yield
@@ -163,13 +165,13 @@ def symbolic_time_limit(
 
     def _expired(signum: int, frame: object) -> None:
         raise SymbolicLimitError(
-            f"{what} exceeded its time budget of {seconds:g} s: simplify the model"
+            f"{what} exceeded its time budget of {seconds:g} s of CPU time: simplify the model"
         )
 
-    old = signal.signal(signal.SIGALRM, _expired)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    old = signal.signal(signal.SIGPROF, _expired)
+    signal.setitimer(signal.ITIMER_PROF, seconds)
     try:
         yield
     finally:
-        signal.setitimer(signal.ITIMER_REAL, 0.0)
-        signal.signal(signal.SIGALRM, old)
+        signal.setitimer(signal.ITIMER_PROF, 0.0)
+        signal.signal(signal.SIGPROF, old)

@@ -1,106 +1,125 @@
 """The one transcendental atom the parser accepts: a pure delay ``exp(-NAME*s)``.
 
-A delay factor ``e^{-sτ}`` with ``τ`` a parameter (seconds) is parsed into
-``Delay(tau)``, a sympy function application of the delay parameter.  For every
-rational-function tool above it is a constant generator ``E`` (it does not contain
-``s``), so a model with a delay is a rational function of ``s`` and ``E`` and
-the free-body derivation is unchanged; the delay parameter stays a parameter of the
-model (``SEA.parameters`` lists it and ``values`` gives it).  What a delay *means*
-(``E = e^{-sτ}`` on the imaginary axis, in the characteristic equation) is decided in
-[`seapass.delay`][seapass.delay], never here.
+A delay factor ``e^{-sτ}`` with ``τ`` a parameter (seconds) is a call node of the
+checked tree (`delay_call` validates it).  Every algebra of
+[`seapass.model.expr`][seapass.model.expr] folds it with its ``delay`` operation:
+
+- the exact algebra ([`seapass.model.rational`][seapass.model.rational]) makes it the
+  variable ``_E_tau`` (`delay_variable`; a leading underscore is never a user's name), a
+  constant generator for every rational-function tool, so a model with a delay is a
+  rational function of ``s`` and ``E`` and the free-body derivation is unchanged;
+- the sympy algebra makes it ``Delay(tau)``
+  ([`seapass.model.symbolic`][seapass.model.symbolic]).
+
+The delay parameter stays a parameter of the model (``SEA.parameters`` lists it and
+``values`` gives it).  What a delay *means* (``E = e^{-sτ}`` on the imaginary axis, in
+the characteristic equation) is decided in [`seapass.delay`][seapass.delay], never here.
+Substituting values into a polynomial that still holds ``E``
+([`seapass.model.rational.univariate`][seapass.model.rational.univariate]) raises
+[`DelayError`][seapass.errors.DelayError]: a rational analysis never sees a delay as a
+number.
 
 Accepted spellings: ``exp(-tau*s)``, ``exp(-s*tau)``, ``exp(-(tau*s))`` and a positive
-whole multiple ``exp(-2*tau*s)`` (``= Delay(tau)**2``).  Anything else with ``exp`` (or
-any other call) is refused with the parser's usual function-call message.
+whole multiple ``exp(-2*tau*s)`` (``= E**2``).  Anything else with ``exp`` (or any other
+call) is refused with the parser's usual function-call message.  This module imports
+neither sympy nor the model classes.
 
 Examples
 --------
->>> from seapass.model.expr import parse_expression
->>> z = parse_expression("kd*exp(-tau*s)", ["kd", "tau"])
->>> z
-kd*exp(-tau*s)
->>> delay_names(z)
-('tau',)
->>> parse_expression("exp(-2*tau*s)", ["tau"]) == Delay(symbol("tau")) ** 2
-True
+>>> import ast
+>>> delay_call(ast.parse("exp(-2*tau*s)", mode="eval").body, frozenset({"tau"}), "")
+('tau', 2)
+>>> delay_variable("tau"), delay_of_variable("_E_tau"), delay_of_variable("tau")
+('_E_tau', 'tau', None)
 """
 
 from __future__ import annotations
 
 import ast
+from collections.abc import Iterable
 from typing import Any
 
-import sympy as sp
-
-from ..errors import ExpressionError
+from ..errors import DelayError, ExpressionError, did_you_mean
 from ..files.limits import MAX_DELAY_MULTIPLE
 
 __all__ = [
     "DELAY_HINT",
-    "Delay",
+    "DELAY_PREFIX",
+    "call_names",
     "check_one_delay",
-    "delay_atoms",
-    "delay_factor",
-    "delay_names",
-    "delay_text",
-    "has_delay",
-    "symbol",
+    "delay_call",
+    "delay_of_variable",
+    "delay_refusal",
+    "delay_variable",
+    "model_delays",
+    "tree_delays",
 ]
 
 DELAY_HINT = "the one function allowed is a delay exp(-NAME*s) with NAME a parameter in seconds"
 
-
-def symbol(name: str) -> sp.Symbol:
-    """The positive real parameter symbol (the same as `seapass.model.expr.symbol`)."""
-    return sp.Symbol(name, positive=True)
+DELAY_PREFIX = "_E_"
+"""Prefix of the exact variable ``E = e^{-s·NAME}`` (never a user's name: it starts with ``_``)."""
 
 
-class Delay(sp.Function):
-    """``e^{-s·τ}`` of the delay parameter ``τ`` (``Delay(tau)``); printed ``exp(-tau*s)``."""
-
-    nargs = 1
-
-    def _sympystr(self, printer: Any) -> str:
-        arg = printer._print(self.args[0])
-        if not self.args[0].is_Symbol:
-            arg = f"({arg})"
-        return f"exp(-{arg}*s)"
-
-    def _latex(self, printer: Any) -> str:
-        return rf"e^{{-{printer._print(self.args[0])} s}}"
+def delay_variable(name: str) -> str:
+    """The exact algebra's variable for the delay parameter ``name``."""
+    return DELAY_PREFIX + name
 
 
-def delay_atoms(expr: Any) -> set[sp.Expr]:
-    """The distinct delay applications ``Delay(τ)`` in ``expr``."""
-    if not isinstance(expr, sp.Basic):
-        return set()
-    return set(expr.atoms(Delay))
+def delay_of_variable(variable: str) -> str | None:
+    """The delay parameter of an exact variable ``_E_NAME`` (None for another variable)."""
+    return variable[len(DELAY_PREFIX) :] if variable.startswith(DELAY_PREFIX) else None
 
 
-def has_delay(expr: Any) -> bool:
-    """True if ``expr`` contains a delay factor."""
-    return bool(delay_atoms(expr))
+def delay_refusal(name: str) -> DelayError:
+    """The error of a rational analysis given a model with the delay ``exp(-name*s)``."""
+    return DelayError(
+        f"a delay exp(-{name}*s) in the model: this rational analysis does not apply to a "
+        "delayed design; seapass.is_passive, seapass.delay_margin and the commands "
+        "'seapass check' and 'seapass delay-margin' decide delayed designs"
+    )
 
 
-def delay_text(expr: Any) -> str:
-    """``"a delay exp(-tau*s)"`` for messages (``"no delay"`` without one)."""
-    atoms = sorted(delay_atoms(expr), key=str)
-    if not atoms:
-        return "no delay"
-    return "a delay " + " and ".join(str(a) for a in atoms)
+def model_delays(system: Any) -> tuple[str, ...]:
+    """The delay parameters of an `SEA`, an `Impedance` or a `RatFunc`, sorted.
+
+    Read from the exact forms (no sympy); anything else has none.
+    """
+    names: set[str] = set()
+    if hasattr(system, "exact_elements"):  # an SEA
+        for f in system.exact_elements().values():
+            names |= f.names()
+    elif hasattr(system, "exact") and callable(system.exact):  # an Impedance
+        names |= system.exact().names()
+    elif hasattr(system, "names") and hasattr(system, "num"):  # a RatFunc
+        names |= system.names()
+    return tuple(sorted(d for n in names if (d := delay_of_variable(n)) is not None))
 
 
-def delay_names(expr: Any) -> tuple[str, ...]:
-    """Names of the delay parameters in ``expr``, sorted (numbers shown as text)."""
-    return tuple(sorted(str(a.args[0]) for a in delay_atoms(expr)))
+def tree_delays(tree: ast.AST) -> frozenset[str]:
+    """The delay parameters of a checked tree (the ``NAME`` of each ``exp(-NAME*s)``)."""
+    out = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call):
+            out.add(delay_call(node, None, "")[0])
+    return frozenset(out)
 
 
-def check_one_delay(expr: Any, where: str) -> None:
+def call_names(tree: ast.AST) -> frozenset[str]:
+    """The names used as functions in a tree (``exp``): not parameters."""
+    return frozenset(
+        n.func.id
+        for n in ast.walk(tree)
+        if isinstance(n, ast.Call) and isinstance(n.func, ast.Name)
+    )
+
+
+def check_one_delay(names: Iterable[str], where: str) -> None:
     """Refuse two different delays (``exp(-tau*s)`` and ``exp(-tau2*s)``) in one model.
 
     Powers of one delay (``exp(-2*tau*s)``) are fine: they are one delay, commensurate.
     """
-    names = delay_names(expr)
+    names = sorted(set(names))
     if len(names) > 1:
         raise ExpressionError(
             f"{where}: two different delays ({', '.join(names)}); seapass supports one delay "
@@ -126,10 +145,11 @@ def _factors(node: ast.AST, sign: int, out: list[ast.AST]) -> int:
     return sign
 
 
-def delay_factor(node: ast.Call, allowed: set[str], src: str) -> sp.Expr:
-    """The delay atom of a call node ``exp(-k*NAME*s)``, or the parser's function-call error.
+def delay_call(node: ast.Call, allowed: frozenset[str] | None, src: str) -> tuple[str, int]:
+    """``(NAME, k)`` of a call node ``exp(-k*NAME*s)``, or the parser's function-call error.
 
-    ``k`` is an optional positive whole number (default 1), ``NAME`` a known parameter.
+    ``k`` is an optional positive whole number (default 1), ``NAME`` a known parameter
+    (any name when ``allowed`` is None: the tree was checked before).
     """
     if not (
         isinstance(node.func, ast.Name)
@@ -163,16 +183,15 @@ def delay_factor(node: ast.Call, allowed: set[str], src: str) -> sp.Expr:
     if multiple > MAX_DELAY_MULTIPLE:
         raise ExpressionError(
             f"delay in {src!r}: the multiple {multiple} exceeds the limit of "
-            f"{MAX_DELAY_MULTIPLE}; give the longer delay its own value instead"
+            f"{MAX_DELAY_MULTIPLE}; "
+            "give the longer delay its own value instead"
         )
     name = params[0]
-    if name not in allowed:
-        from ..errors import did_you_mean
-
+    if allowed is not None and name not in allowed:
         known = ", ".join(sorted(allowed)) or "none"
         raise ExpressionError(
             f"unknown symbol {name!r} in {src!r}{did_you_mean(name, allowed)}: known symbols "
             f"are s, {known}; a delay parameter needs a value in seconds, "
             f"e.g. values={{{name!r}: 0.001}}"
         )
-    return Delay(symbol(name)) ** multiple
+    return name, multiple

@@ -34,9 +34,10 @@ Format (every section but ``[model]`` and ``[parameters]`` is optional)::
     stiffness = [0.0, 5000.0]           # N/m     (default 0-5000)
 
     [control]                           # sampled-data (digital) controller
-    rate = 500.0                        # Hz
+    rate = 500.0                        # Hz (or period = 0.002, in s)
     delay = 0                           # samples
     velocity_filter = 50.0              # Hz, first-order low-pass on velocity
+    method = "tustin"                   # or "zoh", "backward"
 
     [rig]
     file = "my_rig.toml"                # relative to the design file, or preset = "paper"
@@ -46,13 +47,16 @@ value out of range raises [`FileFormatError`][seapass.errors.FileFormatError] na
 key (e.g. ``parameters.kd``), so a typo never falls back to a default.  Sizes are
 capped at load time (file size, nesting, list lengths, text lengths, delay and
 horizon: see [`seapass.files.limits`][seapass.files.limits]); the sampling rate
-is 1 Hz to 1 MHz.
+is 1 Hz to 1 MHz and the velocity filter stays below the Nyquist frequency (the
+``[control]`` table is read by
+[`SampledLoop.from_table`][seapass.model.loop.SampledLoop.from_table], the same
+spelling as a rig file's).  What ``[simulation]`` leaves out comes from the paper's
+experiment, [`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT].
 Expressions go through the safe parser of [`seapass.model.expr`][seapass.model.expr].
 """
 
 from __future__ import annotations
 
-import math
 import os
 import re
 from collections.abc import Mapping
@@ -61,38 +65,35 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
-from ..errors import FileFormatError, SeapassError
+from ..errors import FileFormatError, ParameterError, SeapassError
 from ..files.limits import (
-    MAX_DELAY_SAMPLES,
     MAX_HORIZON,
-    MAX_LIST_LENGTH,
     MAX_NAME_CHARS,
     MAX_TEXT_FILE_BYTES,
     MAX_TITLE_CHARS,
 )
+from ..files.schema import Field, check_table, check_value
 from ..files.textfile import check_input_file
 from ..files.toml import load_toml_file
+from .catalog import CATALOG, CatalogDesign
+from .catalog import design as catalog_design
 from .display import html_card, short_repr
+from .experiment import PAPER_EXPERIMENT
+from .loop import METHODS, LoopAttributes, SampledLoop
 from .sea import SEA
 
-__all__ = ["Design", "load_design", "parse_design"]
+__all__ = ["DESIGN_FIELDS", "Design", "load_design", "load_design_or_catalog", "parse_design"]
 
-_TOP = ("name", "title", "model", "parameters", "ranges", "simulation", "environment", "control",
-        "rig")  # fmt: skip
 _ENVIRONMENT = ("mass", "damping", "stiffness")
 _MODEL = ("D1", "D2", "CA", "CL")
-_SIM = ("load_masses", "step", "horizon", "tune_mass")
-_CONTROL = ("rate", "delay", "velocity_filter")
-_RIG = ("file", "preset")
 _NAME = re.compile(rf"^[A-Za-z0-9_.-]{{1,{MAX_NAME_CHARS}}}$")
-_PARAM = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,31}$")
-_RATE = (1.0, 1e6)  # Hz: sampling rate and velocity-filter cut-off
+_PARAM = r"(?!(?:s|w|I|E|pi|oo)$)[A-Za-z][A-Za-z0-9_]{0,31}"  # s, w, I, E, pi, oo are taken
 _MAX_MASS = 1e6  # kg
 _MAX_STEP = 100.0  # m
 
 
 @dataclass(frozen=True, repr=False)
-class Design:
+class Design(LoopAttributes):
     """A complete SEA design: model, parameter values, ranges and test conditions.
 
     Attributes
@@ -111,12 +112,8 @@ class Design:
         Reference step (m) and simulated time (s).
     tune_mass : float or None
         Load mass (kg) the gains are tuned at; None means the median load mass.
-    control_rate : float or None
-        Sampling rate (Hz) of the digital controller; None: continuous only.
-    control_delay : int
-        Computational delay (samples).
-    velocity_filter : float or None
-        Cut-off (Hz) of the velocity low-pass.
+    loop : SampledLoop or None
+        The digital controller's loop (``[control]``); None: continuous only.
     rig_file : str or None
         Rig TOML path (resolved against the design file) or ``"paper"``.
     environment : mapping of str to (float, float)
@@ -133,13 +130,11 @@ class Design:
     CL: str = "0"
     title: str = ""
     ranges: Mapping[str, tuple[float, float]] = field(default_factory=dict)
-    load_masses: tuple[float, ...] = (1.0, 10.0, 25.0)
-    step: float = 0.5
-    horizon: float = 10.0
+    load_masses: tuple[float, ...] = PAPER_EXPERIMENT.load_masses
+    step: float = PAPER_EXPERIMENT.step
+    horizon: float = PAPER_EXPERIMENT.horizon
     tune_mass: float | None = None
-    control_rate: float | None = None
-    control_delay: int = 0
-    velocity_filter: float | None = None
+    loop: SampledLoop | None = None
     rig_file: str | None = None
     environment: Mapping[str, tuple[float, float]] = field(default_factory=dict)
 
@@ -148,7 +143,7 @@ class Design:
             raise FileFormatError(
                 f"name: {self.name!r} must be 1-64 letters, digits, '-', '_' or '.'"
             )
-        _text(self.title, "title", MAX_TITLE_CHARS)
+        check_value("title", DESIGN_FIELDS["title"], self.title)
         object.__setattr__(self, "values", MappingProxyType(dict(self.values)))
         object.__setattr__(
             self, "ranges", MappingProxyType({k: tuple(v) for k, v in self.ranges.items()})
@@ -157,6 +152,8 @@ class Design:
             self, "environment",
             MappingProxyType({k: tuple(v) for k, v in self.environment.items()}),
         )  # fmt: skip
+        if self.loop is not None and not isinstance(self.loop, SampledLoop):
+            raise FileFormatError(f"loop: expected a SampledLoop, got {type(self.loop).__name__}")
         for key in ("m", "b"):
             if key not in self.values:
                 raise FileFormatError(f"missing parameters.{key} (actuator mass / damping)")
@@ -195,8 +192,8 @@ class Design:
         rows: list[tuple[str, Any]] = [(k, getattr(self, k)) for k in ("D1", "D2", "CA", "CL")]
         rows += list(self.values.items())
         rows += [(f"range of {k}", f"[{lo:g}, {hi:g}]") for k, (lo, hi) in self.ranges.items()]
-        if self.control_rate:
-            rows.append(("control rate", f"{self.control_rate:g} Hz"))
+        if self.loop is not None:
+            rows.append(("control rate", f"{self.loop.rate:g} Hz"))
         return html_card(f"Design {self.name}" + (f": {self.title}" if self.title else ""), rows)
 
     def sea(self) -> SEA:
@@ -220,7 +217,17 @@ class Design:
     @property
     def period(self) -> float | None:
         """Control period (s), or None for a continuous controller."""
-        return None if self.control_rate is None else 1.0 / self.control_rate
+        return None if self.loop is None else self.loop.period
+
+    @property
+    def control_rate(self) -> float | None:
+        """Sampling rate (Hz) of the digital controller, or None (``loop.rate``)."""
+        return None if self.loop is None else self.loop.rate
+
+    @property
+    def control_delay(self) -> int:
+        """Computational delay (samples), 0 without a loop (``loop.delay``)."""
+        return self.delay
 
     @property
     def tuning_mass(self) -> float:
@@ -274,58 +281,51 @@ def _in_file_terms(exc: SeapassError) -> str:
     return f"model: {msg}"
 
 
-def _table(data: Any, key: str) -> dict[str, Any]:
-    if not isinstance(data, dict):
-        raise FileFormatError(f"[{key}] must be a table, got {type(data).__name__}")
-    return data
+_PAIR = Field(tuple)
+_MASS = Field(float, 0.0, _MAX_MASS, lo_open=True)
+_ENVIRONMENT_RANGE = Field(tuple, 0.0, order="<=", required=False)
 
-
-def _unknown(table: Mapping[str, Any], allowed: tuple[str, ...], section: str) -> None:
-    extra = sorted(set(table) - set(allowed))
-    if extra:
-        where = f"{section}.{extra[0]}" if section else extra[0]
-        raise FileFormatError(f"unknown key {where}; allowed: {', '.join(allowed)}")
-
-
-def _number(value: Any, key: str, *, positive: bool = False, nonneg: bool = False) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise FileFormatError(f"{key}: expected a number, got {type(value).__name__} {value!r}")
-    v = float(value)
-    if not math.isfinite(v):
-        raise FileFormatError(f"{key}: must be finite, got {value!r}")
-    if positive and v <= 0:
-        raise FileFormatError(f"{key}: must be positive, got {value!r}")
-    if nonneg and v < 0:
-        raise FileFormatError(f"{key}: must be >= 0, got {value!r}")
-    return v
-
-
-def _string(value: Any, key: str) -> str:
-    if not isinstance(value, str):
-        raise FileFormatError(f"{key}: expected a string, got {type(value).__name__} {value!r}")
-    return value
-
-
-def _text(value: Any, key: str, limit: int) -> str:
-    """A one-line human-readable text of at most ``limit`` characters."""
-    text = _string(value, key)
-    if len(text) > limit:
-        raise FileFormatError(f"{key}: {len(text):,} characters; the limit is {limit}")
-    bad = next((ch for ch in text if not (ch.isprintable() or ch == "\t")), None)
-    if bad is not None:
-        raise FileFormatError(
-            f"{key}: contains the control character U+{ord(bad):04X}; use one line of plain text"
-        )
-    return text
-
-
-def _bounded(value: Any, key: str, lo: float, hi: float, *, open_lo: bool = True) -> float:
-    """A number in ``(lo, hi]`` (or ``[lo, hi]`` with ``open_lo=False``)."""
-    v = _number(value, key)
-    if (v <= lo if open_lo else v < lo) or v > hi:
-        bracket = "(" if open_lo else "["
-        raise FileFormatError(f"{key}: {value!r} is out of range {bracket}{lo:g}, {hi:g}]")
-    return v
+DESIGN_FIELDS: dict[str, Field] = {
+    "name": Field(str),
+    "title": Field(str, hi=MAX_TITLE_CHARS, line=True, required=False),
+    "model": Field(dict, fields={k: Field(str, required=False) for k in _MODEL}),
+    "parameters": Field(dict, keys=_PARAM, item=Field(float)),
+    "ranges": Field(dict, keys=_PARAM, item=_PAIR, required=False),
+    "simulation": Field(
+        dict,
+        required=False,
+        fields={
+            "load_masses": Field(list, 0.0, _MAX_MASS, lo_open=True, min_items=1, required=False),
+            "step": Field(float, -_MAX_STEP, _MAX_STEP, nonzero=True, required=False),
+            "horizon": Field(float, 0.0, MAX_HORIZON, lo_open=True, required=False),
+            "tune_mass": Field(float, 0.0, _MAX_MASS, lo_open=True, required=False),
+        },
+    ),
+    "environment": Field(
+        dict, required=False, fields=dict.fromkeys(_ENVIRONMENT, _ENVIRONMENT_RANGE)
+    ),
+    # the loop's own checks (SampledLoop.from_table) give the ranges and their messages
+    "control": Field(
+        dict,
+        required=False,
+        fields={
+            "rate": Field(float, required=False),
+            "period": Field(float, required=False),
+            "delay": Field(int, required=False),
+            "velocity_filter": Field(float, required=False),
+            "method": Field(str, choices=METHODS, required=False),
+        },
+    ),
+    "rig": Field(
+        dict,
+        required=False,
+        fields={
+            "file": Field(str, required=False),
+            "preset": Field(str, choices=("paper",), required=False),
+        },
+    ),
+}
+"""Every key of a design file, checked by [`check_table`][seapass.files.schema.check_table]."""
 
 
 def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = ".") -> Design:
@@ -343,124 +343,45 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
     FileFormatError
         Naming the key for unknown keys, wrong types, missing fields or bad values.
     """
-    data = _table(data, "design")
-    _unknown(data, _TOP, "")
-    for key in ("name", "model", "parameters"):
-        if key not in data:
-            raise FileFormatError(f"missing required key {key}")
-    kw: dict[str, Any] = {"name": _string(data["name"], "name")}
-    if "title" in data:
-        kw["title"] = _text(data["title"], "title", MAX_TITLE_CHARS)
-    model = _table(data["model"], "model")
-    _unknown(model, _MODEL, "model")
+    doc = check_table(data, DESIGN_FIELDS, what="a design")
+    model = doc["model"]
     if "D1" not in model and "D2" not in model:
         raise FileFormatError('missing model.D1 (the transmission, e.g. "k1 + b1*s")')
+    kw: dict[str, Any] = {k: doc[k] for k in ("name", "title", "ranges", "environment") if k in doc}
     for key in _MODEL:
-        text = _string(model.get(key, "0"), f"model.{key}")
+        text = model.get(key, "0")
         if not text.strip():
             raise FileFormatError(f'model.{key}: empty expression (write "0" for none)')
         kw[key] = text
-    params = _table(data["parameters"], "parameters")
-    values: dict[str, float] = {}
-    for name, v in params.items():
-        if not _PARAM.match(name) or name in ("s", "w", "I", "E", "pi", "oo"):
-            raise FileFormatError(f"parameters.{name}: not a valid parameter name")
-        values[name] = _number(v, f"parameters.{name}")
+    values = doc["parameters"]
     if "m" in values and values["m"] <= 0:
         raise FileFormatError(
             f"parameters.m: the actuator mass must be positive, got {values['m']}"
         )
     kw["values"] = values
-    if "ranges" in data:
-        ranges = {}
-        for name, v in _table(data["ranges"], "ranges").items():
-            key = f"ranges.{name}"
-            if not isinstance(v, list) or len(v) != 2:
-                raise FileFormatError(f"{key}: expected [lo, hi], got {v!r}")
-            ranges[name] = (_number(v[0], f"{key}[0]"), _number(v[1], f"{key}[1]"))
-        kw["ranges"] = ranges
-    if "simulation" in data:
-        sim = _table(data["simulation"], "simulation")
-        _unknown(sim, _SIM, "simulation")
-        if "load_masses" in sim:
-            masses = sim["load_masses"]
-            if not isinstance(masses, list) or not masses:
-                raise FileFormatError("simulation.load_masses: expected a non-empty list of kg")
-            if len(masses) > MAX_LIST_LENGTH:
-                raise FileFormatError(
-                    f"simulation.load_masses: {len(masses):,} masses; the limit is "
-                    f"{MAX_LIST_LENGTH}"
-                )
-            kw["load_masses"] = tuple(
-                _bounded(m, f"simulation.load_masses[{i}]", 0.0, _MAX_MASS)
-                for i, m in enumerate(masses)
-            )
-        if "step" in sim:
-            kw["step"] = _number(sim["step"], "simulation.step")
-            if kw["step"] == 0 or abs(kw["step"]) > _MAX_STEP:
-                raise FileFormatError(
-                    f"simulation.step: {sim['step']!r} m must be nonzero and at most "
-                    f"{_MAX_STEP:g} m in size"
-                )
-        if "horizon" in sim:
-            kw["horizon"] = _bounded(sim["horizon"], "simulation.horizon", 0.0, MAX_HORIZON)
-        if "tune_mass" in sim:
-            kw["tune_mass"] = _bounded(sim["tune_mass"], "simulation.tune_mass", 0.0, _MAX_MASS)
-    if "environment" in data:
-        kw["environment"] = _environment(_table(data["environment"], "environment"))
-    if "control" in data:
-        ctl = _table(data["control"], "control")
-        _unknown(ctl, _CONTROL, "control")
-        if "rate" not in ctl:
-            raise FileFormatError("missing control.rate (the sampling rate in Hz)")
-        kw["control_rate"] = _bounded(ctl["rate"], "control.rate", *_RATE, open_lo=False)
-        if "delay" in ctl:
-            d = ctl["delay"]
-            if isinstance(d, bool) or not isinstance(d, int) or not 0 <= d <= MAX_DELAY_SAMPLES:
-                raise FileFormatError(
-                    f"control.delay: expected an integer from 0 to {MAX_DELAY_SAMPLES} "
-                    f"samples, got {d!r}"
-                )
-            kw["control_delay"] = d
-        if "velocity_filter" in ctl:
-            kw["velocity_filter"] = _bounded(
-                ctl["velocity_filter"], "control.velocity_filter", 0.0, _RATE[1]
-            )
-    if "rig" in data:
-        rig = _table(data["rig"], "rig")
-        _unknown(rig, _RIG, "rig")
-        if ("file" in rig) == ("preset" in rig):
-            raise FileFormatError("rig: give exactly one of rig.file and rig.preset")
-        if "preset" in rig:
-            preset = _string(rig["preset"], "rig.preset")
-            if preset != "paper":
-                raise FileFormatError(f'rig.preset: only "paper" is known, got {preset!r}')
-            kw["rig_file"] = "paper"
-        else:
-            path = Path(_string(rig["file"], "rig.file"))
-            full = path if path.is_absolute() else Path(base_dir) / path
-            try:  # a rig file is read later: refuse a device, a FIFO or a huge file now
-                check_input_file(full, max_bytes=MAX_TEXT_FILE_BYTES, what="rig file")
-            except OSError as exc:
-                raise FileFormatError(f"rig.file: {full}: {exc.strerror}") from None
-            except FileFormatError as exc:
-                raise FileFormatError(f"rig.file: {exc}") from None
-            kw["rig_file"] = str(full)
+    kw.update(doc.get("simulation", {}))
+    if "control" in doc:
+        kw["loop"] = SampledLoop.from_table(doc["control"])
+    if "rig" in doc:
+        kw["rig_file"] = _rig_file(doc["rig"], Path(base_dir))
     return Design(**kw)
 
 
-def _environment(table: Mapping[str, Any]) -> dict[str, tuple[float, float]]:
-    _unknown(table, _ENVIRONMENT, "environment")
-    out = {}
-    for name, v in table.items():
-        key = f"environment.{name}"
-        if not isinstance(v, list) or len(v) != 2:
-            raise FileFormatError(f"{key}: expected [lo, hi], got {v!r}")
-        lo, hi = _number(v[0], f"{key}[0]", nonneg=True), _number(v[1], f"{key}[1]", nonneg=True)
-        if not lo <= hi:
-            raise FileFormatError(f"{key}: need lo <= hi, got [{lo}, {hi}]")
-        out[name] = (lo, hi)
-    return out
+def _rig_file(rig: Mapping[str, str], base_dir: Path) -> str:
+    """``"paper"`` or the checked path of a rig file (read later)."""
+    if ("file" in rig) == ("preset" in rig):
+        raise FileFormatError("rig: give exactly one of rig.file and rig.preset")
+    if "preset" in rig:
+        return "paper"
+    path = Path(rig["file"])
+    full = path if path.is_absolute() else base_dir / path
+    try:  # a rig file is read later: refuse a device, a FIFO or a huge file now
+        check_input_file(full, max_bytes=MAX_TEXT_FILE_BYTES, what="rig file")
+    except OSError as exc:
+        raise FileFormatError(f"rig.file: {full}: {exc.strerror}") from None
+    except FileFormatError as exc:
+        raise FileFormatError(f"rig.file: {exc}") from None
+    return str(full)
 
 
 def load_design(path: str | os.PathLike[str]) -> Design:
@@ -475,3 +396,32 @@ def load_design(path: str | os.PathLike[str]) -> Design:
     """
     p = Path(path)
     return load_toml_file(p, lambda data: parse_design(data, base_dir=p.parent), what="design file")
+
+
+def load_design_or_catalog(name: str | os.PathLike[str]) -> Design | CatalogDesign:
+    """The design a user names: a catalog design (``LP``, ``APD``, ``ours``, any case) or a file.
+
+    A catalog name means the catalog's design unless a file of that name
+    exists; anything else is read as a design file.
+
+    Raises
+    ------
+    ParameterError
+        For a name that is neither (not a catalog name, and no such ``.toml`` file).
+    FileFormatError, OSError
+        As `load_design`.
+
+    Examples
+    --------
+    >>> load_design_or_catalog("apd").key
+    'APD'
+    """
+    path = Path(name)
+    if not path.is_file() and str(name).lower() in {k.lower() for k in CATALOG}:
+        return catalog_design(str(name))
+    if path.suffix != ".toml" and not path.exists():
+        raise ParameterError(
+            f"design {str(name)!r} is neither a design file nor a catalog name "
+            f"({', '.join(CATALOG)})"
+        )
+    return load_design(path)

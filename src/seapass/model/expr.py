@@ -2,51 +2,72 @@
 
 User text is never given to `eval` or to a plain `sympy.sympify`.
 It is parsed by `ast` in ``eval`` mode and every node is checked against a
-whitelist: numeric literals, whitelisted names, ``+ - * /``, unary signs,
-integer powers (``**`` or ``^``) and one delay factor ``exp(-NAME*s)`` (the only
-call allowed; see [`seapass.model.delayatom`][seapass.model.delayatom]).  The sympy
-expression is then built node by node, so no user string ever reaches a code path
-that can execute code.
+whitelist (`parse_tree`): numeric literals, whitelisted names, ``+ - * /``, unary
+signs, integer powers (``**`` or ``^``) and one delay factor ``exp(-NAME*s)`` (the only
+call allowed; see [`seapass.model.delayatom`][seapass.model.delayatom]).  The checked tree is then folded node
+by node by `evaluate`, with one dispatch table from node kinds to the operations of
+an *algebra*, so no user string ever reaches a code path that can execute code.
+Two algebras exist: exact rational functions of ``s`` and the parameters
+(`exact_expression`, [`seapass.model.rational`][seapass.model.rational]; no sympy)
+and sympy expressions (`parse_expression`, for the symbolic analyses; sympy is
+imported on first use).  A new kind of atom is one more entry of the table and one
+more algebra operation, as the delay factor is (``delay``).
 """
 
 from __future__ import annotations
 
 import ast
+import functools
 import math
-import re
-import unicodedata
 import warnings
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from fractions import Fraction
 from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, Generic, Protocol, TypeVar
 
-import sympy as sp
-
-from ..errors import ExpressionError, ParameterError, did_you_mean
+from ..errors import ExpressionError, ParameterError, SymbolicLimitError, did_you_mean
 from ..files.limits import MAX_EXPONENT, MAX_EXPRESSION_LENGTH, MAX_NODES
-from .budget import check_symbolic_size
-from .delayatom import check_one_delay, delay_factor
+from .delayatom import call_names, check_one_delay, delay_call, delay_variable, tree_delays
+from .values import (
+    check_ascii,
+    check_name,
+    finite_number,
+    parse_value,
+    to_fraction,
+    underflows,
+    validate_values,
+)
+
+if TYPE_CHECKING:  # sympy is imported on first use: the numeric path never needs it
+    import sympy as sp
+
+    from .rational import RatFunc
+
+    S: sp.Symbol
+    W: sp.Symbol
 
 __all__ = [
     "STANDARD_SYMBOLS",
     "UNITS",
+    "Algebra",
     "S",
     "W",
     "check_ascii",
     "check_name",
     "check_rational_in_s",
+    "evaluate",
+    "exact_expression",
     "finite_number",
     "parse_assignment",
     "parse_expression",
+    "parse_tree",
     "parse_value",
     "symbol",
     "to_fraction",
+    "tree_names",
     "underflows",
+    "validate_values",
 ]
-
-S = sp.Symbol("s")
-"""Laplace variable and angular frequency."""
-W = sp.Symbol("w", real=True)
 
 STANDARD_SYMBOLS: tuple[str, ...] = ("m", "b", "k1", "k2", "b1", "b2", "kd", "bd", "ki")
 """Parameter names every model may use without declaring them."""
@@ -57,74 +78,48 @@ UNITS: Mapping[str, str] = MappingProxyType(
 )  # fmt: skip
 """SI units of the standard parameters (and of the load mass ``m_L``), for labels."""
 
-# the size budgets live with every other limit, in seapass.files.limits
-_RESERVED = {"s", "w", "I", "E", "pi", "oo", "nan", "zoo"}
+
+def __getattr__(name: str) -> Any:
+    """``S`` and ``W`` (sympy symbols) are made on first use, so importing this is cheap."""
+    if name in ("S", "W"):
+        from . import symbolic
+
+        return getattr(symbolic, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def symbol(name: str) -> sp.Symbol:
     """Return the positive real sympy symbol used for parameter ``name``."""
-    return sp.Symbol(name, positive=True)
+    from .symbolic import symbol as make
+
+    return make(name)
 
 
-def check_ascii(text: str, what: str) -> None:
-    """Refuse non-ASCII input, saying what a lookalike character would have become.
-
-    Python folds ``ｓ`` and ``𝑠`` into ``s`` and reads ``٣`` as 3; seapass does not
-    guess: it names the character and its ASCII look-alike.
-
-    >>> check_ascii("ｓ + 1", "CA")
-    Traceback (most recent call last):
-    ...
-    seapass.errors.ExpressionError: CA: non-ASCII character 'ｓ' (U+FF53 FULLWIDTH LATIN SMALL LETTER S) in 'ｓ + 1'; write 's' instead
-    """
-    bad = next((ch for ch in text if ord(ch) > 127), None)
-    if bad is None:
-        return
-    name = unicodedata.name(bad, "unnamed character")
-    digit = unicodedata.digit(bad, None)
-    folded = str(digit) if digit is not None else unicodedata.normalize("NFKC", bad)
-    hint = (
-        f"; write {folded!r} instead"
-        if folded.isascii() and folded.strip()
-        else "; use plain ASCII letters, digits and operators"
-    )
-    shown = bad if bad.isprintable() else ""
-    where = f"{what}: " if what else ""
-    raise ExpressionError(
-        f"{where}non-ASCII character {shown!r} (U+{ord(bad):04X} {name}) in {text!r}{hint}"
-    )
-
-
-def check_name(name: str) -> None:
-    check_ascii(name, "parameter name")
-    if not name.isidentifier() or name.startswith("_") or name in _RESERVED:
-        raise ExpressionError(
-            f"invalid parameter name {name!r}: use a plain identifier other than "
-            f"{', '.join(sorted(_RESERVED))}"
-        )
-
-
-def parse_expression(text: str, allowed: Iterable[str] = STANDARD_SYMBOLS) -> sp.Expr:
-    """Parse ``text`` into a sympy expression, accepting only whitelisted input.
+def parse_tree(text: str, allowed: Iterable[str] = STANDARD_SYMBOLS) -> ast.expr:
+    """Parse ``text`` and check every node against the whitelist; return the checked tree.
 
     Parameters
     ----------
     text : str
-        Arithmetic in ``s`` and parameter names, e.g. ``"k1 + b1*s"`` or ``"kd + ki/s"``.
+        Arithmetic in ``s`` and parameter names, e.g. ``"k1 + b1*s"``.
     allowed : iterable of str
         Parameter names that may appear (``s`` is always allowed).
-
-    Returns
-    -------
-    sympy.Expr
-        Parameters become positive real symbols, ``s`` is `S`.
 
     Raises
     ------
     ExpressionError
         On syntax errors, unknown names, function calls, attribute access,
         non-integer or huge powers, or over-long input.
+
+    Examples
+    --------
+    >>> ast.dump(parse_tree("kd*s"))
+    "BinOp(left=Name(id='kd', ctx=Load()), op=Mult(), right=Name(id='s', ctx=Load()))"
     """
+    return _checked_tree(_source(text), frozenset(allowed))
+
+
+def _source(text: str) -> str:
     if not isinstance(text, str):
         raise ExpressionError(f"expression must be a string, got {type(text).__name__}")
     src = text.strip()
@@ -134,8 +129,13 @@ def parse_expression(text: str, allowed: Iterable[str] = STANDARD_SYMBOLS) -> sp
         raise ExpressionError(
             f"expression is {len(src)} characters long; the limit is {MAX_EXPRESSION_LENGTH}"
         )
+    return src
+
+
+@functools.lru_cache(maxsize=1024)
+def _checked_tree(src: str, allowed: frozenset[str]) -> ast.expr:
+    """`parse_tree` of stripped text (cached: models are rebuilt often; trees are not mutated)."""
     check_ascii(src, "")
-    allowed_set = set(allowed)
     try:
         with warnings.catch_warnings():
             # e.g. '1inf': a SyntaxWarning would be a second line on stderr; it is an error
@@ -146,71 +146,67 @@ def parse_expression(text: str, allowed: Iterable[str] = STANDARD_SYMBOLS) -> sp
     nodes = sum(1 for _ in ast.walk(tree))
     if nodes > MAX_NODES:
         raise ExpressionError(f"expression {src!r} is too large ({nodes} nodes > {MAX_NODES})")
-    expr = _build(tree.body, allowed_set, src)
-    check_one_delay(expr, src)
-    check_symbolic_size(expr, repr(src))
-    return expr
+    _check(tree.body, allowed, src)
+    check_one_delay(tree_delays(tree.body), repr(src))
+    return tree.body
 
 
-def _build(node: ast.AST, allowed: set[str], src: str) -> sp.Expr:
+def tree_names(tree: ast.AST) -> frozenset[str]:
+    """The parameter names a checked tree uses (``s`` and function names left out)."""
+    names = frozenset(n.id for n in ast.walk(tree) if isinstance(n, ast.Name))
+    return names - call_names(tree) - {"s"}
+
+
+def _check(node: ast.AST, allowed: frozenset[str], src: str) -> None:
+    """Raise `ExpressionError` for the first node (left to right) outside the whitelist."""
     if isinstance(node, ast.Constant):
-        val = node.value
-        if isinstance(val, bool) or not isinstance(val, int | float):
-            raise ExpressionError(f"only numbers are allowed as literals in {src!r}")
-        if isinstance(val, float) and not math.isfinite(val):
-            raise ExpressionError(f"non-finite number in {src!r}")
-        if val == 0 and isinstance(val, float):
-            literal = ast.get_source_segment(src.replace("^", "**"), node) or ""
-            if underflows(literal):
-                raise ExpressionError(
-                    f"the number {literal} in {src!r} is too small for a float (it would "
-                    "become 0); write 0 or a value above 1e-308"
-                )
-        return sp.Rational(Fraction(val)) if isinstance(val, float) else sp.Integer(val)
-    if isinstance(node, ast.Name):
-        if node.id == "s":
-            return S
-        if node.id in allowed:
-            return symbol(node.id)
-        known = ", ".join(sorted(allowed)) or "none"
+        _literal(node, src)
+    elif isinstance(node, ast.Name):
+        if node.id != "s" and node.id not in allowed:
+            known = ", ".join(sorted(allowed)) or "none"
+            raise ExpressionError(
+                f"unknown symbol {node.id!r} in {src!r}{did_you_mean(node.id, allowed)}: known "
+                f"symbols are s, {known}; a new parameter needs a value, "
+                f"e.g. values={{{node.id!r}: 1.0}}"
+            )
+    elif isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.UAdd | ast.USub):
+        _check(node.operand, allowed, src)
+    elif isinstance(node, ast.BinOp) and isinstance(node.op, _BINARY):
+        _check(node.left, allowed, src)
+        if isinstance(node.op, ast.Pow):
+            _integer_exponent(node.right, src)
+        else:
+            _check(node.right, allowed, src)
+    elif isinstance(node, ast.Call):  # the one extension point: a delay exp(-NAME*s)
+        delay_call(node, allowed, src)
+    else:
+        what = type(node).__name__
+        if isinstance(node, ast.Attribute):
+            what = "attribute access"
         raise ExpressionError(
-            f"unknown symbol {node.id!r} in {src!r}{did_you_mean(node.id, allowed)}: known "
-            f"symbols are s, {known}; a new parameter needs a value, "
-            f"e.g. values={{{node.id!r}: 1.0}}"
+            f"{what} is not allowed in {src!r}: use numbers, parameter names, s, + - * / and "
+            "integer powers"
         )
-    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.UAdd | ast.USub):
-        inner = _build(node.operand, allowed, src)
-        return -inner if isinstance(node.op, ast.USub) else inner
-    if isinstance(node, ast.BinOp):
-        op = node.op
-        if isinstance(op, ast.Pow):
-            base = _build(node.left, allowed, src)
-            exponent = _integer_exponent(node.right, src)
-            if exponent < 0 and base == 0:
-                raise ExpressionError(f"division by zero in {src!r}")
-            return base**exponent
-        left = _build(node.left, allowed, src)
-        right = _build(node.right, allowed, src)
-        if isinstance(op, ast.Add):
-            return left + right
-        if isinstance(op, ast.Sub):
-            return left - right
-        if isinstance(op, ast.Mult):
-            return left * right
-        if isinstance(op, ast.Div):
-            # bounded before expanding: sp.simplify here could run for minutes
-            check_symbolic_size(right, repr(src))
-            if right == 0 or sp.expand(sp.numer(sp.together(right))) == 0:
-                raise ExpressionError(f"division by zero in {src!r}")
-            return left / right
-    if isinstance(node, ast.Call):  # the one extension point: a delay exp(-NAME*s)
-        return delay_factor(node, allowed, src)
-    what = type(node).__name__
-    if isinstance(node, ast.Attribute):
-        what = "attribute access"
-    raise ExpressionError(
-        f"{what} is not allowed in {src!r}: use numbers, parameter names, s, + - * / and integer powers"
-    )
+
+
+_BINARY = (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow)
+
+
+def _literal(node: ast.Constant, src: str) -> Fraction:
+    """The exact value of a checked numeric literal (floats convert exactly)."""
+    val = node.value
+    if isinstance(val, bool) or not isinstance(val, int | float):
+        raise ExpressionError(f"only numbers are allowed as literals in {src!r}")
+    if isinstance(val, float) and not math.isfinite(val):
+        raise ExpressionError(f"non-finite number in {src!r}")
+    if val == 0 and isinstance(val, float):
+        literal = ast.get_source_segment(src.replace("^", "**"), node) or ""
+        if underflows(literal):
+            raise ExpressionError(
+                f"the number {literal} in {src!r} is too small for a float (it would "
+                "become 0); write 0 or a value above 1e-308"
+            )
+    return Fraction(val)
 
 
 def _integer_exponent(node: ast.AST, src: str) -> int:
@@ -233,6 +229,176 @@ def _integer_exponent(node: ast.AST, src: str) -> int:
     raise ExpressionError(f"only integer constant powers are allowed in {src!r}")
 
 
+# ---------------------------------------------------------------- folding a checked tree
+
+T = TypeVar("T")
+
+
+class Algebra(Protocol[T]):
+    """What `evaluate` needs to build a value of type ``T`` from a checked tree.
+
+    ``div`` and ``power`` raise ``ZeroDivisionError`` when the divisor is
+    identically zero.
+    """
+
+    def number(self, value: Fraction) -> T: ...
+    def laplace(self) -> T: ...
+    def parameter(self, name: str) -> T: ...
+    def add(self, left: T, right: T) -> T: ...
+    def sub(self, left: T, right: T) -> T: ...
+    def mul(self, left: T, right: T) -> T: ...
+    def div(self, left: T, right: T) -> T: ...
+    def neg(self, operand: T) -> T: ...
+    def power(self, base: T, exponent: int) -> T: ...
+    def delay(self, name: str, multiple: int) -> T: ...
+
+
+class _Fold(Generic[T]):
+    """One fold of a checked tree: the dispatch table from node kinds to algebra operations."""
+
+    def __init__(self, algebra: Algebra[T], src: str) -> None:
+        self.algebra = algebra
+        self.src = src
+        self.rules: dict[type[ast.AST], Callable[[Any], T]] = {
+            ast.Constant: self.constant,
+            ast.Name: self.name,
+            ast.UnaryOp: self.unary,
+            ast.BinOp: self.binary,
+            ast.Call: self.call,
+        }
+
+    def __call__(self, node: ast.AST) -> T:
+        return self.rules[type(node)](node)
+
+    def constant(self, node: ast.Constant) -> T:
+        return self.algebra.number(_literal(node, self.src))
+
+    def name(self, node: ast.Name) -> T:
+        return self.algebra.laplace() if node.id == "s" else self.algebra.parameter(node.id)
+
+    def unary(self, node: ast.UnaryOp) -> T:
+        inner = self(node.operand)
+        return self.algebra.neg(inner) if isinstance(node.op, ast.USub) else inner
+
+    def call(self, node: ast.Call) -> T:
+        return self.algebra.delay(*delay_call(node, None, self.src))
+
+    def binary(self, node: ast.BinOp) -> T:
+        a = self.algebra
+        left = self(node.left)
+        if isinstance(node.op, ast.Pow):
+            return a.power(left, _integer_exponent(node.right, self.src))
+        right = self(node.right)
+        ops: dict[type[ast.operator], Callable[[T, T], T]] = {
+            ast.Add: a.add,
+            ast.Sub: a.sub,
+            ast.Mult: a.mul,
+            ast.Div: a.div,
+        }
+        return ops[type(node.op)](left, right)
+
+
+def evaluate(tree: ast.expr, algebra: Algebra[T], src: str = "") -> T:
+    """Fold a tree checked by `parse_tree` into the algebra's values.
+
+    Raises
+    ------
+    ExpressionError
+        On a division by an expression that is identically zero.
+    """
+    try:
+        return _Fold(algebra, src)(tree)
+    except ZeroDivisionError:
+        raise ExpressionError(f"division by zero in {src!r}") from None
+
+
+def exact_expression(text: str, allowed: Iterable[str] = STANDARD_SYMBOLS) -> RatFunc:
+    """Parse ``text`` straight into an exact rational function (no sympy).
+
+    The variables are ``s`` and the names that occur in ``text``; floats become
+    the rationals they represent.  Each operation is size-checked first
+    ([`seapass.model.rational`][seapass.model.rational]).
+
+    Raises
+    ------
+    ExpressionError
+        As `parse_tree`, and on division by zero.
+    SymbolicLimitError
+        When the expression is too large for exact analysis.
+
+    Examples
+    --------
+    >>> exact_expression("kd + ki/s")
+    RatFunc('(s*kd + ki)/(s)')
+    """
+    return _exact(_source(text), frozenset(allowed))
+
+
+@functools.lru_cache(maxsize=1024)
+def _exact(src: str, allowed: frozenset[str]) -> RatFunc:
+    from .rational import RatFunc, context, variables
+
+    tree = _checked_tree(src, allowed)
+    delays = tree_delays(tree)
+    ctx = context(variables(tree_names(tree) | {delay_variable(d) for d in delays}))
+
+    class Exact:
+        def number(self, value: Fraction) -> RatFunc:
+            return RatFunc.constant(ctx, value)
+
+        def laplace(self) -> RatFunc:
+            return RatFunc.variable(ctx, "s")
+
+        def parameter(self, name: str) -> RatFunc:
+            return RatFunc.variable(ctx, name)
+
+        add = staticmethod(RatFunc.__add__)
+        sub = staticmethod(RatFunc.__sub__)
+        mul = staticmethod(RatFunc.__mul__)
+        div = staticmethod(RatFunc.__truediv__)
+        neg = staticmethod(RatFunc.__neg__)
+        power = staticmethod(RatFunc.__pow__)
+
+        def delay(self, name: str, multiple: int) -> RatFunc:
+            return RatFunc.variable(ctx, delay_variable(name)) ** multiple
+
+    try:
+        return evaluate(tree, Exact(), src)
+    except SymbolicLimitError as exc:
+        raise SymbolicLimitError(
+            f"expression {src!r} is {exc}: simplify it or multiply out numeric factors"
+        ) from None
+
+
+def parse_expression(text: str, allowed: Iterable[str] = STANDARD_SYMBOLS) -> sp.Expr:
+    """Parse ``text`` into a sympy expression, accepting only whitelisted input.
+
+    Parameters
+    ----------
+    text : str
+        Arithmetic in ``s`` and parameter names, e.g. ``"k1 + b1*s"`` or ``"kd + ki/s"``.
+    allowed : iterable of str
+        Parameter names that may appear (``s`` is always allowed).
+
+    Returns
+    -------
+    sympy.Expr
+        Parameters become positive real symbols, ``s`` is `S`.
+
+    Raises
+    ------
+    ExpressionError
+        On syntax errors, unknown names, function calls, attribute access,
+        non-integer or huge powers, or over-long input.
+    SymbolicLimitError
+        When the expression exceeds the symbolic size budget.
+    """
+    from .symbolic import sympy_expression
+
+    src = _source(text)
+    return sympy_expression(_checked_tree(src, frozenset(allowed)), src)
+
+
 def check_rational_in_s(expr: sp.Expr, allowed: Iterable[str], what: str) -> sp.Expr:
     """Validate a sympy expression given directly (not as text).
 
@@ -240,63 +406,9 @@ def check_rational_in_s(expr: sp.Expr, allowed: Iterable[str], what: str) -> sp.
     it is a rational function of ``s``; returns it with parameters mapped to
     the canonical positive symbols.
     """
-    try:
-        expr = sp.sympify(expr, strict=True)  # already a sympy/numeric object, not user text
-    except (sp.SympifyError, TypeError) as exc:
-        raise ExpressionError(f"{what}: not a sympy expression ({exc})") from None
-    allowed_set = set(allowed)
-    subs = {}
-    for sym in expr.free_symbols:
-        name = str(sym)
-        if name == "s":
-            subs[sym] = S
-        elif name in allowed_set:
-            subs[sym] = symbol(name)
-        else:
-            raise ExpressionError(f"{what}: unknown symbol {name!r}")
-    expr = expr.xreplace(subs)
-    if not expr.is_rational_function(S):
-        raise ExpressionError(f"{what}: {expr} is not a rational function of s")
-    check_symbolic_size(expr, what)
-    return expr
+    from .symbolic import check_sympy_input
 
-
-_NONZERO_MANTISSA = re.compile(r"^\s*[+-]?[0_.]*[1-9]")
-
-
-def underflows(literal: str) -> bool:
-    """True if the decimal ``literal`` is nonzero but rounds to 0.0 as a float.
-
-    >>> underflows("1e-400"), underflows("0.0e5"), underflows("4.9e-324")
-    (True, False, False)
-    """
-    mantissa = re.split("[eE]", literal, maxsplit=1)[0]
-    try:
-        zero = float(literal) == 0.0
-    except ValueError:
-        return False
-    return zero and bool(_NONZERO_MANTISSA.match(mantissa))
-
-
-def parse_value(text: str, name: str = "value") -> float:
-    """Parse a finite real number, rejecting NaN, infinities, non-ASCII digits and underflow."""
-    if isinstance(text, str):
-        try:
-            check_ascii(text, name)
-        except ExpressionError as exc:
-            raise ParameterError(str(exc)) from None
-    try:
-        val = float(text)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name}: {text!r} is not a number") from None
-    if not math.isfinite(val):
-        raise ParameterError(f"{name}: {text!r} is not finite; give a finite number")
-    if isinstance(text, str) and underflows(text):
-        raise ParameterError(
-            f"{name}: {text.strip()} is too small for a float (it would become 0); "
-            "give 0 or a value above 1e-308"
-        )
-    return val
+    return check_sympy_input(expr, allowed, what)
 
 
 def parse_assignment(text: str) -> tuple[str, float]:
@@ -312,50 +424,3 @@ def parse_assignment(text: str) -> tuple[str, float]:
     except ExpressionError as exc:
         raise ParameterError(f"--set {text!r}: {exc}") from None
     return name, parse_value(raw.strip(), name)
-
-
-def to_fraction(value: float | int | Fraction | sp.Rational, name: str = "value") -> Fraction:
-    """Exact rational value of a finite number (floats convert exactly)."""
-    if isinstance(value, Fraction):
-        return value
-    if isinstance(value, sp.Rational):
-        return Fraction(int(value.p), int(value.q))
-    if isinstance(value, sp.Float):
-        value = float(value)
-    if isinstance(value, bool):
-        raise ParameterError(f"{name}: expected a number, got a boolean")
-    if isinstance(value, int):
-        return Fraction(value)
-    try:
-        f = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name}: {value!r} is not a number") from None
-    if not math.isfinite(f):
-        raise ParameterError(f"{name}: {value!r} is not finite")
-    return Fraction(f)
-
-
-def validate_values(values: Mapping[str, object]) -> dict[str, float]:
-    """Check parameter names and values; return a plain ``{name: float}`` dict."""
-    out: dict[str, float] = {}
-    for name, val in values.items():
-        check_name(name)
-        out[name] = float(to_fraction(val, name))  # type: ignore[arg-type,unused-ignore]
-    return out
-
-
-def finite_number(
-    value: float, name: str, *, positive: bool = False, nonzero: bool = False
-) -> float:
-    """``value`` as a finite float, or a `ParameterError` naming ``name``."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name}: expected a number, got {value!r}") from None
-    if not math.isfinite(v):
-        raise ParameterError(f"{name} must be finite, got {v}")
-    if positive and v <= 0:
-        raise ParameterError(f"{name} must be positive, got {v:g}")
-    if nonzero and v == 0:
-        raise ParameterError(f"{name} must be nonzero")
-    return v

@@ -18,7 +18,7 @@ import sympy as sp
 from ..errors import ParameterError, SimulationError, UnrealizableError
 from .display import html_card, short_repr
 from .expr import S, finite_number, symbol
-from .sea import SEA
+from .sea import SEA, unrealizable_controllers
 
 __all__ = [
     "INPUTS",
@@ -80,7 +80,7 @@ def _realize(num: np.ndarray, den: np.ndarray, name: str) -> _Element:
     return _Element(p0, p1, A, B, C)
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class ClosedLoop:
     """Closed-loop state space ``ẋ = A x + B u``, ``y = C x + D u``.
 
@@ -218,29 +218,6 @@ def _assemble(
         load_mass=load_mass,
         relaxed=relaxed,
     )
-
-
-def unrealizable_controllers(sea: SEA) -> dict[str, int]:
-    """Controllers that need more than one derivative: ``{name: zeros minus poles}``.
-
-    The controllers see measured positions and velocities, so ``C(s)`` may have
-    at most one more zero than poles (``kd + bd*s``).  ``kd*s**3`` needs the
-    third derivative of a measurement: it is not realizable, and a verdict on it
-    describes an ideal model only.  Degrees are those for generic parameter values.
-
-    >>> unrealizable_controllers(SEA(D1="k1", CA="kd*s**3"))
-    {'CA': 3}
-    """
-    out: dict[str, int] = {}
-    for name in ("CA", "CL"):
-        expr = getattr(sea, name)
-        if expr == 0:
-            continue
-        num, den = sp.fraction(sp.together(expr))
-        excess = int(sp.degree(num, S)) - int(sp.degree(den, S))
-        if excess > 1:
-            out[name] = excess
-    return out
 
 
 def _coeffs(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:

@@ -1,104 +1,111 @@
 """Immutable model objects: a 1-DoF series elastic actuator and a raw impedance.
 
 These sit at the bottom of the package: they parse and validate their inputs
-and hold data; all analysis lives in the modules above.
+and hold data; all analysis lives in the modules above.  An element given as text
+is parsed once into a checked tree and, from it, into an exact rational function
+([`seapass.model.rational`][seapass.model.rational]; no sympy); the sympy
+expression (``sea.CA``, ``sea.elements()``) is built on first access, for the
+symbolic analyses.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import functools
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Any
+from typing import TYPE_CHECKING, Any, NamedTuple, TypeAlias
 
-import sympy as sp
-
-from ..errors import DegenerateModelError, ExpressionError, ParameterError, did_you_mean
+from ..errors import DegenerateModelError, ExpressionError, ParameterError
+from .delayatom import delay_of_variable, model_delays
 from .display import html_card, short_repr
-from .expr import (
-    STANDARD_SYMBOLS,
-    S,
-    check_name,
-    check_rational_in_s,
-    parse_expression,
-    symbol,
-    to_fraction,
-    validate_values,
+from .elements import (
+    LazySympy,
+    Source,
+    check_used,
+    element_source,
+    exact_of,
+    exact_values,
+    freeze_values,
+    is_sympy,
+    poly_names,
+    source_names,
+    sympy_of,
 )
+from .expr import STANDARD_SYMBOLS, to_fraction, validate_values
+from .rational import RatFunc, context, univariate, variables
 
-__all__ = ["SEA", "ExprLike", "Impedance", "check_used"]
+if TYPE_CHECKING:
+    import sympy as sp
 
-from typing import TypeAlias
+__all__ = ["SEA", "ExprLike", "Impedance", "check_used", "exact_values", "unrealizable_controllers"]
 
-ExprLike: TypeAlias = str | sp.Expr | int | float
+ExprLike: TypeAlias = "str | sp.Expr | int | float"
 
 _ELEMENTS = ("D1", "D2", "CA", "CL")
+_ATTRS = (*_ELEMENTS, "m", "b")
 
 
-def _as_expr(value: ExprLike, allowed: Iterable[str], what: str) -> sp.Expr:
-    if isinstance(value, sp.Expr):
-        return _checked_expr(value, frozenset(allowed), what)
-    if isinstance(value, str):
-        try:
-            return parse_expression(value, allowed)
-        except ExpressionError as exc:
-            raise ExpressionError(f"{what}: {exc}", argument=what) from None
-    if isinstance(value, bool):
-        raise ExpressionError(f"{what}: expected an expression, got a boolean")
-    if isinstance(value, int | float):
-        return sp.Rational(to_fraction(value, what))
-    return check_rational_in_s(value, allowed, what)
+class _ImpedanceExpr(LazySympy):
+    """The ``expr`` field of `Impedance`: reading it gives the cancelled sympy ``Z``."""
+
+    def __init__(self) -> None:
+        super().__init__(None)
+
+    def __get__(self, obj: Any, objtype: Any = None) -> Any:
+        if obj is None:
+            return self.default
+        state = obj.__dict__
+        if "_sympy_expr" not in state:
+            state["_sympy_expr"] = _impedance_sympy(obj)
+        return state["_sympy_expr"]
 
 
-@functools.lru_cache(maxsize=1024)
-def _checked_expr(value: sp.Expr, allowed: frozenset[str], what: str) -> sp.Expr:
-    """Validation of sympy input is pure, so it is cached (models are rebuilt often)."""
-    return check_rational_in_s(value, allowed, what)
+@functools.lru_cache(maxsize=512)
+def _model_elements(sources: tuple[Source, ...], allowed: frozenset[str]) -> tuple[RatFunc, ...]:
+    """The exact elements of one model, lifted into the context of all its names (cached)."""
+    parts = [exact_of(src, allowed, what) for src, what in zip(sources, _ATTRS, strict=True)]
+    names: set[str] = set()
+    for f in parts:
+        names |= f.parameters()
+    ctx = context(variables(names))
+    return tuple(f.to_context(ctx) for f in parts)
 
 
-@functools.lru_cache(maxsize=1024)
-def _denominator(expr: sp.Expr) -> sp.Expr:
-    return sp.fraction(sp.together(expr))[1]
+class _Facts(NamedTuple):
+    """What the checks of a model need, computed once per model (cached on its sources)."""
+
+    parameters: tuple[str, ...]
+    s_in_mass_or_damping: str
+    port_unconnected: bool
+    mass: RatFunc
+    denominators: tuple[tuple[str, Any, frozenset[str]], ...]  # with parameters only
 
 
-def _freeze_values(values: Mapping[str, Any] | None) -> Mapping[str, float | None]:
-    if values is not None and not isinstance(values, Mapping):
-        raise ParameterError(
-            f"values: expected a mapping of names to numbers, got {type(values).__name__}",
-            argument="values",
-        )
-    out: dict[str, float | None] = {}
-    for name, val in (values or {}).items():
-        if not isinstance(name, str):
-            raise ParameterError(
-                f"values: parameter names must be strings, got {name!r}", argument="values"
-            )
-        key = f"values[{name!r}]"
-        try:
-            check_name(name)
-        except ExpressionError as exc:
-            raise ParameterError(f"{key}: {exc}", argument=key) from None
-        out[name] = None if val is None else float(to_fraction(val, key))
-    return MappingProxyType(out)
+@functools.lru_cache(maxsize=512)
+def _model_facts(sources: tuple[Source, ...], allowed: frozenset[str]) -> _Facts:
+    exact = dict(zip(_ATTRS, _model_elements(sources, allowed), strict=True))
+    used: set[str] = set()
+    for src in sources:  # as written: a name that cancels out is still a parameter
+        used |= source_names(src, allowed)
+    dens = []
+    for attr in _ELEMENTS:
+        names = frozenset(poly_names(exact[attr].den) - {"s"})
+        if names:  # a denominator in s alone is nonzero: the fraction is reduced
+            dens.append((attr, exact[attr].den, names))
+    return _Facts(
+        parameters=tuple(sorted(used)),
+        s_in_mass_or_damping=next(
+            (a for a in ("m", "b") if "s" in exact[a].names() or model_delays(exact[a])), ""
+        ),
+        port_unconnected=exact["D1"].is_zero and exact["D2"].is_zero,
+        mass=exact["m"],
+        denominators=tuple(dens),
+    )
 
 
-def check_used(values: Mapping[str, Any], used: Iterable[str], what: str = "the model") -> None:
-    """Raise if a name in ``values`` is not a parameter of the model (a typo, usually).
-
-    The message names the Python argument (``values['kdd']``) and the closest
-    parameter the model does use.
-    """
-    used = sorted(used)
-    for name in values:
-        if name not in used:
-            key = f"values[{name!r}]"
-            raise ParameterError(
-                f"{key}: {name!r} is not a parameter of {what}{did_you_mean(name, used)}; "
-                f"it uses {', '.join(used) or 'no parameters'}",
-                argument=key,
-            )
+def _rebuild(given: dict[str, Any], values: dict[str, float | None], name: str) -> SEA:
+    return SEA(**given, values=values, name=name)
 
 
 @dataclass(frozen=True, repr=False)
@@ -133,50 +140,77 @@ class SEA:
         When the load port is connected to nothing (``D1 = D2 = 0``).
     """
 
-    D1: Any = 0
-    D2: Any = 0
-    CA: Any = 0
-    CL: Any = 0
-    m: Any = "m"
-    b: Any = "b"
+    # descriptors: a field holds the element as given, reading it gives sympy (built lazily)
+    D1: Any = LazySympy(0)  # noqa: RUF009
+    D2: Any = LazySympy(0)  # noqa: RUF009
+    CA: Any = LazySympy(0)  # noqa: RUF009
+    CL: Any = LazySympy(0)  # noqa: RUF009
+    m: Any = LazySympy("m")  # noqa: RUF009
+    b: Any = LazySympy("b")  # noqa: RUF009
     values: Mapping[str, float | None] = field(default_factory=dict)
     name: str = ""
 
     def __post_init__(self) -> None:
-        vals = _freeze_values(self.values)
+        vals = freeze_values(self.values)
         object.__setattr__(self, "values", vals)
-        allowed = set(STANDARD_SYMBOLS) | set(vals)
-        for attr in (*_ELEMENTS, "m", "b"):
-            object.__setattr__(self, attr, _as_expr(getattr(self, attr), allowed, attr))
-        for attr in ("m", "b"):
-            if S in getattr(self, attr).free_symbols:
-                raise ExpressionError(f"{attr} must not depend on s")
-        if self.D1 == 0 and self.D2 == 0:
+        state = self.__dict__
+        allowed = frozenset(STANDARD_SYMBOLS) | frozenset(vals)
+        state["_allowed"] = allowed
+        for attr in _ATTRS:
+            state[f"_source_{attr}"] = element_source(state[f"_given_{attr}"], allowed, attr)
+        facts = _model_facts(self.sources(), allowed)
+        if facts.s_in_mass_or_damping:
+            raise ExpressionError(f"{facts.s_in_mass_or_damping} must not depend on s")
+        if facts.port_unconnected:
             raise DegenerateModelError(
                 "degenerate model: D1 = D2 = 0 leaves the load port connected to nothing; "
                 "give a transmission, e.g. --D1 'k1'"
             )
-        check_used(vals, self.parameters)
-        mass = self.numeric(self.m) if not (self.m.free_symbols - self.known) else None
-        if mass is not None and mass <= 0:
-            raise ParameterError(f"actuator mass m must be positive, got {float(mass):g}")
-        for attr in _ELEMENTS:
-            den = _denominator(getattr(self, attr))
-            if den.free_symbols <= self.known | {S} and sp.expand(self.numeric(den)) == 0:
+        check_used(vals, facts.parameters)
+        known = exact_values(vals)
+        if facts.mass.parameters() <= set(known):
+            m_num, m_den = facts.mass.evaluate(known)
+            mass = m_num[0] / m_den[0]
+            if mass <= 0:
+                raise ParameterError(f"actuator mass m must be positive, got {float(mass):g}")
+        for attr, den, names in facts.denominators:
+            if names <= set(known) and univariate(den, known).is_zero():
                 raise DegenerateModelError(f"{attr} has a denominator that is identically zero")
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        """Pickle the elements as given (caches are rebuilt on the other side)."""
+        given = {a: self.__dict__[f"_given_{a}"] for a in _ATTRS}
+        return (_rebuild, (given, dict(self.values), self.name))
+
+    def sources(self) -> tuple[Source, ...]:
+        """The six elements ``D1 D2 CA CL m b`` as parsed, in a hashable form (cache keys)."""
+        return tuple(self.__dict__[f"_source_{a}"] for a in _ATTRS)
+
+    def exact_elements(self) -> dict[str, RatFunc]:
+        """The elements ``D1 D2 CA CL m b`` as exact rational functions in one context.
+
+        The context's variables are ``s`` and every parameter of the model; no
+        value is substituted (see [`seapass.model.rational`][seapass.model.rational]).
+
+        Examples
+        --------
+        >>> SEA(D1="k1", CA="kd + ki/s").exact_elements()["CA"]
+        RatFunc('(s*kd + ki)/(s)')
+        """
+        parts = _model_elements(self.sources(), self.__dict__["_allowed"])
+        return dict(zip(_ATTRS, parts, strict=True))
 
     @property
     def known(self) -> set[sp.Symbol]:
         """Symbols whose numeric value is given."""
+        from .expr import symbol
+
         return {symbol(k) for k, v in self.values.items() if v is not None}
 
     @property
     def parameters(self) -> tuple[str, ...]:
         """Names of all parameters the model uses, sorted."""
-        syms: set[sp.Basic] = set()
-        for attr in (*_ELEMENTS, "m", "b"):
-            syms |= getattr(self, attr).free_symbols
-        return tuple(sorted(str(x) for x in syms if x != S))
+        return _model_facts(self.sources(), self.__dict__["_allowed"]).parameters
 
     @property
     def free_parameters(self) -> tuple[str, ...]:
@@ -185,12 +219,16 @@ class SEA:
 
     def elements(self) -> dict[str, sp.Expr]:
         """The four elements plus ``m`` and ``b`` as sympy expressions."""
-        return {a: getattr(self, a) for a in (*_ELEMENTS, "m", "b")}
+        return {a: getattr(self, a) for a in _ATTRS}
 
     def substitutions(
         self, extra: Mapping[str, float] | None = None
     ) -> dict[sp.Symbol, sp.Rational]:
         """Exact rational substitutions for every parameter with a value."""
+        import sympy as sp
+
+        from .expr import symbol
+
         vals = {k: v for k, v in self.values.items() if v is not None}
         if extra:
             vals.update(validate_values(extra))
@@ -198,13 +236,16 @@ class SEA:
 
     def numeric(self, expr: sp.Expr) -> sp.Expr:
         """Substitute the known values into ``expr`` exactly."""
+        import sympy as sp
+
         return sp.sympify(expr).xreplace(self.substitutions())
 
     def with_values(self, **values: float | None) -> SEA:
         """A copy with some parameter values changed or added."""
         merged = dict(self.values)
         merged.update(values)
-        return dataclasses.replace(self, values=merged)
+        given = {a: self.__dict__[f"_given_{a}"] for a in _ATTRS}
+        return SEA(**given, values=merged, name=self.name)
 
     def describe(self) -> dict[str, str]:
         """Element expressions as strings (``0`` for absent elements)."""
@@ -258,46 +299,69 @@ class Impedance:
     numpy and python-control.
     """
 
-    expr: Any = None
+    expr: Any = _ImpedanceExpr()
     num: Any = None
     den: Any = None
     values: Mapping[str, float | None] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        vals = _freeze_values(self.values)
+        vals = freeze_values(self.values)
         object.__setattr__(self, "values", vals)
-        allowed = set(STANDARD_SYMBOLS) | set(vals)
-        if self.expr is not None:
+        state = self.__dict__
+        allowed = frozenset(STANDARD_SYMBOLS) | frozenset(vals)
+        state["_allowed"] = allowed
+        given = state.get("_given_expr")
+        if given is not None:
             if self.num is not None or self.den is not None:
                 raise ExpressionError("give either expr or num/den, not both")
-            z = _as_expr(self.expr, allowed, "Z")
+            sources: Any = ("expr", element_source(given, allowed, "Z"))
         else:
             if self.num is None or self.den is None:
                 raise ExpressionError("give Z as an expression or as both num and den")
-            z = _poly_expr(self.num, allowed, "num") / _poly_expr(self.den, allowed, "den")
+            sources = ("coeffs", _coefficients(self.num, allowed, "num"))
+            sources += (_coefficients(self.den, allowed, "den"),)
+        state["_sources"] = sources
+        state["_given"] = (given, self.num, self.den)
         # before cancelling: a parameter that cancels out was still used
-        check_used(vals, (str(x) for x in z.free_symbols if x != S), "Z")
-        num, den = sp.fraction(sp.cancel(sp.together(z)))
-        if sp.expand(den) == 0:
-            raise DegenerateModelError("Z has a zero denominator")
-        left = {str(x) for x in (num / den).free_symbols}
+        check_used(vals, _impedance_parts(sources, allowed)[1], "Z")
+        left = _user_names(self.exact().parameters())
         if set(vals) - left:  # a parameter that cancelled out no longer matters
             object.__setattr__(
                 self, "values", MappingProxyType({k: v for k, v in vals.items() if k in left})
             )
-        object.__setattr__(self, "expr", num / den)
         object.__setattr__(self, "num", None)
         object.__setattr__(self, "den", None)
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        expr, num, den = self.__dict__["_given"]
+        return (_rebuild_impedance, (expr, num, den, dict(self.values)))
+
+    def exact(self) -> RatFunc:
+        """``Z`` as an exact rational function in lowest terms (no values substituted)."""
+        return _impedance_parts(self.__dict__["_sources"], self.__dict__["_allowed"])[0]
+
+    def sources(self) -> tuple[Any, ...]:
+        """``Z`` as parsed, in a hashable form (cache keys)."""
+        return tuple(self.__dict__["_sources"])
+
+    def with_values(self, **values: float | None) -> Impedance:
+        """A copy with some parameter values changed or added."""
+        expr, num, den = self.__dict__["_given"]
+        return Impedance(expr=expr, num=num, den=den, values={**self.values, **values})
+
     @property
     def parameters(self) -> tuple[str, ...]:
-        return tuple(sorted(str(x) for x in self.expr.free_symbols if x != S))
+        return tuple(sorted(_user_names(self.exact().parameters())))
 
     @property
     def free_parameters(self) -> tuple[str, ...]:
         return tuple(p for p in self.parameters if self.values.get(p) is None)
 
     def substitutions(self) -> dict[sp.Symbol, sp.Rational]:
+        import sympy as sp
+
+        from .expr import symbol
+
         return {
             symbol(k): sp.Rational(to_fraction(v, k))
             for k, v in self.values.items()
@@ -335,15 +399,97 @@ class Impedance:
         return html_card("Impedance", rows)
 
 
-def _poly_expr(coeffs: Any, allowed: Iterable[str], what: str) -> sp.Expr:
-    if isinstance(coeffs, str | sp.Expr):
-        return _as_expr(coeffs, allowed, what)
+def _user_names(names: frozenset[str]) -> frozenset[str]:
+    """Parameter names as a user writes them: the delay variable ``_E_tau`` is ``tau``."""
+    return frozenset(delay_of_variable(n) or n for n in names)
+
+
+def _coefficients(coeffs: Any, allowed: frozenset[str], what: str) -> tuple[Source, ...]:
+    """Sources of a coefficient sequence (descending powers), or of one expression."""
+    if isinstance(coeffs, str) or is_sympy(coeffs):
+        return (element_source(coeffs, allowed, what),)
     try:
         seq = list(coeffs)
     except TypeError:
-        return _as_expr(coeffs, allowed, what)
+        return (element_source(coeffs, allowed, what),)
     if not seq:
         raise ExpressionError(f"{what}: empty coefficient list")
-    n = len(seq) - 1
-    terms = [_as_expr(c, allowed, f"{what}[{i}]") * S ** (n - i) for i, c in enumerate(seq)]
-    return sp.Add(*terms)
+    return tuple(element_source(c, allowed, f"{what}[{i}]") for i, c in enumerate(seq))
+
+
+@functools.lru_cache(maxsize=512)
+def _impedance_parts(
+    sources: tuple[Any, ...], allowed: frozenset[str]
+) -> tuple[RatFunc, frozenset[str]]:
+    """``Z`` in lowest terms and the names its parts use before cancelling (cached)."""
+    if sources[0] == "expr":
+        whole = exact_of(sources[1], allowed, "Z")
+        return whole, source_names(sources[1], allowed)
+    parts = {
+        what: [exact_of(src, allowed, f"{what}[{i}]") for i, src in enumerate(srcs)]
+        for what, srcs in (("num", sources[1]), ("den", sources[2]))
+    }
+    names: set[str] = set()
+    for src in (*sources[1], *sources[2]):
+        names |= source_names(src, allowed)
+    exact_names: set[str] = set()
+    for fs in parts.values():
+        for f in fs:
+            exact_names |= f.parameters()
+    ctx = context(variables(exact_names))
+    s = RatFunc.variable(ctx, "s")
+    total = {}
+    for what, fs in parts.items():
+        acc = RatFunc.constant(ctx, 0)
+        for i, f in enumerate(fs):
+            acc = acc + f.to_context(ctx) * s ** (len(fs) - 1 - i)
+        total[what] = acc
+    if total["den"].is_zero:
+        raise DegenerateModelError("Z has a zero denominator")
+    return total["num"] / total["den"], frozenset(names)
+
+
+def _impedance_sympy(obj: Impedance) -> Any:
+    """``Z`` as sympy, cancelled, exactly as it was built before the exact path existed."""
+    import sympy as sp
+
+    from .symbolic import S
+
+    sources, allowed = obj.__dict__["_sources"], obj.__dict__["_allowed"]
+
+    def poly(srcs: tuple[Source, ...]) -> Any:
+        n = len(srcs) - 1
+        return sp.Add(*[sympy_of(src, allowed) * S ** (n - i) for i, src in enumerate(srcs)])
+
+    if sources[0] == "expr":
+        z = sympy_of(sources[1], allowed)
+    else:
+        z = poly(sources[1]) / poly(sources[2])
+    num, den = sp.fraction(sp.cancel(sp.together(z)))
+    return num / den
+
+
+def _rebuild_impedance(expr: Any, num: Any, den: Any, values: dict[str, Any]) -> Impedance:
+    return Impedance(expr=expr, num=num, den=den, values=values)
+
+
+def unrealizable_controllers(sea: SEA) -> dict[str, int]:
+    """Controllers that need more than one derivative: ``{name: zeros minus poles}``.
+
+    The controllers see measured positions and velocities, so ``C(s)`` may have
+    at most one more zero than poles (``kd + bd*s``).  ``kd*s**3`` needs the
+    third derivative of a measurement: it is not realizable, and a verdict on it
+    describes an ideal model only.  Degrees are those for generic parameter values.
+
+    >>> unrealizable_controllers(SEA(D1="k1", CA="kd*s**3"))
+    {'CA': 3}
+    """
+    out: dict[str, int] = {}
+    exact = sea.exact_elements()
+    for name in ("CA", "CL"):
+        if exact[name].is_zero:
+            continue
+        num, den = exact[name].degrees_in_s()
+        if num - den > 1:
+            out[name] = num - den
+    return out

@@ -5,8 +5,8 @@ seapass derives, each bound classified), [`tablefmt`][seapass.paper.tablefmt] (t
 Markdown and LaTeX renderings of them) and [`simstudy`][seapass.paper.simstudy]
 (Sec. V: LP, APD and Ours tuned at one load mass, tested at three).
 
-May import: everything in [`seapass.sweep`][seapass.sweep] and below (in practice
-[`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim]).
+May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
+[`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim], [`seapass.tuning`][seapass.tuning].
 """
 
 from .simstudy import SimulationStudy, run_simulation_study

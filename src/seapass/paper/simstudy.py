@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
@@ -27,7 +26,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError, TuningWarning
+from ..files.jsontext import json_text
 from ..model.catalog import design as catalog_design
+from ..model.experiment import PAPER_EXPERIMENT
 from ..sim.metrics import TrackingMetrics, tracking_metrics
 from ..sim.simulate import SimulationResult, Step, simulate
 from ..tuning.optimize import TuningResult, tune
@@ -36,7 +37,7 @@ from ..tuning.problem import QUICK_OPTIONS, TuningOptions
 __all__ = ["QUICK_OPTIONS", "SimulationStudy", "StudyRow", "run_simulation_study"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class StudyRow:
     """One design at one load mass."""
 
@@ -48,7 +49,7 @@ class StudyRow:
         return {"design": self.design, "load_mass": self.load_mass, **self.metrics.to_dict()}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SimulationStudy:
     """Result of `run_simulation_study`.
 
@@ -151,7 +152,7 @@ class SimulationStudy:
             "rows": self.table_dicts(),
             "ours_fastest": {repr(k): v for k, v in self.ours_fastest().items()},
         }
-        return json.dumps(_finite(doc), indent=2, allow_nan=False) + "\n"
+        return json_text(doc)
 
     def timeseries_csv(self) -> str:
         """Long format: design, load mass, time, x_A, x_L, f_A (all runs share one grid)."""
@@ -164,23 +165,13 @@ class SimulationStudy:
         return buf.getvalue()
 
 
-def _finite(obj: Any) -> Any:
-    if isinstance(obj, float) and not np.isfinite(obj):
-        return None
-    if isinstance(obj, dict):
-        return {k: _finite(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [_finite(v) for v in obj]
-    return obj
-
-
 def run_simulation_study(
     *,
     designs: Sequence[str] = ("LP", "APD", "ours"),
-    masses: Sequence[float] = (1.0, 10.0, 25.0),
+    masses: Sequence[float] = PAPER_EXPERIMENT.load_masses,
     options: TuningOptions | None = None,
     quick: bool = False,
-    horizon: float = 10.0,
+    horizon: float = PAPER_EXPERIMENT.horizon,
     dt: float = 1e-3,
     progress: bool | None = None,
     on_design: Callable[[TuningResult], None] | None = None,
@@ -192,9 +183,10 @@ def run_simulation_study(
     designs : sequence of str
         Subset of ``LP``, ``APD``, ``ours``.
     masses : sequence of float
-        Evaluation load masses (kg), each positive.
+        Evaluation load masses (kg), each positive; default the paper's
+        ([`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT]).
     options : TuningOptions, optional
-        Tuning setup (default: the paper's; tuning mass 10 kg, 0.5 m step).
+        Tuning setup (default: the paper's experiment; tuning mass 10 kg, 0.5 m step).
     quick : bool
         Use the small budget of `QUICK_OPTIONS` (for tests and previews).
     horizon, dt : float
@@ -225,19 +217,25 @@ def run_simulation_study(
     tuned: dict[str, TuningResult] = {}
     runs: dict[tuple[str, float], SimulationResult] = {}
     rows: list[StudyRow] = []
-    step = 0.5
+    step = PAPER_EXPERIMENT.step
     for key in keys:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", TuningWarning)  # kept in tr.warnings and the JSON
             tr = tune(key, options=opts, progress=progress)
         tuned[key] = tr
-        step = float(tr.options.step)  # type: ignore[arg-type]
+        step = tr.options.step
         if on_design is not None:
             on_design(tr)
         for mass in ms:
             res = simulate(tr.sea, load_mass=mass, scenario=Step(step), horizon=horizon, dt=dt)
             runs[(key, mass)] = res
-            rows.append(StudyRow(key, mass, tracking_metrics(res, tolerance=opts.tolerance)))
+            rows.append(
+                StudyRow(
+                    design=key,
+                    load_mass=mass,
+                    metrics=tracking_metrics(res, tolerance=opts.tolerance),
+                )
+            )
     return SimulationStudy(
         designs=keys,
         masses=ms,

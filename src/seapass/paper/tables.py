@@ -20,8 +20,10 @@ numeric test, so a classification never rests on sampling alone except
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from enum import StrEnum
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -35,9 +37,28 @@ from ..model.expr import STANDARD_SYMBOLS, W, parse_expression, symbol
 from ..model.sea import SEA
 from ..model.stiffness import derive_stiffness, paper_eq4_stiffness, passivity_polynomial
 
-__all__ = ["PAPER_ROWS", "PaperRow", "TableRow", "build_tables", "paper_bound_set", "parse_bound"]
+__all__ = [
+    "PAPER_ROWS",
+    "BoundStatus",
+    "PaperRow",
+    "TableRow",
+    "build_tables",
+    "paper_bound_set",
+    "parse_bound",
+]
 
 _ALLOWED = (*STANDARD_SYMBOLS, "w")
+
+
+class BoundStatus(StrEnum):
+    """The paper's stated bound against the exact condition (see the module docstring)."""
+
+    EXACT = "exact"
+    SUFFICIENT = "sufficient only"
+    UNSAFE = "unsafe"
+    NEVER_PASSIVE = "agrees (not passive)"
+    CONSISTENT = "consistent"
+    """No certified counterexample among the probes (sampling only)."""
 
 
 @dataclass(frozen=True)
@@ -128,7 +149,7 @@ PAPER_ROWS: tuple[PaperRow, ...] = (
 )  # fmt: skip
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class TableRow:
     """A derived row next to the paper's."""
 
@@ -143,9 +164,9 @@ class TableRow:
     paper_condition: sp.Expr
     agrees: bool
     exact_condition: Any
-    bound_status: str
-    counterexample: dict[str, float] | None = None
-    notes: list[str] = field(default_factory=list)
+    bound_status: BoundStatus
+    counterexample: Mapping[str, float] | None = None
+    notes: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         p = self.paper
@@ -167,7 +188,7 @@ class TableRow:
             "exact_condition": str(self.exact_condition),
             "paper_bound": p.bound,
             "paper_bound_status": self.bound_status,
-            "counterexample": self.counterexample,
+            "counterexample": None if self.counterexample is None else dict(self.counterexample),
             "notes": list(self.notes),
         }
 
@@ -236,22 +257,26 @@ def _probe_designs(row: PaperRow, sea: SEA, rng: np.random.Generator) -> list[di
     return designs
 
 
-def _classify_bound(row: PaperRow, sea: SEA, exact: Any) -> tuple[str, dict[str, float] | None]:
+def _classify_bound(
+    row: PaperRow, sea: SEA, exact: Any
+) -> tuple[BoundStatus, dict[str, float] | None]:
     bound = parse_bound(row.bound)
     if bound == sp.false and exact == sp.false:
-        return "agrees (not passive)", None
+        return BoundStatus.NEVER_PASSIVE, None
     if bound == exact:
-        return "exact", None
+        return BoundStatus.EXACT, None
     status, example = _probe_bound(row, sea, bound)
     # a certified counterexample at positive values refutes equivalence for positive
     # parameters, so the costly symbolic proof is needed only without one
     if example is None or any(v <= 0 for v in example.values()):
         if sp.simplify(sp.Equivalent(bound, exact)) == sp.true:
-            return "exact", None
+            return BoundStatus.EXACT, None
     return status, example
 
 
-def _probe_bound(row: PaperRow, sea: SEA, bound: Any) -> tuple[str, dict[str, float] | None]:
+def _probe_bound(
+    row: PaperRow, sea: SEA, bound: Any
+) -> tuple[BoundStatus, dict[str, float] | None]:
     """``unsafe`` or ``sufficient only`` with an exactly certified design, else ``consistent``."""
     rng = np.random.default_rng(20251121)
     conservative = None
@@ -262,12 +287,12 @@ def _probe_bound(row: PaperRow, sea: SEA, bound: Any) -> tuple[str, dict[str, fl
         )
         actual = is_passive(sea.with_values(**vals)).passive
         if claimed and not actual:
-            return "unsafe", vals
+            return BoundStatus.UNSAFE, vals
         if actual and not claimed and conservative is None:
             conservative = vals
     if conservative is not None:
-        return "sufficient only", conservative
-    return "consistent", None
+        return BoundStatus.SUFFICIENT, conservative
+    return BoundStatus.CONSISTENT, None
 
 
 def build_tables(*, progress: Callable[[str], None] | None = None) -> list[TableRow]:
@@ -312,8 +337,8 @@ def build_tables(*, progress: Callable[[str], None] | None = None) -> list[Table
                 agrees=agrees,
                 exact_condition=exact.condition,
                 bound_status=status,
-                counterexample=example,
-                notes=notes,
+                counterexample=None if example is None else MappingProxyType(example),
+                notes=tuple(notes),
             )
         )
     return rows
@@ -324,7 +349,7 @@ def _row_notes(
     st_ok: bool,
     eq4_ok: bool,
     agrees: bool,
-    status: str,
+    status: BoundStatus,
     poly: sp.Expr,
     printed: sp.Expr,
 ) -> list[str]:
@@ -340,9 +365,9 @@ def _row_notes(
         notes.append(
             f"printed passivity polynomial differs from the derived one (derived - printed = {sp.factor(extra)})"
         )
-    if status == "unsafe":
+    if status is BoundStatus.UNSAFE:
         notes.append("the paper's stated bound admits designs that are NOT passive")
-    elif status == "sufficient only":
+    elif status is BoundStatus.SUFFICIENT:
         notes.append("the paper's stated bound is sufficient but not necessary")
     return notes
 

@@ -34,22 +34,31 @@ def plot_bode(
     title: str = "",
     reference: float | None = None,
     bands: Sequence[tuple[float, float]] = (),
+    legend: bool | None = None,
     axes: Any = None,
 ) -> Any:
-    """Bode plot of the rendered stiffness ``F_L/X_L(jω)``: magnitude and phase.
+    """Bode plot of the rendered stiffness ``F_L/X_L(jω)``: magnitude (log-log) above phase.
+
+    The one Bode plot of seapass: ``seapass plot bode``, the reports (one per
+    design, a grid per paper table) and
+    [`FrequencyResponse.plot`][seapass.analysis.freqresp.FrequencyResponse.plot] all draw it.
 
     Parameters
     ----------
     responses : FrequencyResponse or sequence of them
         One line each, labelled with its ``label``.
     title : str, optional
-        Figure title.
+        Title of the magnitude Axes.
     reference : float, optional
-        A stiffness drawn as a dashed line on the magnitude (e.g. the spring ``k1``).
+        A stiffness drawn as a dashed grey line on the magnitude (e.g. the spring ``k1``).
     bands : sequence of (float, float), optional
         Exact bands where ``Re Z(jω) < 0`` (from an
         [`ImpedanceResponse`][seapass.analysis.portresponse.ImpedanceResponse]),
         shaded on both panels: there the phase leaves ``[0°, 180°]``.
+    legend : bool, optional
+        Draw the legend; by default when there is something to name (a label,
+        the reference or the bands).  A grid of small panels passes False and
+        says it in the figure's title.
     axes : two matplotlib Axes, optional
         Magnitude and phase; a new figure if None.
 
@@ -58,15 +67,19 @@ def plot_bode(
     numpy.ndarray of matplotlib.axes.Axes, shape (2,)
         Magnitude and phase Axes.
     """
+    from matplotlib.ticker import FuncFormatter, LogLocator, MultipleLocator, NullLocator
+
     items = [responses] if isinstance(responses, FrequencyResponse) else list(responses)
-    ax_m, ax_p = axes_grid(axes, 2, 1, figsize=(6.0, 5.0), sharex=True)[:, 0]
+    ax_m, ax_p = axes_grid(
+        axes, 2, 1, figsize=(6.0, 5.0), sharex=True, gridspec_kw={"height_ratios": [2, 1]}
+    )[:, 0]
     for r in items:
         (line,) = ax_m.loglog(r.omega, r.magnitude, lw=1.8, label=r.label or None)
-        ax_p.semilogx(r.omega, r.phase, lw=1.8, color=line.get_color())
+        ax_p.semilogx(r.omega, r.phase, lw=1.5, color=line.get_color())
     if reference is not None:
         ax_m.axhline(reference, color="0.4", ls="--", lw=1, label=f"spring k1 = {reference:g} N/m")
     ax_m.set_ylabel("|F_L/X_L| [N/m]")
-    ax_p.set_ylabel("phase [deg] (passive: 0..180)")
+    ax_p.set_ylabel("phase [°]")
     ax_p.set_xlabel("frequency ω [rad/s]")
     # Re Z >= 0 means arg Z in [-90°, 90°], so a passive port's stiffness s·Z keeps [0°, 180°]
     for edge in (0.0, 180.0):
@@ -81,19 +94,37 @@ def plot_bode(
                     ax.axvspan(max(a, lo), min(b, hi), color=_FAIL, alpha=0.15, lw=0, label=label)
             ax.set_xlim(lo, hi)
     for ax in (ax_m, ax_p):
-        ax.grid(True, which="both", alpha=0.3)
-    ax_p.yaxis.set_major_locator(_degree_locator())
-    if any(r.label for r in items) or reference is not None or bands:
+        ax.grid(True, which="major", alpha=0.3)
+        # labelled 1-2-5 ticks; unlabelled minor ticks cost most of the drawing time
+        ax.xaxis.set_minor_locator(NullLocator())
+    phases = np.concatenate([np.asarray(r.phase, dtype=float) for r in items] or [np.zeros(1)])
+    phases = phases[np.isfinite(phases)]
+    spread = float(phases.max() - phases.min()) if phases.size else 0.0
+    ax_p.yaxis.set_major_locator(MultipleLocator(45.0 if spread <= 180.0 else 90.0))
+    mags = np.concatenate([np.asarray(r.magnitude, dtype=float) for r in items] or [np.ones(1)])
+    mags = mags[np.isfinite(mags) & (mags > 0)]
+    decades = float(np.log10(mags.max() / mags.min())) if mags.size else 1.0
+    subs = (1.0, 2.0, 5.0) if decades <= 2.5 else (1.0, 3.0) if decades <= 4 else (1.0,)
+    ax_m.yaxis.set_major_locator(LogLocator(base=10, subs=subs, numticks=12))
+    ax_m.yaxis.set_major_formatter(FuncFormatter(_tick_label))
+    ax_m.yaxis.set_minor_locator(NullLocator())
+    if legend is None:
+        legend = any(r.label for r in items) or reference is not None or bool(bands)
+    if legend:
         ax_m.legend(loc="best", fontsize=9)
     if title:
-        ax_m.set_title(title)
+        ax_m.set_title(title, fontsize=10)
     return np.array([ax_m, ax_p])
 
 
-def _degree_locator() -> Any:
-    from matplotlib.ticker import MultipleLocator
-
-    return MultipleLocator(45)
+def _tick_label(value: float, _pos: int = 0) -> str:
+    """Plain numbers from 0.001 to 99999, powers of ten beyond."""
+    if value == 0 or 1e-3 <= abs(value) < 1e5:
+        return f"{value:g}"
+    exp = int(np.floor(np.log10(abs(value))))
+    mant = value / 10.0**exp
+    head = "" if abs(mant - 1) < 1e-9 else f"{mant:g}\\times "
+    return f"${head}10^{{{exp}}}$"
 
 
 def plot_real_part(

@@ -10,7 +10,6 @@ no backend and is never registered with pyplot.  Nothing here changes
 
 from __future__ import annotations
 
-import functools
 import io
 import os
 from collections.abc import Iterator, Sequence
@@ -21,7 +20,7 @@ from typing import Any, cast
 
 import numpy as np
 
-from ..files.atomic import atomic_save
+from ..files.owned import check_replaceable, write_output_bytes
 
 __all__ = [
     "FIGURE_FORMATS",
@@ -30,6 +29,7 @@ __all__ = [
     "bare_figures",
     "figure_bytes",
     "figure_of",
+    "figure_paths",
     "figure_renders",
     "figure_style",
     "save_figure",
@@ -47,7 +47,8 @@ STYLE: dict[str, Any] = {
 """rcParams of every seapass figure (applied with `figure_style`, never globally)."""
 
 FIGURE_FORMATS: tuple[str, ...] = ("png", "svg", "pdf")
-"""File formats `save_figure` writes when the path has no suffix."""
+"""Every figure format seapass writes; `save_figure` writes all of them when the path has
+no suffix, and the command line's ``--plot FILE`` accepts these suffixes."""
 
 
 _BARE: ContextVar[bool] = ContextVar("seapass_bare_figures", default=False)
@@ -144,42 +145,57 @@ def figure_renders(fig: Any, formats: Sequence[str], *, dpi: int = 110) -> dict[
         _close(fig)
 
 
+def figure_paths(path: str | os.PathLike[str], formats: Sequence[str] | None = None) -> list[Path]:
+    """The files `save_figure` writes for ``path`` and ``formats``.
+
+    >>> [p.name for p in figure_paths("fig", ("png", "pdf"))], figure_paths("a.svg")
+    (['fig.png', 'fig.pdf'], [PosixPath('a.svg')])
+    """
+    p = Path(path)
+    if p.suffix and formats is None:
+        return [p]
+    return [p.with_name(f"{p.name}.{f}") for f in (formats or FIGURE_FORMATS)]
+
+
 def save_figure(
     fig: Any,
     path: str | os.PathLike[str],
     *,
     formats: Sequence[str] | None = None,
     dpi: int = 150,
+    force: bool = False,
 ) -> list[Path]:
     """Write ``fig`` atomically; return the paths written.
 
     ``path`` with a suffix (``fig.png``, ``fig.svg``, ``fig.pdf``) writes that
     format; without one, every format in ``formats`` (default
-    `FIGURE_FORMATS`) is written as ``path.<format>``.
+    `FIGURE_FORMATS`) is written as ``path.<format>``.  An existing file that
+    seapass did not write is not replaced unless ``force``
+    ([`seapass.files.owned`][seapass.files.owned]); every target is checked
+    before the first is written.
+
+    Raises
+    ------
+    OutputPathError
+        When a target exists and seapass did not write it (and not ``force``).
     """
     if not hasattr(fig, "savefig"):
         fig = figure_of(fig)
-    p = Path(path)
-    if p.suffix and formats is None:
-        targets = [p]
-    else:
-        targets = [p.with_name(f"{p.name}.{f}") for f in (formats or FIGURE_FORMATS)]
+    targets = figure_paths(path, formats)
     try:
         for t in targets:
+            check_replaceable(t, force=force, argument="path")
+        for t in targets:
             data = _render(fig, t.suffix.lstrip(".").lower(), dpi)
-            atomic_save(t, functools.partial(_write_bytes, data=data))
+            write_output_bytes(t, data, force=force, argument="path")
     finally:
         _close(fig)
     return targets
 
 
-def _write_bytes(path: str, *, data: bytes) -> None:
-    Path(path).write_bytes(data)
-
-
 def _render(fig: Any, fmt: str, dpi: int) -> bytes:
-    if fmt not in ("png", "svg", "pdf"):
-        raise ValueError(f"unsupported figure format {fmt!r}; use png, svg or pdf")
+    if fmt not in FIGURE_FORMATS:
+        raise ValueError(f"unsupported figure format {fmt!r}; use {', '.join(FIGURE_FORMATS)}")
     buf = io.BytesIO()
     meta: dict[str, Any] = {"Software": None}
     if fmt == "svg":

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 import re
 from collections.abc import Mapping, Sequence
@@ -28,6 +27,8 @@ from types import MappingProxyType
 from typing import Any
 
 from ..errors import ParameterError
+from ..exact.rounding import decimal_down, inward_text
+from ..files.jsontext import json_text as to_json
 
 __all__ = [
     "Discrepancy",
@@ -39,6 +40,7 @@ __all__ = [
     "SectionStatus",
     "Summary",
     "Table",
+    "UpperEnd",
     "Verdict",
     "code",
     "format_cell",
@@ -161,10 +163,20 @@ def plain_text(text: str) -> str:
 _FILE = re.compile(r"^[A-Za-z0-9_.-]+$")
 
 
+class UpperEnd(float):
+    """A table cell that is the upper end of a passive set (a largest passive value): shown
+    rounded down, so the printed number is itself passive; data files keep the double."""
+
+    __slots__ = ()
+
+
 def format_cell(value: Any) -> str:
-    """Human-readable cell: floats to 4 significant digits, booleans as yes/NO."""
+    """Human-readable cell: floats to 4 significant digits (an `UpperEnd` rounded down),
+    booleans as yes/NO."""
     if value is None:
         return "–"
+    if isinstance(value, UpperEnd) and math.isfinite(value):
+        return decimal_down(float(value), 4)
     if isinstance(value, Math):
         return value.text
     if isinstance(value, bool):
@@ -179,31 +191,16 @@ def format_cell(value: Any) -> str:
 
 
 def format_intervals(intervals: Sequence[tuple[float, float]], hi: float) -> str:
-    """``[a, b] ∪ {c}`` with 6 significant digits; an end at ``hi`` is marked as the search limit."""
+    """``[a, b] ∪ {c}`` with 6 significant digits, rounded inward (every printed end is in
+    its interval); an end at ``hi`` is marked as the search limit."""
     if not intervals:
         return "none"
     parts = []
     for a, b in intervals:
-        end = f"{b:.6g}" + (" (search limit)" if b >= hi else "")
-        parts.append(f"[{a:.6g}, {end}]" if a != b else f"{{{a:.6g}}}")
+        a_text, b_text = inward_text(a, b, 6)
+        end = b_text + (" (search limit)" if b >= hi else "")
+        parts.append(f"[{a_text}, {end}]" if a != b else f"{{{a_text}}}")
     return " ∪ ".join(parts)
-
-
-def to_json(obj: Any) -> str:
-    """Strict, stable JSON text (non-finite floats become null, numpy scalars plain)."""
-
-    def clean(o: Any) -> Any:
-        if isinstance(o, float) and not math.isfinite(o):
-            return None
-        if isinstance(o, Mapping):
-            return {str(k): clean(v) for k, v in o.items()}
-        if isinstance(o, list | tuple):
-            return [clean(v) for v in o]
-        if hasattr(o, "item") and callable(o.item) and not isinstance(o, str | bytes):
-            return clean(o.item())
-        return o
-
-    return json.dumps(clean(obj), indent=2, allow_nan=False) + "\n"
 
 
 def _csv_cell(value: Any) -> str:
@@ -220,19 +217,19 @@ def _csv_cell(value: Any) -> str:
 class Table:
     """A table of values; written as ``data/<name>.csv`` and shown in the report.
 
-    ``highlight`` lists ``(row, column)`` cells to flag (discrepancies); a
-    ``False`` cell is always flagged.  ``views`` optionally splits a wide
-    table for display into ``(subtitle, column indices)`` parts; the CSV
-    always has every column.
+    ``highlight`` lists ``(row index, column name)`` cells to flag
+    (discrepancies); a ``False`` cell is always flagged.  ``views`` optionally
+    splits a wide table for display into ``(subtitle, column names)`` parts;
+    the CSV always has every column.
     """
 
     name: str
     title: str
     columns: tuple[str, ...]
     rows: tuple[tuple[Any, ...], ...]
-    highlight: frozenset[tuple[int, int]] = frozenset()
+    highlight: frozenset[tuple[int, str]] = frozenset()
     note: str = ""
-    views: tuple[tuple[str, tuple[int, ...]], ...] = ()
+    views: tuple[tuple[str, tuple[str, ...]], ...] = ()
 
     def __post_init__(self) -> None:
         if not _FILE.match(self.name):
@@ -240,9 +237,12 @@ class Table:
         object.__setattr__(self, "columns", tuple(self.columns))
         object.__setattr__(self, "rows", tuple(tuple(r) for r in self.rows))
         object.__setattr__(self, "highlight", frozenset(self.highlight))
+        for _i, col in self.highlight:
+            if col not in self.columns:
+                raise ParameterError(f"table {self.name!r}: no column {col!r} to highlight")
         for _sub, cols in self.views:
-            if not cols or not all(0 <= j < len(self.columns) for j in cols):
-                raise ParameterError(f"table {self.name!r}: a view has bad column indices {cols}")
+            if not cols or not all(c in self.columns for c in cols):
+                raise ParameterError(f"table {self.name!r}: a view has unknown columns {cols}")
         for i, r in enumerate(self.rows):
             if len(r) != len(self.columns):
                 raise ParameterError(
@@ -250,7 +250,14 @@ class Table:
                 )
 
     def flagged(self, i: int, j: int) -> bool:
-        return (i, j) in self.highlight or self.rows[i][j] is False
+        """Cell ``(i, j)`` (row and column index) is flagged."""
+        return (i, self.columns[j]) in self.highlight or self.rows[i][j] is False
+
+    def view_indices(self) -> list[tuple[str, tuple[int, ...]]]:
+        """The display parts as ``(subtitle, column indices)`` (one part: every column)."""
+        if not self.views:
+            return [("", tuple(range(len(self.columns))))]
+        return [(sub, tuple(self.columns.index(c) for c in cols)) for sub, cols in self.views]
 
     def to_csv(self) -> str:
         buf = io.StringIO()
@@ -263,23 +270,23 @@ class Table:
 
 @dataclass(frozen=True)
 class FigureData:
-    """A rendered figure: ``figures/<name>.png`` and, when given, ``figures/<name>.svg``.
+    """A rendered figure: ``figures/<name>.png`` and ``figures/<name>.svg``.
 
     Build it from a matplotlib figure (or its Axes) with `FigureData.of`,
-    which renders both formats.
+    which renders both formats; every figure of a report has both.
     """
 
     name: str
     caption: str
     png: bytes = field(repr=False)
-    svg: bytes | None = field(default=None, repr=False)
+    svg: bytes = field(repr=False)
 
     def __post_init__(self) -> None:
         if not _FILE.match(self.name):
             raise ParameterError(f"figure name {self.name!r} is not a plain file stem")
         if not self.png.startswith(b"\x89PNG"):
             raise ParameterError(f"figure {self.name!r}: not PNG data")
-        if self.svg is not None and b"<svg" not in self.svg[:2000]:
+        if b"<svg" not in self.svg[:2000]:
             raise ParameterError(f"figure {self.name!r}: not SVG data")
 
     @classmethod
@@ -293,10 +300,7 @@ class FigureData:
     @property
     def files(self) -> dict[str, bytes]:
         """Relative path to content of every file of this figure."""
-        out = {f"figures/{self.name}.png": self.png}
-        if self.svg is not None:
-            out[f"figures/{self.name}.svg"] = self.svg
-        return out
+        return {f"figures/{self.name}.png": self.png, f"figures/{self.name}.svg": self.svg}
 
 
 @dataclass(frozen=True)

@@ -4,35 +4,41 @@
 directory and swaps it in only when complete: an interrupted run leaves the
 previous directory untouched.
 
-Files seapass did not write are never deleted.  The marker file
-``.seapass-report`` holds the manifest of what seapass wrote; a file the user
-added elsewhere in the directory (``notes.txt``, ``my-plots/``) is carried over
-into the new report, and a file the user put where seapass writes its own
-(``report.html``, ``report.md``, ``data/``, ``figures/``) stops the run before any
-work, naming the file.  A symbolic link given as the directory is kept: the
-directory it points to is updated.
+Files seapass did not write are never deleted.  The directory's manifest
+``.seapass-written`` (the one record of what seapass wrote, see
+[`seapass.files.owned`][seapass.files.owned]) lists every file of the report with
+the digest of its content; a file the user added elsewhere in the directory
+(``notes.txt``, ``my-plots/``) is carried over into the new report, and a file
+the user put (or changed) where seapass writes its own (``report.html``,
+``report.md``, ``data/``, ``figures/``) stops the run before any work, naming
+the file, unless ``force``.  A symbolic link given as the directory is kept:
+the directory it points to is updated.  Report directories of earlier versions
+(a ``.seapass-report`` marker) are recognized.
 """
 
 from __future__ import annotations
 
-import json
+import hashlib
 import os
 import shutil
 from pathlib import Path
 
 from ..errors import OutputPathError
-from ..files.atomic import atomic_write, atomic_write_text, check_writable, sibling_dir
-from ..version import __version__
+from ..files.atomic import atomic_write, check_writable, sibling_dir
+from ..files.owned import MANIFEST, file_digest, read_manifest, write_manifest
 from .document import Report
 from .render import render_html, render_markdown
 
-__all__ = ["MARKER", "OWNED", "check_output_dir", "foreign_files", "write_report"]
+__all__ = ["LEGACY_MARKER", "MARKER", "OWNED", "check_output_dir", "foreign_files", "write_report"]
 
 
-MARKER = ".seapass-report"
-"""File that marks a directory as written by seapass, with the manifest of its files."""
+MARKER = MANIFEST
+"""The manifest of what seapass wrote (`seapass.files.owned.MANIFEST`), at the report's top."""
 
-OWNED = ("report.html", "report.md", "data", "figures", MARKER)
+LEGACY_MARKER = ".seapass-report"
+"""The marker of report directories written by earlier versions (a list of names, or none)."""
+
+OWNED = ("report.html", "report.md", "data", "figures", MARKER, LEGACY_MARKER)
 """Top-level names seapass writes in a report directory; everything else is the user's."""
 
 
@@ -41,16 +47,17 @@ def _target(out: Path) -> Path:
     return Path(os.path.realpath(out)) if out.is_symlink() else out
 
 
-def _manifest(target: Path) -> set[str] | None:
-    """Relative paths seapass wrote in ``target``; None for a marker without a manifest."""
-    try:
-        data = json.loads((target / MARKER).read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError):
-        return None
-    files = data.get("files") if isinstance(data, dict) else None
-    if not isinstance(files, list) or not all(isinstance(f, str) for f in files):
-        return None
-    return set(files)
+def _is_report_dir(target: Path) -> bool:
+    """A directory seapass wrote a report into (this version's manifest, or an old marker)."""
+    return read_manifest(target) is not None or (target / LEGACY_MARKER).is_file()
+
+
+def _manifest(target: Path) -> dict[str, str | None] | None:
+    """``{relative path: digest}`` seapass wrote in ``target``; None: an old marker, no list."""
+    listed = read_manifest(target)
+    if listed is not None:
+        return listed
+    return read_manifest(target, LEGACY_MARKER)  # a list of names: digests None
 
 
 def _entries(target: Path) -> list[str]:
@@ -65,30 +72,42 @@ def _entries(target: Path) -> list[str]:
     return sorted(out)
 
 
+def _ours(target: Path, rel: str, written: dict[str, str | None] | None) -> bool:
+    if written is None:  # an old marker without a list: everything in the owned names was
+        return rel.split("/", 1)[0] in OWNED
+    if rel not in written:
+        return False
+    want = written[rel]
+    path = target / rel
+    return want is None or (path.is_file() and not path.is_symlink() and file_digest(path) == want)
+
+
 def foreign_files(target: str | os.PathLike[str]) -> list[str]:
-    """Files (relative paths) in a previous report directory that seapass did not write."""
+    """Files (relative paths) in a previous report directory that seapass did not write.
+
+    A file seapass wrote and someone changed since counts as not seapass's.
+    """
     target = Path(target)
-    if not (target / MARKER).is_file():
-        return _entries(target) if target.is_dir() else []
+    if not target.is_dir():
+        return []
+    if not _is_report_dir(target):
+        return _entries(target)
     written = _manifest(target)
-    out = []
-    for rel in _entries(target):
-        top = rel.split("/", 1)[0]
-        if rel == MARKER:
-            continue
-        # an old marker has no manifest: everything in the owned names was seapass's
-        ours = rel in written if written is not None else top in OWNED
-        if not ours:
-            out.append(rel)
-    return out
+    return [
+        rel
+        for rel in _entries(target)
+        if rel not in (MARKER, LEGACY_MARKER) and not _ours(target, rel, written)
+    ]
 
 
-def check_output_dir(out: str | os.PathLike[str]) -> None:
+def check_output_dir(out: str | os.PathLike[str], *, force: bool = False) -> None:
     """Raise unless ``out`` can take a report (call it before long work).
 
     ``out`` must be new, empty, or a previous seapass report whose added files
     lie outside ``report.html``, ``report.md``, ``data/`` and ``figures/``; its
     parent must be writable.  A symbolic link is followed (its target is updated).
+    With ``force``, files the user put in those names are replaced too (files
+    outside them are still kept).
 
     Raises
     ------
@@ -99,19 +118,20 @@ def check_output_dir(out: str | os.PathLike[str]) -> None:
     out = Path(out)
     check_writable(out, directory=True)
     target = _target(out)
-    if target.is_dir() and any(target.iterdir()):
-        if not (target / MARKER).is_file():
+    if target.is_dir() and any(target.iterdir()) and not force:
+        if not _is_report_dir(target):
             raise OutputPathError(
                 f"out: {out} is a non-empty directory that seapass did not write; choose a "
-                "new or empty directory (seapass updates its own report directories only)",
+                "new or empty directory (seapass updates its own report directories only), "
+                "or pass force=True",
                 argument="out",
             )
         clash = [f for f in foreign_files(target) if f.split("/", 1)[0] in OWNED]
         if clash:
             raise OutputPathError(
-                f"out: {target / clash[0]} was not written by seapass but lies where seapass "
-                f"writes its report ({', '.join(OWNED[:4])}/); move it elsewhere (files you "
-                "add outside those names are kept)",
+                f"out: {target / clash[0]} was not written by seapass (or was changed since) "
+                f"but lies where seapass writes its report ({', '.join(OWNED[:4])}/); move it "
+                "elsewhere (files you add outside those names are kept), or pass force=True",
                 argument="out",
             )
     check_writable(target.parent, directory=True)  # the new report is built beside it
@@ -134,42 +154,49 @@ def _carry_over(old: Path, new: Path, rels: list[str]) -> None:
                 shutil.copy2(src, dst)
 
 
-def write_report(report: Report, out: str | os.PathLike[str]) -> list[Path]:
+def write_report(report: Report, out: str | os.PathLike[str], *, force: bool = False) -> list[Path]:
     """Write ``report.html``, ``report.md``, ``data/`` and ``figures/`` into ``out``.
 
     Everything is written into a temporary sibling directory first; only when
     it is complete does it replace the previous directory.  Files the user
-    added outside the names seapass owns are carried over; a symbolic link
-    ``out`` stays a link to the updated directory.  Returns the written paths,
-    relative to ``out``.
+    added outside the names seapass owns are carried over (and files seapass
+    wrote there by other commands, with their manifest entries); a symbolic
+    link ``out`` stays a link to the updated directory.  A file the user put
+    in those names stops the run unless ``force`` (see `check_output_dir`).
+    Returns the written paths, relative to ``out``.
     """
     out = Path(out)
-    check_output_dir(out)
+    check_output_dir(out, force=force)
     target = _target(out)
     target.parent.mkdir(parents=True, exist_ok=True)
-    files: dict[str, str | bytes] = {
-        "report.html": render_html(report),
-        "report.md": render_markdown(report),
-        **report.files(),
+    files: dict[str, bytes] = {
+        rel: content if isinstance(content, bytes) else content.encode("utf-8")
+        for rel, content in {
+            "report.html": render_html(report),
+            "report.md": render_markdown(report),
+            **report.files(),
+        }.items()
     }
-    manifest = {
-        "written_by": "seapass",
-        "version": __version__,
-        "note": "seapass replaces the files listed here on the next run and keeps all others",
-        "files": sorted(files),
+    digests: dict[str, str | None] = {
+        rel: "sha256:" + hashlib.sha256(data).hexdigest() for rel, data in files.items()
     }
-    files[MARKER] = json.dumps(manifest, indent=1) + "\n"
-    keep = foreign_files(target) if target.is_dir() else []
+    keep: list[str] = []
+    also: dict[str, str | None] = {}
+    if target.is_dir():
+        written = _manifest(target) if _is_report_dir(target) else {}
+        for rel in _entries(target):
+            if rel.split("/", 1)[0] in OWNED:
+                continue
+            keep.append(rel)
+            if written and rel in written and _ours(target, rel, written):
+                also[rel] = written[rel]  # another command's file: still seapass's
     tmp = sibling_dir(target)
     old: Path | None = None
     try:
-        for rel, content in sorted(files.items()):
-            path = tmp / rel
-            if isinstance(content, bytes):
-                with atomic_write(path, "wb") as fh:
-                    fh.write(content)
-            else:
-                atomic_write_text(path, content)
+        for rel, data in sorted(files.items()):
+            with atomic_write(tmp / rel, "wb") as fh:
+                fh.write(data)
+        write_manifest(tmp, {**also, **digests})
         _carry_over(target, tmp, keep)
         if target.exists():
             old = sibling_dir(target, suffix=".old")

@@ -171,12 +171,14 @@ def _md_text(text: str) -> str:
     return "\n".join(lines)
 
 
-# ``*`` always, ``_`` unless inside a word (where CommonMark never reads it as emphasis)
-_LITERAL = re.compile(r"\*|(?<![A-Za-z0-9])_|_(?![A-Za-z0-9])")
+# ``*`` always, ``_`` unless inside a word (where CommonMark never reads it as emphasis),
+# ``[ ]`` (links and images: a title's ``[x](https://...)`` stays text, as in report.html)
+# and ``\`` (so that a user's backslash cannot undo one of these escapes)
+_LITERAL = re.compile(r"[*\[\]\\]|(?<![A-Za-z0-9])_|_(?![A-Za-z0-9])")
 
 
 def _md_inline_text(text: Any) -> str:
-    """One line of inline Markdown for a table cell: formulas as code, ``* _ |`` literal."""
+    """One line of inline Markdown (titles, cells): formulas as code, ``* _ [ ] \\ |`` literal."""
     out = []
     for is_code, part in _split_code(" ".join(str(text).split())):
         if is_code:
@@ -202,7 +204,7 @@ def _md_cell(value: Any, flagged: bool) -> str:
 
 
 def _views(t: Table) -> list[tuple[str, tuple[int, ...]]]:
-    return list(t.views) or [("", tuple(range(len(t.columns))))]
+    return t.view_indices()
 
 
 def _indexed(section: Section) -> list[tuple[Section, int, Finding]]:

@@ -42,7 +42,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 from ..version import __version__
-from .document import Report
+from .document import Report, SectionStatus
 from .pipeline import Stage, run_stages, select_stages
 from .stages import hardware, regions, simulation, tables, zwidth
 
@@ -113,7 +113,7 @@ def reproduce(
         "[`figures/`](figures/) (PNG and SVG). Verdicts are exact (rational arithmetic, "
         "certified root isolation), not sampled on a grid."
     )
-    ok = [s.title for s in sections if s.status == "ok"]
+    ok = [s.title for s in sections if s.status is SectionStatus.OK]
     headline = (
         f"**Reproduced:** {'; '.join(ok) if ok else 'nothing'}"
         f" ({len(ok)} of {len(sections)} stages completed"

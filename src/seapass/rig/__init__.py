@@ -14,7 +14,8 @@ nonlinear plant: friction, saturation, encoders), [`twin`][seapass.rig.twin]
 [`mujoco_model`][seapass.rig.mujoco_model] (an optional MuJoCo cross-check; needs
 the ``mujoco`` extra).
 
-May import: everything in [`seapass.sampled`][seapass.sampled] and below.
+May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
+[`seapass.sim`][seapass.sim].
 """
 
 from .experiment import ExperimentResult, RigSweepResult, run_experiment, run_rig_sweep

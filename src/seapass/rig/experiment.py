@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ParameterError
+from ..files.csvtext import rows_csv
 from ..files.limits import MAX_KD_GAINS
 from ..model.display import html_card, short_repr
 from ..sim.metrics import Settling
@@ -109,7 +110,7 @@ def settling_metrics(
 # ----------------------------------------------------------------------------- sweep
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class RigSweepResult:
     """Settling experiment for one design and one load mass.
 
@@ -336,7 +337,7 @@ def _sweep_result(
 # ----------------------------------------------------------------------------- findings
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class ExperimentResult:
     """The full settling experiment: one `RigSweepResult` per (design, mass).
 
@@ -374,6 +375,10 @@ class ExperimentResult:
             for s in self.sweeps
         ]
         return html_card(f"Rig experiment on {self.rig_name}", rows)
+
+    def to_csv(self) -> str:
+        """One line per gain of every sweep (the rows of `RigSweepResult.rows`)."""
+        return rows_csv([r for s in self.sweeps for r in s.rows()])
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -415,7 +420,9 @@ def run_experiment(
         )
         if tick is not None:
             tick()
-    return ExperimentResult(rig.name, tuple(sweeps), tuple(sweep_findings(sweeps)))
+    return ExperimentResult(
+        rig_name=rig.name, sweeps=tuple(sweeps), findings=tuple(sweep_findings(sweeps))
+    )
 
 
 # ----------------------------------------------------------------------------- impacts

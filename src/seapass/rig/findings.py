@@ -25,7 +25,7 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ExperimentFinding:
     """One qualitative claim of the paper checked against the twin."""
 
@@ -59,9 +59,9 @@ def _lp_goes_unstable(lp: Sequence[RigSweepResult]) -> ExperimentFinding:
         for s in lp
     ]
     return ExperimentFinding(
-        "LP becomes unstable at high gain",
-        all(s.unstable_gain_twin is not None for s in lp),
-        "first unstable kd (N/m) — " + "; ".join(parts) + ". The one-sample delay and "
+        claim="LP becomes unstable at high gain",
+        match=all(s.unstable_gain_twin is not None for s in lp),
+        detail="first unstable kd (N/m) — " + "; ".join(parts) + ". The one-sample delay and "
         "ZOH lower the continuous-time limit; dry friction damps small oscillations, so "
         "the twin tolerates gains slightly above the sampled linear limit.",
     )
@@ -87,9 +87,9 @@ def _ours_faster_than_lp(
                 f"{_fmt(t_o)} s vs LP {_fmt(t_l)} s"
             )
     return ExperimentFinding(
-        "As the gain rises, Ours settles faster than LP",
-        all(faster) if faster else None,
-        "; ".join(detail) + ". LP has no velocity feedback "
+        claim="As the gain rises, Ours settles faster than LP",
+        match=all(faster) if faster else None,
+        detail="; ".join(detail) + ". LP has no velocity feedback "
         "and its load mode loses damping as kd approaches the stability limit; Ours "
         "keeps the load mode damped through bd and the damper b1.",
     )
@@ -111,9 +111,9 @@ def _ours_settles_faster(ours: Sequence[RigSweepResult]) -> ExperimentFinding:
                 f"m_L={s.load_mass:g}: fastest {s.settling_time[i]:.3f} s at kd={s.kd[i]:g}"
             )
     return ExperimentFinding(
-        "Ours' own settling time falls as the gain rises",
-        (all(r < 0 for r in rhos) if rhos else None),
-        "; ".join(detail)
+        claim="Ours' own settling time falls as the gain rises",
+        match=(all(r < 0 for r in rhos) if rhos else None),
+        detail="; ".join(detail)
         + "; "
         + "; ".join(plateau)
         + ". In the twin t_s falls steeply up to kd ~ 500-700 N/m and then plateaus "
@@ -144,9 +144,9 @@ def _ours_error(ours: Sequence[RigSweepResult], lp: Sequence[RigSweepResult]) ->
         errs.append((larger, e_high < e_low))
     ok = bool(errs) and all(a is not False and b for a, b in errs)
     return ExperimentFinding(
-        "Ours has a larger error for kd < 200 that shrinks as the gain rises",
-        ok if errs else None,
-        "; ".join(detail) + ". In the twin the error is set by dry friction: the "
+        claim="Ours has a larger error for kd < 200 that shrinks as the gain rises",
+        match=ok if errs else None,
+        detail="; ".join(detail) + ". In the twin the error is set by dry friction: the "
         "actuator stops where kd·|x_A| < F_cA (+ rail friction), so it falls like 1/kd; "
         "bd slows the final approach so Ours sticks further away at low gain. LP "
         "also sticks at ~F_c/kd but overshoots, and its errors scatter around 0; the "

@@ -69,7 +69,7 @@ FIT_PARAMETERS: tuple[tuple[str, str, str], ...] = (
 _CONFOUNDED = 0.98  # |correlation| beyond which two estimates are not told apart
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class FitParameter:
     """One fitted parameter with its uncertainty.
 
@@ -102,7 +102,7 @@ class FitParameter:
         }
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class RigFit:
     """The fitted actuator of a rig, with uncertainties and the data behind the fit.
 
@@ -181,6 +181,23 @@ class RigFit:
             if p.name != "offset"
             and ((p.relative_error > 0.25 and p.name not in zero) or self.confounded(p.name))
         )
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """One note per `poorly_determined` parameter: why, and which log pins it down."""
+        out = []
+        for name in self.poorly_determined:
+            others = self.confounded(name)
+            why = (
+                f"correlated with {', '.join(others)} beyond ±0.98"
+                if others
+                else f"standard error {self[name].relative_error:.0%} of the estimate"
+            )
+            out.append(
+                f"{name} is poorly determined by this log ({why}); log a chirp with the load "
+                "free to move"
+            )
+        return tuple(out)
 
     @property
     def consistent_with_zero(self) -> tuple[str, ...]:
@@ -325,7 +342,7 @@ def fit_rig(
         of interest works well.
     delay : int, optional
         Samples between a logged command and its action (default: the rig's
-        ``control.delay_samples``).
+        ``control.delay``).
     confidence : float, default 0.95
         Level of the intervals.
 
@@ -362,7 +379,14 @@ def fit_rig(
     q = float(student.ppf(0.5 + confidence / 2, n - p))
     params = tuple(
         FitParameter(
-            name, float(v), float(s), float(v - q * s), float(v + q * s), unit, desc, bool(a)
+            name=name,
+            value=float(v),
+            stderr=float(s),
+            low=float(v - q * s),
+            high=float(v + q * s),
+            unit=unit,
+            description=desc,
+            at_bound=bool(a),
         )
         for (name, unit, desc), v, s, a in zip(FIT_PARAMETERS, theta, se, active, strict=True)
     )

@@ -16,6 +16,7 @@ import sympy as sp
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ParameterError
+from ..files.csvtext import rows_csv
 from ..model.display import html_card, short_repr
 from ..model.expr import S
 from ..model.sea import SEA
@@ -84,7 +85,7 @@ DEFAULT_WINDOWS = (0.005, 0.01, 0.02, 0.03, 0.05, 0.1, 0.2)
 """Read-out times after impact onset [s] of the time-scale study."""
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class ImpactResult:
     """Perceived stiffness of Ours under steps in load force.
 
@@ -149,6 +150,15 @@ class ImpactResult:
         if self.paper_k_out is not None:
             rows.append(("paper (its bench)", "{:g} ± {:g} N/m".format(*self.paper_k_out)))
         return html_card("Perceived stiffness under impacts", rows)
+
+    def to_csv(self) -> str:
+        """One line per impact: its index, step force (N) and the ``k_out`` read (N/m)."""
+        return rows_csv(
+            [
+                {"impact": i, "force": float(f), "k_out": float(k)}
+                for i, (f, k) in enumerate(zip(self.forces, self.k_out, strict=True))
+            ]
+        )
 
     def to_dict(self) -> dict[str, Any]:
         out: dict[str, Any] = {
@@ -271,10 +281,10 @@ def _paper_findings(
     scale = ", ".join(f"{t * 1e3:g} ms: {k:.0f}" for t, k in zip(windows, by_window, strict=True))
     return (
         ExperimentFinding(
-            f"k_out > k1 under impact (paper: {paper_mean:g} ± {paper_std:g} N/m vs "
+            claim=f"k_out > k1 under impact (paper: {paper_mean:g} ± {paper_std:g} N/m vs "
             f"k1 = {k1:g} N/m)",
-            mean > k1,
-            f"twin: k_out = {mean:.0f} ± {std:.0f} N/m at {im.window * 1e3:g} ms after a step of "
+            match=mean > k1,
+            detail=f"twin: k_out = {mean:.0f} ± {std:.0f} N/m at {im.window * 1e3:g} ms after a step of "
             f"{im.force_min:g}-{im.force_max:g} N (kd = {im.kd:g}, bd = {im.bd:g}, "
             f"b1 = {rig.damper.b1:g}); static stiffness k1·kd/(k1+kd) = {static:.0f} N/m. Early "
             "in an impact the damper force b1·v and the load inertia carry the force before the "
@@ -282,9 +292,9 @@ def _paper_findings(
             f"window grows ({scale}).",
         ),
         ExperimentFinding(
-            "k_out grows with the transmission damping b1",
-            bool(np.all(np.diff(by_b1[np.argsort(b1s)]) > 0)),
-            ", ".join(f"b1 = {b:g}: {m:.0f} N/m" for b, m in zip(b1s, by_b1, strict=True)),
+            claim="k_out grows with the transmission damping b1",
+            match=bool(np.all(np.diff(by_b1[np.argsort(b1s)]) > 0)),
+            detail=", ".join(f"b1 = {b:g}: {m:.0f} N/m" for b, m in zip(b1s, by_b1, strict=True)),
         ),
     )
 

@@ -4,7 +4,7 @@ A log has four columns, one row per control sample: time [s], commanded
 actuator force [N], actuator position ``x_A`` [m] and load position ``x_L`` [m]
 (SI units).  A header row is optional; ``#`` starts a comment line.  Rows are
 uniformly sampled (the control loop's period); the command in a row acts from
-that row's time (after the rig's ``control.delay_samples``) until the next row,
+that row's time (after the rig's ``control.delay``) until the next row,
 as a zero-order hold.
 
 `twin_log` makes such a log on the digital twin
@@ -21,6 +21,8 @@ import csv
 import io
 import math
 import os
+from array import array
+from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -29,6 +31,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import FileFormatError, ParameterError
+from ..files.limits import MAX_LOG_BYTES, MAX_LOG_ROWS
+from ..files.textfile import open_text_file
 from ..model.display import html_card, short_repr
 from .plant import TwinPlant
 from .rigfile import Rig
@@ -49,12 +53,6 @@ FloatArray = NDArray[np.float64]
 
 LOG_COLUMNS = ("time", "force", "x_A", "x_L")
 """The columns of a log, in order: s, N, m, m."""
-
-MAX_LOG_BYTES = 256 * 2**20
-"""Largest log file read (256 MiB)."""
-
-MAX_LOG_ROWS = 2_000_000
-"""Most samples in a log (over an hour at 500 Hz)."""
 
 _JITTER = 0.01  # relative deviation of a time step from the median step that is accepted
 
@@ -114,6 +112,18 @@ class RigLog:
     def size(self) -> int:
         return int(self.t.size)
 
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """What looks wrong in the log without being an error: positions beyond 1 m
+        (millimetres given for metres?)."""
+        reach = float(max(np.abs(self.x_A).max(), np.abs(self.x_L).max()))
+        if reach > 1.0:
+            return (
+                f"positions reach {reach:g} m; the log's positions must be in metres "
+                "(millimetres given?)",
+            )
+        return ()
+
     def to_csv(self) -> str:
         """The log as CSV text with a header, readable by `parse_log`."""
         buf = io.StringIO()
@@ -164,35 +174,43 @@ def parse_log(text: str, *, source: str = "") -> RigLog:
         Naming the line for a wrong number of columns, a value that is not a
         finite number, too many rows, or time that is not uniformly sampled.
     """
+    return _parse_lines(io.StringIO(text), source)
+
+
+def _parse_lines(lines: Iterable[str], source: str) -> RigLog:
+    """`parse_log` of a stream of lines: only the numbers are kept (32 bytes a row)."""
     where = f"{source}: " if source else ""
-    rows: list[list[float]] = []
+    values = array("d")
+    n_rows = 0
     header_seen = False
-    for lineno, row in enumerate(csv.reader(io.StringIO(text)), start=1):
+    width = len(LOG_COLUMNS)
+    for lineno, row in enumerate(csv.reader(lines), start=1):
         if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):
             continue
-        if len(row) != len(LOG_COLUMNS):
+        if len(row) != width:
             raise FileFormatError(
-                f"{where}line {lineno}: expected {len(LOG_COLUMNS)} columns "
+                f"{where}line {lineno}: expected {width} columns "
                 f"({', '.join(LOG_COLUMNS)}), got {len(row)}"
             )
-        if not rows and not header_seen and not all(_is_number(c) for c in row):
+        if not n_rows and not header_seen and not all(_is_number(c) for c in row):
             header_seen = True
             continue
         try:
-            values = [float(c) for c in row]
+            numbers = [float(c) for c in row]
         except ValueError:
             bad = next(c for c in row if not _is_number(c))
             raise FileFormatError(
                 f"{where}line {lineno}: {bad.strip()!r} is not a number"
             ) from None
-        if not all(math.isfinite(v) for v in values):
+        if not all(math.isfinite(v) for v in numbers):
             raise FileFormatError(f"{where}line {lineno}: values must be finite")
-        rows.append(values)
-        if len(rows) > MAX_LOG_ROWS:
+        n_rows += 1
+        if n_rows > MAX_LOG_ROWS:
             raise FileFormatError(f"{where}more than {MAX_LOG_ROWS} rows; split the log")
-    if len(rows) < 3:
-        raise FileFormatError(f"{where}a log needs at least 3 rows of data, got {len(rows)}")
-    data = np.array(rows)
+        values.extend(numbers)
+    if n_rows < 3:
+        raise FileFormatError(f"{where}a log needs at least 3 rows of data, got {n_rows}")
+    data = np.frombuffer(values, dtype=np.float64).reshape(n_rows, width)
     try:
         return RigLog(data[:, 0], data[:, 1], data[:, 2], data[:, 3], source=source)
     except ParameterError as exc:
@@ -200,25 +218,23 @@ def parse_log(text: str, *, source: str = "") -> RigLog:
 
 
 def load_log(path: str | os.PathLike[str]) -> RigLog:
-    """Read a log CSV file (see the module docstring).
+    """Read a log CSV file (see the module docstring), as a stream of lines.
+
+    The file is read through [`open_text_file`][seapass.files.textfile.open_text_file]:
+    a FIFO, a device or a file over `MAX_LOG_BYTES` fails before the first
+    byte, and memory grows with the rows kept (32 bytes each), not with the
+    file's text.
 
     Raises
     ------
     FileFormatError
-        For content `parse_log` rejects, a file over `MAX_LOG_BYTES` or one that
-        is not UTF-8 text; the message names the file.
+        For content `parse_log` rejects, a file over `MAX_LOG_BYTES`, one that
+        is not a regular file or not UTF-8 text; the message names the file.
     OSError
         When the file cannot be read.
     """
-    p = Path(path)
-    size = p.stat().st_size
-    if size > MAX_LOG_BYTES:
-        raise FileFormatError(f"{p}: {size} bytes; logs up to {MAX_LOG_BYTES} bytes are read")
-    try:
-        text = p.read_text(encoding="utf-8")
-    except UnicodeDecodeError:
-        raise FileFormatError(f"{p}: not a UTF-8 text file") from None
-    return parse_log(text, source=str(p))
+    with open_text_file(path, max_bytes=MAX_LOG_BYTES, what="log file") as lines:
+        return _parse_lines(lines, str(Path(path)))
 
 
 def chirp_command(
@@ -271,7 +287,7 @@ def twin_log(
     """Run ``command`` open loop on the twin of ``rig`` and log it like the bench would.
 
     Row ``k`` holds the time ``k·T``, ``command[k]`` and the encoder readings at
-    that time; ``command[k]`` acts ``rig.control.delay_samples`` later, held
+    that time; ``command[k]`` acts ``rig.control.delay`` later, held
     for one period and saturated at the rig's force limit.
 
     Parameters
@@ -291,7 +307,7 @@ def twin_log(
         raise ParameterError("command must be a 1-D array of at least 3 finite forces")
     twin = TwinPlant(rig, load_mass=load_mass, seed=seed, **plant)
     twin.reset()
-    period, delay = rig.period, rig.control.delay_samples
+    period, delay = rig.period, rig.control.delay
     xa, xl = np.empty(u.size), np.empty(u.size)
     for k in range(u.size):
         xa[k], xl[k] = twin.measured_positions()

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -35,11 +36,12 @@ _UPSAMPLE = 8  # fine-grid points per sample for the moment integrals
 _STUCK_RUN = 3  # samples without an encoder count: stuck (or too slow to model)
 _MAX_CHUNK = 20_000  # windows integrated at once (bounds memory on long logs)
 _CENTRAL = 0.75  # no velocity reversal in this central part of a window (where φ > 0.15)
+_SLICE = 1 << 20  # fine-grid points evaluated at once (bounds memory on long logs)
 
 
 def applied_force(log: RigLog, rig: Rig, delay: int | None = None) -> FloatArray:
     """The force acting in each sample period: the command ``delay`` samples earlier, saturated."""
-    d = rig.control.delay_samples if delay is None else int(delay)
+    d = rig.control.delay if delay is None else int(delay)
     if not 0 <= d < log.size:
         raise ParameterError(f"delay must be between 0 and the log length, got {delay}")
     shifted = np.concatenate([np.zeros(d), log.force[: log.size - d]])
@@ -67,13 +69,41 @@ def stuck_samples(x: FloatArray, resolution: float, run: int = _STUCK_RUN) -> ND
 
 def smoothed_velocity(t: FloatArray, x: FloatArray, fine: FloatArray) -> FloatArray:
     """Velocity on the fine grid from a zero-phase low-pass (0.3 × Nyquist) and a spline."""
+    return np.asarray(_velocity_spline(t, x)(fine))
+
+
+def _velocity_spline(t: FloatArray, x: FloatArray) -> Any:
     from scipy.interpolate import CubicSpline
     from scipy.signal import butter, filtfilt
 
     if x.size > 27:  # filtfilt's default padding needs 3 × (order + 1) × 2 + 1 samples
         b, a = butter(4, 0.3)
         x = filtfilt(b, a, x)
-    return np.asarray(CubicSpline(t, x).derivative()(fine))
+    return CubicSpline(t, x).derivative()
+
+
+class _FineGrid:
+    """``np.linspace(t0, t1, size)``, evaluated only where asked (no array of ``size`` floats)."""
+
+    def __init__(self, t0: float, t1: float, size: int) -> None:
+        self.start, self.stop, self.size = float(t0), float(t1), int(size)
+        self.step = (self.stop - self.start) / (self.size - 1)
+
+    def at(self, k: NDArray[np.int64]) -> FloatArray:
+        """Points ``k`` of the grid, as linspace computes them (``k·step + t0``, exact end)."""
+        y = k.astype(np.float64) * self.step
+        y += self.start
+        y[k == self.size - 1] = self.stop
+        return y
+
+
+def _velocity_sign(t: FloatArray, x: FloatArray, fine: _FineGrid) -> NDArray[np.int8]:
+    """``sign(smoothed_velocity(t, x, fine))`` as int8, evaluated in slices (bounded memory)."""
+    spline = _velocity_spline(t, x)
+    out = np.empty(fine.size, dtype=np.int8)
+    for i in range(0, fine.size, _SLICE):
+        out[i : i + _SLICE] = np.sign(spline(fine.at(np.arange(i, min(i + _SLICE, fine.size)))))
+    return out
 
 
 def window_lengths(length: int) -> tuple[int, ...]:
@@ -95,7 +125,8 @@ def pack_windows(
     parts of a chirp count.
     """
     n = stuck.size
-    rev = np.concatenate([[0], np.cumsum(reversal)])
+    rev = np.zeros(reversal.size + 1, dtype=np.int32 if reversal.size < 2**31 else np.int64)
+    np.cumsum(reversal, out=rev[1:])
     stk = np.concatenate([[0], np.cumsum(stuck)])
     bounds = [
         (length, int(length * up * (0.5 - _CENTRAL / 2)), int(length * up * (0.5 + _CENTRAL / 2)))
@@ -116,7 +147,7 @@ def pack_windows(
     return np.asarray(starts, dtype=np.int64), np.asarray(sizes, dtype=np.int64)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Moments:
     """Window moments divided by ``∫φ`` (so in newtons): one row per window.
 
@@ -141,22 +172,24 @@ def log_moments(log: RigLog, rig: Rig, length: int, *, delay: int | None = None)
     ``i``, the moments of the regressors of ``m, b, F_cA, b1, F_c1, c`` (see
     [`seapass.rig.identify`][seapass.rig.identify]) and ``y`` the moment of
     ``F + k1 δ``, each divided by ``∫φ``.  Axis 0: window, in time order.
+
+    Memory: of the fine grid (``8 n`` points) only the two velocity signs are
+    kept (int8); the grid's points and the positions are computed only where
+    the windows being integrated need them.
     """
     from scipy.interpolate import CubicSpline
 
     t, up = log.t, _UPSAMPLE
     force = applied_force(log, rig, delay)
     delta = log.x_L - log.x_A
-    fine = np.linspace(t[0], t[-1], (t.size - 1) * up + 1)
-    signals = {
-        "x_A": CubicSpline(t, log.x_A)(fine),
-        "delta": CubicSpline(t, delta)(fine),
-        "sgn_A": np.sign(smoothed_velocity(t, log.x_A, fine)),
-        "sgn_delta": np.sign(smoothed_velocity(t, delta, fine)),
-    }
+    fine = _FineGrid(t[0], t[-1], (t.size - 1) * up + 1)
+    signs = {"sgn_A": _velocity_sign(t, log.x_A, fine), "sgn_delta": _velocity_sign(t, delta, fine)}
+    signals = _Signals(
+        fine, {"x_A": CubicSpline(t, log.x_A), "delta": CubicSpline(t, delta)}, signs
+    )
     reversal = np.zeros(fine.size, dtype=bool)
-    for key in ("sgn_A", "sgn_delta"):
-        reversal[1:] |= signals[key][1:] != signals[key][:-1]
+    for sgn in signals.signs.values():
+        reversal[1:] |= sgn[1:] != sgn[:-1]
     stuck = stuck_samples(log.x_A, rig.motor_resolution) | stuck_samples(
         delta, rig.linear_resolution
     )
@@ -176,12 +209,33 @@ def log_moments(log: RigLog, rig: Rig, length: int, *, delay: int | None = None)
     )
 
 
+class _Signals:
+    """The fine-grid signals: splines evaluated where asked, velocity signs stored (int8)."""
+
+    def __init__(self, fine: _FineGrid, splines: dict[str, Any], signs: dict[str, Any]) -> None:
+        self.fine, self.splines, self.signs = fine, splines, signs
+
+    def __getitem__(self, key: str) -> _Signal:
+        return _Signal(self, key)
+
+
+class _Signal:
+    def __init__(self, signals: _Signals, key: str) -> None:
+        self.signals, self.key = signals, key
+
+    def __getitem__(self, idx: NDArray[np.int64]) -> Any:
+        s = self.signals
+        if self.key in s.signs:
+            return s.signs[self.key][idx]
+        return s.splines[self.key](s.fine.at(idx))
+
+
 def _window_rows(
     starts: NDArray[np.int64],
     length: int,
     h: float,
     force: FloatArray,
-    signals: dict[str, FloatArray],
+    signals: _Signals,
     rig: Rig,
 ) -> FloatArray:
     """Rows ``[X (6), ∫φF, k1∫φδ] / ∫φ`` for windows of one length; axis 0: window."""
@@ -198,8 +252,12 @@ def _window_rows(
     hold = np.diff(edges / 2 - T / (4 * np.pi) * np.sin(2 * np.pi * edges / T))
     idx = starts[:, None] * up + np.arange(tau.size)[None, :]
 
+    values: dict[str, Any] = {}  # each signal evaluated once per chunk
+
     def moment(w: FloatArray, key: str) -> FloatArray:
-        return np.asarray(simpson(w[None, :] * signals[key][idx], x=tau, axis=1))
+        if key not in values:
+            values[key] = signals[key][idx]
+        return np.asarray(simpson(w[None, :] * values[key], x=tau, axis=1))
 
     cols = np.column_stack(
         [

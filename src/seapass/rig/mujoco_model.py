@@ -82,7 +82,7 @@ def build_mjcf(rig: Rig, *, load_mass: float, timestep: float = 1e-4) -> str:
 """
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class MujocoRun:
     """Positions at the control instants: ``t`` (N+1,), ``x_A``/``x_L`` (N+1,)."""
 
@@ -121,8 +121,8 @@ def simulate_mujoco(
     sub = round(T / timestep)
     if abs(sub * timestep - T) > 1e-9 * T:
         raise ParameterError("timestep must divide the control period")
-    fc = rig.control.velocity_filter_hz
-    alpha = math.exp(-2.0 * math.pi * fc * T) if fc > 0 else 0.0
+    fc = rig.control.velocity_filter
+    alpha = math.exp(-2.0 * math.pi * fc * T) if fc else 0.0
     steps = round(duration / T)
     xa = np.empty(steps + 1)
     xl = np.empty(steps + 1)
@@ -133,7 +133,7 @@ def simulate_mujoco(
         vhat = alpha * vhat + (1.0 - alpha) * (a - prev) / T
         prev = a
         u = -kp_actuator * a - kv_actuator * vhat - kp_load * ll
-        applied = pending if rig.control.delay_samples else u
+        applied = pending if rig.control.delay else u
         pending = u
         data.ctrl[0] = force + applied
         for _ in range(sub):
@@ -142,7 +142,7 @@ def simulate_mujoco(
     return MujocoRun(t=np.arange(steps + 1, dtype=float) * T, x_A=xa, x_L=xl)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class MujocoComparison:
     """MuJoCo vs linear twin: ``max_error`` (m) over both positions and all samples."""
 
@@ -206,7 +206,9 @@ def compare_with_twin(
     scale = max(abs(x0), float(np.max(np.abs(tw_l))))
     tol = 0.01 * scale if tolerance is None else float(tolerance)
     err = float(max(np.max(np.abs(mj_run.x_A - tw_a)), np.max(np.abs(mj_run.x_L - tw_l))))
-    return MujocoComparison(err, tol, err <= tol, mj_run, tw_a, tw_l)
+    return MujocoComparison(
+        max_error=err, tolerance=tol, agree=err <= tol, mujoco=mj_run, twin_x_A=tw_a, twin_x_L=tw_l
+    )
 
 
 def _twin_force_step(

@@ -16,6 +16,7 @@ from scipy.linalg import expm
 
 from ..errors import ParameterError
 from ..model.catalog import design as catalog_design
+from ..model.loop import SampledLoop, loop_argument
 from ..model.sea import SEA
 from .rigfile import Rig
 from .twin import linear_matrices
@@ -33,11 +34,14 @@ __all__ = [
 ]
 
 
-def zoh_matrices(rig: Rig, load_mass: float) -> tuple[FloatArray, FloatArray]:
+def zoh_matrices(
+    rig: Rig, load_mass: float, period: float | None = None
+) -> tuple[FloatArray, FloatArray]:
+    """The rig's linear plant held (ZOH) over one ``period`` (default: the rig's)."""
     a, b = linear_matrices(rig, load_mass=load_mass)
     blk = np.zeros((5, 5))
     blk[:4, :4], blk[:4, 4:] = a, b
-    e = expm(blk * rig.period)
+    e = expm(blk * (rig.period if period is None else period))
     return e[:4, :4], e[:4, 4:]
 
 
@@ -49,23 +53,25 @@ def sampled_loop_matrix(
     kv_actuator: float = 0.0,
     kp_load: float = 0.0,
     kv_load: float = 0.0,
-    delay_samples: int | None = None,
-    velocity_filter_hz: float | None = None,
+    loop: SampledLoop | None = None,
     _zoh_cache: tuple[FloatArray, FloatArray] | None = None,
+    **old: Any,
 ) -> FloatArray:
     """Closed-loop transition matrix of the sampled linear loop (9 states).
 
     State ``(x, y_{k-1}, v̂_{k-1}, u_{k-1})``: plant ``(x_A, v_A, x_L, v_L)``
     discretised with ZOH at the control period, last measured positions,
-    filtered finite-difference velocities and the pending command (used when
-    ``delay_samples = 1``).  The loop is stable iff the spectral radius < 1.
+    filtered finite-difference velocities and the pending command (used with one
+    sample of delay).  ``loop`` replaces the rig's (`Rig.loop`; delay 0 or 1).  The
+    loop is stable iff the spectral radius < 1.
     """
-    T = rig.period
-    delay = rig.control.delay_samples if delay_samples is None else int(delay_samples)
-    fc = rig.control.velocity_filter_hz if velocity_filter_hz is None else float(velocity_filter_hz)
-    alpha = math.exp(-2.0 * math.pi * fc * T) if fc > 0 else 0.0
+    loop = loop_argument(loop, old, where="sampled_loop_matrix", base=rig.loop)
+    if loop.delay not in (0, 1):
+        raise ParameterError(f"loop: the rig's loop has 0 or 1 samples of delay, got {loop.delay}")
+    T, delay, fc = loop.period, loop.delay, loop.velocity_filter
+    alpha = math.exp(-2.0 * math.pi * fc * T) if fc else 0.0
     beta = (1.0 - alpha) / T
-    ad, bd = zoh_matrices(rig, load_mass) if _zoh_cache is None else _zoh_cache
+    ad, bd = zoh_matrices(rig, load_mass, T) if _zoh_cache is None else _zoh_cache
     c = np.array([[1.0, 0, 0, 0], [0, 0, 1.0, 0]])
     kp = np.array([[kp_actuator, kp_load]])
     kv = np.array([[kv_actuator, kv_load]])

@@ -27,12 +27,13 @@ from dataclasses import dataclass
 from importlib import resources
 from typing import Any
 
-from ..errors import FileFormatError
+from ..errors import FileFormatError, ParameterError
 from ..files import limits
+from ..files.schema import check_table
 from ..files.toml import dump_toml, load_toml_file
+from ..model.loop import SampledLoop, rename_rig_control_keys
 from .schema import (
     SCHEMA,
-    TOP_FIELDS,
     ControlSpec,
     DamperSpec,
     EncoderSpec,
@@ -41,8 +42,7 @@ from .schema import (
     LoadSpec,
     MotorSpec,
     TransmissionSpec,
-    build_section,
-    check_value,
+    rig_fields,
 )
 
 __all__ = [
@@ -83,6 +83,8 @@ class Rig:
         Metres per count of the two encoders.
     period : float
         Control period ``1/rate`` (s).
+    loop : SampledLoop
+        The bench's sampled loop: ``[control]`` rate, delay and velocity filter.
     """
 
     motor: MotorSpec
@@ -112,6 +114,10 @@ class Rig:
             raise FileFormatError("experiment.load_masses must list at least one mass")
         if abs(self.experiment.initial_position) >= self.load.travel:
             raise FileFormatError("experiment.initial_position must lie inside ±load.travel")
+        try:
+            self.loop  # noqa: B018 - checks the velocity filter against the Nyquist frequency
+        except ParameterError as exc:
+            raise FileFormatError(f"control.{exc}") from None
         c, n_max, steps_max = self.control, limits.MAX_RIG_SAMPLES, limits.MAX_RIG_INTEGRATOR_STEPS
         for key, n in (("experiment.horizon", self.experiment.horizon * c.rate),
                        ("impacts.duration", self.impacts.duration * c.rate)):  # fmt: skip
@@ -156,6 +162,12 @@ class Rig:
     def period(self) -> float:
         return 1.0 / self.control.rate
 
+    @property
+    def loop(self) -> SampledLoop:
+        """The bench's sampled loop (`SampledLoop`) from ``[control]``."""
+        c = self.control
+        return SampledLoop(rate=c.rate, delay=c.delay, velocity_filter=c.velocity_filter)
+
     def load_side_mass(self, load_mass: float) -> float:
         """Output carriage plus the attached load (kg)."""
         return self.load.carriage_mass + float(load_mass)
@@ -199,7 +211,9 @@ class Rig:
         out: dict[str, Any] = {"name": self.name, "description": self.description}
         for sec in SCHEMA:
             d = dataclasses.asdict(getattr(self, sec))
-            out[sec] = {k: (list(v) if isinstance(v, tuple) else v) for k, v in d.items()}
+            out[sec] = {
+                k: (list(v) if isinstance(v, tuple) else v) for k, v in d.items() if v is not None
+            }
         return out
 
     def to_toml(self) -> str:
@@ -232,21 +246,11 @@ def parse_rig(data: dict[str, Any]) -> Rig:
         Naming the offending key for unknown keys, wrong types, missing
         required keys or out-of-range values.
     """
-    if not isinstance(data, dict):
-        raise FileFormatError("a rig must be a TOML table")
-    unknown = sorted(set(data) - set(SCHEMA) - set(TOP_FIELDS))
-    if unknown:
-        raise FileFormatError(
-            f"unknown key {unknown[0]}; allowed sections: {', '.join(SCHEMA)} "
-            f"and keys {', '.join(TOP_FIELDS)}"
-        )
-    kwargs: dict[str, Any] = {}
-    for key, spec in TOP_FIELDS.items():
-        kwargs[key] = check_value(key, spec, data[key]) if key in data else spec.default
-    for section in SCHEMA:
-        if section not in data:
-            raise FileFormatError(f"missing required section [{section}]")
-        kwargs[section] = build_section(section, data[section])
+    if isinstance(data.get("control"), dict):  # the loop's one spelling; old rig files still load
+        data = {**data, "control": rename_rig_control_keys(data["control"])}
+    kwargs = check_table(data, rig_fields(), what="a rig")
+    for section, (cls, _fields) in SCHEMA.items():
+        kwargs[section] = cls(**kwargs[section])
     return Rig(**kwargs)
 
 

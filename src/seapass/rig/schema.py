@@ -1,9 +1,10 @@
 """The sections of a rig file: one frozen spec per TOML table, each key typed and range-checked.
 
 What lives here: the section specs (`MotorSpec` ... `ImpactSpec`), the
-schema of every key (`SCHEMA`, `TOP_FIELDS`) and the checks that build a
-section from its table (`build_section`).  The `Rig` itself is in
-[`seapass.rig.rigfile`][seapass.rig.rigfile].
+schema of every key (`SCHEMA`, `TOP_FIELDS`, `rig_fields`), declared with
+[`seapass.files.schema.Field`][seapass.files.schema.Field] and checked by
+[`check_table`][seapass.files.schema.check_table], the one checker of design and
+rig files.  The `Rig` itself is in [`seapass.rig.rigfile`][seapass.rig.rigfile].
 """
 
 from __future__ import annotations
@@ -12,8 +13,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from ..errors import FileFormatError
 from ..files import limits
+from ..files.schema import Field
 
 __all__ = [
     "SCHEMA",
@@ -22,28 +23,14 @@ __all__ = [
     "DamperSpec",
     "EncoderSpec",
     "ExperimentSpec",
-    "Field",
     "ImpactSpec",
     "LoadSpec",
     "MotorSpec",
     "TransmissionSpec",
-    "build_section",
-    "check_value",
+    "rig_fields",
 ]
 
 _INF = math.inf
-
-
-@dataclass(frozen=True)
-class Field:
-    """One checked key of a rig file: its type, range and default."""
-
-    kind: type  # float, int, str, bool or list (list of floats)
-    lo: float = -_INF
-    hi: float = _INF  # for str: the longest text; for list: the largest value
-    lo_open: bool = False
-    required: bool = True
-    default: Any = None
 
 
 def _f(lo: float = -_INF, hi: float = _INF, *, open_lo: bool = False, default: Any = None) -> Field:
@@ -106,12 +93,12 @@ class EncoderSpec:
 
 @dataclass(frozen=True)
 class ControlSpec:
-    """Digital control loop of the bench."""
+    """Digital control loop of the bench (`Rig.loop` is it as a `SampledLoop`)."""
 
     rate: float  # Hz
-    delay_samples: int  # 0 or 1: command computed from sample k applied at k+1
-    velocity_filter_hz: float  # first-order low-pass on finite differences; 0 = none
+    delay: int  # samples, 0 or 1: command computed from sample k applied at k+1
     substeps: int  # integrator substeps per control period
+    velocity_filter: float | None = None  # Hz, first-order low-pass on finite differences
 
 
 @dataclass(frozen=True)
@@ -194,8 +181,8 @@ SCHEMA: dict[str, tuple[type, dict[str, Field]]] = {
         ControlSpec,
         {
             "rate": _f(1.0, 1e6),
-            "delay_samples": _i(0, 1, default=0),
-            "velocity_filter_hz": _f(0.0, 1e6, default=0.0),
+            "delay": _i(0, 1, default=0),
+            "velocity_filter": Field(float, 0.0, 1e6, lo_open=True, required=False),
             "substeps": _i(1, 10_000, default=10),
         },
     ),
@@ -235,53 +222,6 @@ TOP_FIELDS = {
 }
 
 
-def check_value(key: str, spec: Field, value: Any) -> Any:
-    """``value`` of ``key`` checked against ``spec`` (type, range, length)."""
-    if spec.kind is str:
-        if not isinstance(value, str):
-            raise FileFormatError(f"{key}: expected a string, got {type(value).__name__}")
-        if len(value) > spec.hi:
-            raise FileFormatError(f"{key}: {len(value):,} characters; the limit is {spec.hi:g}")
-        return value
-    if spec.kind is list:
-        if not isinstance(value, list):
-            raise FileFormatError(f"{key}: expected a list of numbers, got {type(value).__name__}")
-        if len(value) > (most := limits.MAX_LIST_LENGTH):
-            raise FileFormatError(f"{key}: {len(value):,} entries; the limit is {most}")
-        return tuple(_check_number(f"{key}[{i}]", spec, v, float) for i, v in enumerate(value))
-    return _check_number(key, spec, value, spec.kind)
-
-
-def _check_number(key: str, spec: Field, value: Any, kind: type) -> Any:
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise FileFormatError(f"{key}: expected a number, got {type(value).__name__} {value!r}")
-    if kind is int and not isinstance(value, int):
-        raise FileFormatError(f"{key}: expected an integer, got {value!r}")
-    if not math.isfinite(value):
-        raise FileFormatError(f"{key}: must be finite, got {value!r}")
-    too_low = value <= spec.lo if spec.lo_open else value < spec.lo
-    if too_low or value > spec.hi:
-        lo = "(" if spec.lo_open else "["
-        raise FileFormatError(f"{key} = {value!r} is out of range {lo}{spec.lo:g}, {spec.hi:g}]")
-    return kind(value)
-
-
-def build_section(section: str, table: Any) -> Any:
-    """The spec object of ``[section]`` from its TOML table; unknown and missing keys are errors."""
-    cls, fields = SCHEMA[section]
-    if not isinstance(table, dict):
-        raise FileFormatError(f"[{section}] must be a table, got {type(table).__name__}")
-    unknown = sorted(set(table) - set(fields))
-    if unknown:
-        raise FileFormatError(
-            f"unknown key {section}.{unknown[0]}; allowed keys: {', '.join(fields)}"
-        )
-    kwargs: dict[str, Any] = {}
-    for key, spec in fields.items():
-        if key in table:
-            kwargs[key] = check_value(f"{section}.{key}", spec, table[key])
-        elif spec.required:
-            raise FileFormatError(f"missing required key {section}.{key}")
-        else:
-            kwargs[key] = spec.default
-    return cls(**kwargs)
+def rig_fields() -> dict[str, Field]:
+    """Every key of a rig file: `TOP_FIELDS` and one table per section of `SCHEMA`."""
+    return {**TOP_FIELDS, **{name: Field(dict, fields=f) for name, (_cls, f) in SCHEMA.items()}}

@@ -10,7 +10,9 @@ twin reduces to.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -18,6 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ParameterError
 from ..files.limits import MAX_RIG_INTEGRATOR_STEPS, MAX_TWIN_VALUES
+from ..model.loop import SampledLoop, loop_argument
 from .plant import Encoders, PlantKernel, as_batch
 from .rigfile import Rig
 
@@ -26,7 +29,7 @@ FloatArray = NDArray[np.float64]
 __all__ = ["LoopResult", "linear_matrices", "simulate_loop"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LoopResult:
     """Batch closed-loop run of `simulate_loop`.
 
@@ -60,7 +63,7 @@ class LoopResult:
     force: FloatArray
     external_force: FloatArray
     diverged: NDArray[np.bool_]
-    meta: dict[str, Any] = field(default_factory=dict)
+    meta: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
 
 
 def simulate_loop(
@@ -81,17 +84,17 @@ def simulate_loop(
     friction: bool = True,
     quantize: bool = True,
     saturate: bool = True,
-    delay_samples: int | None = None,
-    velocity_filter_hz: float | None = None,
+    loop: SampledLoop | None = None,
     seed: int | None = None,
+    **old: Any,
 ) -> LoopResult:
     """Simulate a batch of sampled closed loops on the twin.
 
     The internal discrete controller is
     ``u_k = kp_A (r − x̂_A) − kv_A v̂_A + kp_L (r − x̂_L) − kv_L v̂_L`` with
     encoder positions ``x̂`` and velocities ``v̂`` from finite differences
-    through a first-order low-pass (``velocity_filter_hz``, 0 = raw).  ``u`` is
-    held for one period (ZOH), optionally one sample late (``delay_samples``).
+    through the loop's first-order low-pass (none: raw).  ``u`` is held for one
+    period (ZOH), optionally one sample late (the loop's delay).
     LP of the paper is ``kp_load = kd``; "Ours" is ``kp_actuator = kd,
     kv_actuator = bd``.
 
@@ -113,10 +116,15 @@ def simulate_loop(
         ``max(0, k p + c ṗ)`` (``p`` penetration) acts on the load.
     friction, quantize, saturate : bool
         Model switches (all True for the twin).
-    delay_samples, velocity_filter_hz : optional
-        Override the rig's ``[control]`` values.
+    loop : SampledLoop, optional
+        The sampled loop (the rig's period, delay 0 or 1, velocity filter); default the rig's
+        ([`Rig.loop`][seapass.rig.rigfile.Rig.loop]).  Its discretization method does not
+        matter here: the twin's controller is proportional-derivative.
     seed : int or None
         Encoder phase offsets (see `TwinPlant`).
+    **old
+        The loop's old keywords (delay and velocity filter in Hz, 0 for none), accepted
+        for one release with a warning.
     """
     arr = _broadcast_runs(
         load_mass=load_mass, kp_actuator=kp_actuator, kv_actuator=kv_actuator,
@@ -126,13 +134,15 @@ def simulate_loop(
     n = arr["load_mass"].size
     if not (math.isfinite(duration) and duration > 0):
         raise ParameterError(f"duration must be a positive time, got {duration!r}")
-    delay = rig.control.delay_samples if delay_samples is None else int(delay_samples)
-    if delay not in (0, 1):
-        raise ParameterError(f"delay_samples must be 0 or 1, got {delay}")
-    fc = rig.control.velocity_filter_hz if velocity_filter_hz is None else float(velocity_filter_hz)
-    if fc < 0:
-        raise ParameterError("velocity_filter_hz must be >= 0")
-    T = rig.period
+    loop = loop_argument(loop, old, where="simulate_loop", base=rig.loop)
+    if loop.delay not in (0, 1):
+        raise ParameterError(f"loop: the twin runs 0 or 1 samples of delay, got {loop.delay}")
+    if loop.period != rig.period:
+        raise ParameterError(
+            f"loop: the twin runs at the rig's control.rate ({rig.control.rate:g} Hz); change "
+            "it with rig.replace(control={'rate': ...})"
+        )
+    delay, fc, T = loop.delay, loop.velocity_filter or 0.0, loop.period
     steps = round(duration / T)
     if n * (steps + 1) > MAX_TWIN_VALUES or steps * rig.control.substeps > MAX_RIG_INTEGRATOR_STEPS:
         raise ParameterError(
@@ -178,13 +188,14 @@ def simulate_loop(
         force=rec.force,
         external_force=rec.external,
         diverged=stop.diverged,
-        meta={
-            "delay_samples": delay,
-            "velocity_filter_hz": fc,
-            "friction": friction,
-            "quantize": quantize,
-            "saturate": saturate,
-        },
+        meta=MappingProxyType(
+            {
+                "loop": loop,
+                "friction": friction,
+                "quantize": quantize,
+                "saturate": saturate,
+            }
+        ),
     )
 
 

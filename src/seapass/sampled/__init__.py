@@ -1,7 +1,8 @@
 """Sampled-data control: discrete controllers, certified sampled passivity, the runtime.
 
 What lives here: [`controllers`][seapass.sampled.controllers] (exact discretization and
-the deployable difference equations); the certified sampled-data passivity analysis:
+the deployable difference equations, with [`emulation`][seapass.sampled.emulation] for
+numeric controllers); the certified sampled-data passivity analysis:
 [`plant`][seapass.sampled.plant] (exact plant rationals), [`alias`][seapass.sampled.alias]
 (alias sums as arb balls), [`power`][seapass.sampled.power] (the weighted power polynomial),
 [`certified`][seapass.sampled.certified] (sign and stability decisions on ball polynomials),
@@ -15,22 +16,36 @@ passive sets of one parameter), [`region`][seapass.sampled.region] (Z-width maps
 a simulation check) and [`runtime`][seapass.sampled.runtime] (a fixed-rate control loop
 with safety, for hardware or the twin).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model],
-[`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim], [`seapass.batch`][seapass.batch].
+May import: [`seapass.errors`][seapass.errors], ``seapass.outcome``, [`seapass.files`][seapass.files],
+[`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis].
 """
 
-from .bound import SampledBoundResult, sampled_passive_bound
-from .controllers import (
-    APDController,
-    DiscreteController,
-    DiscreteTF,
-    LPController,
-    OursController,
-    discretize,
-)
-from .passivity import SampledPassivityResult, SampledStatus, sampled_passivity
-from .region import ZWidthMap, sampled_region
-from .runtime import ControlLoop, HardwareInterface, SimulatedHardware
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+_LAZY: dict[str, str] = {
+    "SampledBoundResult": "bound",
+    "sampled_passive_bound": "bound",
+    "APDController": "controllers",
+    "DiscreteController": "controllers",
+    "DiscreteTF": "controllers",
+    "LPController": "controllers",
+    "OursController": "controllers",
+    "discretize": "controllers",
+    "SampledPassivityResult": "passivity",
+    "SampledReason": "passivity",
+    "SampledStatus": "passivity",
+    "sampled_passivity": "passivity",
+    "ZWidthMap": "region",
+    "sampled_region": "region",
+    "ControlLoop": "runtime",
+    "HardwareInterface": "runtime",
+    "SimulatedHardware": "runtime",
+}
+"""Public name -> the module that defines it (loaded on first use, so importing a
+module of this package does not import every other one)."""
 
 __all__ = [
     "APDController",
@@ -42,6 +57,7 @@ __all__ = [
     "OursController",
     "SampledBoundResult",
     "SampledPassivityResult",
+    "SampledReason",
     "SampledStatus",
     "SimulatedHardware",
     "ZWidthMap",
@@ -50,3 +66,35 @@ __all__ = [
     "sampled_passivity",
     "sampled_region",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        value = getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_LAZY})
+
+
+if TYPE_CHECKING:  # what type checkers and IDEs see
+    from .bound import SampledBoundResult, sampled_passive_bound
+    from .controllers import (
+        APDController,
+        DiscreteController,
+        DiscreteTF,
+        LPController,
+        OursController,
+        discretize,
+    )
+    from .passivity import (
+        SampledPassivityResult,
+        SampledReason,
+        SampledStatus,
+        sampled_passivity,
+    )
+    from .region import ZWidthMap, sampled_region
+    from .runtime import ControlLoop, HardwareInterface, SimulatedHardware

@@ -13,74 +13,126 @@ from __future__ import annotations
 import math
 import sys
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from enum import StrEnum
 from fractions import Fraction
 from typing import Any
 
 from ..errors import ParameterError, SeapassError, UnrealizableError
+from ..exact.rounding import (
+    decimal_down,
+    enclosure_text,
+    exact_text,
+    float_down,
+    float_up,
+    interval_text,
+)
+from ..files.limits import check_rtol
 from ..model.display import Shown, html_card, short_repr
+from ..model.loop import LoopAttributes, SampledLoop, loop_argument
 from ..model.sea import SEA
-from .boxes import BoxVerdict, bound_boxes
-from .controllers import Method, controller_tfs
+from ..outcome import Outcome
+from .boxes import MAX_BOXES, BoxVerdict, bound_boxes
+from .controllers import controller_tfs
 from .family import controller_family
 from .lowfreq import low_frequency_limit
-from .passivity import check_delay, check_ranges, sampled_passivity
+from .passivity import check_precision, check_values, sampled_passivity
 from .plant import plant_key, plant_of
-from .verdict import PRECISIONS, decide
+from .verdict import PRECISIONS, SampledReason, decide
 
-__all__ = ["Edge", "SampledBoundResult", "intervals_text", "sampled_passive_bound"]
-
-#: Smallest and largest relative edge tolerance accepted.
-RTOL_RANGE = (1e-12, 1e-2)
+__all__ = ["Edge", "EdgeKind", "SampledBoundResult", "intervals_text", "sampled_passive_bound"]
 
 
-@dataclass(frozen=True)
+class EdgeKind(StrEnum):
+    """What changes across an edge of a sampled passive set (the JSON value is the string)."""
+
+    LOW_FREQUENCY = "low_frequency"
+    """``N(ω) < 0`` as ``ω → 0`` on the non-passive side."""
+    STABILITY = "stability"
+    """The loop with the port held becomes unstable."""
+    INTERIOR = "interior"
+    """``N(ω) < 0`` at a frequency inside ``(0, π/T]`` (or the side is not deployable)."""
+    SPECIAL = "special"
+    """A single value where the deployed controller changes structure."""
+
+
+@dataclass(frozen=True, kw_only=True)
 class Edge:
     """Enclosure ``[lo, hi]`` of one boundary of the passive set and what changes there."""
 
     lo: float
     hi: float
-    kind: str  # "low_frequency", "stability", "nyquist", "interior", "special"
+    kind: EdgeKind
 
     def to_dict(self) -> dict[str, Any]:
         return {"lo": self.lo, "hi": self.hi, "kind": self.kind}
 
 
-@dataclass(frozen=True, repr=False)
-class SampledBoundResult:
+@dataclass(frozen=True, repr=False, kw_only=True)
+class SampledBoundResult(LoopAttributes):
     """Certified passive values of one parameter (`sampled_passive_bound`).
 
     Attributes
     ----------
-    intervals : list of (float, float)
-        Proven passive intervals (closed; a degenerate ``(v, v)`` is an isolated value).
-        Their ends are the inner ends of the edge enclosures: conservative.
-    edges : list of Edge
-        Every boundary of the passive set, enclosed to ``rtol`` relative width.
-    undecided : list of (float, float)
-        Sub-intervals (each narrower than the tolerance) the certification could not
-        settle away from the edges; empty in all but near-degenerate cases.
+    intervals : tuple of (float, float)
+        Proven passive intervals of doubles (closed; a degenerate ``(v, v)`` is an
+        isolated value): every double in them is proven passive.  Their ends are the
+        inner ends of the edge enclosures, rounded inward to doubles.
+    edges : tuple of Edge
+        Every boundary of the passive set, enclosed to ``rtol`` relative width (the
+        enclosure rounded outward to doubles).
+    undecided : tuple of (float, float)
+        Sub-intervals the certification could not settle away from the edges (rounded
+        outward): narrower than the tolerance, or left when the budget of boxes ran out
+        (``budget_exhausted``).  Never reported passive.
     max_passive : float or None
         Largest proven passive value.
-    partition : list of (float, float, str)
-        The whole range as proven boxes and leaves: ``(lo, hi, status)``.
+    partition : tuple of (float, float, Outcome)
+        The whole range as proven boxes and leaves: ``(lo, hi, outcome)`` (proven boxes
+        rounded inward, undecided ones outward).
+    loop : SampledLoop
+        The sampled loop (``period``, ``delay`` and ``velocity_filter`` are its).
+    design_passive : bool or None
+        The design value lies in a proven passive interval (None: no design value);
+        `design_outcome` tells not passive from undecided.
+    budget_exhausted : bool
+        The branch and bound stopped at ``max_boxes`` boxes; what it had not settled is
+        in ``undecided``.
     """
 
     param: str
-    period: float
+    loop: SampledLoop
     lo: float
     hi: float
-    intervals: list[tuple[float, float]]
+    intervals: tuple[tuple[float, float], ...]
     max_passive: float | None
-    edges: list[Edge] = field(default_factory=list)
-    undecided: list[tuple[float, float]] = field(default_factory=list)
-    partition: list[tuple[float, float, str]] = field(default_factory=list)
-    delay: int = 0
-    velocity_filter: float | None = None
+    edges: tuple[Edge, ...] = ()
+    undecided: tuple[tuple[float, float], ...] = ()
+    partition: tuple[tuple[float, float, Outcome], ...] = ()
     rtol: float = 1e-9
     design_value: float | None = None
     design_passive: bool | None = None
     low_frequency: str | None = None
+    budget_exhausted: bool = False
+
+    @property
+    def period(self) -> float:
+        return self.loop.period
+
+    @property
+    def design_outcome(self) -> Outcome | None:
+        """The certified outcome at ``design_value`` (None without one).
+
+        ``PASSIVE`` inside a proven passive interval, ``UNDECIDED`` inside an edge
+        enclosure or an undecided sliver, else ``NOT_PASSIVE``.
+        """
+        v = self.design_value
+        if v is None:
+            return None
+        if self.design_passive:
+            return Outcome.PASSIVE
+        unsure = [(e.lo, e.hi) for e in self.edges] + list(self.undecided)
+        return Outcome.UNDECIDED if any(a <= v <= b for a, b in unsure) else Outcome.NOT_PASSIVE
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -97,7 +149,17 @@ class SampledBoundResult:
             "design_value": self.design_value,
             "design_passive": self.design_passive,
             "low_frequency": self.low_frequency,
+            "budget_exhausted": self.budget_exhausted,
         }
+
+    def to_csv(self) -> str:
+        """The whole range as proven boxes and leaves, one per line: ``lo, hi, status``.
+
+        The header names the parameter (``kd_lo,kd_hi,status``); numbers are
+        written exactly (``repr``).
+        """
+        rows = "".join(f"{a!r},{b!r},{status}\n" for a, b, status in self.partition)
+        return f"{self.param}_lo,{self.param}_hi,status\n{rows}"
 
     def plot(self, *, ax: Any = None) -> Any:
         """The certified passive intervals, edge enclosures and design value on one axis.
@@ -116,6 +178,7 @@ class SampledBoundResult:
         return plot_bound(self, ax=ax)
 
     def __repr__(self) -> str:
+        top = None if self.max_passive is None else Shown(decimal_down(self.max_passive, 6))
         return short_repr(
             "SampledBoundResult",
             {
@@ -123,30 +186,33 @@ class SampledBoundResult:
                 "period": self.period,
                 "delay": self.delay,
                 "passive": Shown(intervals_text(self.intervals, most=2)),
-                "max_passive": self.max_passive,
+                "max_passive": top,
                 "undecided": len(self.undecided) or None,
                 "design_passive": self.design_passive,
             },
         )
 
     def _repr_html_(self) -> str:
-        filt = "none" if self.velocity_filter is None else f"{self.velocity_filter:g} Hz"
+        top = "none" if self.max_passive is None else decimal_down(self.max_passive, 10)
         rows: list[tuple[str, Any]] = [
             ("range searched", f"[{self.lo:.6g}, {self.hi:.6g}]"),
-            ("loop", f"T = {self.period:g} s, delay {self.delay} samples, velocity filter {filt}"),
+            ("loop", self.loop.summary),
             ("passive (certified)", intervals_text(self.intervals, most=20)),
-            ("largest passive value", "none" if self.max_passive is None else self.max_passive),
+            ("largest passive value", top),
         ]
         rows += [
-            (f"edge ({e.kind.replace('_', ' ')})", f"[{e.lo:.10g}, {e.hi:.10g}]")
+            (f"edge ({e.kind.value.replace('_', ' ')})", enclosure_text(e.lo, e.hi, digits=10))
             for e in self.edges[:20]
         ]
         if self.undecided:
             rows.append(("undecided", intervals_text(self.undecided, most=20)))
         if self.design_value is not None:
-            verdict = {True: "passive", False: "not passive", None: "not decided"}
+            outcome = self.design_outcome
             rows.append(
-                (f"design {self.param} = {self.design_value:.6g}", verdict[self.design_passive])
+                (
+                    f"design {self.param} = {exact_text(self.design_value)}",
+                    "not decided" if outcome is None else outcome.label,
+                )
             )
         if self.low_frequency:
             rows.append(("low frequency", self.low_frequency))
@@ -158,58 +224,58 @@ class SampledBoundResult:
 
 
 def intervals_text(intervals: Sequence[tuple[float, float]], *, most: int) -> str:
-    """``[a, b] ∪ [c, d]`` (6 significant digits), the first ``most`` and a count of the rest."""
+    """``[a, b] ∪ [c, d]`` (6 significant digits, rounded inward), the first ``most`` and a
+    count of the rest."""
     if not intervals:
         return "none"
-    text = " ∪ ".join(f"[{a:.6g}, {b:.6g}]" for a, b in intervals[:most])
+    text = " ∪ ".join(interval_text(a, b) for a, b in intervals[:most])
     rest = len(intervals) - most
     return text + (f" ∪ {rest} more" if rest > 0 else "")
 
 
-def _merge_status(boxes: list[BoxVerdict]) -> list[tuple[Fraction, Fraction, str, str]]:
-    out: list[tuple[Fraction, Fraction, str, str]] = []
+def _merge_status(
+    boxes: list[BoxVerdict],
+) -> list[tuple[Fraction, Fraction, Outcome, SampledReason]]:
+    out: list[tuple[Fraction, Fraction, Outcome, SampledReason]] = []
     for b in boxes:
-        if out and out[-1][2] == b.status and out[-1][1] == b.lo and b.status != "undecided":
-            out[-1] = (out[-1][0], b.hi, b.status, out[-1][3])
+        same = out and out[-1][2] is b.outcome and out[-1][1] == b.lo
+        if same and b.outcome is not Outcome.UNDECIDED:
+            out[-1] = (out[-1][0], b.hi, b.outcome, out[-1][3])
         else:
-            out.append((b.lo, b.hi, b.status, b.reason))
+            out.append((b.lo, b.hi, b.outcome, b.reason))
     return out
 
 
-def _edge_kind(sea: SEA, param: str, left: float, right: float, loop: dict[str, Any]) -> str:
+def _edge_kind(sea: SEA, param: str, left: float, right: float, loop: SampledLoop) -> EdgeKind:
     """Which condition flips across an edge (from certified verdicts just outside it)."""
-    kinds = []
+    reasons = set()
     for v in (left, right):
         try:
-            r = sampled_passivity(sea, values={param: v}, continuous_gate=False, **loop)
+            r = sampled_passivity(sea, loop=loop, values={param: v}, continuous_gate=False)
         except SeapassError:  # no deployable controller just outside the edge
-            return "interior"
-        kinds.append(r.reason)
-    reasons = set(kinds) - {""}
-    if "unstable" in reasons:
-        return "stability"
-    if "low_frequency" in reasons:
-        return "low_frequency"
-    if "negative_power" in reasons:
-        return "interior"
-    return "interior"
+            return EdgeKind.INTERIOR
+        reasons.add(r.reason)
+    if SampledReason.UNSTABLE in reasons:
+        return EdgeKind.STABILITY
+    if SampledReason.LOW_FREQUENCY in reasons:
+        return EdgeKind.LOW_FREQUENCY
+    return EdgeKind.INTERIOR
 
 
 def sampled_passive_bound(
     sea: SEA,
     param: str,
     *,
-    period: float,
+    loop: SampledLoop | None = None,
     lo: float,
     hi: float,
-    delay: int = 0,
-    velocity_filter: float | None = None,
-    method: Method = "tustin",
     values: Mapping[str, float] | None = None,
     rtol: float = 1e-9,
     design_value: float | None = None,
     max_precision: int = PRECISIONS[-1],
+    max_boxes: int = MAX_BOXES,
     progress: bool = False,
+    **old: Any,
 ) -> SampledBoundResult:
     """Certified passive values of the controller parameter ``param`` in ``[lo, hi]``.
 
@@ -219,23 +285,31 @@ def sampled_passive_bound(
         The design; ``param`` must appear in ``CA`` or ``CL`` only, every other
         parameter needs a value.
     param : str
-    period : float
-        Control period (s).
+    loop : SampledLoop
+        The sampled loop (period, delay, velocity filter, discretization), as in
+        [`sampled_passivity`][seapass.sampled.passivity.sampled_passivity].
     lo, hi : float
         Range to partition (``lo < hi``; ``lo = 0`` is fine).
-    delay, velocity_filter, method
-        The sampled loop, as in [`sampled_passivity`][seapass.sampled.passivity.sampled_passivity].
     values : mapping, optional
         Parameter values overriding those in ``sea``.
     rtol : float, default 1e-9
-        Relative width of every edge enclosure, in ``[1e-12, 1e-2]``.
+        Relative width of every edge enclosure, in ``[MIN_RTOL, MAX_RTOL]`` =
+        ``[1e-12, 1e-2]`` ([`seapass.files.limits.check_rtol`][seapass.files.limits.check_rtol]).
     design_value : float, optional
         The design's own value: the range is widened to include it and its verdict is
         reported (it always agrees with the intervals).
     max_precision : int
         Precision cap (bits) of the balls.
+    max_boxes : int, default 20000
+        Budget of the branch and bound, in boxes examined (counted, not timed).  When it
+        runs out, what is not settled is reported ``undecided`` (never passive) and
+        ``budget_exhausted`` is set.
     progress : bool
         Show a rich progress bar when stderr is a terminal.
+    **old
+        ``period=, delay=, velocity_filter=, method=``: the loop's old spelling, still
+        accepted for one release with a
+        [`SeapassDeprecationWarning`][seapass.errors.SeapassDeprecationWarning].
 
     Returns
     -------
@@ -244,17 +318,17 @@ def sampled_passive_bound(
     Examples
     --------
     >>> ours = SEA(D1="k1 + b1*s", CA="kd + bd*s", values=dict(m=1, b=10, k1=1005, b1=30, bd=0))
-    >>> r = sampled_passive_bound(ours, "kd", period=0.002, lo=0, hi=2e4)
+    >>> r = sampled_passive_bound(ours, "kd", loop=SampledLoop(period=0.002), lo=0, hi=2e4)
     >>> [round(x) for x in r.intervals[0]]
     [0, 10033]
     """
+    loop = loop_argument(loop, old, where="sampled_passive_bound")
+    max_precision = check_precision(max_precision)
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise ParameterError(f"need a finite range lo < hi, got [{lo}, {hi}]")
-    if not (isinstance(rtol, int | float) and RTOL_RANGE[0] <= rtol <= RTOL_RANGE[1]):
-        raise ParameterError(
-            f"rtol must be in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}] (relative width of an edge "
-            f"enclosure), got {rtol!r}"
-        )
+    check_rtol(rtol)
+    if isinstance(max_boxes, bool) or not isinstance(max_boxes, int) or max_boxes < 1:
+        raise ParameterError(f"max_boxes must be a positive whole number, got {max_boxes!r}")
     base = sea.with_values(**(values or {}))
     if param not in base.parameters:
         raise ParameterError(
@@ -273,27 +347,16 @@ def sampled_passive_bound(
     if base.free_parameters != (param,):
         others = [p for p in base.free_parameters if p != param]
         raise ParameterError("sampled bound needs values for: " + ", ".join(others))
-    T = check_ranges(base.with_values(**{param: hi}), period)
-    delay = check_delay(delay)
+    check_values(base.with_values(**{param: hi}))
+    T = loop.exact_period
     probe = base.with_values(**{param: hi})
     plant_of(probe)
     key = plant_key(probe)
-    loop: dict[str, Any] = {
-        "period": period,
-        "delay": delay,
-        "velocity_filter": velocity_filter,
-        "method": method,
-    }
-    fam = controller_family(
-        base, param, period=period, delay=delay, velocity_filter=velocity_filter, method=method
-    )
+    fam = controller_family(base, param, loop)
     # the precision the point verdicts need at a few values starts the boxes
     start = PRECISIONS[0]
     for v in {lo, hi, (lo + hi) / 2, *(() if design_value is None else (design_value,))}:
-        ka, kl = controller_tfs(
-            base.with_values(**{param: v}),
-            **{k: loop[k] for k in ("period", "delay", "velocity_filter", "method")},
-        )
+        ka, kl = controller_tfs(base.with_values(**{param: v}), loop)
         start = max(start, decide(key, ka, kl, T, max_precision=max_precision).precision)
     flo, fhi = Fraction(lo), Fraction(hi)
     span = fhi - flo
@@ -302,7 +365,8 @@ def sampled_passive_bound(
         boxes = bound_boxes(
             key, T, fam, flo, fhi,
             rtol=Fraction(rtol), atol=Fraction(rtol) * span / 10**6,
-            start_precision=start, max_precision=max_precision, advance=advance,
+            start_precision=start, max_precision=max_precision, max_boxes=max_boxes,
+            advance=advance,
         )  # fmt: skip
     finally:
         if advance is not None:
@@ -312,12 +376,25 @@ def sampled_passive_bound(
     for v in fam.special:
         if flo <= v <= fhi and float(v) == v:
             try:
-                r = sampled_passivity(base, values={param: float(v)}, continuous_gate=False, **loop)
+                r = sampled_passivity(
+                    base, loop=loop, values={param: float(v)}, continuous_gate=False
+                )
             except UnrealizableError:  # the discretization is undefined there: not deployable
                 points[v] = False
                 continue
             points[v] = r.passive
     return _assemble(base, param, boxes, points, float(lo), float(hi), loop, rtol, design_value)
+
+
+def _inward(a: Fraction, b: Fraction, a_closed: bool, b_closed: bool) -> tuple[float, float]:
+    """The doubles of an exact interval: ends rounded inward, open ends excluded."""
+    lo = float_up(a)
+    if not a_closed and Fraction(lo) == a:
+        lo = math.nextafter(lo, math.inf)
+    hi = float_down(b)
+    if not b_closed and Fraction(hi) == b:
+        hi = math.nextafter(hi, -math.inf)
+    return lo, hi
 
 
 def _assemble(
@@ -327,75 +404,81 @@ def _assemble(
     points: dict[Fraction, bool],
     lo: float,
     hi: float,
-    loop: dict[str, Any],
+    loop: SampledLoop,
     rtol: float,
     design_value: float | None,
 ) -> SampledBoundResult:
     merged = _merge_status(boxes)
-    # passive pieces as exact ends, then the special points overriding
-    pieces: list[tuple[Fraction, Fraction]] = [(a, b) for a, b, st, _r in merged if st == "passive"]
+    # passive pieces as exact ends (closed: proven over the closed box), then the special
+    # points overriding: a passive one is added, a non-passive one opens the pieces at it
+    pieces: list[tuple[Fraction, Fraction, bool, bool]] = [
+        (a, b, True, True) for a, b, outcome, _r in merged if outcome is Outcome.PASSIVE
+    ]
     for v, ok in points.items():
-        if ok and not any(a <= v <= b for a, b in pieces):
-            pieces.append((v, v))
+        if ok and not any(a <= v <= b for a, b, _ac, _bc in pieces):
+            pieces.append((v, v, True, True))
         if not ok:
             cut = []
-            for a, b in pieces:
+            for a, b, ac, bc in pieces:
                 if a < v < b:
-                    cut += [(a, v), (v, b)]  # open at v: reported closed, v is an edge of width 0
+                    cut += [(a, v, ac, False), (v, b, False, bc)]
                 elif a == v == b:
                     continue
                 else:
-                    cut.append((a, b))
+                    cut.append((a, b, ac and a != v, bc and b != v))
             pieces = cut
     pieces.sort()
-    joined: list[tuple[Fraction, Fraction]] = []
-    for a, b in pieces:
-        if joined and joined[-1][1] == a and points.get(a, True):
-            joined[-1] = (joined[-1][0], b)
+    joined: list[tuple[Fraction, Fraction, bool, bool]] = []
+    for a, b, ac, bc in pieces:
+        if joined and joined[-1][1] == a and (joined[-1][3] or ac):
+            joined[-1] = (joined[-1][0], b, joined[-1][2], bc)
         else:
-            joined.append((a, b))
+            joined.append((a, b, ac, bc))
     edges: list[Edge] = []
     undecided: list[tuple[float, float]] = []
-    for a, b, st, reason in merged:
-        if st != "undecided":
+    for a, b, outcome, reason in merged:
+        if outcome is not Outcome.UNDECIDED:
             continue
-        if reason == "edge":
+        if reason is SampledReason.EDGE:
             kind = _edge_kind(
                 sea, param, float(a) - (float(b - a) or 1e-300), float(b) + float(b - a), loop
             )
-            edges.append(Edge(float(a), float(b), kind))
+            edges.append(Edge(lo=float_down(a), hi=float_up(b), kind=kind))  # rounded outward
         else:
-            undecided.append((float(a), float(b)))
+            undecided.append((float_down(a), float_up(b)))
     for v, ok in points.items():
-        inside = any(a < v < b for a, b in joined)
-        if not inside and any(a <= v <= b for a, b in joined) != ok:
-            edges.append(Edge(float(v), float(v), "special"))
+        inside = any(a < v < b for a, b, _ac, _bc in joined)
+        if not inside and any(a <= v <= b for a, b, _ac, _bc in joined) != ok:
+            edges.append(Edge(lo=float(v), hi=float(v), kind=EdgeKind.SPECIAL))
     edges.sort(key=lambda e: e.lo)
-    intervals = [(float(a), float(b)) for a, b in joined]
+    # every double in a reported interval is passive: ends rounded inward
+    intervals = [iv for iv in (_inward(*piece) for piece in joined) if iv[0] <= iv[1]]
     design_passive = None
     if design_value is not None:
         design_passive = any(a <= design_value <= b for a, b in intervals)
     low = None
-    if any(e.kind == "low_frequency" for e in edges) and loop["method"] != "zoh":
-        low = low_frequency_limit(
-            sea, param, delay=int(loop["delay"]), period=float(loop["period"]), lo=lo, hi=hi
-        )
+    if any(e.kind is EdgeKind.LOW_FREQUENCY for e in edges) and loop.method != "zoh":
+        low = low_frequency_limit(sea, param, delay=loop.delay, period=loop.period, lo=lo, hi=hi)
+    partition: list[tuple[float, float, Outcome]] = []
+    for a, b, outcome, _r in merged:  # proven boxes rounded inward, undecided ones outward
+        proven = outcome is not Outcome.UNDECIDED
+        x, y = _inward(a, b, True, True) if proven else (float_down(a), float_up(b))
+        partition.append((x, y, outcome))
     return SampledBoundResult(
         param=param,
-        period=float(loop["period"]),
+        loop=loop,
         lo=lo,
         hi=hi,
-        intervals=intervals,
+        intervals=tuple(intervals),
         max_passive=intervals[-1][1] if intervals else None,
-        edges=edges,
-        undecided=undecided,
-        partition=[(float(a), float(b), st) for a, b, st, _r in merged],
-        delay=int(loop["delay"]),
-        velocity_filter=loop["velocity_filter"],
+        edges=tuple(edges),
+        undecided=tuple(undecided),
+        partition=tuple(partition),
         rtol=rtol,
         design_value=design_value,
         design_passive=design_passive,
         low_frequency=low,
+        budget_exhausted=any(r is SampledReason.BUDGET for _a, _b, _s, r in merged),
     )
 
 

@@ -28,6 +28,7 @@ from typing import Any
 
 from flint import arb, arb_poly, fmpq, fmpq_poly
 
+from ..outcome import Outcome
 from .alias import AliasSums
 from .certified import (
     Sign,
@@ -39,9 +40,11 @@ from .certified import (
     sign_on,
 )
 from .family import ControllerFamily, poly_product
+from .plant import PlantKey
 from .power import weighted_polynomials
 from .verdict import (
     PRECISIONS,
+    SampledReason,
     alias_injection,
     cached_sums,
     characteristic,
@@ -55,12 +58,14 @@ __all__ = ["BoxVerdict", "bound_boxes"]
 MAX_BOXES = 20000
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BoxVerdict:
+    """The certified outcome of every value of the parameter in ``[lo, hi]``."""
+
     lo: Fraction
     hi: Fraction
-    status: str  # "passive", "not_passive", "undecided"
-    reason: str = ""
+    outcome: Outcome
+    reason: SampledReason = SampledReason.NONE
 
 
 def _fq(x: Fraction) -> fmpq:
@@ -101,7 +106,7 @@ def _z_coeffs(polys: Sequence[fmpq_poly], e: int) -> list[list[arb]]:
 
 
 def _setup(
-    key: str, period: Fraction, fam: ControllerFamily, names: tuple[str, ...], prec: int
+    key: PlantKey, period: Fraction, fam: ControllerFamily, names: tuple[str, ...], prec: int
 ) -> _Setup:
     sums = cached_sums(key, period, names, prec)
     a, load = fam.actuator, fam.load
@@ -195,32 +200,36 @@ def _classify(
     hi: Fraction,
     load_zero: bool,
     start: Sequence[tuple[Fraction, Fraction]] = (),
-) -> tuple[str, str, tuple[tuple[Fraction, Fraction], ...]]:
+) -> tuple[Outcome, SampledReason, tuple[tuple[Fraction, Fraction], ...]]:
     with precision(s.prec):
         a = arb(_fq(lo))
         w = arb(_fq(hi - lo))
         stable = _stable_on_box(s.chi_family, s.chi_circle, a, w)
         if stable is False:
-            return "not_passive", "unstable", ()
+            return Outcome.NOT_PASSIVE, SampledReason.UNSTABLE, ()
         dl_ok = True if load_zero else _stable_on_box(s.dl_family, s.dl_circle, a, w)
         if dl_ok is False:
-            return "not_passive", "unstable", ()
+            return Outcome.NOT_PASSIVE, SampledReason.UNSTABLE, ()
         controls = bernstein(_shift(s.p_family, a), w)
         res = sign_on(controls, Fraction(-1), Fraction(1), budget=200, start=start)
         if res.sign is Sign.NEGATIVE:
-            return "not_passive", "negative_power", ()
+            return Outcome.NOT_PASSIVE, SampledReason.NEGATIVE_POWER, ()
         if res.sign is Sign.POSITIVE and stable and dl_ok:
-            return "passive", "", ()
+            return Outcome.PASSIVE, SampledReason.NONE, ()
         if res.sign is Sign.POSITIVE:
-            return "undecided", "", res.partition
+            return Outcome.UNDECIDED, SampledReason.NONE, res.partition
         # the centre alone: a deep negative point of the centre often holds for the box
         centre_poly = _shift(s.p_family, arb(_fq((lo + hi) / 2)))[0]
         centre = sign_on([centre_poly], Fraction(-1), Fraction(1), budget=60)
         if centre.sign is Sign.NEGATIVE and centre.witness is not None:
             for x in (_deepest(centre_poly, centre.witness), *_global_minimum(centre_poly)):
                 if negative_at(controls, x):
-                    return "not_passive", "negative_power", ()
-    return "undecided", "", ()
+                    return Outcome.NOT_PASSIVE, SampledReason.NEGATIVE_POWER, ()
+        if centre.sign is Sign.UNDECIDED:
+            # not even the centre is decided at this precision: the balls are what fails
+            # (the power within their radius of 0), and no split in λ can help
+            return Outcome.UNDECIDED, SampledReason.PRECISION, ()
+    return Outcome.UNDECIDED, SampledReason.NONE, ()
 
 
 def _global_minimum(poly: arb_poly) -> list[Fraction]:
@@ -230,7 +239,7 @@ def _global_minimum(poly: arb_poly) -> list[Fraction]:
 
 
 def bound_boxes(
-    key: str,
+    key: PlantKey,
     period: Fraction,
     fam: ControllerFamily,
     lo: Fraction,
@@ -240,72 +249,94 @@ def bound_boxes(
     atol: Fraction,
     start_precision: int = PRECISIONS[0],
     max_precision: int = PRECISIONS[-1],
+    max_boxes: int = MAX_BOXES,
     advance: Callable[[float], None] | None = None,
 ) -> list[BoxVerdict]:
     """Partition ``[lo, hi]`` into proven boxes and undecided leaves (sorted).
 
-    Undecided regions that are not edges (proven boxes of opposite verdicts on both sides)
-    are examined again at the next precision, up to ``max_precision``.
+    A box that is not decided is split in two, unless the verdict at its centre is not
+    decided either at the box's precision: then the balls, not the width, are what
+    fails, and the box is examined again at the next precision (each box carries its own
+    precision, so only the boxes that need more bits pay for them).  Undecided leaves that
+    are not edges (proven boxes of opposite verdicts on both sides) are examined again at
+    the next precision, up to ``max_precision``.  At most ``max_boxes`` boxes are
+    examined: what is left then is reported ``undecided`` with reason ``SampledReason.BUDGET``.
     """
     a_zero, l_zero = fam.actuator.is_zero, fam.load.is_zero
     if a_zero and l_zero:
-        return [BoxVerdict(lo, hi, "passive", "no_control")]
+        return [BoxVerdict(lo=lo, hi=hi, outcome=Outcome.PASSIVE, reason=SampledReason.NO_CONTROL)]
     if not l_zero and alias_injection(key):
-        return [BoxVerdict(lo, hi, "not_passive", "alias_injection")]
+        no = Outcome.NOT_PASSIVE
+        return [BoxVerdict(lo=lo, hi=hi, outcome=no, reason=SampledReason.ALIAS_INJECTION)]
     names = needed_sums(a_zero, l_zero)
     if "Sg" not in names:
         names = (*names, "Sg")
     ladder = [p for p in precision_ladder(max_precision) if p >= start_precision] or [max_precision]
+    setups: dict[int, _Setup] = {}
+
+    def setup(level: int) -> _Setup:
+        if level not in setups:
+            setups[level] = _setup(key, period, fam, names, ladder[level])
+        return setups[level]
+
     tol_rel = rtol / 4  # adjacent leaves may merge into one enclosure
+    undecided = Outcome.UNDECIDED
     done: list[BoxVerdict] = []
-    todo = [(lo, hi)]
+    stack: list[tuple[Fraction, Fraction, int, tuple[tuple[Fraction, Fraction], ...]]]
+    stack = [(lo, hi, 0, ())]
     boxes = 0
-    for prec in ladder:
-        s = _setup(key, period, fam, names, prec)
-        leaves: list[tuple[Fraction, Fraction]] = []
-        stack: list[tuple[Fraction, Fraction, tuple[tuple[Fraction, Fraction], ...]]]
-        stack = [(a, b, ()) for a, b in reversed(todo)]
+    while stack:
+        leaves: list[tuple[Fraction, Fraction, int]] = []
         while stack:
-            a, b, start = stack.pop()
+            a, b, level, start = stack.pop()
+            if boxes >= max_boxes:
+                done.append(BoxVerdict(lo=a, hi=b, outcome=undecided, reason=SampledReason.BUDGET))
+                continue
             boxes += 1
-            status, reason, part = _classify(s, a, b, l_zero, start)
-            if status != "undecided":
-                done.append(BoxVerdict(a, b, status, reason))
+            s = setup(level)
+            outcome, reason, part = _classify(s, a, b, l_zero, start)
+            if outcome is not Outcome.UNDECIDED:
+                done.append(BoxVerdict(lo=a, hi=b, outcome=outcome, reason=reason))
                 if advance:
                     advance(float((b - a) / (hi - lo)))
                 continue
-            if b - a <= max(tol_rel * max(abs(a), abs(b)), atol) or boxes > MAX_BOXES:
-                leaves.append((a, b))
+            if b - a <= max(tol_rel * max(abs(a), abs(b)), atol):
+                leaves.append((a, b, level))
+                continue
+            if reason is SampledReason.PRECISION and level + 1 < len(ladder):
+                stack.append((a, b, level + 1, ()))  # more bits, not a narrower box
                 continue
             mid = (a + b) / 2
-            stack.append((mid, b, part))
-            stack.append((a, mid, part))
+            stack.append((mid, b, level, part))
+            stack.append((a, mid, level, part))
         proven = sorted(done, key=lambda v: v.lo)
-        todo = []
-        for group in _merge(leaves):
-            if _is_edge(group, proven):
-                done.append(BoxVerdict(group[0], group[1], "undecided", "edge"))
+        for ga, gb, level in _merge(leaves):
+            if _is_edge((ga, gb), proven):
+                done.append(BoxVerdict(lo=ga, hi=gb, outcome=undecided, reason=SampledReason.EDGE))
+            elif level + 1 < len(ladder) and boxes < max_boxes:
+                stack.append((ga, gb, level + 1, ()))
             else:
-                todo.append(group)
-        if not todo or boxes > MAX_BOXES:
-            break
-    for a, b in todo:
-        done.append(BoxVerdict(a, b, "undecided", "undecided"))
+                done.append(
+                    BoxVerdict(lo=ga, hi=gb, outcome=undecided, reason=SampledReason.UNDECIDED)
+                )
     return sorted(done, key=lambda v: v.lo)
 
 
-def _merge(leaves: list[tuple[Fraction, Fraction]]) -> list[tuple[Fraction, Fraction]]:
-    out: list[tuple[Fraction, Fraction]] = []
-    for a, b in sorted(leaves):
+def _merge(
+    leaves: list[tuple[Fraction, Fraction, int]],
+) -> list[tuple[Fraction, Fraction, int]]:
+    """Adjacent leaves joined; each group keeps the highest precision level of its leaves."""
+    out: list[tuple[Fraction, Fraction, int]] = []
+    for a, b, level in sorted(leaves):
         if out and out[-1][1] == a:
-            out[-1] = (out[-1][0], b)
+            out[-1] = (out[-1][0], b, max(out[-1][2], level))
         else:
-            out.append((a, b))
+            out.append((a, b, level))
     return out
 
 
 def _is_edge(leaf: tuple[Fraction, Fraction], proven: list[BoxVerdict]) -> bool:
     a, b = leaf
-    left = next((v.status for v in reversed(proven) if v.hi == a), None)
-    right = next((v.status for v in proven if v.lo == b), None)
+    left = next((v.outcome for v in reversed(proven) if v.hi == a), None)
+    right = next((v.outcome for v in proven if v.lo == b), None)
     return left is not None and right is not None and left != right

@@ -70,7 +70,7 @@ class Sign(enum.Enum):
     UNDECIDED = "undecided"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SignResult:
     """``sign``; ``witness``: an ``x`` with ``p(x) < 0`` proven (point decisions only)."""
 
@@ -133,11 +133,11 @@ def sign_on(
     """
     n = max((p.degree() for p in controls), default=-1)
     if n < 0:
-        return SignResult(Sign.UNDECIDED)
+        return SignResult(sign=Sign.UNDECIDED)
     point = len(controls) == 1
     for x in (*probes, lo, hi, (lo + hi) / 2):
         if negative_at(controls, x):
-            return SignResult(Sign.NEGATIVE, x)
+            return SignResult(sign=Sign.NEGATIVE, witness=x)
     stack = list(reversed(start)) if start else [(lo, hi)]
     count = 0
     certified: list[tuple[Fraction, Fraction]] = []
@@ -145,7 +145,7 @@ def sign_on(
         a, b = stack.pop()
         count += 1
         if count > budget:
-            return SignResult(Sign.UNDECIDED, None, count)
+            return SignResult(sign=Sign.UNDECIDED, witness=None, intervals=count)
         aa, bb = _arb(a), _arb(b)
         all_signs = [_signs(_transformed(p, aa, bb, n)) for p in controls]
         if all(s is not None and s and all(v > 0 for v in s) for s in all_signs):
@@ -154,20 +154,23 @@ def sign_on(
         if point and all_signs[0]:
             signs = all_signs[0]
             if all(v < 0 for v in signs):
-                return SignResult(Sign.NEGATIVE, (a + b) / 2, count)
+                return SignResult(sign=Sign.NEGATIVE, witness=(a + b) / 2, intervals=count)
             changes = sum(1 for u, v in itertools.pairwise(signs) if u != v)
             if changes % 2 == 1:  # an odd number of roots in (a, b): a sign change
                 for x in (a, b):
                     if negative_at(controls, x):
-                        return SignResult(Sign.NEGATIVE, x, count)
+                        return SignResult(sign=Sign.NEGATIVE, witness=x, intervals=count)
         mid = (a + b) / 2
         if negative_at(controls, mid):
-            return SignResult(Sign.NEGATIVE, mid, count)
+            return SignResult(sign=Sign.NEGATIVE, witness=mid, intervals=count)
         if not point and any(p(_arb(mid)) < 0 for p in controls):
-            return SignResult(Sign.UNDECIDED, None, count)  # the box is too wide in λ
+            # the box is too wide in λ
+            return SignResult(sign=Sign.UNDECIDED, witness=None, intervals=count)
         stack.append((mid, b))
         stack.append((a, mid))
-    return SignResult(Sign.POSITIVE, None, count, tuple(sorted(certified)))
+    return SignResult(
+        sign=Sign.POSITIVE, witness=None, intervals=count, partition=tuple(sorted(certified))
+    )
 
 
 def bernstein(taylor: Sequence, width: Any) -> list:

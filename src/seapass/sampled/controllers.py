@@ -31,14 +31,20 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import sympy as sp
+from flint import fmpq_poly
 
 from ..errors import ParameterError, UnrealizableError
-from ..model.expr import S, to_fraction
-from ..model.sea import SEA
+from ..model.expr import STANDARD_SYMBOLS, exact_expression
+from ..model.loop import METHODS, Method, SampledLoop
+from ..model.rational import RatFunc, context, variables
+from ..model.sea import SEA, exact_values
+from .emulation import emulate, in_lowest_terms
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = [
     "APDController",
@@ -55,9 +61,12 @@ __all__ = [
     "zoh_discretize",
 ]
 
-Method = Literal["tustin", "zoh", "backward"]
-_METHODS = ("tustin", "zoh", "backward")
-_ZINV = sp.Symbol("q")  # stands for z^-1 inside this module
+
+def _zinv() -> sp.Symbol:
+    """The sympy symbol ``q`` that stands for ``z^-1`` in the symbolic paths of this module."""
+    import sympy as sp
+
+    return sp.Symbol("q")
 
 
 def _check_period(period: float) -> Fraction:
@@ -169,30 +178,14 @@ def _padd(p: Sequence[Fraction], q: Sequence[Fraction]) -> tuple[Fraction, ...]:
     )
 
 
-def _coeffs_in_q(expr: sp.Expr) -> tuple[tuple[Fraction, ...], tuple[Fraction, ...]]:
-    num, den = sp.fraction(sp.cancel(sp.together(expr)))
-    pn = sp.Poly(sp.expand(num), _ZINV)
-    pd = sp.Poly(sp.expand(den), _ZINV)
-
-    def asc(p: sp.Poly) -> tuple[Fraction, ...]:
-        c = p.all_coeffs()[::-1]
-        return tuple(Fraction(int(sp.Rational(x).p), int(sp.Rational(x).q)) for x in c)
-
-    return asc(pn), asc(pd)
-
-
-def _split(expr: sp.Expr) -> tuple[list[sp.Rational], sp.Expr]:
-    """Polynomial coefficients (ascending) and strictly proper remainder of ``expr(s)``."""
-    num, den = sp.fraction(sp.cancel(sp.together(expr)))
-    pn, pd = sp.Poly(num, S), sp.Poly(den, S)
-    quo, rem = sp.div(pn, pd)
-    coeffs = [sp.Rational(c) for c in quo.all_coeffs()[::-1]]
-    return coeffs, sp.cancel(rem.as_expr() / pd.as_expr())
-
-
 def zoh_discretize(proper: sp.Expr, period: Fraction) -> sp.Expr:
     """ZOH equivalent of a strictly proper ``C(s)`` in ``q = z⁻¹`` (scipy, floats made exact)."""
+    import sympy as sp
     from scipy.signal import cont2discrete
+
+    from ..model.expr import S
+
+    _ZINV = _zinv()
 
     num, den = sp.fraction(sp.cancel(sp.together(proper)))
     n = [float(c) for c in sp.Poly(num, S).all_coeffs()]
@@ -220,9 +213,14 @@ def discrete_paths(
     part ``coeffs`` (ascending) and strictly proper part ``proper`` (see the module docstring).
 
     Works with symbolic coefficients too (a free parameter of a bound); only the ZOH of a
-    proper part needs numbers.
+    proper part needs numbers.  Numeric controllers take the exact path of
+    [`seapass.sampled.emulation`][seapass.sampled.emulation] instead (no sympy).
     """
-    q = _ZINV
+    import sympy as sp
+
+    from ..model.expr import S
+
+    q = _zinv()
     Tq = sp.Rational(period.numerator, period.denominator)
     a = filter_pole(velocity_filter, float(period))
     aq = sp.Rational(a.numerator, a.denominator)
@@ -236,6 +234,34 @@ def discrete_paths(
     if method == "backward":
         return const + proper.subs(S, (1 - q) / Tq), deriv
     return const + zoh_discretize(proper, period), deriv
+
+
+def _paths(
+    c: RatFunc,
+    values: Mapping[str, float | None],
+    period: Fraction,
+    *,
+    method: Method,
+    velocity_filter: float | None,
+) -> tuple[DiscreteTF, DiscreteTF]:
+    """``(error path, measurement path)`` of the exact controller ``c`` at ``values``."""
+    env = exact_values(values)
+    leftover = sorted(c.parameters() - set(env))
+    if leftover:
+        raise ParameterError(
+            f"controller has parameters without values: {', '.join(leftover)}; give them"
+        )
+    num, den = in_lowest_terms(*c.evaluate(env))
+    a = filter_pole(velocity_filter, float(period))
+    err, meas = emulate(num, den, period, method=method, filter_pole=a)
+    return (
+        DiscreteTF(_ascending(err[0]), _ascending(err[1]), period),
+        DiscreteTF(_ascending(meas[0]), _ascending(meas[1]), period),
+    )
+
+
+def _ascending(p: fmpq_poly) -> tuple[Fraction, ...]:
+    return tuple(Fraction(int(c.p), int(c.q)) for c in p.coeffs())
 
 
 def discretize(
@@ -274,28 +300,19 @@ def discretize(
     >>> [float(c) for c in k.num], [float(c) for c in k.den]
     ([300.0, -200.0], [1.0])
     """
-    if method not in _METHODS:
-        raise ParameterError(f"method must be one of {', '.join(_METHODS)}, got {method!r}")
+    if method not in METHODS:
+        raise ParameterError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     T = _check_period(period)
+    vals = dict(values or {})
     if isinstance(expr, str):
-        from ..model.expr import parse_expression
+        c = exact_expression(expr, set(vals) | set(STANDARD_SYMBOLS))
+    elif isinstance(expr, int | float | Fraction) and not isinstance(expr, bool):
+        c = RatFunc.constant(context(variables(())), Fraction(expr))
+    else:
+        from ..model.symbolic import exact_from_sympy
 
-        expr = parse_expression(expr, set(values or {}) | {"m", "b", "k1", "b1", "kd", "bd", "ki"})
-    e = sp.sympify(expr)
-    if values:
-        from ..model.expr import symbol
-
-        e = e.xreplace({symbol(k): sp.Rational(to_fraction(v, k)) for k, v in values.items()})
-    leftover = e.free_symbols - {S}
-    if leftover:
-        names = ", ".join(sorted(map(str, leftover)))
-        raise ParameterError(f"controller has parameters without values: {names}; give them")
-    coeffs, proper = _split(e)
-    err_expr, deriv = discrete_paths(
-        coeffs, proper, T, method=method, velocity_filter=velocity_filter
-    )
-    err = DiscreteTF(*_coeffs_in_q(sp.sympify(err_expr)), T)
-    meas = DiscreteTF(*_coeffs_in_q(sp.sympify(deriv)), T)
+        c = exact_from_sympy(expr, "controller")
+    err, meas = _paths(c, vals, T, method=method, velocity_filter=velocity_filter)
     if split:
         return err, meas
     return err + meas
@@ -356,21 +373,30 @@ class DiscreteController:
         values: Mapping[str, float] | None = None,
     ) -> DiscreteController:
         """Discretize ``sea.CA`` and ``sea.CL`` with the model's parameter values."""
+        if method not in METHODS:
+            raise ParameterError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+        T = _check_period(period)
         vals = {k: v for k, v in sea.values.items() if v is not None}
         vals.update(values or {})
-        parts = []
-        for attr in ("CA", "CL"):
-            res = discretize(
-                getattr(sea, attr),
-                period,
-                method=method,
-                velocity_filter=velocity_filter,
-                values=vals,
-                split=True,
-            )
-            assert isinstance(res, tuple)
-            parts.append(res)
+        exact = sea.exact_elements()
+        parts = [
+            _paths(exact[attr], vals, T, method=method, velocity_filter=velocity_filter)
+            for attr in ("CA", "CL")
+        ]
         return cls(parts[0], parts[1], float(period), sea.name)
+
+    @classmethod
+    def for_loop(
+        cls, sea: SEA, loop: SampledLoop, *, values: Mapping[str, float] | None = None
+    ) -> DiscreteController:
+        """`from_sea` at the period, discretization and velocity filter of ``loop``."""
+        return cls.from_sea(
+            sea,
+            loop.period,
+            method=loop.method,
+            velocity_filter=loop.velocity_filter,
+            values=values,
+        )
 
     def transfer_functions(self) -> tuple[DiscreteTF, DiscreteTF]:
         """Total ``(K_A(z), K_L(z))`` acting on ``−x`` when references are zero."""
@@ -440,17 +466,7 @@ def state_space(tf: DiscreteTF) -> tuple[np.ndarray, ...]:
     return A, B, C, np.array([[b[0]]])
 
 
-def controller_tfs(
-    sea: SEA,
-    *,
-    period: float,
-    delay: int = 0,
-    velocity_filter: float | None = None,
-    method: Method = "tustin",
-) -> tuple[DiscreteTF, DiscreteTF]:
-    """``(z^-d K_A(z), z^-d K_L(z))`` exactly as `DiscreteController` runs them."""
-    if int(delay) != delay or delay < 0:
-        raise ParameterError(f"delay must be a non-negative whole number of samples, got {delay!r}")
-    ctrl = DiscreteController.from_sea(sea, period, method=method, velocity_filter=velocity_filter)
-    ka, kl = ctrl.transfer_functions()
-    return ka.delayed(int(delay)), kl.delayed(int(delay))
+def controller_tfs(sea: SEA, loop: SampledLoop) -> tuple[DiscreteTF, DiscreteTF]:
+    """``(z^-d K_A(z), z^-d K_L(z))`` in ``loop`` exactly as `DiscreteController` runs them."""
+    ka, kl = DiscreteController.for_loop(sea, loop).transfer_functions()
+    return ka.delayed(loop.delay), kl.delayed(loop.delay)

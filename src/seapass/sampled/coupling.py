@@ -16,13 +16,14 @@ import sympy as sp
 
 from ..errors import ModelError, ParameterError
 from ..model.expr import S
+from ..model.loop import SampledLoop
 from ..model.sea import SEA
-from .controllers import DiscreteTF, Method, controller_tfs, state_space
+from .controllers import DiscreteTF, controller_tfs, state_space
 
 __all__ = ["CoupledCheck", "coupled_check", "coupled_closed_loop", "worst_sampled_environment"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CoupledCheck:
     """Sampled closed loop coupled to a mass–spring–damper environment at the port.
 
@@ -70,13 +71,10 @@ def _coupled_plant(sea: SEA) -> tuple[float, ...]:
 def coupled_closed_loop(
     sea: SEA,
     *,
-    period: float,
+    loop: SampledLoop,
     env_mass: float,
     env_stiffness: float = 0.0,
     env_damping: float = 0.0,
-    delay: int = 0,
-    velocity_filter: float | None = None,
-    method: Method = "tustin",
     tfs: tuple[DiscreteTF, DiscreteTF] | None = None,
     _plant: tuple[float, ...] | None = None,
 ) -> np.ndarray:
@@ -99,13 +97,12 @@ def coupled_closed_loop(
         ]
     )
     B = np.array([[0.0], [1.0 / m], [0.0], [0.0]])
+    period = loop.period
     big = np.zeros((5, 5))
     big[:4, :4], big[:4, 4:] = A * period, B * period
     E = expm(big)
     Ad, Bd = E[:4, :4], E[:4, 4:]
-    ka, kl = tfs or controller_tfs(
-        sea, period=period, delay=delay, velocity_filter=velocity_filter, method=method
-    )
+    ka, kl = tfs or controller_tfs(sea, loop)
     blocks = []
     rows = [np.array([[1.0, 0.0, 0.0, 0.0]]), np.array([[0.0, 0.0, 1.0, 0.0]])]
     acl = Ad.copy()
@@ -129,7 +126,7 @@ def coupled_closed_loop(
 def coupled_check(
     sea: SEA,
     *,
-    period: float,
+    loop: SampledLoop,
     env_mass: float,
     env_stiffness: float = 0.0,
     env_damping: float = 0.0,
@@ -138,24 +135,28 @@ def coupled_check(
     """Stability of the sampled loop coupled to one passive environment."""
     acl = coupled_closed_loop(
         sea,
-        period=period,
+        loop=loop,
         env_mass=env_mass,
         env_stiffness=env_stiffness,
         env_damping=env_damping,
         **kw,
     )
     rho = float(np.max(np.abs(np.linalg.eigvals(acl))))
-    return CoupledCheck(float(env_mass), float(env_stiffness), float(env_damping), rho)
+    return CoupledCheck(
+        env_mass=float(env_mass),
+        env_stiffness=float(env_stiffness),
+        env_damping=float(env_damping),
+        spectral_radius=rho,
+    )
 
 
 def worst_sampled_environment(
     sea: SEA,
     *,
-    period: float,
+    loop: SampledLoop,
     masses: Any = None,
     stiffnesses: Any = None,
     damping: float = 0.0,
-    **kw: Any,
 ) -> CoupledCheck:
     """The environment of a grid (masses × stiffnesses, kg × N/m) with the largest spectral radius.
 
@@ -165,20 +166,14 @@ def worst_sampled_environment(
     """
     ms = np.logspace(-3, 1, 13) if masses is None else np.atleast_1d(masses)
     ks = np.r_[0.0, np.logspace(1, 5, 13)] if stiffnesses is None else np.atleast_1d(stiffnesses)
-    tfs = controller_tfs(
-        sea,
-        period=period,
-        delay=kw.get("delay", 0),
-        velocity_filter=kw.get("velocity_filter"),
-        method=kw.get("method", "tustin"),
-    )
+    tfs = controller_tfs(sea, loop)
     params = _coupled_plant(sea)
     best: CoupledCheck | None = None
     for me in ms:
         for ke in ks:
             c = coupled_check(
                 sea,
-                period=period,
+                loop=loop,
                 env_mass=float(me),
                 env_stiffness=float(ke),
                 env_damping=damping,

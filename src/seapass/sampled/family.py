@@ -18,9 +18,11 @@ import sympy as sp
 from flint import fmpq, fmpq_poly
 
 from ..errors import ParameterError
+from ..exact.poly import as_poly, rational
 from ..model.expr import S, symbol, to_fraction
+from ..model.loop import Method, SampledLoop
 from ..model.sea import SEA
-from .controllers import Method, discrete_paths
+from .controllers import discrete_paths
 
 __all__ = ["ControllerFamily", "ControllerPolys", "controller_family", "poly_product"]
 
@@ -39,7 +41,7 @@ class ControllerPolys:
         return all(p.is_zero() for p in self.num)
 
     def at(self, lam: Fraction) -> tuple[fmpq_poly, fmpq_poly]:
-        x = fmpq(lam.numerator, lam.denominator)
+        x = rational(lam)
         return _at(self.num, x), _at(self.den, x)
 
 
@@ -48,11 +50,6 @@ def _at(coeffs: tuple[fmpq_poly, ...], x: fmpq) -> fmpq_poly:
     for c in reversed(coeffs):
         out = out * x + c
     return out
-
-
-def _fq(r: sp.Expr) -> fmpq:
-    r = sp.Rational(r)
-    return fmpq(int(r.p), int(r.q))
 
 
 def _split(expr: sp.Expr, lam: sp.Symbol) -> tuple[list[sp.Expr], sp.Expr, list[sp.Expr]]:
@@ -88,7 +85,7 @@ def _in_q(expr: sp.Expr, lam: sp.Symbol) -> tuple[list[fmpq_poly], list[fmpq_pol
         k = p.degree(lam)
         out = [[fmpq(0)] * (p.degree(_Q) + 1) for _ in range(max(k, 0) + 1)]
         for (i, a), c in p.terms():
-            out[a][i] = _fq(c)
+            out[a][i] = rational(sp.Rational(c))
         return [fmpq_poly(c) for c in out]
 
     return split(pq_num), split(pq_den), special
@@ -147,7 +144,7 @@ def _rational_roots(exprs: list[sp.Expr], lam: sp.Symbol) -> set[Fraction]:
         if lam not in num.free_symbols:
             continue
         p = sp.Poly(sp.expand(num), lam)
-        poly = fmpq_poly([_fq(c) for c in reversed(p.all_coeffs())])
+        poly = as_poly([sp.Rational(c) for c in reversed(p.all_coeffs())])
         for f, _m in poly.factor()[1]:
             if f.degree() == 1:
                 r = -f[0] / f[1]
@@ -155,18 +152,10 @@ def _rational_roots(exprs: list[sp.Expr], lam: sp.Symbol) -> set[Fraction]:
     return out
 
 
-def controller_family(
-    sea: SEA,
-    param: str,
-    *,
-    period: float,
-    delay: int = 0,
-    velocity_filter: float | None = None,
-    method: Method = "tustin",
-) -> ControllerFamily:
-    """``K_A``, ``K_L`` of ``sea`` with ``param`` free (every other value substituted)."""
+def controller_family(sea: SEA, param: str, loop: SampledLoop) -> ControllerFamily:
+    """``K_A``, ``K_L`` of ``sea`` in ``loop`` with ``param`` free (every other value substituted)."""
     lam = symbol(param)
-    T = Fraction(repr(float(period)))
+    T = loop.exact_period
     vals = {k: v for k, v in sea.values.items() if v is not None and k != param}
     subs = {symbol(k): sp.Rational(to_fraction(v, k)) for k, v in vals.items()}
     parts = []
@@ -178,9 +167,9 @@ def controller_family(
             raise ParameterError(
                 "controller has parameters without values: " + ", ".join(sorted(map(str, leftover)))
             )
-        polys, sp_ = _discretize(e, lam, T, method, velocity_filter)
-        if delay:
-            polys = ControllerPolys(tuple(p.left_shift(delay) for p in polys.num), polys.den)
+        polys, sp_ = _discretize(e, lam, T, loop.method, loop.velocity_filter)
+        if loop.delay:
+            polys = ControllerPolys(tuple(p.left_shift(loop.delay) for p in polys.num), polys.den)
         parts.append(polys)
         special += sp_
     return ControllerFamily(parts[0], parts[1], tuple(sorted(_rational_roots(special, lam))))

@@ -23,10 +23,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import sympy as sp
 from flint import fmpq, fmpq_poly
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = [
     "LowFrequency",
@@ -39,7 +41,7 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LowFrequency:
     """``R_lf`` (N·s/m), its closed form, and whether it is violated (``R_lf < 0``)."""
 
@@ -63,13 +65,17 @@ def low_frequency_of(
     sea: Any, ka: Any, kl: Any, *, delay: int, method: str, explain: bool
 ) -> LowFrequency | None:
     """``R_lf`` of a numeric design; its closed form only when ``explain`` (sympy is slow)."""
-    from .plant import rational_of
+    from .plant import numeric_element
 
-    e = sea.elements()
     try:
-        m, b = (fmpq(*_ratio(sea.numeric(e[k]))) for k in ("m", "b"))
+        m, b = (numeric_element(sea, k) for k in ("m", "b"))
         r = low_frequency_resistance(
-            m, b, rational_of(sea.numeric(e["D1"])), rational_of(sea.numeric(e["D2"])), ka, kl
+            m[0][0] / m[1][0],
+            b[0][0] / b[1][0],
+            numeric_element(sea, "D1"),
+            numeric_element(sea, "D2"),
+            ka,
+            kl,
         )
     except (TypeError, ValueError, ZeroDivisionError):
         return None
@@ -83,13 +89,8 @@ def low_frequency_of(
             text = f"low-frequency resistance {form} < 0"
         else:
             text = f"{form} >= 0, but the aliases' share makes N(0) negative"
-        return LowFrequency(r, expr, text)
-    return LowFrequency(r)
-
-
-def _ratio(x: Any) -> tuple[int, int]:
-    q = sp.Rational(x)
-    return int(q.p), int(q.q)
+        return LowFrequency(resistance=r, closed_form=expr, explanation=text)
+    return LowFrequency(resistance=r)
 
 
 def dc_expansion(tf: Any) -> tuple[Fraction, Fraction] | None:
@@ -150,6 +151,8 @@ def closed_form_expr(sea: Any, delay: int) -> sp.Expr:
 
     Uses ``κ = C(0)`` and ``β = C'(0) − κ (d + ½) T`` of the continuous controllers.
     """
+    import sympy as sp
+
     from ..model.expr import S
 
     period_symbol = sp.Symbol("T", positive=True)
@@ -176,6 +179,8 @@ def low_frequency_limit(
     sea: Any, param: str, *, delay: int, period: float, lo: float, hi: float
 ) -> str | None:
     """The values of ``param`` in ``[lo, hi]`` where ``R_lf = 0``, in closed form, as a sentence."""
+    import sympy as sp
+
     from ..model.expr import symbol
 
     expr = closed_form_expr(sea, delay)

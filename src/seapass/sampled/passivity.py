@@ -43,26 +43,26 @@ References
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import ModelError, NotPassiveError, ParameterError
-from ..files.limits import MAX_DELAY_SAMPLES
 from ..model.display import html_card, short_repr
+from ..model.loop import LoopAttributes, SampledLoop, loop_argument
 from ..model.sea import SEA
-from .controllers import DiscreteController, Method, controller_tfs
+from .controllers import DiscreteController, controller_tfs
 from .lowfreq import LowFrequency, low_frequency_of
 from .plant import plant_key, plant_of
 from .power import power_values
 from .verdict import (
     PRECISIONS,
     Outcome,
+    SampledReason,
     alias_injection,
     cached_sums,
     decide,
@@ -71,56 +71,69 @@ from .verdict import (
     theta_of,
 )
 
+if TYPE_CHECKING:
+    from ..analysis.passivity import PassivityResult
+
 __all__ = [
-    "MAX_DELAY",
     "METHOD",
+    "PRECISION_RANGE",
     "SampledPassivityResult",
+    "SampledReason",
     "SampledStatus",
-    "check_delay",
-    "check_ranges",
+    "check_precision",
+    "check_values",
+    "power_curve_csv",
     "sampled_passivity",
     "sampled_power_curve",
 ]
 
 METHOD = "certified alias sums (arb balls) + Descartes on cos(wT) + Schur-Cohn"
 
-#: Period and magnitudes accepted (bounds the precision the balls may need).
-PERIOD_RANGE = (1e-7, 10.0)
+#: Magnitudes accepted (bounds the precision the balls may need); the period's range is
+#: [`seapass.model.loop.PERIOD_RANGE`][seapass.model.loop.PERIOD_RANGE].
 VALUE_RANGE = (1e-100, 1e100)
 
+#: Caps (bits) a caller may put on the working precision of the balls.
+PRECISION_RANGE = (64, 65536)
+
 SampledStatus = Outcome
+"""The former name of [`Outcome`][seapass.outcome.Outcome] here (the same class)."""
 
 _DETAILS = {
-    "no_control": "no control: passive physics",
-    "unstable": "the sampled loop with the port held is unstable",
-    "alias_injection": (
+    SampledReason.NO_CONTROL: "no control: passive physics",
+    SampledReason.UNSTABLE: "the sampled loop with the port held is unstable",
+    SampledReason.ALIAS_INJECTION: (
         "the port has vanishing dissipation at high frequency (undamped transmission) and the "
         "controller samples the load position: aliased motion injects energy"
     ),
-    "undecided": (
+    SampledReason.UNDECIDED: (
         "undecided at the precision cap: the design is within the balls' resolution of the "
         "passivity boundary (treat as not passive)"
     ),
 }
 
 
-@dataclass(frozen=True, repr=False)
-class SampledPassivityResult:
+@dataclass(frozen=True, repr=False, kw_only=True)
+class SampledPassivityResult(LoopAttributes):
     """Certified verdict of `sampled_passivity`.
 
     Attributes
     ----------
-    status : SampledStatus
-        ``PASSIVE``, ``NOT_PASSIVE`` or ``UNDECIDED`` (never reported as passive).
-    reason : str
-        ``""``, ``"unstable"``, ``"alias_injection"``, ``"negative_power"``,
-        ``"low_frequency"`` (``N < 0`` as ``ω → 0``), ``"continuous_not_passive"``
-        (policy gate, see `sampled_passivity`) or ``"undecided"``.
+    outcome : Outcome
+        ``PASSIVE``, ``NOT_PASSIVE`` or ``UNDECIDED`` (never reported as passive);
+        ``status`` is the same value (its former name), ``passive`` is ``outcome.passive``.
+    reason : SampledReason
+        ``""``, ``"no_control"``, ``"unstable"``, ``"alias_injection"``,
+        ``"negative_power"``, ``"low_frequency"`` (``N < 0`` as ``ω → 0``),
+        ``"continuous_not_passive"`` (policy gate, see `sampled_passivity`) or
+        ``"undecided"``.
     detail : str
     omega : float or None
         A frequency (rad/s, in ``(0, π/T]``) where ``N(ω) < 0`` is proven.
-    period, delay, velocity_filter, method
-        The sampled loop analysed.
+    loop : SampledLoop or None
+        The sampled loop analysed (``period``, ``delay`` and ``velocity_filter`` are its).
+    method : str
+        How the verdict was decided.
     spectral_radius : float
         Of the loop with the port held (floating point, for information only).
     degree : int
@@ -131,13 +144,11 @@ class SampledPassivityResult:
         The closed-form low-frequency resistance ``R_lf`` (``R_lf ≥ 0`` is necessary).
     """
 
-    status: SampledStatus
-    reason: str = ""
+    outcome: Outcome
+    reason: SampledReason = SampledReason.NONE
     detail: str = ""
     omega: float | None = None
-    period: float = math.nan
-    delay: int = 0
-    velocity_filter: float | None = None
+    loop: SampledLoop | None = None
     method: str = METHOD
     spectral_radius: float = math.nan
     degree: int = 0
@@ -145,18 +156,31 @@ class SampledPassivityResult:
     low_frequency: LowFrequency | None = None
 
     @property
+    def status(self) -> Outcome:
+        """The former name of `outcome`."""
+        return self.outcome
+
+    @property
     def passive(self) -> bool:
-        return self.status is SampledStatus.PASSIVE
+        return self.outcome.passive
+
+    @property
+    def period(self) -> float:
+        return math.nan if self.loop is None else self.loop.period
 
     @property
     def marginal(self) -> bool:
-        """Within the certification resolution of the boundary (``UNDECIDED``)."""
-        return self.status is SampledStatus.UNDECIDED
+        """Always False: the certified verdict states no relative margin.
+
+        An answer the balls could not decide is ``outcome is Outcome.UNDECIDED``, never
+        marginal (the one meaning of [`seapass.outcome`][seapass.outcome]).
+        """
+        return False
 
     def to_dict(self) -> dict[str, Any]:
         return {
             "passive": self.passive,
-            "status": self.status.value,
+            "status": self.outcome.value,
             "reason": self.reason,
             "detail": self.detail,
             "omega": self.omega,
@@ -175,8 +199,8 @@ class SampledPassivityResult:
         return short_repr(
             "SampledPassivityResult",
             {
-                "status": self.status.value,
-                "reason": self.reason or None,
+                "status": self.outcome.value,
+                "reason": str(self.reason) or None,
                 "omega": self.omega,
                 "period": self.period,
                 "delay": self.delay,
@@ -185,11 +209,10 @@ class SampledPassivityResult:
         )
 
     def _repr_html_(self) -> str:
-        filt = "none" if self.velocity_filter is None else f"{self.velocity_filter:g} Hz"
         rows: list[tuple[str, Any]] = [
-            ("verdict", self.status.value.replace("_", " ")),
+            ("verdict", self.outcome.label),
             ("detail", self.detail),
-            ("loop", f"T = {self.period:g} s, delay {self.delay} samples, velocity filter {filt}"),
+            ("loop", "none" if self.loop is None else self.loop.summary),
         ]
         if self.omega is not None:
             rows.append(("witness", f"N(ω) < 0 at ω = {self.omega:.6g} rad/s (proven)"))
@@ -204,28 +227,23 @@ class SampledPassivityResult:
         return html_card(title, rows, note=f"Method: {self.method}.")
 
 
-#: Most whole samples of computational delay accepted (each adds 2 to the polynomial degree).
-MAX_DELAY = MAX_DELAY_SAMPLES
-
-
-def check_delay(delay: object) -> int:
-    """``delay`` as a whole number of samples in ``[0, MAX_DELAY]``."""
-    if isinstance(delay, bool) or not isinstance(delay, int | float) or int(delay) != delay:
-        raise ParameterError(f"delay must be a whole number of samples, got {delay!r}")
-    if not 0 <= delay <= MAX_DELAY:
-        raise ParameterError(f"delay must be in [0, {MAX_DELAY}] samples, got {delay!r}")
-    return int(delay)
-
-
-def check_ranges(sea: SEA, period: float) -> Fraction:
-    """The period as the exact decimal it was written as; refuses unsupported magnitudes."""
-    if not (isinstance(period, int | float) and math.isfinite(period) and period > 0):
-        raise ParameterError(f"period must be a positive number of seconds, got {period!r}")
-    lo, hi = PERIOD_RANGE
-    if not lo <= period <= hi:
+def check_precision(max_precision: object) -> int:
+    """``max_precision`` as a whole number of bits in `PRECISION_RANGE`."""
+    lo, hi = PRECISION_RANGE
+    if (
+        isinstance(max_precision, bool)
+        or not isinstance(max_precision, int)
+        or not lo <= max_precision <= hi
+    ):
         raise ParameterError(
-            f"period {period!r} s is outside the supported range [{lo:g}, {hi:g}] s"
+            f"max_precision: must be in [{lo}, {hi}] bits, got {max_precision!r}",
+            argument="max_precision",
         )
+    return max_precision
+
+
+def check_values(sea: SEA) -> None:
+    """Refuse parameter magnitudes the certified analysis does not support."""
     lo, hi = VALUE_RANGE
     for name, v in sea.values.items():
         if v is not None and v != 0 and not lo <= abs(v) <= hi:
@@ -233,7 +251,6 @@ def check_ranges(sea: SEA, period: float) -> Fraction:
                 f"{name} = {v!r} is outside the range the sampled-data analysis supports "
                 f"(0 or |value| in [{lo:g}, {hi:g}]); rescale the units"
             )
-    return Fraction(repr(float(period)))
 
 
 def _omega(x: Fraction | None, period: float) -> float | None:
@@ -245,15 +262,13 @@ def _omega(x: Fraction | None, period: float) -> float | None:
 def sampled_passivity(
     sea: SEA,
     *,
-    period: float,
-    delay: int = 0,
-    velocity_filter: float | None = None,
+    loop: SampledLoop | None = None,
     values: Mapping[str, float] | None = None,
-    method: Method = "tustin",
     controller: DiscreteController | None = None,
     continuous_gate: bool = True,
     max_precision: int = PRECISIONS[-1],
     throw: bool = False,
+    **old: Any,
 ) -> SampledPassivityResult:
     """Decide passivity of the load port of ``sea`` under sampled-data control (certified).
 
@@ -262,19 +277,14 @@ def sampled_passivity(
     sea : SEA
         Continuous plant (``m, b, D1, D2``) and controllers ``CA``, ``CL``; all
         parameters need values.
-    period : float
-        Control period ``T`` (s), e.g. ``0.002`` for 500 Hz.
-    delay : int, default 0
-        Whole samples of computational delay before the command is applied.
-    velocity_filter : float, optional
-        Cutoff (Hz) of the first-order low-pass on the finite-difference velocity.
+    loop : SampledLoop
+        The sampled loop: period ``T`` (``SampledLoop(period=0.002)`` is 500 Hz), whole
+        samples of computational delay, velocity filter and discretization method.
     values : mapping, optional
         Parameter values overriding those in ``sea``.
-    method : {"tustin", "zoh", "backward"}
-        Discretization of strictly proper controller parts.
     controller : DiscreteController, optional
         Analyse this deployed controller (its exact transfer functions, delayed by
-        ``delay``) instead of discretizing ``sea.CA``/``sea.CL``.
+        ``loop.delay``) instead of discretizing ``sea.CA``/``sea.CL``.
     continuous_gate : bool, default True
         Also require continuous-time passivity of ``sea`` (a documented *policy*: an extra
         necessary condition seapass imposes before deployment; the sampled verdict does
@@ -283,6 +293,10 @@ def sampled_passivity(
         Cap (bits) of the working precision; beyond it the verdict is ``UNDECIDED``.
     throw : bool, default False
         Raise [`NotPassiveError`][seapass.errors.NotPassiveError] unless the verdict is passive.
+    **old
+        ``period=, delay=, velocity_filter=, method=``: the loop's old spelling, still
+        accepted for one release with a
+        [`SeapassDeprecationWarning`][seapass.errors.SeapassDeprecationWarning].
 
     Returns
     -------
@@ -291,79 +305,99 @@ def sampled_passivity(
     Examples
     --------
     >>> lp = SEA(D1="k1 + b1*s", CL="kd", values=dict(m=1, b=10, k1=1005, b1=30, kd=500))
-    >>> sampled_passivity(lp, period=0.002).passive
+    >>> sampled_passivity(lp, loop=SampledLoop(period=0.002)).passive
     True
     >>> slow = SEA(D1="k1 + b1*s", CL="kd", values=dict(m=1, b=10, k1=1000, b1=1e6, kd=950))
-    >>> r = sampled_passivity(slow, period=0.002)
-    >>> r.passive, r.reason
-    (False, 'low_frequency')
+    >>> r = sampled_passivity(slow, loop=SampledLoop(period=0.002))
+    >>> print(r.outcome, r.reason)
+    not_passive low_frequency
     """
+    loop = loop_argument(loop, old, where="sampled_passivity")
+    max_precision = check_precision(max_precision)
     if values:
         sea = sea.with_values(**values)
     if sea.free_parameters and controller is None:
         raise ParameterError(
             "sampled passivity needs values for: " + ", ".join(sea.free_parameters)
         )
-    T = check_ranges(sea, period)
-    delay = check_delay(delay)
+    check_values(sea)
     if controller is not None:
-        ka, kl = (tf.delayed(int(delay)) for tf in controller.transfer_functions())
+        ka, kl = (tf.delayed(loop.delay) for tf in controller.transfer_functions())
     else:
-        ka, kl = controller_tfs(
-            sea, period=period, delay=delay, velocity_filter=velocity_filter, method=method
-        )
+        ka, kl = controller_tfs(sea, loop)
     key = plant_key(sea)
     plant_of(sea)  # validates the physical plant (ModelError outside the supported class)
-    d = decide(key, ka, kl, T, max_precision=max_precision)
+    d = decide(key, ka, kl, loop.exact_period, max_precision=max_precision)
     lf = low_frequency_of(
-        sea, ka, kl, delay=int(delay), method=method, explain=d.reason == "low_frequency"
+        sea,
+        ka,
+        kl,
+        delay=loop.delay,
+        method=loop.method,
+        explain=d.reason is SampledReason.LOW_FREQUENCY,
     )
     base: dict[str, Any] = {
-        "period": float(period),
-        "delay": int(delay),
-        "velocity_filter": velocity_filter,
+        "loop": loop,
         "spectral_radius": d.spectral_radius,
         "degree": d.degree,
         "precision": d.precision,
         "low_frequency": lf,
     }
-    omega = _omega(d.witness, float(period))
-    if d.outcome is Outcome.PASSIVE:
+    omega = _omega(d.witness, loop.period)
+    gate = None
+    if d.outcome is Outcome.PASSIVE and continuous_gate and not sea.free_parameters:
+        gate = _continuous_gate(sea)
+    if gate is not None:
+        nyquist = math.pi / loop.period
         result = SampledPassivityResult(
-            Outcome.PASSIVE,
-            d.reason,
-            _DETAILS.get(d.reason, "passive at this sampling period"),
+            outcome=Outcome.NOT_PASSIVE,
+            reason=SampledReason.CONTINUOUS_NOT_PASSIVE,
+            detail=f"not passive in continuous time ({gate.detail}); seapass does not deploy "
+            "it sampled either",
+            omega=gate.omega if gate.omega is not None and gate.omega <= nyquist else None,
             **base,
         )
-        if continuous_gate and not sea.free_parameters:
-            result = _continuous_gate(sea, result)
+    elif d.outcome is Outcome.PASSIVE:
+        result = SampledPassivityResult(
+            outcome=Outcome.PASSIVE,
+            reason=d.reason,
+            detail=_DETAILS.get(d.reason, "passive at this sampling period"),
+            **base,
+        )
     elif d.outcome is Outcome.UNDECIDED:
         result = SampledPassivityResult(
-            Outcome.UNDECIDED, "undecided", _DETAILS["undecided"], **base
+            outcome=Outcome.UNDECIDED,
+            reason=SampledReason.UNDECIDED,
+            detail=_DETAILS[SampledReason.UNDECIDED],
+            **base,
         )
     else:
         detail = _DETAILS.get(d.reason, "")
-        if d.reason in ("negative_power", "low_frequency") and omega is not None:
+        proven = (SampledReason.NEGATIVE_POWER, SampledReason.LOW_FREQUENCY)
+        if d.reason in proven and omega is not None:
             detail = (
                 f"the sampled loop can deliver net energy at w = {omega:.6g} rad/s "
                 f"({omega / (2 * math.pi):.4g} Hz)"
             )
-            if d.reason == "low_frequency":
+            if d.reason is SampledReason.LOW_FREQUENCY:
                 detail += "; N(0) < 0, so slow enough motions extract energy"
                 detail += f" ({lf.explanation})" if lf is not None and lf.explanation else ""
-        elif d.reason == "unstable":
+        elif d.reason is SampledReason.UNSTABLE:
             detail += f" (spectral radius about {d.spectral_radius:.6g})"
-        result = SampledPassivityResult(Outcome.NOT_PASSIVE, d.reason, detail, omega, **base)
+        result = SampledPassivityResult(
+            outcome=Outcome.NOT_PASSIVE, reason=d.reason, detail=detail, omega=omega, **base
+        )
     if throw and not result.passive:
-        raise NotPassiveError(f"not passive at T = {float(period):g} s: {result.detail}")
+        raise NotPassiveError(f"not passive at T = {loop.period:g} s: {result.detail}")
     return result
 
 
-def _continuous_gate(sea: SEA, result: SampledPassivityResult) -> SampledPassivityResult:
+def _continuous_gate(sea: SEA) -> PassivityResult | None:
     """Deployment policy: a design that is not passive in continuous time is not deployed.
 
     Not part of the sampled-data verdict (which stands on its own): an extra necessary
     condition seapass imposes, so a "passive" answer always means passive both ways.
+    Returns the failing continuous verdict, or None when the design passes the gate.
     """
     from ..analysis.passivity import is_passive
     from .plant import continuous_impedance
@@ -372,36 +406,18 @@ def _continuous_gate(sea: SEA, result: SampledPassivityResult) -> SampledPassivi
     cont = is_passive(
         tuple([Fraction(int(c.p), int(c.q)) for c in reversed(p.coeffs())] for p in (num, den))
     )
-    if cont.passive:
-        return result
-    nyquist = math.pi / result.period
-    omega = cont.omega if cont.omega is not None and cont.omega <= nyquist else None
-    return dataclasses.replace(
-        result,
-        status=Outcome.NOT_PASSIVE,
-        reason="continuous_not_passive",
-        detail=f"not passive in continuous time ({cont.detail}); seapass does not deploy it sampled either",
-        omega=omega,
-    )
+    return None if cont.passive else cont
 
 
 def sampled_power_curve(
-    sea: SEA,
-    *,
-    period: float,
-    delay: int = 0,
-    velocity_filter: float | None = None,
-    method: Method = "tustin",
-    n: int = 400,
+    sea: SEA, *, loop: SampledLoop, n: int = 400
 ) -> tuple[np.ndarray, np.ndarray]:
     """``(ω, N(ω))`` on ``n`` frequencies in ``(0, π/T]`` — for figures, never for verdicts."""
     if not 2 <= int(n) <= 100_000:
         raise ParameterError(f"n must be in [2, 100000], got {n!r}")
-    T = check_ranges(sea, period)
-    delay = check_delay(delay)
-    ka, kl = controller_tfs(
-        sea, period=period, delay=delay, velocity_filter=velocity_filter, method=method
-    )
+    check_values(sea)
+    T = loop.exact_period
+    ka, kl = controller_tfs(sea, loop)
     key = plant_key(sea)
     plant_of(sea)
     if not kl.is_zero and alias_injection(key):
@@ -410,4 +426,10 @@ def sampled_power_curve(
     sums = cached_sums(key, T, names, 128)
     theta = np.linspace(math.pi / n, math.pi, int(n))
     vals = power_values(sums, point_family(ka, kl), [float(t) for t in theta])
-    return theta / float(period), np.array([float(v.mid()) for v in vals])
+    return theta / loop.period, np.array([float(v.mid()) for v in vals])
+
+
+def power_curve_csv(omega: np.ndarray, power: np.ndarray) -> str:
+    """The curve of `sampled_power_curve` as CSV: ``omega_rad_s,N``, numbers written exactly."""
+    rows = "".join(f"{w!r},{n!r}\n" for w, n in zip(omega.tolist(), power.tolist(), strict=True))
+    return "omega_rad_s,N\n" + rows

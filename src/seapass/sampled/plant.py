@@ -16,19 +16,24 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
-from typing import Any, cast
+from fractions import Fraction
+from typing import TYPE_CHECKING, Any, cast
 
-import sympy as sp
 from flint import acb, ctx, fmpq, fmpq_poly
 
 from ..errors import ModelError, ParameterError
-from ..model.expr import S
-from ..model.sea import SEA
+from ..exact.poly import as_poly, rational, to_fraction, to_fractions
+from ..model.sea import SEA, exact_values
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = [
     "Plant",
+    "PlantKey",
     "RationalFunction",
     "continuous_impedance",
+    "numeric_element",
     "plant_from_key",
     "plant_key",
     "plant_of",
@@ -43,13 +48,12 @@ _ONE = fmpq_poly([1])
 _S = fmpq_poly([0, 1])
 
 
-def _fmpq(x: sp.Expr) -> fmpq:
-    r = sp.Rational(x)
-    return fmpq(int(r.p), int(r.q))
-
-
 def _poly(expr: sp.Expr) -> fmpq_poly:
-    return fmpq_poly([_fmpq(c) for c in reversed(sp.Poly(expr, S).all_coeffs())])
+    import sympy as sp
+
+    from ..model.expr import S
+
+    return as_poly([sp.Rational(c) for c in reversed(sp.Poly(expr, S).all_coeffs())])
 
 
 def reduced(num: fmpq_poly, den: fmpq_poly) -> RationalFunction:
@@ -65,7 +69,9 @@ def reduced(num: fmpq_poly, den: fmpq_poly) -> RationalFunction:
 
 
 def rational_of(expr: sp.Expr) -> RationalFunction:
-    """Exact ``(num, den)`` of a rational function of ``s`` with numeric coefficients."""
+    """Exact ``(num, den)`` of a rational function of ``s`` with numeric coefficients (sympy)."""
+    import sympy as sp
+
     num, den = sp.fraction(sp.together(sp.sympify(expr)))
     return reduced(_poly(sp.expand(num)), _poly(sp.expand(den)))
 
@@ -217,26 +223,40 @@ def plant_from_rationals(m: fmpq, b: fmpq, d1: RationalFunction, d2: RationalFun
     return Plant(reduced(n1, delta), reduced(den1, delta), z0, r, delta)
 
 
-def _numeric(sea: SEA, name: str) -> sp.Expr:
-    value = sp.sympify(sea.numeric(sea.elements()[name]))
-    missing = value.free_symbols - {S}
+def numeric_element(sea: SEA, name: str) -> RationalFunction:
+    """Element ``name`` of ``sea`` at its values, exact, in lowest terms with a monic denominator."""
+    f = sea.exact_elements()[name]
+    env = exact_values(sea.values)
+    missing = f.parameters() - set(env)
     if missing:
-        raise ParameterError(
-            "plant parameters without values: " + ", ".join(sorted(map(str, missing)))
-        )
-    return value
+        raise ParameterError("plant parameters without values: " + ", ".join(sorted(missing)))
+    return reduced(*f.evaluate(env))
+
+
+PlantKey = tuple[tuple[Fraction, ...], ...]
+"""Cache key of a numeric plant: ``m``, ``b`` and the coefficients of ``D1``, ``D2``."""
 
 
 @functools.lru_cache(maxsize=128)
-def plant_from_key(key: str) -> Plant:
+def plant_from_key(key: PlantKey) -> Plant:
     """The plant of a [`plant_key`][seapass.sampled.plant.plant_key] (cached)."""
-    m, b, d1, d2 = sp.sympify(key)
-    return plant_from_rationals(_fmpq(m), _fmpq(b), rational_of(d1), rational_of(d2))
+    (m,), (b,), n1, d1, n2, d2 = key
+    return plant_from_rationals(
+        rational(m),
+        rational(b),
+        (as_poly(n1), as_poly(d1)),
+        (as_poly(n2), as_poly(d2)),
+    )
 
 
-def plant_key(sea: SEA) -> str:
-    """Cache key of the numeric plant (``m, b, D1, D2``)."""
-    return sp.srepr(sp.Tuple(*(_numeric(sea, k) for k in ("m", "b", "D1", "D2"))))
+def plant_key(sea: SEA) -> PlantKey:
+    """Cache key of the numeric plant (``m, b, D1, D2``), exact and hashable."""
+    m, b, d1, d2 = (numeric_element(sea, k) for k in ("m", "b", "D1", "D2"))
+    mb = tuple((x[0][0] / x[1][0],) for x in (m, b))
+    return (
+        *(tuple(to_fraction(v) for v in x) for x in mb),
+        *(to_fractions(p) for p in (*d1, *d2)),
+    )
 
 
 def plant_of(sea: SEA) -> Plant:
@@ -250,7 +270,7 @@ def continuous_impedance(sea: SEA) -> RationalFunction:
     The continuous-time port impedance (the paper's Eq. 4 with the ``D1·D2`` term), built
     from the element rationals without symbolic derivation.
     """
-    e = {k: rational_of(_numeric(sea, k)) for k in ("D1", "D2", "CA", "CL", "m", "b")}
+    e = {k: numeric_element(sea, k) for k in ("D1", "D2", "CA", "CL", "m", "b")}
     m, b = e["m"][0][0] / e["m"][1][0], e["b"][0][0] / e["b"][1][0]
     alpha = (fmpq_poly([0, b, m]), _ONE)
 

@@ -3,7 +3,8 @@
 Colgate and Brown's *Z-width* [1]_ is the range of impedances a haptic device renders
 passively; for a virtual wall ``K + B s`` it is the region of stiffness against damping.
 `sampled_region` computes that region for any two controller parameters ``P1``,
-``P2`` of an SEA at a period, for several loop setups (ideal zero-order hold, a
+``P2`` of an SEA in a sampled loop, for several setups of that loop
+([`SampledLoop`][seapass.model.loop.SampledLoop]s: ideal zero-order hold, a
 computational delay, delay plus velocity filter): for each of ``n`` values of ``P2`` the
 passive set of ``P1`` is *certified* by [`sampled_passive_bound`][seapass.sampled.bound.sampled_passive_bound]
 (intervals with edge enclosures, islands included).  Only the spacing of the ``P2`` rows
@@ -21,61 +22,62 @@ from __future__ import annotations
 
 import io
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 
 from ..errors import ParameterError
+from ..exact.rounding import decimal_down
 from ..model.display import html_card, short_repr
+from ..model.loop import SampledLoop, loop_argument
 from ..model.sea import SEA
 from .bound import SampledBoundResult, sampled_passive_bound
-from .controllers import Method
+from .passivity import check_precision
+from .verdict import PRECISIONS
 
-__all__ = ["LoopSetup", "ZWidthMap", "default_setups", "sampled_region"]
+__all__ = ["ZWidthMap", "default_setups", "sampled_region"]
 
 #: Most rows of one map (each row is a certified bound).
 MAX_ROWS = 200
 
 
-@dataclass(frozen=True)
-class LoopSetup:
-    """One sampled loop: a label, whole samples of delay, velocity filter cut-off (Hz)."""
-
-    label: str
-    delay: int = 0
-    velocity_filter: float | None = None
-
-
-def default_setups(delay: int = 1, velocity_filter: float | None = 50.0) -> tuple[LoopSetup, ...]:
-    """Ideal ZOH, ``delay`` samples of delay, and delay plus the velocity filter."""
-    d = max(int(delay), 1)
-    out = [LoopSetup("ideal ZOH"), LoopSetup(f"{d}-sample delay", d)]
-    if velocity_filter is not None:
-        out.append(
-            LoopSetup(f"{d}-sample delay + {velocity_filter:g} Hz filter", d, velocity_filter)
-        )
+def default_setups(loop: SampledLoop) -> tuple[SampledLoop, ...]:
+    """Ideal ZOH, ``max(loop.delay, 1)`` samples of delay, and that delay plus the loop's
+    velocity filter (when it has one), at the loop's period and discretization."""
+    d = max(loop.delay, 1)
+    ideal = loop.replace(delay=0, velocity_filter=None)
+    out = [ideal, ideal.replace(delay=d)]
+    if loop.velocity_filter is not None:
+        out.append(ideal.replace(delay=d, velocity_filter=loop.velocity_filter))
     return tuple(out)
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class ZWidthMap:
     """Certified passive sets of ``p1`` for each value of ``p2`` and each loop setup.
 
     Attributes
     ----------
-    rows : dict of str to list of SampledBoundResult
+    setups : tuple of SampledLoop
+        The loops overlaid (one period); each is named by its ``label``.
+    rows : mapping of str to tuple of SampledBoundResult
         ``rows[setup.label][i]`` is the passive set of ``p1`` at ``p2 = p2_values[i]``.
     """
 
     p1: str
     p2: str
-    period: float
     p1_range: tuple[float, float]
     p2_values: tuple[float, ...]
-    setups: tuple[LoopSetup, ...]
-    rows: dict[str, list[SampledBoundResult]]
+    setups: tuple[SampledLoop, ...]
+    rows: Mapping[str, tuple[SampledBoundResult, ...]]
+
+    @property
+    def period(self) -> float:
+        """Control period (s) of every setup."""
+        return self.setups[0].period
 
     def upper_boundary(self, label: str) -> np.ndarray:
         """Largest passive ``p1`` for every ``p2`` row (NaN where none)."""
@@ -86,7 +88,7 @@ class ZWidthMap:
     def to_csv(self) -> str:
         """One line per passive interval: setup, loop, ``p2``, ``p1`` interval, enclosures."""
         buf = io.StringIO()
-        buf.write(f"setup,delay,velocity_filter_hz,{self.p2},{self.p1}_lo,{self.p1}_hi\n")
+        buf.write(f"setup,delay,velocity_filter,{self.p2},{self.p1}_lo,{self.p1}_hi\n")
         for s in self.setups:
             for v, r in zip(self.p2_values, self.rows[s.label], strict=True):
                 filt = "" if s.velocity_filter is None else repr(s.velocity_filter)
@@ -145,7 +147,8 @@ class ZWidthMap:
             top = self.upper_boundary(s.label)
             empty = int(np.sum(np.isnan(top)))
             text = (
-                f"largest passive {self.p1} from {np.nanmin(top):.6g} to {np.nanmax(top):.6g}"
+                f"largest passive {self.p1} from {decimal_down(np.nanmin(top), 6)} to "
+                f"{decimal_down(np.nanmax(top), 6)}"
                 if empty < top.size
                 else f"no passive {self.p1}"
             )
@@ -165,15 +168,16 @@ def sampled_region(
     p1: str,
     p2: str,
     *,
-    period: float,
+    loop: SampledLoop | None = None,
     p1_range: tuple[float, float],
     p2_range: tuple[float, float],
     n: int = 25,
-    setups: Sequence[LoopSetup] | None = None,
-    method: Method = "tustin",
+    setups: Sequence[SampledLoop] | None = None,
     rtol: float = 1e-6,
     log_p2: bool = False,
+    max_precision: int = PRECISIONS[-1],
     progress: Callable[[int, int], None] | None = None,
+    **old: Any,
 ) -> ZWidthMap:
     """Z-width map: certified passive sets of ``p1`` on ``n`` rows of ``p2``.
 
@@ -184,21 +188,28 @@ def sampled_region(
         needs a value.
     p1, p2 : str
         The bounded parameter (certified per row) and the row parameter.
-    period : float
-        Control period (s).
+    loop : SampledLoop
+        The deployed loop: its period and discretization for every setup, its delay and
+        velocity filter for the default setups.
     p1_range, p2_range : (float, float)
         Range of ``p1`` to partition and of the ``p2`` rows (ends included).
     n : int, default 25
         Number of ``p2`` rows, in ``[2, 200]``.
-    setups : sequence of LoopSetup, optional
-        Loop setups to overlay; `default_setups` by default.
-    method : {"tustin", "zoh", "backward"}
+    setups : sequence of SampledLoop, optional
+        Loops to overlay, at ``loop``'s period; `default_setups` of ``loop`` by default.
     rtol : float, default 1e-6
         Relative width of every edge enclosure.
     log_p2 : bool
         Space the rows logarithmically (``p2_range`` must then be positive).
+    max_precision : int
+        Precision cap (bits) of the balls, as in
+        [`sampled_passive_bound`][seapass.sampled.bound.sampled_passive_bound].
     progress : callable, optional
         Called with ``(done, total)`` after each row.
+    **old
+        ``period=, method=``: the loop's old spelling (then the default setups have one
+        sample of delay and a 50 Hz filter), accepted for one release with a
+        [`SeapassDeprecationWarning`][seapass.errors.SeapassDeprecationWarning].
 
     Returns
     -------
@@ -207,11 +218,18 @@ def sampled_region(
     Examples
     --------
     >>> wall = SEA(D1="k1 + b1*s", CA="kd + bd*s", values=dict(m=1, b=10, k1=1005, b1=30))
-    >>> z = sampled_region(wall, "kd", "bd", period=0.002, p1_range=(0, 1e5),
-    ...                    p2_range=(0, 50), n=2, setups=default_setups()[:1])
+    >>> ideal = SampledLoop(period=0.002)
+    >>> z = sampled_region(wall, "kd", "bd", loop=ideal, p1_range=(0, 1e5),
+    ...                    p2_range=(0, 50), n=2, setups=[ideal])
     >>> [round(v) for v in z.upper_boundary("ideal ZOH")]
     [10033, 54519]
     """
+    if loop is None and old:  # the old spelling: period=, method=; 1 sample and 50 Hz setups
+        loop = loop_argument(None, old, where="sampled_region")
+        loop = loop if setups is not None else loop.replace(delay=1, velocity_filter=50.0)
+    else:
+        loop = loop_argument(loop, old, where="sampled_region")
+    max_precision = check_precision(max_precision)
     if p1 == p2:
         raise ParameterError("sampled region needs two different parameters")
     if not 2 <= int(n) <= MAX_ROWS:
@@ -222,20 +240,27 @@ def sampled_region(
     if log_p2 and lo2 <= 0:
         raise ParameterError(f"a logarithmic {p2} axis needs a positive range, got {p2_range}")
     values = np.geomspace(lo2, hi2, int(n)) if log_p2 else np.linspace(lo2, hi2, int(n))
-    setups = tuple(setups or default_setups())
+    setups = tuple(setups or default_setups(loop))
+    if any(s.period != loop.period for s in setups):
+        raise ParameterError(
+            f"setups: every setup runs at the loop's period {loop.period:g} s", argument="setups"
+        )
     rows: dict[str, list[SampledBoundResult]] = {s.label: [] for s in setups}
     base = sea.with_values(**{p1: None, p2: None})
     total, done = len(setups) * len(values), 0
     for s in setups:
         for v in values:
             row = sampled_passive_bound(
-                base.with_values(**{p2: float(v)}), p1, period=period,
-                lo=float(p1_range[0]), hi=float(p1_range[1]),
-                delay=s.delay, velocity_filter=s.velocity_filter, method=method, rtol=rtol,
+                base.with_values(**{p2: float(v)}), p1, loop=s,
+                lo=float(p1_range[0]), hi=float(p1_range[1]), rtol=rtol,
+                max_precision=max_precision,
             )  # fmt: skip
             rows[s.label].append(row)
             done += 1
             if progress is not None:
                 progress(done, total)
-    return ZWidthMap(p1, p2, float(period), (float(p1_range[0]), float(p1_range[1])),
-                     tuple(float(v) for v in values), setups, rows)  # fmt: skip
+    return ZWidthMap(
+        p1=p1, p2=p2, p1_range=(float(p1_range[0]), float(p1_range[1])),
+        p2_values=tuple(float(v) for v in values), setups=setups,
+        rows=MappingProxyType({k: tuple(v) for k, v in rows.items()}),
+    )  # fmt: skip

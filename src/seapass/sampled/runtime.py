@@ -37,6 +37,7 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 
 from ..errors import NotPassiveError, ParameterError
+from ..model.loop import SampledLoop, renamed_keywords
 from ..model.sea import SEA
 from .controllers import DiscreteController
 
@@ -79,8 +80,10 @@ class SimulatedHardware:
     ----------
     plant : TwinPlant
         The twin (already ``reset`` to its initial state).
-    delay_samples : int, default 0
+    delay : int, default 0
         A written command takes effect this many writes later (PC-in-the-loop delay).
+        Its old keyword still works for one release, with a warning
+        ([`renamed_keywords`][seapass.model.loop.renamed_keywords]).
     external_force : callable, optional
         ``f(t) -> N`` acting on the load (e.g. a push by a person).
     """
@@ -89,16 +92,18 @@ class SimulatedHardware:
         self,
         plant: Any,
         *,
-        delay_samples: int = 0,
+        delay: int = 0,
         external_force: Callable[[float], float] | None = None,
+        **old: Any,
     ) -> None:
-        if delay_samples < 0:
-            raise ParameterError(f"delay_samples must be >= 0, got {delay_samples}")
+        delay = renamed_keywords(old, where="SimulatedHardware").get("delay", delay)
+        if delay < 0:
+            raise ParameterError(f"delay: must be >= 0, got {delay}", argument="delay")
         self.plant = plant
-        self.delay_samples = int(delay_samples)
+        self.delay = int(delay)
         self.external_force = external_force
         self.enabled = False
-        self._queue: deque[float] = deque([0.0] * (self.delay_samples + 1))
+        self._queue: deque[float] = deque([0.0] * (self.delay + 1))
         self.fail_reads = 0  # test hook: the next n reads time out
 
     @property
@@ -181,7 +186,7 @@ class SimulatedClock(FakeClock):
             self.advance(t - self.t)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LoopRecord:
     """What one run of `ControlLoop.run` did; arrays have one entry per serviced tick.
 
@@ -301,7 +306,7 @@ class ControlLoop:
 
         cont = is_passive(design)
         samp = sampled_passivity(
-            design, period=self.period, delay=delay, controller=self.controller
+            design, loop=SampledLoop(period=self.period, delay=delay), controller=self.controller
         )
         info = {"continuous": cont.to_dict(), "sampled": samp.to_dict()}
         if not (cont.passive and samp.passive) and not allow:

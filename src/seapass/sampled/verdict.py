@@ -12,19 +12,21 @@ import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from enum import StrEnum
 from fractions import Fraction
 
 import numpy as np
-from flint import acb, acb_poly, arb, arb_poly, fmpq, fmpq_poly
+from flint import acb, acb_poly, arb, arb_poly, fmpq_poly
 
 from ..errors import ParameterError
+from ..exact.poly import as_poly, rational
 from ..outcome import Outcome
 from .alias import AliasSums, alias_sums
 from .certified import Sign, precision, schur_stable, schur_stable_exact, sign_on
-from .plant import plant_from_key
+from .plant import PlantKey, plant_from_key
 from .power import ControllerFamily, polynomial_degree, power_values, weighted_polynomials
 
-__all__ = ["Decision", "Outcome", "decide", "precision_ladder"]
+__all__ = ["Decision", "Outcome", "SampledReason", "decide", "precision_ladder"]
 
 #: Working precisions tried in turn (bits); the last one is the default cap.
 PRECISIONS = (128, 256, 512, 1024, 2048, 4096)
@@ -32,10 +34,38 @@ PRECISIONS = (128, 256, 512, 1024, 2048, 4096)
 MAX_POWER_DEGREE = 400
 
 
-@dataclass(frozen=True)
+class SampledReason(StrEnum):
+    """Why a sampled-data verdict came out as it did (the JSON value is the string)."""
+
+    NONE = ""
+    """Passive with control (or an undecided box leaf that is not an edge)."""
+    NO_CONTROL = "no_control"
+    """No control at all: the passive physics."""
+    UNSTABLE = "unstable"
+    """The sampled loop with the port held is unstable."""
+    ALIAS_INJECTION = "alias_injection"
+    """The controller samples the load position of an undamped transmission."""
+    NEGATIVE_POWER = "negative_power"
+    """``N(ω) < 0`` is proven at some ``ω > 0``."""
+    LOW_FREQUENCY = "low_frequency"
+    """``N < 0`` as ``ω → 0``: slow enough motions extract energy."""
+    CONTINUOUS_NOT_PASSIVE = "continuous_not_passive"
+    """The deployment policy's continuous-time gate (see `sampled_passivity`)."""
+    UNDECIDED = "undecided"
+    """Not decided at the precision cap."""
+    EDGE = "edge"
+    """An undecided box leaf between proven boxes of opposite verdicts (bounds only)."""
+    PRECISION = "precision"
+    """Not even the box's centre is decided at the box's precision: the box needs more
+    bits, not a split (bounds only; never left in a finished partition)."""
+    BUDGET = "budget"
+    """Not examined: the bound's budget of boxes (``max_boxes``) ran out (bounds only)."""
+
+
+@dataclass(frozen=True, kw_only=True)
 class Decision:
     outcome: Outcome
-    reason: str = ""
+    reason: SampledReason = SampledReason.NONE
     witness: Fraction | None = None  # x = cos(theta) with a proven negative power
     precision: int = 0
     degree: int = 0
@@ -47,18 +77,10 @@ def precision_ladder(max_bits: int) -> tuple[int, ...]:
     return ladder or (max(64, int(max_bits)),)
 
 
-def _fq(c: Fraction) -> fmpq:
-    return fmpq(c.numerator, c.denominator)
-
-
-def _poly(coeffs: Sequence[Fraction]) -> fmpq_poly:
-    return fmpq_poly([_fq(Fraction(c)) for c in coeffs])
-
-
 def point_family(ka: object, kl: object) -> ControllerFamily:
     """``v' = (d_A d_L, n_A d_L, n_L d_A)`` of fixed controllers (λ-degree 0)."""
-    na, da = _poly(ka.num), _poly(ka.den)  # type: ignore[attr-defined]
-    nl, dl = _poly(kl.num), _poly(kl.den)  # type: ignore[attr-defined]
+    na, da = as_poly(ka.num), as_poly(ka.den)  # type: ignore[attr-defined]
+    nl, dl = as_poly(kl.num), as_poly(kl.den)  # type: ignore[attr-defined]
     return [[da * dl], [na * dl], [nl * da]]
 
 
@@ -72,13 +94,13 @@ def needed_sums(ka_zero: bool, kl_zero: bool) -> tuple[str, ...]:
 
 
 @functools.lru_cache(maxsize=64)
-def cached_sums(key: str, period: Fraction, names: tuple[str, ...], prec: int) -> AliasSums:
+def cached_sums(key: PlantKey, period: Fraction, names: tuple[str, ...], prec: int) -> AliasSums:
     plant = plant_from_key(key)
     summands = plant.summands()
-    return alias_sums({k: summands[k] for k in names}, _fq(period), prec)
+    return alias_sums({k: summands[k] for k in names}, rational(period), prec)
 
 
-def alias_injection(key: str) -> bool:
+def alias_injection(key: PlantKey) -> bool:
     """``Σ 1/(|s_k|² Re Z0)`` diverges: sampled load feedback is never passive."""
     num, den = plant_from_key(key).summands()["S4"]
     return den.degree() - num.degree() < 2
@@ -115,7 +137,7 @@ def _below_one(p: arb_poly) -> Fraction | None:
     """The largest ``x = 1 − 2^-k`` with a proven ``p(x) < 0`` (``p(1) < 0``: ``ω > 0``)."""
     for k in range(4, 400, 4):
         x = 1 - Fraction(1, 2**k)
-        if p(arb(_fq(x))) < 0:
+        if p(arb(rational(x))) < 0:
             return x
     return None
 
@@ -138,7 +160,7 @@ def _deepest_witness(
     for i in order[:8]:
         t = Fraction(cands[i])
         xi = 1 - t * t / 2 if t < Fraction(1, 10**4) else Fraction(math.cos(cands[i]))
-        if xi < 1 and p(arb(_fq(xi))) < 0:
+        if xi < 1 and p(arb(rational(xi))) < 0:
             return xi
     return x
 
@@ -148,12 +170,12 @@ def theta_of(x: Fraction) -> float:
     return 2.0 * math.asin(math.sqrt(max(0.0, min(1.0, float((1 - x) / 2)))))
 
 
-def loop_radius(key: str, ka: object, kl: object, period: Fraction) -> float:
+def loop_radius(key: PlantKey, ka: object, kl: object, period: Fraction) -> float:
     """Spectral radius (floating point, for information) of the loop with the port held:
     the roots of ``χ`` and the load-side controller's own poles."""
     sums = cached_sums(key, period, ("Sg",), PRECISIONS[0])
     with precision(sums.prec):
-        chi = characteristic(sums, _poly(ka.num), _poly(ka.den))  # type: ignore[attr-defined]
+        chi = characteristic(sums, as_poly(ka.num), as_poly(ka.den))  # type: ignore[attr-defined]
     rho = _radius(chi)
     poles = kl.poles()  # type: ignore[attr-defined]
     if not kl.is_zero and poles.size:  # type: ignore[attr-defined]
@@ -162,7 +184,7 @@ def loop_radius(key: str, ka: object, kl: object, period: Fraction) -> float:
 
 
 def decide(
-    key: str,
+    key: PlantKey,
     ka: object,
     kl: object,
     period: Fraction,
@@ -173,14 +195,22 @@ def decide(
     ka_zero, kl_zero = ka.is_zero, kl.is_zero  # type: ignore[attr-defined]
     if ka_zero and kl_zero:
         return Decision(
-            Outcome.PASSIVE, "no_control", spectral_radius=loop_radius(key, ka, kl, period)
+            outcome=Outcome.PASSIVE,
+            reason=SampledReason.NO_CONTROL,
+            spectral_radius=loop_radius(key, ka, kl, period),
         )
     if not kl_zero and not schur_stable_exact(list(reversed(kl.den))):  # type: ignore[attr-defined]
         rho = loop_radius(key, ka, kl, period)
-        return Decision(Outcome.NOT_PASSIVE, "unstable", spectral_radius=max(rho, 1.0))
+        return Decision(
+            outcome=Outcome.NOT_PASSIVE,
+            reason=SampledReason.UNSTABLE,
+            spectral_radius=max(rho, 1.0),
+        )
     if not kl_zero and alias_injection(key):
         rho = loop_radius(key, ka, kl, period)
-        return Decision(Outcome.NOT_PASSIVE, "alias_injection", spectral_radius=rho)
+        return Decision(
+            outcome=Outcome.NOT_PASSIVE, reason=SampledReason.ALIAS_INJECTION, spectral_radius=rho
+        )
     names = needed_sums(ka_zero, kl_zero)
     if "Sg" not in names:
         names = (*names, "Sg")  # the modes with the port held, for the stability test
@@ -197,22 +227,43 @@ def decide(
                 "lower-order controller"
             )
         with precision(prec):
-            chi = characteristic(sums, _poly(ka.num), _poly(ka.den))  # type: ignore[attr-defined]
+            chi = characteristic(sums, as_poly(ka.num), as_poly(ka.den))  # type: ignore[attr-defined]
             stable = schur_stable(chi)
             rho = _radius(chi)
             if stable is False:
-                return Decision(Outcome.NOT_PASSIVE, "unstable", None, prec, degree, max(rho, 1.0))
+                return Decision(
+                    outcome=Outcome.NOT_PASSIVE,
+                    reason=SampledReason.UNSTABLE,
+                    precision=prec,
+                    degree=degree,
+                    spectral_radius=max(rho, 1.0),
+                )
             (poly,) = weighted_polynomials(sums, family)
             result = sign_on(
                 [poly], Fraction(-1), Fraction(1), budget=60 if prec < ladder[-1] else 2000
             )
             if result.sign is Sign.NEGATIVE:
-                reason = "low_frequency" if poly(arb(1)) < 0 else "negative_power"
+                low = poly(arb(1)) < 0
+                reason = SampledReason.LOW_FREQUENCY if low else SampledReason.NEGATIVE_POWER
                 witness = result.witness if result.witness is not None else Fraction(1)
                 if witness == 1:
                     witness = _below_one(poly) or witness
                 witness = _deepest_witness(sums, family, poly, witness)
-                return Decision(Outcome.NOT_PASSIVE, reason, witness, prec, degree, rho)
+                return Decision(
+                    outcome=Outcome.NOT_PASSIVE,
+                    reason=reason,
+                    witness=witness,
+                    precision=prec,
+                    degree=degree,
+                    spectral_radius=rho,
+                )
             if result.sign is Sign.POSITIVE and stable:
-                return Decision(Outcome.PASSIVE, "", None, prec, degree, rho)
-    return Decision(Outcome.UNDECIDED, "undecided", None, ladder[-1], degree)
+                return Decision(
+                    outcome=Outcome.PASSIVE, precision=prec, degree=degree, spectral_radius=rho
+                )
+    return Decision(
+        outcome=Outcome.UNDECIDED,
+        reason=SampledReason.UNDECIDED,
+        precision=ladder[-1],
+        degree=degree,
+    )

@@ -3,16 +3,18 @@
 What lives here: [`scenarios`][seapass.sim.scenarios] (what drives the loop: steps,
 displaced loads, forces, trajectories), [`simulate`][seapass.sim.simulate] (exact
 matrix-exponential simulation with a load mass), [`metrics`][seapass.sim.metrics]
-(the one settling definition and the `Settling` status enum).  Tuning lives in
+(the one settling definition and the `Settling` status enum), [`summary`][seapass.sim.summary]
+(one simulation with its metrics and the design's passivity: ``seapass simulate``).  Tuning lives in
 [`seapass.tuning`][seapass.tuning] (it also needs the sampled-data analysis).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model],
+May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
 [`seapass.analysis`][seapass.analysis].
 """
 
 from .metrics import Settling, TrackingMetrics, settling_time, tracking_metrics
-from .scenarios import ForceImpulse, ForceStep, LoadDisplaced, Step, Trajectory
+from .scenarios import ForceImpulse, ForceStep, LoadDisplaced, Step, Trajectory, read_trajectory
 from .simulate import SimulationResult, Stability, simulate
+from .summary import SimulationSummary, simulation_summary
 
 __all__ = [
     "ForceImpulse",
@@ -20,11 +22,14 @@ __all__ = [
     "LoadDisplaced",
     "Settling",
     "SimulationResult",
+    "SimulationSummary",
     "Stability",
     "Step",
     "TrackingMetrics",
     "Trajectory",
+    "read_trajectory",
     "settling_time",
     "simulate",
+    "simulation_summary",
     "tracking_metrics",
 ]

@@ -69,7 +69,7 @@ SETTLING_CODES: tuple[Settling, ...] = tuple(Settling)
 """Every `Settling` status, by code (batch ``status`` arrays hold these indices)."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class TrackingMetrics:
     """Tracking metrics of one run.
 

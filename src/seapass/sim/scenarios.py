@@ -7,13 +7,18 @@ input signal ``u(t) = (θ_A, θ_L, f_ext)``.
 
 from __future__ import annotations
 
+import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import FileFormatError, ParameterError
+from ..files.limits import MAX_TRAJECTORY_BYTES, MAX_TRAJECTORY_SAMPLES
+from ..files.textfile import read_text_file
+from ..model.experiment import PAPER_EXPERIMENT
 from ..model.expr import finite_number
 
 __all__ = [
@@ -23,6 +28,7 @@ __all__ = [
     "Scenario",
     "Step",
     "Trajectory",
+    "read_trajectory",
     "reference_values",
 ]
 
@@ -41,16 +47,19 @@ def reference_values(apply_to: str, value: float) -> tuple[float, float]:
 class Step:
     """Reference step of ``size`` metres at ``t = 0`` from rest at the origin.
 
-    ``apply_to`` selects the references that step: ``"both"`` (θ_A = θ_L, the
+    ``size`` defaults to the paper's step
+    ([`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT]); None means the
+    same.  ``apply_to`` selects the references that step: ``"both"`` (θ_A = θ_L, the
     default), ``"actuator"`` (θ_A only) or ``"load"`` (θ_L only).  The load
     target for the tracking metrics is ``size``.
     """
 
-    size: float = 0.5
+    size: float = PAPER_EXPERIMENT.step
     apply_to: str = "both"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "size", finite_number(self.size, "step size", nonzero=True))
+        size = PAPER_EXPERIMENT.pick("step", self.size)
+        object.__setattr__(self, "size", finite_number(size, "step size", nonzero=True))
         reference_values(self.apply_to, 1.0)
 
 
@@ -137,3 +146,50 @@ class Trajectory:
 
 
 Scenario = Step | LoadDisplaced | ForceStep | ForceImpulse | Trajectory
+
+
+def read_trajectory(
+    path: str | os.PathLike[str],
+    *,
+    interpolation: Literal["zoh", "linear"] = "linear",
+    apply_to: str = "both",
+) -> Trajectory:
+    """The `Trajectory` of a CSV file: two columns, time (s) and reference (m).
+
+    Columns may be separated by commas, semicolons or tabs; a header row, blank
+    lines and ``#`` comments are skipped.  The file is read through
+    [`read_text_file`][seapass.files.textfile.read_text_file] (at most
+    ``MAX_TRAJECTORY_BYTES``) and holds at most ``MAX_TRAJECTORY_SAMPLES`` rows.
+
+    Raises
+    ------
+    FileFormatError
+        Naming the file and line of a row that is not two finite numbers, or
+        for a file without samples or with too many.
+    OSError
+        If the file cannot be read.
+    """
+    text = read_text_file(path, max_bytes=MAX_TRAJECTORY_BYTES, what="trajectory file")
+    rows: list[tuple[float, float]] = []
+    for n, line in enumerate(text.splitlines(), 1):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        parts = [x.strip() for x in line.replace(";", ",").replace("\t", ",").split(",")]
+        try:
+            vals = [float(x) for x in parts if x]
+        except ValueError:
+            if not rows and n == 1:
+                continue  # header
+            raise FileFormatError(f"{path}:{n}: expected two numbers, got {line!r}") from None
+        if len(vals) != 2 or not all(math.isfinite(v) for v in vals):
+            raise FileFormatError(f"{path}:{n}: expected two finite numbers, got {line!r}")
+        rows.append((vals[0], vals[1]))
+        if len(rows) > MAX_TRAJECTORY_SAMPLES:
+            raise FileFormatError(
+                f"{path}: more than {MAX_TRAJECTORY_SAMPLES:,} samples; resample the trajectory"
+            )
+    if not rows:
+        raise FileFormatError(f"{path}: no samples found")
+    times, values = zip(*rows, strict=True)
+    return Trajectory(times, values, interpolation=interpolation, apply_to=apply_to)

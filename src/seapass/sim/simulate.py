@@ -48,6 +48,7 @@ from ..analysis.coupled import Stability
 from ..errors import ParameterError, SimulationError
 from ..files.limits import MAX_SIM_STEPS
 from ..model.display import html_card, short_repr
+from ..model.experiment import PAPER_EXPERIMENT
 from ..model.expr import finite_number
 from ..model.realization import ClosedLoop, closed_loop
 from ..model.sea import SEA
@@ -75,7 +76,7 @@ _DIVERGENCE = 1e8  # |state| above this multiple of the problem scale counts as 
 # --------------------------------------------------------------------------- simulation
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class SimulationResult:
     """Sampled response of a closed-loop simulation.
 
@@ -311,12 +312,12 @@ def simulate_closed_loop(
     sys: ClosedLoop,
     *,
     scenario: Scenario | None = None,
-    horizon: float = 10.0,
+    horizon: float | None = None,
     dt: float = 1e-3,
 ) -> SimulationResult:
     """Simulate an already built `ClosedLoop`; see `simulate`."""
-    scenario = Step(0.5) if scenario is None else scenario
-    horizon = finite_number(horizon, "horizon", positive=True)
+    scenario = Step() if scenario is None else scenario
+    horizon = finite_number(PAPER_EXPERIMENT.pick("horizon", horizon), "horizon", positive=True)
     dt = finite_number(dt, "time step dt", positive=True)
     if horizon < dt:
         raise ParameterError(
@@ -420,7 +421,7 @@ def simulate(
     *,
     load_mass: float,
     scenario: Scenario | None = None,
-    horizon: float = 10.0,
+    horizon: float | None = None,
     dt: float = 1e-3,
     values: Mapping[str, float] | None = None,
 ) -> SimulationResult:
@@ -433,9 +434,10 @@ def simulate(
     load_mass : float
         Load mass ``m_L`` (kg), positive.
     scenario : Step, LoadDisplaced, ForceStep, ForceImpulse or Trajectory
-        What happens; default ``Step(0.5)``, a 0.5 m reference step from rest.
-    horizon : float
-        Simulated time (s).
+        What happens; default ``Step()``, the paper's 0.5 m reference step from rest.
+    horizon : float, optional
+        Simulated time (s); default the paper's 10 s
+        ([`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT]).
     dt : float
         Largest time step (s); the grid is ``linspace(0, horizon, N + 1)`` with
         ``N = ceil(horizon/dt)``.

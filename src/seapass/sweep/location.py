@@ -25,8 +25,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any
 
-from ..errors import MissingExtraError, ParameterError
+from ..errors import FileFormatError, MissingExtraError, ParameterError
 from ..files.atomic import atomic_save, atomic_write
+from ..files.textfile import check_input_file, read_text_file
 
 __all__ = ["ATOMIC_PUT_PROTOCOLS", "TEMP_NAME", "Location", "open_location"]
 
@@ -132,16 +133,29 @@ class Location:
 
     @contextmanager
     def reader(self) -> Iterator[Any]:
-        """For pyarrow readers: the path of a local file (read natively), else an open file."""
+        """For pyarrow readers: the path of a local file (read natively), else an open file.
+
+        A local path is checked to be a regular file first (a FIFO or a device
+        named like a part would block or never end); pyarrow streams it.
+        """
         if self.is_local:
-            yield self.local_path()
+            yield str(check_input_file(self.local_path(), max_bytes=None, what="sweep file"))
             return
         with self.fs.open(self.path, "rb") as fh:
             yield fh
 
-    def read_text(self) -> str:
+    def read_text(self, max_bytes: int) -> str:
+        """The UTF-8 text of this file, of at most ``max_bytes`` (local files: `read_text_file`)."""
+        if self.is_local:
+            return read_text_file(self.local_path(), max_bytes=max_bytes, what="sweep file")
         with self.fs.open(self.path, "rb") as fh:
-            return bytes(fh.read()).decode("utf-8")
+            data = bytes(fh.read(max_bytes + 1))
+        if len(data) > max_bytes:
+            raise FileFormatError(f"{self.url}: larger than the limit of {max_bytes:,} bytes")
+        try:
+            return data.decode("utf-8")
+        except UnicodeDecodeError:
+            raise FileFormatError(f"{self.url}: not a UTF-8 text file") from None
 
     # ----------------------------------------------------------------- writes
 

@@ -28,16 +28,23 @@ import pyarrow as pa
 
 from ..batch.step_metrics import batch_step_metrics
 from ..batch.verdicts import batch_is_passive
-from ..errors import ParameterError
+from ..errors import OutputPathError, ParameterError
+from ..files.owned import check_replaceable, record_written
 from ..model.display import html_card, short_repr
 from ..model.sea import SEA
 from ..sim.metrics import SETTLING_CODES
 from .cluster import check_scheduler, dask_client, run_bounded, total_threads
 from .location import Location, open_location
 from .spec import LOAD_MASS, SweepSpec, spec_from_state, spec_state
-from .store import PartSummary, SweepStore, summarize_part, write_part
+from .store import CONSOLIDATED_SUFFIXES, PartSummary, SweepStore, summarize_part, write_part
 
-__all__ = ["DesignSweepResult", "compute_part", "evaluate_chunk", "run_design_sweep"]
+__all__ = [
+    "DesignSweepResult",
+    "check_consolidated_target",
+    "compute_part",
+    "evaluate_chunk",
+    "run_design_sweep",
+]
 
 
 def evaluate_chunk(spec: SweepSpec, c: int) -> pa.Table:
@@ -111,7 +118,7 @@ def _part_task(c: int, state: Mapping[str, Any], parts: Location) -> PartSummary
 # --------------------------------------------------------------------------- result
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class DesignSweepResult:
     """Summary of a finished sweep.
 
@@ -235,11 +242,31 @@ def _executor(
         )
 
 
-def _check_output(out: Location, scheduler: str | None) -> None:
+def _check_output(out: Location, scheduler: str | None, force: bool) -> None:
     if scheduler is not None and out.is_memory:
         raise ParameterError(
             f"out: {out.url} lives inside this process, where Dask workers cannot write; "
             "use a shared path or an object store URL (s3://...) with a scheduler"
+        )
+    check_consolidated_target(out, force=force)
+
+
+def check_consolidated_target(out: Location, *, force: bool = False) -> None:
+    """Refuse a ``.parquet``/``.csv`` output that exists and that seapass did not write.
+
+    The rule of [`seapass.files.owned`][seapass.files.owned]: a local file must be
+    listed, unchanged, in its directory's manifest; a remote one (no manifest) is
+    replaced only with ``force``.
+    """
+    if out.suffix not in CONSOLIDATED_SUFFIXES:
+        return
+    if out.is_local:
+        check_replaceable(out.local_path(), force=force)
+    elif out.exists() and not force:
+        raise OutputPathError(
+            f"out: {out.url} exists and seapass cannot tell that it wrote it (no manifest in "
+            "an object store); choose another name, remove it, or pass force=True",
+            argument="out",
         )
 
 
@@ -253,6 +280,7 @@ def run_design_sweep(
     storage_options: Mapping[str, Any] | None = None,
     progress: bool = True,
     on_part: Callable[[PartSummary], None] | None = None,
+    force: bool = False,
 ) -> DesignSweepResult:
     """Run ``spec``: every chunk is written atomically where it is computed; then finish ``out``.
 
@@ -279,6 +307,10 @@ def run_design_sweep(
         Show a rich progress bar (only on a terminal).
     on_part : callable, optional
         Called as ``on_part(summary)`` after each part is recorded (tests, monitoring).
+    force : bool
+        Replace an existing ``.parquet``/``.csv`` output that seapass did not write
+        (by default it is refused before any work; see
+        [`seapass.files.owned`][seapass.files.owned]).
 
     Returns
     -------
@@ -288,7 +320,7 @@ def run_design_sweep(
     """
     check_scheduler(scheduler, workers)
     where = open_location(out, storage_options)
-    _check_output(where, scheduler)
+    _check_output(where, scheduler, force)
     t0 = time.perf_counter()
     store = SweepStore.open(spec, where, resume=resume)
     todo = store.todo
@@ -309,7 +341,10 @@ def run_design_sweep(
                     on_part(summary)
     finally:
         store.flush()
+    check_consolidated_target(where, force=force)  # again: it may have appeared meanwhile
     final = store.finish()
+    if where.suffix in CONSOLIDATED_SUFFIXES and where.is_local:
+        record_written([where.local_path()])
     return DesignSweepResult(
         path=final.url,
         n_designs=spec.n_designs,

@@ -21,6 +21,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..files.limits import MAX_DESIGNS
+from ..model.experiment import PAPER_EXPERIMENT
 from ..model.expr import parse_value
 from ..model.sea import SEA
 
@@ -142,7 +143,9 @@ class SweepSpec:
     samples : int or None
     seed : int
     load_mass, step, horizon, tolerance : float
-        Metric options; ``m_L`` may also be swept as a parameter.
+        Metric options; ``m_L`` may also be swept as a parameter.  Default (and for
+        None): the paper's load mass, step and tolerance and a 5 s screening horizon
+        ([`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT]).
     metrics : bool
         Compute settling time, final error and overshoot (else passivity only).
     margin : bool
@@ -157,15 +160,18 @@ class SweepSpec:
     ranges: tuple[RangeAxis, ...] = ()
     samples: int | None = None
     seed: int = 0
-    load_mass: float = 10.0
-    step: float = 0.5
-    horizon: float = 5.0
-    tolerance: float = 0.02
+    load_mass: float = PAPER_EXPERIMENT.load_mass
+    step: float = PAPER_EXPERIMENT.step
+    horizon: float = PAPER_EXPERIMENT.screening_horizon
+    tolerance: float = PAPER_EXPERIMENT.tolerance
     metrics: bool = True
     margin: bool = True
     chunk_size: int = 65536
 
     def __post_init__(self) -> None:
+        for name, key in (("load_mass", "load_mass"), ("step", "step"),
+                          ("horizon", "screening_horizon"), ("tolerance", "tolerance")):  # fmt: skip
+            object.__setattr__(self, name, PAPER_EXPERIMENT.pick(key, getattr(self, name)))
         object.__setattr__(self, "grid", tuple(self.grid))
         object.__setattr__(self, "ranges", tuple(self.ranges))
         if bool(self.grid) == bool(self.ranges):

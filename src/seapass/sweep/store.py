@@ -33,6 +33,7 @@ import pyarrow.csv as pacsv
 import pyarrow.parquet as pq
 
 from ..errors import FileFormatError
+from ..files.limits import MAX_SWEEP_MANIFEST_BYTES
 from ..sim.metrics import Settling
 from ..version import __version__
 from .location import TEMP_NAME, Location
@@ -66,7 +67,7 @@ CONSOLIDATED_SUFFIXES = (".parquet", ".csv")
 JOURNAL_INTERVAL = 1.0
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PartSummary:
     """What the writer of one part reports: a few numbers, never the data.
 
@@ -299,7 +300,7 @@ def _read_existing_manifest(parts: Location, names: list[str], spec: SweepSpec) 
         )
     where = parts.child(name)
     try:
-        doc = json.loads(where.read_text())
+        doc = json.loads(where.read_text(MAX_SWEEP_MANIFEST_BYTES))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise FileFormatError(f"{where.url}: unreadable manifest ({exc})") from None
     if not isinstance(doc, dict) or "fingerprint" not in doc:

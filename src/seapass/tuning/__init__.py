@@ -9,10 +9,10 @@ overshoot limits, exact continuous and sampled passivity where it matters),
 bar and a clean Ctrl-C) and [`optimize`][seapass.tuning.optimize] (`tune`, the
 one entry point, and its `TuningResult`).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact],
-[`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis],
-[`seapass.sim`][seapass.sim], [`seapass.batch`][seapass.batch],
-[`seapass.sampled`][seapass.sampled] (the sampled-data passivity constraint).
+May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
+[`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim],
+[`seapass.sampled`][seapass.sampled] (the sampled-data passivity constraint),
+[`seapass.outcome`][seapass.outcome].
 """
 
 from .optimize import TuningResult, tune

@@ -32,7 +32,7 @@ from ..sampled.passivity import sampled_passivity
 from ..sim.metrics import Settling, TrackingMetrics, tracking_metrics
 from ..sim.scenarios import Step
 from ..sim.simulate import SimulationResult, simulate_closed_loop
-from .problem import Objective, TuningOptions, TuningProblem
+from .problem import Objective, ResolvedTuning, TuningOptions, TuningProblem
 
 __all__ = [
     "CandidateCost",
@@ -47,17 +47,16 @@ UNSTABLE_UNITS = 10.0
 CONSTRAINT_UNITS = 5.0
 
 
-def cost_unit(options: TuningOptions) -> float:
+def cost_unit(options: ResolvedTuning) -> float:
     """A cost above every feasible objective value (see the module docstring).
 
     ``10·horizon`` for the settling time (a run that has not settled costs at
     most about twice the horizon), ``|step|·horizon²`` for ITAE (twice that of a
     load that never moves).
     """
-    horizon = float(options.horizon or 0.0)
     if options.objective is Objective.ITAE:
-        return abs(float(options.step or 0.0)) * horizon**2
-    return 10.0 * horizon
+        return abs(options.step) * options.horizon**2
+    return 10.0 * options.horizon
 
 
 def itae(result: SimulationResult) -> float:
@@ -103,24 +102,17 @@ class ConstraintChecks:
     sampled: dict[tuple[float, ...], bool] = field(default_factory=dict)
 
     def passive(self, x: tuple[float, ...]) -> bool:
-        """Exact continuous passivity, then sampled passivity when a period is set."""
+        """Exact continuous passivity, then sampled passivity when a loop is set."""
         if x not in self.continuous:
             self.continuous[x] = _decide(lambda: is_passive(self.problem.candidate(x)).passive)
         if not self.continuous[x]:
             return False
-        opts = self.problem.options
-        if opts.period is None:
+        loop = self.problem.options.loop
+        if loop is None:
             return True
         if x not in self.sampled:
             self.sampled[x] = _decide(
-                lambda: (
-                    sampled_passivity(
-                        self.problem.candidate(x),
-                        period=float(opts.period),
-                        delay=int(opts.delay or 0),
-                        velocity_filter=opts.velocity_filter,
-                    ).passive
-                )
+                lambda: sampled_passivity(self.problem.candidate(x), loop=loop).passive
             )
         return self.sampled[x]
 
@@ -149,8 +141,8 @@ class CandidateCost:
         self.unit = cost_unit(opts)
         self.best = math.inf
         self.evaluations = 0
-        self._build = closed_loop_factory(problem.sea, problem.gains, load_mass=opts.load_mass)  # type: ignore[arg-type]
-        self._scenario = Step(float(opts.step))  # type: ignore[arg-type]
+        self._build = closed_loop_factory(problem.sea, problem.gains, load_mass=opts.load_mass)
+        self._scenario = Step(opts.step)
 
     def __call__(self, x: np.ndarray) -> float:
         self.evaluations += 1
@@ -163,10 +155,7 @@ class CandidateCost:
         if worst >= 0:
             return UNSTABLE_UNITS * self.unit + min(worst, 1e3)
         res = simulate_closed_loop(
-            loop,
-            scenario=self._scenario,
-            horizon=float(opts.horizon),  # type: ignore[arg-type]
-            dt=opts.dt_search,
+            loop, scenario=self._scenario, horizon=opts.horizon, dt=opts.dt_search
         )
         met = tracking_metrics(res, tolerance=opts.tolerance)
         if met.status == Settling.UNSTABLE:

@@ -13,7 +13,7 @@ The job, in four readable steps:
    penalties for the force and overshoot limits, and exact passivity (and
    sampled passivity when a period is given) for every candidate that could
    become the best; then move gains that ended next to an edge of the box onto
-   it when that is better (`snap_to_edges`);
+   it when that is better (`seapass.tuning.search.snap_to_edges`);
 4. **verify** the optimum at the finer time step: exact verdicts, metrics, the
    limits, and which gains sit at an edge of their box (``on_bound``, with a
    [`TuningWarning`][seapass.errors.TuningWarning]: the optimum may lie beyond).
@@ -29,40 +29,42 @@ from __future__ import annotations
 import sys
 import warnings
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
-
-import numpy as np
 
 from ..analysis.passivity import PassivityResult, is_passive
 from ..analysis.region import passive_intervals
 from ..errors import NotPassiveError, ParameterError, TuningWarning
 from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA
+from ..outcome import Outcome
 from ..sampled.passivity import SampledPassivityResult, sampled_passivity
 from ..sim.metrics import TrackingMetrics, tracking_metrics
 from ..sim.scenarios import Step
 from ..sim.simulate import SimulationResult, simulate
 from .cost import CandidateCost, ConstraintChecks, objective_value
-from .problem import BoxLike, DesignLike, Objective, TuningOptions, TuningProblem, resolve_problem
-from .search import differential_search
+from .problem import (
+    BoxLike,
+    DesignLike,
+    Objective,
+    ResolvedTuning,
+    TuningOptions,
+    TuningProblem,
+    resolve_problem,
+)
+from .search import differential_search, snap_to_edges
 
 __all__ = [
-    "SNAP_FRACTION",
     "TuningResult",
     "narrowed_box",
-    "snap_to_edges",
     "step_run",
     "tune",
     "verify",
 ]
 
-SNAP_FRACTION = 0.05
-"""Gains this close to an edge of the searched box (a fraction of its width) are tried on it."""
 
-
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class TuningResult:
     """Outcome of `tune`.
 
@@ -75,10 +77,11 @@ class TuningResult:
     objective : float
         The objective at the gains, verified at ``options.dt_verify``: the
         settling time (s) or ITAE (m·s²), see ``options.objective``.
-    passive : bool
-        Exact continuous-time verdict at the gains.
-    sampled_passive : bool or None
-        Verdict under sampled-data control at ``options.period`` (None without a period).
+    outcome : Outcome
+        Exact continuous-time verdict at the gains (``passive`` is ``outcome.passive``).
+    sampled_outcome : Outcome or None
+        Certified verdict under sampled-data control in ``options.loop`` (None without a
+        loop; ``sampled_passive`` is its ``passive``).
     feasible : bool
         Passive (and sampled-passive) and within the force and overshoot limits.
     violations : tuple of str
@@ -98,7 +101,7 @@ class TuningResult:
         Simulations, exact continuous and sampled passivity tests run.
     sea : SEA
         The design with the tuned gains.
-    options : TuningOptions
+    options : ResolvedTuning
         With the load mass, step, horizon and digital-controller settings resolved.
     passivity, sampled : PassivityResult, SampledPassivityResult or None
         The verdicts in full.
@@ -109,8 +112,8 @@ class TuningResult:
     design: str
     gains: Mapping[str, float]
     objective: float
-    passive: bool
-    sampled_passive: bool | None
+    outcome: Outcome
+    sampled_outcome: Outcome | None
     feasible: bool
     violations: tuple[str, ...]
     on_bound: Mapping[str, str]
@@ -122,10 +125,18 @@ class TuningResult:
     passivity_checks: int
     sampled_checks: int
     sea: SEA = field(repr=False)
-    options: TuningOptions = field(repr=False)
+    options: ResolvedTuning = field(repr=False)
     passivity: PassivityResult | None = field(default=None, repr=False)
     sampled: SampledPassivityResult | None = field(default=None, repr=False)
     warnings: tuple[str, ...] = ()
+
+    @property
+    def passive(self) -> bool:
+        return self.outcome.passive
+
+    @property
+    def sampled_passive(self) -> bool | None:
+        return None if self.sampled_outcome is None else self.sampled_outcome.passive
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: ``gains``, ``objective``, ``passive``, ``on_bound`` and the rest."""
@@ -153,9 +164,9 @@ class TuningResult:
             "horizon": o.horizon,
             "force_limit": o.force_limit,
             "max_overshoot": o.max_overshoot,
-            "period": o.period,
-            "delay": o.delay if o.period is not None else None,
-            "velocity_filter": o.velocity_filter if o.period is not None else None,
+            "period": None if o.loop is None else o.loop.period,
+            "delay": None if o.loop is None else o.loop.delay,
+            "velocity_filter": None if o.loop is None else o.loop.velocity_filter,
             "seed": o.seed,
             "warnings": list(self.warnings),
             **self.metrics.to_dict(),
@@ -184,7 +195,7 @@ class TuningResult:
         masses = (o.load_mass,) if load_masses is None else tuple(load_masses)
         runs = [(float(mass), *step_run(self.sea, o, float(mass))) for mass in masses]
         kwargs.setdefault("title", f"{self.design}: tuned gains")
-        return plot_step_responses(runs, step=float(o.step), ax=ax, **kwargs)  # type: ignore[arg-type]
+        return plot_step_responses(runs, step=o.step, ax=ax, **kwargs)
 
     def __repr__(self) -> str:
         return short_repr(
@@ -217,9 +228,12 @@ class TuningResult:
             (f"objective ({o.objective})", f"{self.objective:.6g} {Objective(o.objective).unit}"),
             ("passive (exact)", "yes" if self.passive else "no"),
         ]
-        if self.sampled_passive is not None:
+        if self.sampled_passive is not None and o.loop is not None:
             rows.append(
-                (f"sampled passive (T = {o.period:g} s)", "yes" if self.sampled_passive else "no")
+                (
+                    f"sampled passive (T = {o.loop.period:g} s)",
+                    "yes" if self.sampled_passive else "no",
+                )
             )
         settle = "-" if m.settling_time is None else f"{m.settling_time:.4g} s"
         over = "-" if m.overshoot is None else f"{100 * m.overshoot:.3g} %"
@@ -254,9 +268,9 @@ def tune(
     tune : mapping of str to (lo, hi) or None, or iterable of str, optional
         The gains to tune, each with its box ``(lo, hi)`` or None for the
         design's default box.  Every other parameter keeps its value.  Default:
-        the catalog's gains, a design file's controller gains (the parameters
-        of ``C_A`` and ``C_L``), an SEA's free parameters (else its controller
-        gains); see [`resolve_problem`][seapass.tuning.problem.resolve_problem].
+        the catalog's gains, else the controller gains (the parameters of
+        ``C_A`` and ``C_L``) of a design file or an SEA; see
+        [`resolve_problem`][seapass.tuning.problem.resolve_problem].
     values : mapping of str to float, optional
         Values of fixed parameters overriding the design's, e.g. the plant of a
         catalog design: ``tune("ours", values={"k1": 1005, "b1": 30}, tune=["kd", "bd"])``.
@@ -272,7 +286,7 @@ def tune(
         not feasible (not passive, or a limit is violated).
     **changes
         Any field of `TuningOptions`, replacing the one in ``options``, e.g.
-        ``objective="itae"``, ``period=0.002``, ``seed=3``.
+        ``objective="itae"``, ``loop=SampledLoop(period=0.002)``, ``seed=3``.
 
     Returns
     -------
@@ -300,7 +314,7 @@ def tune(
     opts = (options or TuningOptions()).replace(**changes)
     problem = resolve_problem(design, tune, opts, values)
     bounds = narrowed_box(problem)
-    if problem.options.period is not None:  # fail now on what the sampled analysis refuses
+    if problem.options.loop is not None:  # fail now on what the sampled analysis refuses
         _sampled_verdict(problem, problem.candidate(sum(bounds[g]) / 2 for g in problem.gains))
     checks = ConstraintChecks(problem)
     cost = CandidateCost(problem, checks)
@@ -314,8 +328,9 @@ def tune(
         callback=callback,
     )
     x, best = snap_to_edges(problem, bounds, [float(v) for v in found.x], float(found.fun), cost)
-    result = verify(problem, x, bounds=bounds, checks=checks)
-    result = _with_counts(result, cost, best)
+    result = verify(
+        problem, x, bounds=bounds, checks=checks, cost=best, evaluations=cost.evaluations
+    )
     for message in result.warnings:
         warnings.warn(message, TuningWarning, stacklevel=2)
     if throw and not result.feasible:
@@ -337,8 +352,8 @@ def narrowed_box(problem: TuningProblem) -> dict[str, tuple[float, float]]:
         return box
     (gain,) = problem.gains
     lo, hi = box[gain]
-    pieces = passive_intervals(problem.sea, gain, lo, hi).intervals
-    pieces = [(a, b) for a, b in pieces if b > a]
+    passive = passive_intervals(problem.sea, gain, lo, hi).intervals
+    pieces = [(a, b) for a, b in passive if b > a]
     if not pieces:
         raise ParameterError(
             f"{problem.name} is not passive for any {gain} in [{lo:g}, {hi:g}] "
@@ -348,47 +363,26 @@ def narrowed_box(problem: TuningProblem) -> dict[str, tuple[float, float]]:
     return {gain: (float(a), float(b))}
 
 
-def snap_to_edges(
-    problem: TuningProblem,
-    bounds: Mapping[str, tuple[float, float]],
-    x: list[float],
-    best: float,
-    cost: Callable[[Any], float],
-) -> tuple[list[float], float]:
-    """Move gains within `SNAP_FRACTION` of an edge of the searched box onto it, when better.
-
-    Differential evolution approaches an optimum on the boundary of its box only
-    slowly (a trial point beyond the box is resampled inside it), so a gain the
-    objective pushes against an edge ends a little inside it.  Each such gain is
-    tried at the edge with the full cost, exact passivity included; the move is
-    kept only when it lowers the cost.
-    """
-    x = list(x)
-    for i, gain in enumerate(problem.gains):
-        lo, hi = bounds[gain]
-        near = [e for e in (lo, hi) if 0 < abs(x[i] - e) <= SNAP_FRACTION * (hi - lo)]
-        for edge in near:
-            trial = [*x[:i], edge, *x[i + 1 :]]
-            value = float(cost(np.array(trial)))
-            if value < best:
-                x, best = trial, value
-    return x, best
-
-
 def verify(
     problem: TuningProblem,
     x: list[float],
     *,
     bounds: Mapping[str, tuple[float, float]],
     checks: ConstraintChecks | None = None,
+    cost: float = float("nan"),
+    evaluations: int = 0,
 ) -> TuningResult:
-    """Everything about the gains ``x``: exact verdicts, metrics at ``dt_verify``, limits."""
+    """Everything about the gains ``x``: exact verdicts, metrics at ``dt_verify``, limits.
+
+    ``cost`` and ``evaluations`` are the search's best cost and simulation count, when
+    ``x`` comes from a search.
+    """
     opts = problem.options
     gains = dict(zip(problem.gains, x, strict=True))
     sea = problem.candidate(x)
     pr = is_passive(sea)
-    sampled = None if opts.period is None else _sampled_verdict(problem, sea)
-    res, met = step_run(sea, opts, float(opts.load_mass))  # type: ignore[arg-type]
+    sampled = None if opts.loop is None else _sampled_verdict(problem, sea)
+    res, met = step_run(sea, opts, opts.load_mass)
     violations, notes = _limits(problem, pr, sampled, met)
     on_bound = problem.on_bound(gains)
     notes += [_edge_note(problem, name, gains[name], edge) for name, edge in on_bound.items()]
@@ -396,16 +390,16 @@ def verify(
         design=problem.name,
         gains=MappingProxyType(gains),
         objective=objective_value(opts, res, met),
-        passive=pr.passive,
-        sampled_passive=None if sampled is None else sampled.passive,
+        outcome=pr.outcome,
+        sampled_outcome=None if sampled is None else sampled.outcome,
         feasible=not violations,
         violations=tuple(violations),
         on_bound=MappingProxyType(on_bound),
         metrics=met,
         box=problem.box,
         bounds=MappingProxyType(dict(bounds)),
-        cost=float("nan"),
-        evaluations=0,
+        cost=cost,
+        evaluations=evaluations,
         passivity_checks=len(checks.continuous) if checks else 0,
         sampled_checks=len(checks.sampled) if checks else 0,
         sea=sea,
@@ -417,15 +411,11 @@ def verify(
 
 
 def step_run(
-    sea: SEA, opts: TuningOptions, load_mass: float
+    sea: SEA, opts: ResolvedTuning, load_mass: float
 ) -> tuple[SimulationResult, TrackingMetrics]:
     """The verified step response of ``sea`` at ``load_mass`` and its metrics (``dt_verify``)."""
     res = simulate(
-        sea,
-        load_mass=load_mass,
-        scenario=Step(float(opts.step)),  # type: ignore[arg-type]
-        horizon=float(opts.horizon),  # type: ignore[arg-type]
-        dt=opts.dt_verify,
+        sea, load_mass=load_mass, scenario=Step(opts.step), horizon=opts.horizon, dt=opts.dt_verify
     )
     return res, tracking_metrics(res, tolerance=opts.tolerance)
 
@@ -437,18 +427,15 @@ def _edge_note(problem: TuningProblem, name: str, value: float, edge: str) -> st
         return f"{where}: the best design wants little or none of it"
     return (
         f"{where}: the optimum may lie beyond it; widen the box if the physics allows "
-        f"(--tune {name}=LO:HI, or tune={{{name!r}: (lo, hi)}})"
+        f"(tune={{{name!r}: (lo, hi)}})"
     )
 
 
 def _sampled_verdict(problem: TuningProblem, sea: SEA) -> SampledPassivityResult:
     opts = problem.options
-    return sampled_passivity(
-        sea,
-        period=float(opts.period),  # type: ignore[arg-type]
-        delay=int(opts.delay or 0),
-        velocity_filter=opts.velocity_filter,
-    )
+    if opts.loop is None:
+        raise ParameterError("no sampled-data verdict without a sampled loop (options.loop)")
+    return sampled_passivity(sea, loop=opts.loop)
 
 
 def _limits(
@@ -466,7 +453,7 @@ def _limits(
     if sampled is not None and not sampled.passive:
         violations.append("sampled passivity")
         notes.append(
-            f"the best gains are not passive under sampled-data control at T = {opts.period:g} s "
+            f"the best gains are not passive under sampled-data control at T = {sampled.period:g} s "
             f"({sampled.detail or sampled.reason})"
         )
     if opts.force_limit is not None and met.peak_force > opts.force_limit * (1 + 1e-9):
@@ -484,7 +471,3 @@ def _limits(
             f"overshoot {100 * overshoot:.3g} % exceeds the limit {100 * opts.max_overshoot:g} %"
         )
     return violations, notes
-
-
-def _with_counts(result: TuningResult, cost: CandidateCost, best: float) -> TuningResult:
-    return replace(result, cost=best, evaluations=cost.evaluations)

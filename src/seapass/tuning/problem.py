@@ -16,18 +16,20 @@ the paper's plant with the catalog's gains and boxes), a
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import InitVar, dataclass, field, fields, replace
 from enum import StrEnum
 from types import MappingProxyType
 from typing import Any, TypeAlias
 
-from ..errors import ParameterError
+from ..errors import ParameterError, did_you_mean
+from ..files.limits import MAX_HORIZON, MAX_SIM_STEPS
 from ..model.catalog import PAPER_VALUES, CatalogDesign
 from ..model.catalog import design as catalog_design
 from ..model.design_file import Design
+from ..model.experiment import PAPER_EXPERIMENT
 from ..model.expr import finite_number, symbol
+from ..model.loop import SampledLoop, loop_argument
 from ..model.sea import SEA
 
 __all__ = [
@@ -37,6 +39,7 @@ __all__ = [
     "QUICK_OPTIONS",
     "DesignLike",
     "Objective",
+    "ResolvedTuning",
     "TuningOptions",
     "TuningProblem",
     "default_box",
@@ -45,11 +48,11 @@ __all__ = [
     "resolve_problem",
 ]
 
-DEFAULT_LOAD_MASS = 10.0
+DEFAULT_LOAD_MASS = PAPER_EXPERIMENT.load_mass
 """Load mass (kg) of the paper's simulation study (Sec. V), used when nothing else says."""
-DEFAULT_STEP = 0.5
+DEFAULT_STEP = PAPER_EXPERIMENT.step
 """Reference step (m) of the paper's simulation study."""
-DEFAULT_HORIZON = 10.0
+DEFAULT_HORIZON = PAPER_EXPERIMENT.horizon
 """Simulated time (s) of the paper's simulation study."""
 EDGE_FRACTION = 0.01
 """A tuned gain within this fraction of its box width from an edge is reported ``on_bound``."""
@@ -69,7 +72,13 @@ class Objective(StrEnum):
 
     @property
     def unit(self) -> str:
+        """The unit of the objective's value: ``"s"`` or ``"m*s^2"``."""
         return "s" if self is Objective.SETTLING else "m*s^2"
+
+    @property
+    def label(self) -> str:
+        """What the value is: ``"settling time"`` or ``"ITAE"``."""
+        return "settling time" if self is Objective.SETTLING else "ITAE"
 
 
 @dataclass(frozen=True)
@@ -83,21 +92,20 @@ class TuningOptions:
     max_overshoot : float, optional
         Largest overshoot allowed, as a fraction of the step (``0.05`` is 5 %).
     force_limit : float or None
-        Largest peak actuator force ``|f_A|`` (N) during the step, default 1000 N
-        (an average stiffness of 2000 N/m over the 0.5 m step: without a force
-        limit a stiffer controller is always faster and the optimum runs to the
-        edge of the box); None for no limit.
+        Largest peak actuator force ``|f_A|`` (N) during the step, default the
+        experiment's 1000 N (an average stiffness of 2000 N/m over the 0.5 m step:
+        without a force limit a stiffer controller is always faster and the optimum
+        runs to the edge of the box); None for no limit.
     load_mass, step, horizon : float, optional
         Tuning load mass (kg), reference step (m) and simulated time (s); None
         takes them from a design file's ``[simulation]`` (``tune_mass``, ``step``,
-        ``horizon``), else the paper's 10 kg, 0.5 m and 10 s.
-    period : float, optional
-        Also require passivity under sampled-data control with this period (s),
-        decided by [`seapass.sampled.sampled_passivity`][seapass.sampled.passivity.sampled_passivity].
-    delay, velocity_filter : optional
-        Samples of delay and the velocity filter cut-off (Hz) of that digital
-        controller; None takes them from a design file's ``[control]``, else 0
-        and no filter.
+        ``horizon``), else from the paper's experiment
+        ([`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT]: 10 kg, 0.5 m, 10 s).
+    loop : SampledLoop, optional
+        Also require passivity under sampled-data control in this loop, decided by
+        [`seapass.sampled.sampled_passivity`][seapass.sampled.passivity.sampled_passivity].
+        The old fields ``period``, ``delay`` and ``velocity_filter`` are accepted for one
+        release (with a warning) and build it.
     tolerance : float
         Settling band, a fraction of the step (2 %).
     dt_search, dt_verify : float
@@ -108,21 +116,28 @@ class TuningOptions:
 
     objective: Objective | str = Objective.SETTLING
     max_overshoot: float | None = None
-    force_limit: float | None = 1000.0
+    force_limit: float | None = PAPER_EXPERIMENT.force_limit
     load_mass: float | None = None
     step: float | None = None
     horizon: float | None = None
-    period: float | None = None
-    delay: int | None = None
-    velocity_filter: float | None = None
-    tolerance: float = 0.02
+    loop: SampledLoop | None = None
+    tolerance: float = PAPER_EXPERIMENT.tolerance
     dt_search: float = 5e-3
     dt_verify: float = 1e-3
     maxiter: int = 60
     popsize: int = 12
     seed: int = 0
+    period: InitVar[float | None] = None
+    delay: InitVar[int | None] = None
+    velocity_filter: InitVar[float | None] = None
 
-    def __post_init__(self) -> None:
+    def __post_init__(
+        self, period: float | None, delay: int | None, velocity_filter: float | None
+    ) -> None:
+        old = {"period": period, "delay": delay, "velocity_filter": velocity_filter}
+        object.__setattr__(self, "loop", _old_loop(self.loop, old))
+        if self.loop is not None and not isinstance(self.loop, SampledLoop):
+            raise ParameterError(f"loop: expected a SampledLoop, got {self.loop!r}")
         try:
             object.__setattr__(self, "objective", Objective(str(self.objective).lower()))
         except ValueError:
@@ -131,10 +146,16 @@ class TuningOptions:
                 f"objective must be one of {choices}, got {self.objective!r}"
             ) from None
         for name in ("dt_search", "dt_verify"):
-            finite_number(getattr(self, name), name, positive=True)
-        for name in ("load_mass", "horizon", "force_limit", "period", "velocity_filter"):
+            _positive(self, name)
+        for name in ("load_mass", "horizon", "force_limit"):
             if getattr(self, name) is not None:
-                finite_number(getattr(self, name), name, positive=True)
+                _positive(self, name)
+        if self.horizon is not None and self.horizon > MAX_HORIZON:
+            raise ParameterError(
+                f"horizon: {self.horizon:g} s is longer than the limit of {MAX_HORIZON:g} s of "
+                "simulated time (seapass.files.limits.MAX_HORIZON); give a shorter horizon",
+                argument="horizon",
+            )
         if self.step is not None and not (finite_number(self.step, "step") != 0):
             raise ParameterError("step must be nonzero")
         if (
@@ -144,7 +165,7 @@ class TuningOptions:
             raise ParameterError(f"max_overshoot must be >= 0, got {self.max_overshoot}")
         if not 0 < finite_number(self.tolerance, "tolerance") < 1:
             raise ParameterError(f"tolerance must be in (0, 1), got {self.tolerance}")
-        for name, low in (("maxiter", 1), ("popsize", 2), ("delay", 0)):
+        for name, low in (("maxiter", 1), ("popsize", 2)):
             v = getattr(self, name)
             if v is not None and (isinstance(v, bool) or not isinstance(v, int) or v < low):
                 raise ParameterError(f"{name} must be an integer >= {low}, got {v!r}")
@@ -154,19 +175,49 @@ class TuningOptions:
     def replace(self, **changes: Any) -> TuningOptions:
         """A copy with ``changes``; an unknown name is an error with a did-you-mean."""
         known = [f.name for f in fields(self)]
+        old = {k: changes.pop(k) for k in _OLD_LOOP_FIELDS if k in changes}
         for name in changes:
             if name not in known:
-                raise ParameterError(f"unknown tuning option {name!r}{_did_you_mean(name, known)}")
+                raise ParameterError(f"unknown tuning option {name!r}{did_you_mean(name, known)}")
+        if old:
+            changes["loop"] = _old_loop(changes.get("loop", self.loop), old)
         return replace(self, **changes)
 
 
-def _did_you_mean(name: str, choices: Iterable[str]) -> str:
-    close = difflib.get_close_matches(name, list(choices), n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
+_OLD_LOOP_FIELDS = ("period", "delay", "velocity_filter")
+
+
+def _old_loop(loop: SampledLoop | None, old: Mapping[str, Any]) -> SampledLoop | None:
+    """``loop`` changed by the old fields ``period, delay, velocity_filter`` (None: not given)."""
+    given = {k: v for k, v in old.items() if v is not None}
+    if not given:
+        return loop
+    return loop_argument(None, given, where="TuningOptions", base=loop)
+
+
+def _positive(options: TuningOptions, name: str) -> None:
+    """A positive finite option, or an error naming it (the CLI shows its flag)."""
+    try:
+        finite_number(getattr(options, name), name, positive=True)
+    except ParameterError as exc:
+        raise ParameterError(str(exc), argument=name) from None
 
 
 QUICK_OPTIONS = TuningOptions(maxiter=12, popsize=6, dt_search=1e-2)
 """A small optimizer budget for tests and previews (about 10x cheaper)."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class ResolvedTuning(TuningOptions):
+    """`TuningOptions` with the design-dependent settings resolved (`resolve_problem`).
+
+    ``load_mass``, ``step`` and ``horizon`` are numbers: the option when given, else the
+    design file's ``[simulation]``, else the paper's experiment (10 kg, 0.5 m, 10 s).
+    """
+
+    load_mass: float = DEFAULT_LOAD_MASS
+    step: float = DEFAULT_STEP
+    horizon: float = DEFAULT_HORIZON
 
 
 @dataclass(frozen=True)
@@ -184,15 +235,15 @@ class TuningProblem:
         The tuned gains, in search order.
     box : mapping of str to (float, float)
         The search box of every tuned gain.
-    options : TuningOptions
-        With ``load_mass``, ``step``, ``horizon``, ``delay`` resolved to numbers.
+    options : ResolvedTuning
+        With ``load_mass``, ``step``, ``horizon`` resolved to numbers.
     """
 
     name: str
     sea: SEA
     gains: tuple[str, ...]
     box: Mapping[str, tuple[float, float]] = field(default_factory=dict)
-    options: TuningOptions = field(default_factory=TuningOptions)
+    options: ResolvedTuning = field(default_factory=ResolvedTuning)
 
     def candidate(self, x: Iterable[float]) -> SEA:
         """The design with the tuned gains set to ``x`` (in the order of `gains`)."""
@@ -253,20 +304,16 @@ def design_parts(
         return design.name, sea, design.gains, boxes
     if isinstance(design, SEA):
         controller = {str(x) for x in design.CA.free_symbols | design.CL.free_symbols}
-        gains = design.free_parameters or tuple(p for p in design.parameters if p in controller)
-        return design.name or "design", design, tuple(gains), {}
+        gains = tuple(p for p in design.parameters if p in controller)
+        return design.name or "design", design, gains, {}
     raise ParameterError(
         f"design: expected an SEA, a Design, a CatalogDesign or a catalog name, "
         f"got {type(design).__name__}"
     )
 
 
-def _gain_boxes(
-    tune: BoxLike | None,
-    defaults: tuple[str, ...],
-    boxes: Mapping[str, tuple[float, float]],
-    sea: SEA,
-) -> dict[str, tuple[float, float]]:
+def _wanted(tune: BoxLike | None, defaults: tuple[str, ...], sea: SEA) -> dict[str, Any]:
+    """The gains to tune, each with its box as given (checked; None: from the design)."""
     if tune is None:
         wanted: dict[str, Any] = dict.fromkeys(defaults)
     elif isinstance(tune, Mapping):
@@ -277,28 +324,33 @@ def _gain_boxes(
         wanted = dict.fromkeys(tune)
     if not wanted:
         raise ParameterError("tune: no gains to tune; give e.g. tune={'kd': (0, 5000)}")
-    out: dict[str, tuple[float, float]] = {}
-    for name, given in wanted.items():
+    for name in wanted:
         where = f"tune[{name!r}]"
         if name not in sea.parameters:
             raise ParameterError(
-                f"{where}: {name!r} is not a parameter of the design "
-                f"({', '.join(sea.parameters)}){_did_you_mean(str(name), sea.parameters)}"
+                f"{where}: not a parameter of the design "
+                f"({', '.join(sea.parameters)}){did_you_mean(str(name), sea.parameters)}"
             )
         if symbol(name) in sea.m.free_symbols | sea.b.free_symbols:
             raise ParameterError(
                 f"{where}: {name} sets the actuator mass or damping (the plant); tune the "
                 "controller gains or the transmission instead"
             )
-        box = given if given is None else _box(given, where)
-        box = box or boxes.get(name) or default_box(name, sea.values.get(name))
-        if box is None:
-            raise ParameterError(
-                f"{where}: {name} has no value and no search box; give one, "
-                f"e.g. tune={{{name!r}: (0, 1000)}}"
-            )
-        out[name] = box
-    return out
+        if wanted[name] is not None:
+            wanted[name] = _box(wanted[name], where)
+    return wanted
+
+
+def _gain_box(
+    name: str, given: tuple[float, float] | None, boxes: Mapping[str, tuple[float, float]], sea: SEA
+) -> tuple[float, float]:
+    box = given or boxes.get(name) or default_box(name, sea.values.get(name))
+    if box is None:
+        raise ParameterError(
+            f"tune[{name!r}]: {name} has no value and no search box; give one, "
+            f"e.g. tune={{{name!r}: (0, 1000)}}"
+        )
+    return box
 
 
 def _box(given: Any, where: str) -> tuple[float, float]:
@@ -328,8 +380,8 @@ def resolve_problem(
         The gains to tune and their boxes.  A name without a box takes it from
         the design (a catalog entry's box, the file's ``[ranges]``, else
         `default_box` for a gain with a value).  Default: the catalog's gains,
-        a design file's controller gains (the parameters of ``C_A`` and ``C_L``),
-        or an SEA's free parameters (else its controller gains).
+        else the controller gains (the parameters of ``C_A`` and ``C_L``) of a
+        design file or an SEA.  Every other parameter keeps its value.
     options : TuningOptions, optional
     values : mapping of str to float, optional
         Values of fixed parameters overriding the design's (a catalog design's
@@ -347,45 +399,48 @@ def resolve_problem(
     for key in values or {}:
         if key not in sea.parameters:
             raise ParameterError(
-                f"values[{key!r}]: {key!r} is not a parameter of the design "
-                f"({', '.join(sea.parameters)}){_did_you_mean(key, sea.parameters)}"
+                f"values[{key!r}]: not a parameter of the design "
+                f"({', '.join(sea.parameters)}){did_you_mean(key, sea.parameters)}"
             )
     if values:
         sea = sea.with_values(**values)
-    box = _gain_boxes(tune, defaults, boxes, sea)
-    clash = sorted(set(values or {}) & set(box))
+    wanted = _wanted(tune, defaults, sea)
+    clash = sorted(set(values or {}) & set(wanted))
     if clash:
         raise ParameterError(
             f"values[{clash[0]!r}]: {clash[0]} is tuned, so its value would be ignored; "
             "drop the value or tune other gains"
         )
-    gains = tuple(box)
-    missing = [p for p in sea.parameters if p not in box and sea.values.get(p) is None]
+    missing = [p for p in sea.parameters if p not in wanted and sea.values.get(p) is None]
     if missing:
         raise ParameterError(
             f"no value for {', '.join(missing)}: give it in the design's values "
             f"(values[{missing[0]!r}]) or tune it (tune={{{missing[0]!r}: (lo, hi)}})"
         )
+    box = {name: _gain_box(name, given, boxes, sea) for name, given in wanted.items()}
+    gains = tuple(box)
     file = design if isinstance(design, Design) else None
-    resolved = replace(
-        opts,
-        load_mass=_pick(opts.load_mass, file and file.tuning_mass, DEFAULT_LOAD_MASS),
-        step=_pick(opts.step, file and file.step, DEFAULT_STEP),
-        horizon=_pick(opts.horizon, file and file.horizon, DEFAULT_HORIZON),
-        delay=_pick(opts.delay, file and file.control_delay, 0),
-        velocity_filter=_pick(opts.velocity_filter, file and file.velocity_filter, None),
+    given = {f.name: getattr(opts, f.name) for f in fields(TuningOptions)}
+    resolved = ResolvedTuning(
+        **{
+            **given,
+            "load_mass": PAPER_EXPERIMENT.pick(
+                "load_mass", opts.load_mass, file and file.tuning_mass
+            ),
+            "step": PAPER_EXPERIMENT.pick("step", opts.step, file and file.step),
+            "horizon": PAPER_EXPERIMENT.pick("horizon", opts.horizon, file and file.horizon),
+        }
     )
-    horizon = float(resolved.horizon or DEFAULT_HORIZON)
+    horizon = resolved.horizon
     if horizon < max(resolved.dt_search, resolved.dt_verify):
         raise ParameterError("horizon is shorter than the time step")
+    dt = min(resolved.dt_search, resolved.dt_verify)
+    if horizon / dt > MAX_SIM_STEPS:
+        raise ParameterError(
+            f"horizon / dt = {horizon:g} s / {dt:g} s is {horizon / dt:.3g} time steps, over the "
+            f"limit of {MAX_SIM_STEPS:,} of one simulation; shorten the horizon or enlarge "
+            "dt_search/dt_verify"
+        )
     return TuningProblem(
         name=name, sea=sea, gains=gains, box=MappingProxyType(box), options=resolved
     )
-
-
-def _pick(given: Any, from_file: Any, default: Any) -> Any:
-    if given is not None:
-        return given
-    if from_file is not None and from_file is not False:
-        return from_file
-    return default

@@ -302,7 +302,8 @@
       data.interval = d;
       $("#interval-param").textContent = d.param;
       Plots.interval($("#plot-interval"), d, S.values[d.param]);
-      const ivs = d.intervals.map(([a, b]) => (a === b ? `{${fmt(a, 6)}}` : `[${fmt(a, 6)}, ${fmt(b, 6)}]`));
+      // the server rounds the ends inward (d.shown): a printed end is itself passive
+      const ivs = d.intervals.map(([a, b], i) => (a === b ? `{${d.shown[i][0]}}` : `[${d.shown[i][0]}, ${d.shown[i][1]}]`));
       const inside = d.intervals.some(([a, b]) => a <= S.values[d.param] && S.values[d.param] <= b);
       $("#interval-text").innerHTML = ivs.length
         ? `passive for <b>${esc(d.param)} ∈ ${ivs.join(" ∪ ")}</b> within [${fmt(d.lo, 4)}, ${fmt(d.hi, 4)}], the others fixed (exact). Current value ${inside ? "inside" : "<b>outside</b>"}.`

@@ -1,46 +1,73 @@
 """Design stages about dynamics: stiffness response, step response, tuned gains.
 
-Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
+Each ``stage_*`` returns a [`Section`][seapass.report.document.Section], split as
+python-control splits ``*_response`` from ``*_plot``: ``*_data`` computes,
+``*_figures`` draws, ``*_section`` writes the section.
 """
 
 from __future__ import annotations
 
 import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from ...analysis.freqresp import stiffness_response
+from ...analysis.freqresp import FrequencyResponse, stiffness_response
 from ...errors import ParameterError, TuningWarning
 from ...model.design_file import Design
-from ...plot.response import plot_stiffness_bode
+from ...plot.passivity import plot_bode
 from ...plot.sim import plot_step_responses
-from ...sampled.passivity import sampled_passivity
+from ...sampled.passivity import SampledPassivityResult, sampled_passivity
 from ...sim.metrics import tracking_metrics
 from ...sim.simulate import Step, simulate
-from ...tuning.optimize import tune
+from ...tuning.optimize import TuningResult, tune
 from ...tuning.problem import QUICK_OPTIONS, TuningOptions
 from ..document import FigureData, Finding, Section, Table, Verdict, to_json
 from ..pipeline import stage_progress
 
 __all__ = [
+    "TuningData",
     "metrics_table",
+    "response_figures",
+    "response_section",
     "stage_response",
     "stage_stiffness",
     "stage_tuning",
     "step_responses",
+    "stiffness_data",
+    "stiffness_figures",
+    "stiffness_section",
+    "tuning_data",
+    "tuning_figures",
+    "tuning_section",
 ]
 
+#: The step response at each load mass: ``(mass, SimulationResult, TrackingMetrics)``.
+Runs = Sequence[tuple[float, Any, Any]]
 
-def stage_stiffness(design: Design, quick: bool) -> Section:
 
-    sea = design.sea()
-    r = stiffness_response(sea, np.logspace(-1, 4, 200 if quick else 400), label=design.name)
+def stiffness_data(design: Design, quick: bool) -> FrequencyResponse:
+    """``F_L/X_L(jω)`` of the design over 0.1–1e4 rad/s."""
+    points = 200 if quick else 400
+    return stiffness_response(design.sea(), np.logspace(-1, 4, points), label=design.name)
+
+
+def stiffness_figures(design: Design, r: FrequencyResponse) -> tuple[FigureData, ...]:
     k1 = design.values.get("k1")
-    fig = plot_stiffness_bode(
+    fig = plot_bode(
         r, title=f"{design.name}: rendered stiffness"
         + (" (dashed: spring stiffness k1)" if k1 is not None else ""), reference=k1,
+        legend=False,
     )  # fmt: skip
+    return (
+        FigureData.of("stiffness", "Rendered stiffness of the design: magnitude and phase.", fig),
+    )
+
+
+def stiffness_section(r: FrequencyResponse, figures: Sequence[FigureData]) -> Section:
+    """The section of `stiffness_data` with the figures of `stiffness_figures`."""
     table = Table(
         name="stiffness_summary",
         title="Rendered stiffness",
@@ -63,13 +90,14 @@ def stage_stiffness(design: Design, quick: bool) -> Section:
             "(magnitude), and how far the force leads the motion (phase)."
         ),
         tables=(table,),
-        figures=(
-            FigureData.of(
-                "stiffness", "Rendered stiffness of the design: magnitude and phase.", fig
-            ),
-        ),
+        figures=tuple(figures),
         files={"stiffness_response.csv": "\n".join(lines) + "\n"},
     )
+
+
+def stage_stiffness(design: Design, quick: bool) -> Section:
+    r = stiffness_data(design, quick)
+    return stiffness_section(r, stiffness_figures(design, r))
 
 
 def step_responses(sea: Any, design: Design, dt: float) -> list[tuple[float, Any, Any]]:
@@ -84,7 +112,7 @@ def step_responses(sea: Any, design: Design, dt: float) -> list[tuple[float, Any
     return out
 
 
-def metrics_table(name: str, title: str, runs: list[tuple[float, Any, Any]]) -> Table:
+def metrics_table(name: str, title: str, runs: Runs) -> Table:
     return Table(
         name=name,
         title=title,
@@ -103,14 +131,20 @@ def metrics_table(name: str, title: str, runs: list[tuple[float, Any, Any]]) -> 
     )
 
 
-def stage_response(design: Design, quick: bool) -> Section:
-    runs = step_responses(design.sea(), design, 2e-3 if quick else 1e-3)
-    fig = FigureData.of(
-        "step_response", "Load position after the step.",
-        plot_step_responses(
-            runs, step=design.step, title=f"{design.name}: {design.step:g} m reference step"
+def response_figures(design: Design, runs: Runs) -> tuple[FigureData, ...]:
+    return (
+        FigureData.of(
+            "step_response", "Load position after the step.",
+            plot_step_responses(
+                list(runs), step=design.step,
+                title=f"{design.name}: {design.step:g} m reference step",
+            ),
         ),
     )  # fmt: skip
+
+
+def response_section(design: Design, runs: Runs, figures: Sequence[FigureData]) -> Section:
+    """The section of `step_responses` with the figures of `response_figures`."""
     return Section(
         key="response",
         title="Step response at the given gains",
@@ -120,25 +154,73 @@ def stage_response(design: Design, quick: bool) -> Section:
             "Settling: within 2 % of the step for the rest of the horizon."
         ),
         tables=(metrics_table("step_metrics", "Step-response metrics", runs),),
-        figures=(fig,),
+        figures=tuple(figures),
     )
 
 
-def stage_tuning(design: Design, quick: bool) -> Section:
+def stage_response(design: Design, quick: bool) -> Section:
+    runs = step_responses(design.sea(), design, 2e-3 if quick else 1e-3)
+    return response_section(design, runs, response_figures(design, runs))
+
+
+@dataclass(frozen=True, kw_only=True)
+class TuningData:
+    """The tuned gains (`tuning_data`): the result and its step responses, or why not."""
+
+    options: TuningOptions
+    quick: bool
+    result: TuningResult | None
+    refused: str
+    runs: tuple[tuple[float, Any, Any], ...]
+    sampled: SampledPassivityResult | None
+
+
+def tuning_data(design: Design, quick: bool) -> TuningData:
     """The best passive gains of the design's controller, in the boxes of its ``[ranges]``."""
     opts = QUICK_OPTIONS if quick else TuningOptions()
-    title = "Tuned gains (fastest passive step response)"
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", TuningWarning)  # they go into the text
             tr = tune(design, options=opts, progress=False)
     except ParameterError as exc:  # e.g. a single gain passive nowhere in its box
-        return Section(
-            "tuning", title, text=f"Nothing to tune: {exc}.",
-            findings=(Finding("Some gains in the box are passive", Verdict.DIFFERS, str(exc)),),
-        )  # fmt: skip
+        return TuningData(
+            options=opts, quick=quick, result=None, refused=str(exc), runs=(), sampled=None
+        )
     runs = step_responses(tr.sea, design, 2e-3 if quick else 1e-3)
-    gains = ", ".join(f"{k} = {g:.5g}" for k, g in tr.gains.items())
+    return TuningData(
+        options=opts, quick=quick, result=tr, refused="", runs=tuple(runs),
+        sampled=_sampled_check(design, tr.sea),
+    )  # fmt: skip
+
+
+def _gains_text(tr: TuningResult) -> str:
+    return ", ".join(f"{k} = {g:.5g}" for k, g in tr.gains.items())
+
+
+def tuning_figures(design: Design, data: TuningData) -> tuple[FigureData, ...]:
+    if data.result is None:
+        return ()
+    return (
+        FigureData.of(
+            "tuned_response", "Step response with the tuned gains.",
+            plot_step_responses(
+                list(data.runs), step=design.step,
+                title=f"{design.name} with tuned gains ({_gains_text(data.result)})",
+            ),
+        ),
+    )  # fmt: skip
+
+
+def tuning_section(design: Design, data: TuningData, figures: Sequence[FigureData]) -> Section:
+    """The section of `tuning_data` with the figures of `tuning_figures`."""
+    title = "Tuned gains (fastest passive step response)"
+    tr, opts = data.result, data.options
+    if tr is None:
+        return Section(
+            "tuning", title, text=f"Nothing to tune: {data.refused}.",
+            findings=(Finding("Some gains in the box are passive", Verdict.DIFFERS, data.refused),),
+        )  # fmt: skip
+    gains = _gains_text(tr)
     table = Table(
         name="tuned_gains",
         title="Tuned gains vs the file's gains",
@@ -154,12 +236,6 @@ def stage_tuning(design: Design, quick: bool) -> Section:
             for g in tr.gains
         ),
     )
-    fig = FigureData.of(
-        "tuned_response", "Step response with the tuned gains.",
-        plot_step_responses(
-            runs, step=design.step, title=f"{design.name} with tuned gains ({gains})"
-        ),
-    )  # fmt: skip
     findings = [Finding("The tuned gains are passive", _verdict(tr.passive), gains)]
     text = (
         f"The controller gains {', '.join(tr.gains)} were tuned by differential evolution "
@@ -167,12 +243,12 @@ def stage_tuning(design: Design, quick: bool) -> Section:
         f"m_L = {tr.options.load_mass:g} kg, each in its box (the file's `[ranges]`, else "
         f"`[0, max(10·value, 1000)]`), every other parameter at its value, under the exact "
         f"passivity constraint and a {opts.force_limit:g} N force limit"
-        + (" (reduced budget, --quick)" if quick else "")
+        + (" (reduced budget, --quick)" if data.quick else "")
         + f". Result: {gains} (passive: {'yes' if tr.passive else 'NO'})."
     )
     if tr.warnings:
         text += " " + " ".join(f"**Note:** {w}." for w in tr.warnings)
-    sampled = _sampled_check(design, tr.sea)
+    sampled = data.sampled
     if sampled is not None:
         findings.append(
             Finding(
@@ -191,22 +267,28 @@ def stage_tuning(design: Design, quick: bool) -> Section:
         key="tuning",
         title=title,
         text=text,
-        tables=(table, metrics_table("tuned_metrics", "Step response with the tuned gains", runs)),
-        figures=(fig,),
+        tables=(
+            table,
+            metrics_table("tuned_metrics", "Step response with the tuned gains", data.runs),
+        ),
+        figures=tuple(figures),
         findings=tuple(findings),
         files={"tuning.json": to_json(tr.to_dict())},
     )
+
+
+def stage_tuning(design: Design, quick: bool) -> Section:
+    """The best passive gains of the design's controller, in the boxes of its ``[ranges]``."""
+    data = tuning_data(design, quick)
+    return tuning_section(design, data, tuning_figures(design, data))
 
 
 def _verdict(ok: bool) -> Verdict:
     return Verdict.AGREES if ok else Verdict.DIFFERS
 
 
-def _sampled_check(design: Design, sea: Any) -> Any:
+def _sampled_check(design: Design, sea: Any) -> SampledPassivityResult | None:
     """The sampled-data verdict of ``sea`` under the file's ``[control]``, or None."""
-    if design.period is None:
+    if design.loop is None:
         return None
-    return sampled_passivity(
-        sea, period=design.period, delay=design.control_delay,
-        velocity_filter=design.velocity_filter,
-    )  # fmt: skip
+    return sampled_passivity(sea, loop=design.loop)

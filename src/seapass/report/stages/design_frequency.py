@@ -1,49 +1,77 @@
 """Design stage: passivity in the frequency domain (Bode with phase, ``Re Z(jω)``, Nyquist).
 
 The bands where ``Re Z(jω) < 0`` are exact (the real roots of the real-part
-polynomial, isolated exactly); the curves are sampled only to draw them.
+polynomial, isolated exactly); the curves are sampled only to draw them.  Split as
+python-control splits ``*_response`` from ``*_plot``: `frequency_data` computes,
+`frequency_figures` draws, `frequency_section` writes the section.
 """
 
 from __future__ import annotations
 
-from ...analysis.freqresp import stiffness_response
-from ...analysis.portresponse import impedance_response
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from ...analysis.freqresp import FrequencyResponse, stiffness_response
+from ...analysis.portresponse import ImpedanceResponse, impedance_response
 from ...model.design_file import Design
 from ...plot.passivity import plot_bode, plot_nyquist, plot_real_part
-from ...plot.style import figure_bytes
 from ..document import FigureData, Section, Table, to_json
 
-__all__ = ["stage_frequency"]
+__all__ = [
+    "FrequencyData",
+    "frequency_data",
+    "frequency_figures",
+    "frequency_section",
+    "stage_frequency",
+]
 
 
 def _band_text(a: float, b: float) -> str:
     return f"({a:.6g}, {'∞' if b == float('inf') else f'{b:.6g}'})"
 
 
-def stage_frequency(design: Design, quick: bool) -> Section:
-    """Bode of ``F_L/X_L`` with phase, ``Re Z_L(jω)`` with the failing bands, Nyquist of ``Z_L``."""
+@dataclass(frozen=True, kw_only=True)
+class FrequencyData:
+    """The port impedance (with its exact negative bands) and the rendered stiffness."""
+
+    impedance: ImpedanceResponse
+    stiffness: FrequencyResponse
+    reference: float | None
+
+
+def frequency_data(design: Design, quick: bool) -> FrequencyData:
+    """``Z_L(jω)`` with the exact bands where ``Re Z_L(jω) < 0``, and ``F_L/X_L(jω)``."""
     sea = design.sea()
     resp = impedance_response(sea, points=300 if quick else 600, label=design.name)
     fr = stiffness_response(sea, resp.omega, label=design.name)
-    bands = resp.negative_bands
-    k1 = design.values.get("k1")
-    figures = (
-        FigureData(
+    return FrequencyData(impedance=resp, stiffness=fr, reference=design.values.get("k1"))
+
+
+def frequency_figures(data: FrequencyData) -> tuple[FigureData, ...]:
+    resp = data.impedance
+    return (
+        FigureData.of(
             "bode",
             "Rendered stiffness F_L/X_L(jω), magnitude and phase; shaded: Re Z_L(jω) < 0 (exact).",
-            figure_bytes(plot_bode(fr, reference=k1, bands=bands)),
+            plot_bode(data.stiffness, reference=data.reference, bands=resp.negative_bands),
         ),
-        FigureData(
+        FigureData.of(
             "real_part",
             "Re Z_L(jω) on a symmetric-log axis; shaded: the exact bands where it is negative.",
-            figure_bytes(plot_real_part(resp)),
+            plot_real_part(resp),
         ),
-        FigureData(
+        FigureData.of(
             "nyquist",
             "Nyquist plot of Z_L(jω); a passive port stays in the closed right half-plane.",
-            figure_bytes(plot_nyquist(resp)),
+            plot_nyquist(resp),
         ),
     )
+
+
+def frequency_section(data: FrequencyData, figures: Sequence[FigureData]) -> Section:
+    """The section of `frequency_data` with the figures of `frequency_figures`."""
+    resp = data.impedance
+    bands = resp.negative_bands
     if bands:
         shown = ", ".join(_band_text(a, b) for a, b in bands)
         text = (
@@ -73,6 +101,12 @@ def stage_frequency(design: Design, quick: bool) -> Section:
                 rows=tuple((a, b) for a, b in bands),
             ),
         ),
-        figures=figures,
+        figures=tuple(figures),
         files={"impedance_response.json": to_json(resp.to_dict())},
     )
+
+
+def stage_frequency(design: Design, quick: bool) -> Section:
+    """Bode of ``F_L/X_L`` with phase, ``Re Z_L(jω)`` with the failing bands, Nyquist of ``Z_L``."""
+    data = frequency_data(design, quick)
+    return frequency_section(data, frequency_figures(data))

@@ -1,21 +1,26 @@
 """Design stages about the hardware: sampled-data passivity and the digital twin of the rig.
 
-Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
+Each ``stage_*`` returns a [`Section`][seapass.report.document.Section]; one with
+figures is split as python-control splits ``*_response`` from ``*_plot``
+(``*_data`` computes, ``*_figures`` draws, ``*_section`` writes the section).
 """
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
 
 from ...errors import ModelError
+from ...exact.rounding import enclosure_text
 from ...model.design_file import Design
 from ...model.expr import S, symbol
+from ...outcome import Outcome
 from ...plot.rig import plot_rig_sweep
-from ...rig.experiment import ExperimentResult, run_rig_sweeps
-from ...rig.rigfile import load_rig, paper_rig
+from ...rig.experiment import ExperimentResult, RigSweepResult, run_rig_sweeps
+from ...rig.rigfile import Rig, load_rig, paper_rig
 from ...sampled.bound import sampled_passive_bound
 from ...sampled.passivity import sampled_passivity
 from ..document import (
@@ -31,7 +36,11 @@ from ..document import (
 from ..pipeline import stage_progress
 
 __all__ = [
+    "DesignRigData",
     "matching_experiment_design",
+    "rig_data",
+    "rig_figures",
+    "rig_section",
     "stage_rig",
     "stage_sampled",
 ]
@@ -39,8 +48,8 @@ __all__ = [
 
 def stage_sampled(design: Design, quick: bool) -> Section:
 
-    period = design.period
-    if period is None:
+    loop = design.loop
+    if loop is None:
         return Section(
             "sampled", "Sampled-data passivity", status=SectionStatus.SKIPPED,
             text="Skipped: the design file has no `[control] rate`; the controller is "
@@ -48,13 +57,8 @@ def stage_sampled(design: Design, quick: bool) -> Section:
         )  # fmt: skip
     sea = design.sea()
     steps = iter(range(len(design.analysis_ranges())))
-    kw: dict[str, Any] = {
-        "period": period,
-        "delay": design.control_delay,
-        "velocity_filter": design.velocity_filter,
-    }
     try:
-        res = sampled_passivity(sea, **kw)
+        res = sampled_passivity(sea, loop=loop)
     except ModelError as exc:
         return Section(
             "sampled", "Sampled-data passivity", status=SectionStatus.SKIPPED,
@@ -68,24 +72,25 @@ def stage_sampled(design: Design, quick: bool) -> Section:
             continue
         value = design.values[name]
         b = sampled_passive_bound(
-            sea.with_values(**{name: None}), name, lo=lo, hi=hi, rtol=rtol, design_value=value, **kw
-        )
+            sea.with_values(**{name: None}), name, loop=loop, lo=lo, hi=hi, rtol=rtol,
+            design_value=value,
+        )  # fmt: skip
         bounds[name] = b.to_dict()
         edges = "; ".join(
-            f"[{e.lo:.10g}, {e.hi:.10g}] ({e.kind.replace('_', ' ')})" for e in b.edges
+            f"{enclosure_text(e.lo, e.hi, digits=10)} ({e.kind.replace('_', ' ')})" for e in b.edges
         )
         rows.append(
             (name, value, f"[{b.lo:g}, {b.hi:g}]", format_intervals(b.intervals, b.hi),
              edges or "none", "yes" if b.design_passive else "no")
         )  # fmt: skip
     setup = (
-        f"T = {period * 1e3:.4g} ms ({design.control_rate:g} Hz), delay {design.control_delay} "
+        f"T = {loop.period * 1e3:.4g} ms ({loop.rate:g} Hz), delay {loop.delay} "
         f"sample(s), velocity filter "
-        + ("none" if design.velocity_filter is None else f"{design.velocity_filter:g} Hz")
+        + ("none" if loop.velocity_filter is None else f"{loop.velocity_filter:g} Hz")
     )
     if res.passive:
         verdict = f"**Passive under sampled-data control** ({setup})."
-    elif res.marginal:
+    elif res.outcome is Outcome.UNDECIDED:
         verdict = f"**Undecided under sampled-data control** ({setup}): {res.detail}; treated as not passive."
     else:
         w = f" Witness ω = {res.omega:.6g} rad/s." if res.omega else ""
@@ -137,13 +142,23 @@ def matching_experiment_design(design: Design) -> str | None:
     return None
 
 
-def stage_rig(design: Design, quick: bool) -> Section:
+@dataclass(frozen=True, kw_only=True)
+class DesignRigData:
+    """The design's controller swept over kd on the twin of its rig (`rig_data`)."""
 
-    title = "On the digital twin of a rig"
+    rig: Rig
+    sweeps: tuple[RigSweepResult, ...]
+
+
+_RIG_TITLE = "On the digital twin of a rig"
+
+
+def rig_data(design: Design, quick: bool) -> DesignRigData | Section:
+    """The kd sweeps on the twin, or the skipped section when the twin does not apply."""
     if design.rig_file is None:
         return Section(
             "rig",
-            title,
+            _RIG_TITLE,
             status=SectionStatus.SKIPPED,
             text="Skipped: the design file has no `[rig]` section.",
         )
@@ -151,7 +166,7 @@ def stage_rig(design: Design, quick: bool) -> Section:
     key = matching_experiment_design(design)
     if key is None:
         return Section(
-            "rig", title, status=SectionStatus.SKIPPED,
+            "rig", _RIG_TITLE, status=SectionStatus.SKIPPED,
             text="Skipped: the twin's experiment runs load-side P (`C_L = kd`) or "
             "actuator-side PD (`C_A = kd + bd*s`) controllers only.",
         )  # fmt: skip
@@ -160,7 +175,19 @@ def stage_rig(design: Design, quick: bool) -> Section:
     step = ex.kd_step * (4 if quick else 1)
     stage_progress(0, 2, f"kd sweeps on the twin of {rig.name}")
     sweeps = run_rig_sweeps(rig, designs=(key,), load_masses=ex.load_masses, kd_step=step, bd=bd)
+    return DesignRigData(rig=rig, sweeps=tuple(sweeps))
+
+
+def rig_figures(data: DesignRigData) -> tuple[FigureData, ...]:
     stage_progress(1, 2, "figure")
+    fig = plot_rig_sweep(ExperimentResult(rig_name=data.rig.name, sweeps=data.sweeps, findings=()))
+    return (FigureData.of("rig_sweep", "kd sweep on the twin.", fig),)
+
+
+def rig_section(design: Design, data: DesignRigData, figures: Sequence[FigureData]) -> Section:
+    """The section of `rig_data` with the figures of `rig_figures`."""
+    rig, sweeps = data.rig, data.sweeps
+    ex = rig.experiment
     kd = design.values["kd"]
     rows = []
     for s in sweeps:
@@ -169,13 +196,12 @@ def stage_rig(design: Design, quick: bool) -> Section:
             (s.load_mass, float(s.kd[i]), s.status[i], float(s.settling_time[i]),
              float(s.steady_state_error[i]) * 1e3, s.unstable_gain_twin)
         )  # fmt: skip
-    fig = plot_rig_sweep(ExperimentResult(rig.name, sweeps, ()))
     return Section(
         key="rig",
-        title=title,
+        title=_RIG_TITLE,
         text=(
             f"The controller runs on the twin of `{rig.name}` ({rig.control.rate:g} Hz, "
-            f"{rig.control.delay_samples} sample delay, friction, quantization, saturation) "
+            f"{rig.control.delay} sample delay, friction, quantization, saturation) "
             f"with the **rig's** plant (m = {rig.actuator_mass:.4g} kg, b = "
             f"{rig.actuator_damping:g} N·s/m, k1 = {rig.damper.k1:g} N/m, b1 = "
             f"{rig.damper.b1:g} N·s/m), not the file's: the load starts "
@@ -197,6 +223,13 @@ def stage_rig(design: Design, quick: bool) -> Section:
                 rows=tuple(rows),
             ),
         ),
-        figures=(FigureData.of("rig_sweep", "kd sweep on the twin.", fig),),
+        figures=tuple(figures),
         files={"rig_sweeps.json": to_json([s.to_dict() for s in sweeps])},
     )
+
+
+def stage_rig(design: Design, quick: bool) -> Section:
+    data = rig_data(design, quick)
+    if isinstance(data, Section):
+        return data
+    return rig_section(design, data, rig_figures(data))

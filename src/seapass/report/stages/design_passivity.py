@@ -1,20 +1,23 @@
 """Design stages about passivity: the verdict, a destabilizing environment, passive ranges.
 
-Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
+Each ``stage_*`` returns a [`Section`][seapass.report.document.Section]; one with
+figures is split as python-control splits ``*_response`` from ``*_plot``
+(``*_data`` computes, ``*_figures`` draws, ``*_section`` writes the section).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import sympy as sp
 
 from ...analysis.conditions import exact_passivity_condition
-from ...analysis.environment_box import bounds_from_mapping
-from ...analysis.passivity import Reason, is_passive
-from ...analysis.region import passive_intervals
-from ...analysis.witness import find_destabilizing_environment
+from ...analysis.environment_box import EnvironmentBounds, bounds_from_mapping
+from ...analysis.passivity import is_passive
+from ...analysis.region import PassiveIntervals, passive_intervals
+from ...analysis.witness import WitnessResult, find_destabilizing_environment
 from ...errors import SeapassError
 from ...model.design_file import Design
 from ...model.expr import UNITS
@@ -37,10 +40,15 @@ from ..formula import decimal_rational
 from ..pipeline import stage_progress
 
 __all__ = [
+    "ranges_data",
+    "ranges_figures",
+    "ranges_section",
     "stage_passivity",
     "stage_ranges",
     "stage_witness",
     "values_text",
+    "witness_figures",
+    "witness_section",
 ]
 
 
@@ -100,7 +108,7 @@ def _verdict_text(res: Any) -> str:
         else ""
     )
     return (
-        f"**The design is NOT passive** at the given values: {res.detail or Reason(res.reason).description}.{w} "
+        f"**The design is NOT passive** at the given values: {res.detail or res.reason.description}.{w} "
         "Coupled to some passive environment (a person, a spring, a mass) it can become "
         "unstable. See the passive ranges below for values that are safe."
     )
@@ -137,7 +145,11 @@ def stage_passivity(design: Design, quick: bool) -> Section:
     )
 
 
-def stage_ranges(design: Design, quick: bool) -> Section:
+#: The exact passive set of each ranged parameter, by name.
+RangesData = tuple[tuple[str, PassiveIntervals], ...]
+
+
+def ranges_data(design: Design, quick: bool) -> RangesData:
     """The exact passive set of every gain (and ranged parameter), the others at their values."""
     sea = design.sea()
     ranges = design.analysis_ranges()
@@ -146,12 +158,40 @@ def stage_ranges(design: Design, quick: bool) -> Section:
         stage_progress(i, len(ranges), f"passive {name}")
         others = {k: v for k, v in design.values.items() if k != name}
         results.append((name, passive_intervals(sea, name, lo, hi, values=others)))
+    return tuple(results)
+
+
+def ranges_figures(design: Design, results: RangesData) -> tuple[FigureData, ...]:
+    """One bar per parameter: its exact passive set and the design's value."""
+    if not results:
+        return ()
+    axes = axes_grid(None, len(results), 1, figsize=(7, 1.6 * len(results) + 0.6))
+    fig = axes[0, 0].figure
+    for ax, (name, res) in zip(axes[:, 0], results, strict=True):
+        plot_passive_intervals(res, ax=ax)
+        value = design.values[name]
+        unit = UNITS.get(name, "SI units")
+        for a, b in res.intervals:
+            if a == b:  # an isolated passive value has no width: draw it
+                ax.axvline(a, color="#2e7d32", lw=3, clip_on=False)
+        # unclipped: a design value at the end of the range stays visible
+        ax.axvline(
+            value, color="tab:blue", lw=2.5, clip_on=False, label=f"design: {value:g} {unit}"
+        )
+        ax.set_xlabel(f"{name} [{unit}]")
+        ax.legend(loc="upper right", ncol=3, fontsize=8)
+    fig.suptitle(f"{design.name}: exact passive sets")
+    return (FigureData.of("passive_ranges", "Exact passive set of every gain.", fig),)
+
+
+def ranges_section(design: Design, results: RangesData, figures: Sequence[FigureData]) -> Section:
+    """The section of `ranges_data` with the figures of `ranges_figures`."""
     rows, flags, findings = [], set(), []
     for i, (name, res) in enumerate(results):
         value = design.values[name]
         inside = res.contains(value) if res.lo <= value <= res.hi else None
         if inside is False:
-            flags.add((i, 3))
+            flags.add((i, "value is passive"))
         rows.append(
             (
                 name,
@@ -176,25 +216,6 @@ def stage_ranges(design: Design, quick: bool) -> Section:
         rows=tuple(rows),
         highlight=frozenset(flags),
     )
-    figures = []
-    if results:
-        axes = axes_grid(None, len(results), 1, figsize=(7, 1.6 * len(results) + 0.6))
-        fig = axes[0, 0].figure
-        for ax, (name, res) in zip(axes[:, 0], results, strict=True):
-            plot_passive_intervals(res, ax=ax)
-            value = design.values[name]
-            unit = UNITS.get(name, "SI units")
-            for a, b in res.intervals:
-                if a == b:  # an isolated passive value has no width: draw it
-                    ax.axvline(a, color="#2e7d32", lw=3, clip_on=False)
-            # unclipped: a design value at the end of the range stays visible
-            ax.axvline(
-                value, color="tab:blue", lw=2.5, clip_on=False, label=f"design: {value:g} {unit}"
-            )
-            ax.set_xlabel(f"{name} [{unit}]")
-            ax.legend(loc="upper right", ncol=3, fontsize=8)
-        fig.suptitle(f"{design.name}: exact passive sets")
-        figures.append(FigureData.of("passive_ranges", "Exact passive set of every gain.", fig))
     return Section(
         key="ranges",
         title="Exact passive ranges",
@@ -210,11 +231,32 @@ def stage_ranges(design: Design, quick: bool) -> Section:
     )
 
 
-def stage_witness(design: Design, quick: bool) -> Section:
-    """For a design that is not passive: a passive environment that destabilizes it."""
+def stage_ranges(design: Design, quick: bool) -> Section:
+    """The exact passive set of every gain (and ranged parameter), the others at their values."""
+    results = ranges_data(design, quick)
+    return ranges_section(design, results, ranges_figures(design, results))
+
+
+def witness_figures(res: WitnessResult) -> tuple[FigureData, ...]:
+    """The growing coupled response, when a destabilizing environment was simulated."""
+    if not res.found or res.simulation is None:
+        return ()
+    return (
+        FigureData.of(
+            "witness", "Growing response of the design coupled to the environment.",
+            plot_witness(res),
+        ),
+    )  # fmt: skip
+
+
+def witness_section(
+    design: Design,
+    bounds: EnvironmentBounds,
+    res: WitnessResult,
+    figures: Sequence[FigureData],
+) -> Section:
+    """The section of a witness search with the figures of `witness_figures`."""
     title = "What can go wrong: a destabilizing passive environment"
-    bounds = bounds_from_mapping(dict(design.environment))
-    res = find_destabilizing_environment(design.sea(), bounds=bounds)
     if res.passive:
         return Section(
             "witness", title, status=SectionStatus.SKIPPED,
@@ -250,14 +292,6 @@ def stage_witness(design: Design, quick: bool) -> Section:
         ),
         rows=((env.mass, env.damping, env.stiffness, rate, res.method),),
     )
-    figures: tuple[FigureData, ...] = ()
-    if res.simulation is not None:
-        figures = (
-            FigureData.of(
-                "witness", "Growing response of the design coupled to the environment.",
-                plot_witness(res),
-            ),
-        )  # fmt: skip
     return Section(
         key="witness",
         title=title,
@@ -268,7 +302,7 @@ def stage_witness(design: Design, quick: bool) -> Section:
             f"construction plus a search, each candidate verified exactly): {res.detail}."
         ),
         tables=(table,),
-        figures=figures,
+        figures=tuple(figures),
         findings=(
             Finding(
                 f"{design.name} is safe to couple to any passive environment",
@@ -278,3 +312,10 @@ def stage_witness(design: Design, quick: bool) -> Section:
         ),
         files={"witness.json": to_json(res.to_dict())},
     )
+
+
+def stage_witness(design: Design, quick: bool) -> Section:
+    """For a design that is not passive: a passive environment that destabilizes it."""
+    bounds = bounds_from_mapping(dict(design.environment))
+    res = find_destabilizing_environment(design.sea(), bounds=bounds)
+    return witness_section(design, bounds, res, witness_figures(res))

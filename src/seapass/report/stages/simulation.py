@@ -1,10 +1,14 @@
 """Paper stages: the simulation study (Sec. V) and the design-space trade-off.
 
-Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
+Each ``stage_*`` returns a [`Section`][seapass.report.document.Section], split as
+python-control splits ``*_response`` from ``*_plot``: ``*_data`` computes,
+``*_figures`` draws, ``*_section`` writes the section.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -13,18 +17,26 @@ from ...batch.step_metrics import batch_step_metrics
 from ...batch.verdicts import batch_is_passive
 from ...model.catalog import PAPER_VALUES
 from ...model.catalog import design as catalog_design
-from ...paper.simstudy import run_simulation_study
+from ...model.experiment import PAPER_EXPERIMENT
+from ...paper.simstudy import SimulationStudy, run_simulation_study
 from ...plot.sim import plot_simulation_study, plot_tradeoff
 from ..document import FigureData, Finding, Section, Table, Verdict
 from ..pipeline import stage_progress
 
 __all__ = [
+    "TradeoffData",
+    "simulation_data",
+    "simulation_figures",
+    "simulation_section",
     "stage_simulation",
     "stage_tradeoff",
+    "tradeoff_data",
+    "tradeoff_figures",
+    "tradeoff_section",
 ]
 
 
-def stage_simulation(quick: bool) -> Section:
+def simulation_data(quick: bool) -> SimulationStudy:
     """The paper's simulation study (Sec. V, Fig. 4): tuned LP, APD and Ours at three masses."""
     tuned: list[str] = []
 
@@ -32,8 +44,23 @@ def stage_simulation(quick: bool) -> Section:
         tuned.append(result.design)
         stage_progress(len(tuned), 3, f"tuned {result.design}")
 
-    study = run_simulation_study(quick=quick, progress=False, on_design=tuned_one)
-    fig = plot_simulation_study(study)
+    return run_simulation_study(quick=quick, progress=False, on_design=tuned_one)
+
+
+def simulation_figures(study: SimulationStudy) -> tuple[FigureData, ...]:
+    return (
+        FigureData.of(
+            "sims",
+            "Load position after a 0.5 m step for each design and load mass.",
+            plot_simulation_study(study),
+        ),
+    )
+
+
+def simulation_section(
+    study: SimulationStudy, figures: Sequence[FigureData], *, quick: bool
+) -> Section:
+    """The section of `simulation_data` with the figures of `simulation_figures`."""
     gnames = sorted({g for t in study.tuning.values() for g in t.gains})
     rows = []
     for r in study.rows:
@@ -86,11 +113,7 @@ def stage_simulation(quick: bool) -> Section:
             "(matrix-exponential discretization) at `m_L = 1, 10, 25 kg`."
         ),
         tables=(table,),
-        figures=(
-            FigureData.of(
-                "sims", "Load position after a 0.5 m step for each design and load mass.", fig
-            ),
-        ),
+        figures=tuple(figures),
         findings=tuple(findings),
         files={
             "sims_table.json": study.table_json(),
@@ -99,7 +122,17 @@ def stage_simulation(quick: bool) -> Section:
     )
 
 
-_LOAD_MASS, _STEP, _HORIZON = 10.0, 0.5, 10.0
+def stage_simulation(quick: bool) -> Section:
+    """The paper's simulation study (Sec. V, Fig. 4): tuned LP, APD and Ours at three masses."""
+    study = simulation_data(quick)
+    return simulation_section(study, simulation_figures(study), quick=quick)
+
+
+_LOAD_MASS, _STEP, _HORIZON = (
+    PAPER_EXPERIMENT.load_mass,
+    PAPER_EXPERIMENT.step,
+    PAPER_EXPERIMENT.horizon,
+)
 
 
 def _tuned_lp(quick: bool) -> tuple[float, float | None]:
@@ -187,28 +220,66 @@ def _tradeoff_cases(
     ]  # fmt: skip
 
 
-def stage_tradeoff(quick: bool) -> Section:
+#: One grid of the trade-off, as `plot_tradeoff` takes it: label, axis names, axis values,
+#: verdicts, settling times, the best passive point (or None) and the marks to draw.
+TradeoffGrid = tuple[Any, ...]
+
+
+@dataclass(frozen=True, kw_only=True)
+class TradeoffData:
+    """Everything the trade-off stage computes (`tradeoff_data`)."""
+
+    n: int
+    kd_lp: float
+    t_lp: float | None
+    grids: tuple[TradeoffGrid, ...]
+    best_lp: tuple[float, float, float] | None
+    at_tuned: float
+
+
+def tradeoff_data(quick: bool) -> TradeoffData:
     """Exact passivity and settling time over whole 2-D gain grids (batch engine)."""
     n = 21 if quick else 41
     stage_progress(0, 4, "tuning LP as in the simulation study")
     kd_lp, t_lp = _tuned_lp(quick)
-    rows, maps, lines = [], [], ["design,x_name,x,y_name,y,passive,settling_time_s"]
+    grids: list[TradeoffGrid] = []
     best_lp, at_tuned = None, float("nan")
     for k, (label, sea, (xn, xs), (yn, ys)) in enumerate(_tradeoff_cases(n, kd_lp)):
         stage_progress(1 + k, 4, f"{label}: {xs.size * ys.size} designs")
         pas, ts, best = _grid(sea, (xn, xs), (yn, ys))
-        marks = []
+        marks: tuple[tuple[float, float, str], ...] = ()
         if label == "LP":
             best_lp, at_tuned = best, float(ts[0, int(np.searchsorted(xs, kd_lp))])
-            marks = [(kd_lp, 0.0, f"study's tuned LP: {t_lp:.3g} s" if t_lp else "study's LP")]
+            marks = ((kd_lp, 0.0, f"study's tuned LP: {t_lp:.3g} s" if t_lp else "study's LP"),)
+        grids.append((label, xn, yn, xs, ys, pas, ts, best, marks))
+    return TradeoffData(
+        n=n, kd_lp=kd_lp, t_lp=t_lp, grids=tuple(grids), best_lp=best_lp, at_tuned=at_tuned
+    )
+
+
+def tradeoff_figures(data: TradeoffData) -> tuple[FigureData, ...]:
+    stage_progress(3, 4, "figure")
+    return (
+        FigureData.of(
+            "tradeoff",
+            "Settling time over the design space; the star is the fastest passive design of "
+            "each grid, the circle the simulation study's tuned LP.",
+            plot_tradeoff(list(data.grids), horizon=_HORIZON),
+        ),
+    )
+
+
+def tradeoff_section(data: TradeoffData, figures: Sequence[FigureData]) -> Section:
+    """The section of `tradeoff_data` with the figures of `tradeoff_figures`."""
+    n, kd_lp = data.n, data.kd_lp
+    rows, lines = [], ["design,x_name,x,y_name,y,passive,settling_time_s"]
+    for label, xn, yn, xs, ys, pas, ts, best, _marks in data.grids:
         rows.append(
             (label, f"{xn} ∈ [{xs[0]:g}, {xs[-1]:g}], {yn} ∈ [{ys[0]:g}, {ys[-1]:g}]",
              xs.size * ys.size, float(np.mean(pas)), None if best is None else best[0],
              None if best is None else f"{xn} = {best[1]:.4g}, {yn} = {best[2]:.4g}")
         )  # fmt: skip
-        maps.append((label, xn, yn, xs, ys, pas, ts, best, marks))
         lines += _grid_csv(label, (xn, xs), (yn, ys), pas, ts)
-    stage_progress(3, 4, "figure")
     table = Table(
         name="tradeoff",
         title=f"Design space at m_L = {_LOAD_MASS:g} kg: passivity and settling time "
@@ -237,14 +308,13 @@ def stage_tradeoff(quick: bool) -> Section:
             'to "what is the fastest passive LP" are computed on the same design.'
         ),
         tables=(table,),
-        figures=(
-            FigureData.of(
-                "tradeoff",
-                "Settling time over the design space; the star is the fastest passive design of "
-                "each grid, the circle the simulation study's tuned LP.",
-                plot_tradeoff(maps, horizon=_HORIZON),
-            ),
-        ),
-        findings=(_best_lp_finding(best_lp, at_tuned, kd_lp, t_lp),),
+        figures=tuple(figures),
+        findings=(_best_lp_finding(data.best_lp, data.at_tuned, kd_lp, data.t_lp),),
         files={"tradeoff_grid.csv": "\n".join(lines) + "\n"},
     )
+
+
+def stage_tradeoff(quick: bool) -> Section:
+    """Exact passivity and settling time over whole 2-D gain grids (batch engine)."""
+    data = tradeoff_data(quick)
+    return tradeoff_section(data, tradeoff_figures(data))

@@ -1,12 +1,14 @@
 """Paper stages: Tables I and II derived and compared, and every row's rendered stiffness.
 
-Each ``stage_*`` returns a [`Section`][seapass.report.document.Section].
+Each ``stage_*`` returns a [`Section`][seapass.report.document.Section]; one with
+figures is split as python-control splits ``*_response`` from ``*_plot``
+(``*_data`` computes, ``*_figures`` draws, ``*_section`` writes the section).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -15,8 +17,8 @@ import sympy as sp
 from ...analysis.freqresp import FrequencyResponse, stiffness_response
 from ...model.catalog import REFERENCE_VALUES
 from ...paper.tablefmt import format_latex, format_markdown
-from ...paper.tables import PAPER_ROWS, PaperRow, TableRow, build_tables
-from ...plot.response import plot_stiffness_bode
+from ...paper.tables import PAPER_ROWS, BoundStatus, PaperRow, TableRow, build_tables
+from ...plot.passivity import plot_bode
 from ...plot.style import axes_grid
 from ..document import (
     Discrepancy,
@@ -34,6 +36,9 @@ from ..pipeline import stage_progress
 __all__ = [
     "stage_stiffness",
     "stage_tables",
+    "stiffness_data",
+    "stiffness_figures",
+    "stiffness_section",
 ]
 
 _GROUPS = (
@@ -46,14 +51,13 @@ _COLUMNS = (
     "Re condition (paper)", "Re condition (derived)", "condition agrees", "paper bound",
     "paper bound is", "exact condition (derived)", "counterexample",
 )  # fmt: skip
-_BOUND_COLUMN = _COLUMNS.index("paper bound is")
 _VIEWS = (
-    ("Stiffness transfer function F_L/X_L", (0, 1, 2, 3, 4, 5, 6, 7)),
-    ("Passivity", (0, 8, 9, 10, 11, 12, 13, 14)),
+    ("Stiffness transfer function F_L/X_L", _COLUMNS[:8]),
+    ("Passivity", (_COLUMNS[0], *_COLUMNS[8:])),
 )
 
 
-def _values_text(values: dict[str, float] | None) -> str:
+def _values_text(values: Mapping[str, float] | None) -> str:
     return ", ".join(f"{k}={v:.4g}" for k, v in values.items()) if values else ""
 
 
@@ -101,13 +105,13 @@ def _row_findings(r: TableRow) -> list[Finding]:
         )  # fmt: skip
     bound = formula(p.bound)
     example = _values_text(r.counterexample)
-    if r.bound_status == "unsafe":
+    if r.bound_status is BoundStatus.UNSAFE:
         findings.append(
             Finding(f"{name}: the stated bound {bound}", Verdict.DIFFERS,
                     f"admits designs that are NOT passive, e.g. {example}",
                     kind=Discrepancy.UNSAFE)
         )  # fmt: skip
-    elif r.bound_status == "sufficient only":
+    elif r.bound_status is BoundStatus.SUFFICIENT:
         findings.append(
             Finding(f"{name}: the stated bound {bound}", Verdict.DIFFERS,
                     f"is sufficient but not necessary: {example} violates it and is passive",
@@ -124,9 +128,9 @@ def _row_findings(r: TableRow) -> list[Finding]:
 def _group_table(key: str, name: str, title: str, rows: Sequence[TableRow]) -> Table:
     group = [r for r in rows if r.paper.table == key]
     flags = {
-        (i, _BOUND_COLUMN)
+        (i, "paper bound is")
         for i, r in enumerate(group)
-        if r.bound_status in ("unsafe", "sufficient only")
+        if r.bound_status in (BoundStatus.UNSAFE, BoundStatus.SUFFICIENT)
     }
     return Table(
         name=name,
@@ -181,9 +185,11 @@ def _grid_shape(n: int) -> tuple[int, int]:
     return math.ceil(n / ncol), ncol
 
 
-def _stiffness_figure(
-    title: str, group: Sequence[tuple[PaperRow, dict[str, float], FrequencyResponse]]
-) -> Any:
+#: One row of the stiffness stage: the paper's row, its reference values, its response.
+StiffnessRow = tuple[PaperRow, dict[str, float], FrequencyResponse]
+
+
+def _stiffness_figure(title: str, group: Sequence[StiffnessRow]) -> Any:
     """Magnitude and phase of every row of one table, one Bode pair per row, no empty slot."""
     nrow, ncol = _grid_shape(len(group))
     axes = axes_grid(
@@ -193,8 +199,8 @@ def _stiffness_figure(
     for k, (row, vals, resp) in enumerate(group):
         i, j = divmod(k, ncol)
         shown = ", ".join(f"{n}={v:g}" for n, v in vals.items() if n not in ("m", "b"))
-        plot_stiffness_bode(
-            resp, title=f"{row.title}\n{shown}", reference=vals.get("k1"),
+        plot_bode(
+            resp, title=f"{row.title}\n{shown}", reference=vals.get("k1"), legend=False,
             axes=axes[2 * i : 2 * i + 2, j],
         )  # fmt: skip
     for k in range(len(group) - ncol):  # one frequency label per column, at the bottom
@@ -213,8 +219,8 @@ def _stiffness_figure(
     return fig
 
 
-def stage_stiffness(quick: bool) -> Section:
-    """The rendered stiffness of every table row at the reference values."""
+def stiffness_data(quick: bool) -> tuple[StiffnessRow, ...]:
+    """The rendered stiffness of every table row at the reference values (computed)."""
     omega = np.logspace(-1, 4, 200 if quick else 400)
     results = []
     for k, row in enumerate(PAPER_ROWS):
@@ -222,6 +228,11 @@ def stage_stiffness(quick: bool) -> Section:
         sea = row.design.sea()
         vals = {n: REFERENCE_VALUES[n] for n in sea.parameters}
         results.append((row, vals, stiffness_response(sea, omega, values=vals, label=row.title)))
+    return tuple(results)
+
+
+def stiffness_figures(results: Sequence[StiffnessRow]) -> tuple[FigureData, ...]:
+    """One figure per table: the Bode pair of each of its rows."""
     figures = []
     for g, (key, name, _title) in enumerate(_GROUPS):
         title = {"I": "Table I", "II": "Table II"}.get(key, "Proposed design")
@@ -235,6 +246,11 @@ def stage_stiffness(quick: bool) -> Section:
                 _stiffness_figure(title, group),
             )
         )
+    return tuple(figures)
+
+
+def stiffness_section(results: Sequence[StiffnessRow], figures: Sequence[FigureData]) -> Section:
+    """The section of `stiffness_data` with the figures of `stiffness_figures`."""
     summary = Table(
         name="stiffness_summary",
         title="Static and high-frequency stiffness at the reference values",
@@ -266,3 +282,9 @@ def stage_stiffness(quick: bool) -> Section:
         figures=tuple(figures),
         files={"stiffness_response.csv": "\n".join(lines) + "\n"},
     )
+
+
+def stage_stiffness(quick: bool) -> Section:
+    """The rendered stiffness of every table row at the reference values."""
+    results = stiffness_data(quick)
+    return stiffness_section(results, stiffness_figures(results))

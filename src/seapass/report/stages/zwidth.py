@@ -3,26 +3,39 @@
 Each ``stage_*`` returns a [`Section`][seapass.report.document.Section]:
 ``stage_zwidth(quick)`` for the paper's rig (Ours, ``kd`` against ``bd`` at 500 Hz) and
 ``stage_design_zwidth(design, quick)`` for a design file with a ``[control] rate``.
+Each computes its map, draws it with `zwidth_figures` and writes the section with
+`zwidth_section` (python-control's ``*_response`` / ``*_plot`` split).
 """
 
 from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 
 import numpy as np
 
 from ...errors import ModelError
+from ...exact.rounding import decimal_down
 from ...model.design_file import Design
+from ...model.loop import SampledLoop
 from ...model.sea import SEA
 from ...plot.sampled import plot_zwidth
-from ...plot.style import figure_bytes
 from ...rig.predictions import rig_sea
 from ...rig.rigfile import paper_rig
-from ...sampled.region import LoopSetup, ZWidthMap, sampled_region
-from ..document import FigureData, Finding, Section, SectionStatus, Table, Verdict, to_json
+from ...sampled.region import ZWidthMap, sampled_region
+from ..document import (
+    FigureData,
+    Finding,
+    Section,
+    SectionStatus,
+    Table,
+    UpperEnd,
+    Verdict,
+    to_json,
+)
 
-__all__ = ["stage_design_zwidth", "stage_zwidth"]
+__all__ = ["stage_design_zwidth", "stage_zwidth", "zwidth_figures", "zwidth_section"]
 
 _TEXT = (
     "The Z-width (Colgate & Brown, 1994) is the range of impedances a haptic device renders "
@@ -33,21 +46,31 @@ _TEXT = (
 )
 
 
-def _setups(delay: int, velocity_filter: float) -> tuple[LoopSetup, ...]:
-    d = max(int(delay), 1)
+def _with_filter(loop: SampledLoop) -> SampledLoop:
+    """``loop``, given a comparison velocity filter (50 Hz, below Nyquist) if it has none."""
+    if loop.velocity_filter is not None:
+        return loop
+    return loop.replace(velocity_filter=min(50.0, 0.4 * loop.nyquist))
+
+
+def zwidth_figures(key: str, zmap: ZWidthMap) -> tuple[FigureData, ...]:
     return (
-        LoopSetup("ideal ZOH"),
-        LoopSetup(f"{d}-sample delay", d),
-        LoopSetup(f"{d}-sample delay + {velocity_filter:g} Hz filter", d, velocity_filter),
+        FigureData.of(key, f"Z-width: passive {zmap.p1} against {zmap.p2}.", plot_zwidth(zmap)),
     )
 
 
-def _section(
-    key: str, title: str, zmap: ZWidthMap, text: str, findings: tuple[Finding, ...]
+def zwidth_section(
+    key: str,
+    title: str,
+    zmap: ZWidthMap,
+    text: str,
+    findings: tuple[Finding, ...],
+    figures: Sequence[FigureData],
 ) -> Section:
+    """The section of a Z-width map with the figures of `zwidth_figures`."""
     bounds = [zmap.upper_boundary(s.label) for s in zmap.setups]
     rows = tuple(
-        (v, *(None if math.isnan(b[i]) else float(b[i]) for b in bounds))
+        (v, *(None if math.isnan(b[i]) else UpperEnd(float(b[i])) for b in bounds))
         for i, v in enumerate(zmap.p2_values)
     )
     table = Table(
@@ -57,13 +80,12 @@ def _section(
         rows=rows,
         note="Full passive sets (islands included) per row in the CSV and JSON files.",
     )
-    fig = figure_bytes(plot_zwidth(zmap))
     return Section(
         key=key,
         title=title,
         text=text,
         tables=(table,),
-        figures=(FigureData(key, f"Z-width: passive {zmap.p1} against {zmap.p2}.", fig),),
+        figures=tuple(figures),
         findings=findings,
         files={f"{key}.csv": zmap.to_csv(), f"{key}.json": to_json(zmap.to_dict())},
     )
@@ -74,26 +96,29 @@ def stage_zwidth(quick: bool) -> Section:
     rig = paper_rig()
     sea = rig_sea(rig, "ours", bd=rig.experiment.bd_ours).with_values(bd=None, kd=None)
     n = 5 if quick else 21
-    filt = rig.control.velocity_filter_hz or 50.0
+    loop = _with_filter(rig.loop)
     zmap = sampled_region(
-        sea, "kd", "bd", period=rig.period, p1_range=(0.0, 1e5), p2_range=(0.0, 100.0), n=n,
-        setups=_setups(rig.control.delay_samples, filt), rtol=1e-6,
+        sea, "kd", "bd", loop=loop, p1_range=(0.0, 1e5), p2_range=(0.0, 100.0), n=n, rtol=1e-6,
     )  # fmt: skip
     ideal, _delayed, real = (zmap.upper_boundary(s.label) for s in zmap.setups)
+
+    def down(v: float) -> str:  # a largest passive value, printed rounded down
+        return "none" if math.isnan(v) else decimal_down(float(v), 5)
+
     bd0 = rig.experiment.bd_ours
     i = int(np.argmin(np.abs(np.asarray(zmap.p2_values) - bd0)))
     finding = Finding(
         "Damping widens the sampled Z-width (Colgate & Schenkel: K ≤ 2(b + B)/T-like growth "
         "for the damped transmission)",
         Verdict.INFO,
-        f"largest passive kd grows from {ideal[0]:.5g} to {ideal[-1]:.5g} N/m (ideal ZOH) and "
-        f"from {real[0]:.5g} to {real[-1]:.5g} N/m (rig delay and filter) as bd goes "
+        f"largest passive kd grows from {down(ideal[0])} to {down(ideal[-1])} N/m (ideal ZOH) "
+        f"and from {down(real[0])} to {down(real[-1])} N/m (rig delay and filter) as bd goes "
         f"0 → {zmap.p2_values[-1]:g} N·s/m; at bd ≈ {zmap.p2_values[i]:g} the rig limit is "
-        f"{real[i]:.5g} N/m",
+        f"{down(real[i])} N/m",
     )
-    text = _TEXT.format(p1="kd", p2="bd", d=max(rig.control.delay_samples, 1), f=filt, n=n)
-    return _section("zwidth", f"Z-width of Ours at {1 / rig.period:g} Hz (beyond the paper)", zmap,
-                    text, (finding,))  # fmt: skip
+    text = _TEXT.format(p1="kd", p2="bd", d=max(loop.delay, 1), f=loop.velocity_filter, n=n)
+    title = f"Z-width of Ours at {1 / rig.period:g} Hz (beyond the paper)"
+    return zwidth_section("zwidth", title, zmap, text, (finding,), zwidth_figures("zwidth", zmap))
 
 
 def _first(text: str, name: str) -> int:
@@ -104,7 +129,7 @@ def _first(text: str, name: str) -> int:
 def stage_design_zwidth(design: Design, quick: bool) -> Section:
     """The design's first two controller gains against each other at its control rate."""
     title = "Z-width map (sampled-data passive region of two gains)"
-    if design.period is None:
+    if design.loop is None:
         return Section("zwidth", title, status=SectionStatus.SKIPPED,
                        text="Skipped: the design file has no `[control] rate`.")  # fmt: skip
     # the gains in the order they are written (``kd + bd*s``: stiffness over damping)
@@ -118,17 +143,19 @@ def stage_design_zwidth(design: Design, quick: bool) -> Section:
     p1, p2 = gains[0], gains[1]
     ranges = design.analysis_ranges()
     sea: SEA = design.sea().with_values(**{p1: None, p2: None})
-    filt = design.velocity_filter or 50.0
+    loop = _with_filter(design.loop)
     n = 5 if quick else 15
     try:
         zmap = sampled_region(
-            sea, p1, p2, period=design.period, p1_range=ranges[p1], p2_range=ranges[p2], n=n,
-            setups=_setups(design.control_delay, filt), rtol=1e-6,
+            sea, p1, p2, loop=loop, p1_range=ranges[p1], p2_range=ranges[p2], n=n, rtol=1e-6,
         )  # fmt: skip
     except ModelError as exc:
         return Section("zwidth", title, status=SectionStatus.SKIPPED,
                        text=f"Skipped: the sampled-data test does not apply to this plant: {exc}")  # fmt: skip
-    text = _TEXT.format(p1=p1, p2=p2, d=max(design.control_delay, 1), f=filt, n=n)
+    text = _TEXT.format(p1=p1, p2=p2, d=max(loop.delay, 1), f=loop.velocity_filter, n=n)
     if design.velocity_filter is None:
-        text += " (The design has no velocity filter; 50 Hz is shown for comparison.)"
-    return _section("zwidth", title, zmap, text, ())
+        text += (
+            f" (The design has no velocity filter; {loop.velocity_filter:g} Hz is shown for "
+            "comparison.)"
+        )
+    return zwidth_section("zwidth", title, zmap, text, (), zwidth_figures("zwidth", zmap))
