@@ -15,8 +15,9 @@ import math
 import numpy as np
 
 from _util import Row, timed
-from seapass.delay.margin import delay_margin
+from seapass.delay.margin import MarginLoss, delay_margin
 from seapass.delay.passivity import delayed_passivity
+from seapass.exact.rounding import enclosure_text
 from seapass.model.catalog import design
 from seapass.model.sea import SEA
 
@@ -96,12 +97,12 @@ def run(quick: bool) -> tuple[list[Row], list[str]]:
         where = (
             f" at {r.frequency:.4g} rad/s"
             if r.frequency
-            else (" as w -> 0" if r.loss == "low_frequency" else "")
+            else (" as w -> 0" if r.loss is MarginLoss.LOW_FREQUENCY else "")
         )
         notes.append(
             f"Delay margin of {design(key).label} with a delay on the controller "
             f"({', '.join(f'{k} = {v:g}' for k, v in GAINS[key].items())}; m = 1, b = 10, "
-            f"k1 = 1000): tau* in [{lo:.9g}, {hi:.9g}] s, loss {r.loss}{where}, certified in "
+            f"k1 = 1000): tau* in {enclosure_text(*r.exact, digits=9) if r.exact else [lo, hi]} s, loss {r.loss}{where}, certified in "
             f"{1000 * t.seconds:.0f} ms CPU; the dense grid says {g:.6g} s ({verdict})."
         )
     r = delay_margin(ours, "tau")

@@ -21,7 +21,7 @@ import sympy as sp
 from flint import fmpq
 
 from seapass.delay.lowfreq import limit_polynomial
-from seapass.delay.margin import delay_margin
+from seapass.delay.margin import MarginLoss, delay_margin
 from seapass.delay.structure import delayed_impedance
 from seapass.delay.trig import real_part
 from seapass.model.loop import SampledLoop
@@ -73,5 +73,5 @@ def test_colgate_schenkel_wall_limit_and_the_continuous_margin(d):
     delayed = SEA(D1="k1", CA="kd*exp(-tau*s)", values=dict(m=1, b=10, k1=1000, kd=kd, tau=None))
     r = delay_margin(delayed, "tau", rtol=1e-9)
     lo, hi = r.tau_star
-    assert r.loss == "low_frequency"
+    assert r.loss is MarginLoss.LOW_FREQUENCY
     assert lo <= (d + 0.5) * T * (1 + 1e-7) and (d + 0.5) * T * (1 - 1e-7) <= hi

@@ -13,7 +13,7 @@ from scipy.optimize import brentq, minimize_scalar
 
 import seapass as sp
 from seapass.delay.balls import round_down, round_up
-from seapass.delay.margin import delay_margin
+from seapass.delay.margin import MarginLoss, delay_margin
 from seapass.delay.passivity import delayed_passivity
 from seapass.errors import DelayError, ParameterError
 from seapass.exact.poly import rational
@@ -56,26 +56,36 @@ def test_delayed_virtual_wall_matches_its_closed_form(b, k, bb):
     assert lo <= ref * (1 + 1e-9) and ref <= hi * (1 + 1e-9), (lo, ref, hi)
     assert hi - lo <= 1e-6 * hi and r.certified
     if bb == 0:
-        assert r.loss == "low_frequency" and r.frequency is None and hi == pytest.approx(b / k)
+        assert (
+            r.loss is MarginLoss.LOW_FREQUENCY
+            and r.frequency is None
+            and hi == pytest.approx(b / k)
+        )
 
 
 def test_virtual_damper_above_the_physical_one_has_zero_margin():
     r = delay_margin(WALL, "tau", values=dict(m=1, b=2, K=50, B=3))
-    assert r.tau_star == (0.0, 0.0) and r.loss == "unbounded_band" and r.outcome is Outcome.PASSIVE
+    assert (
+        r.tau_star == (0.0, 0.0)
+        and r.loss is MarginLoss.UNBOUNDED_BAND
+        and r.outcome is Outcome.PASSIVE
+    )
 
 
 @pytest.mark.parametrize("key", ["LP", "APD", "ours"])
 def test_paper_designs_with_a_controller_delay(key):
-    values = {"LP": dict(kd=500), "APD": dict(kd=500, bd=25), "ours": dict(kd=500, bd=25, b1=20)}[
-        key
-    ]
+    values = {
+        "LP": dict(kd=500),
+        "APD": dict(kd=500, bd=25),
+        "ours": dict(kd=500, bd=25, b1=20),
+    }[key]
     r = sp.delay_margin(design(key).sea(dict(m=1, b=10, k1=1000, **values)), "tau")
     if key == "ours":
         lo, hi = r.tau_star
-        assert r.loss == "interior" and 0.0412 < lo < hi < 0.0413
+        assert r.loss is MarginLoss.INTERIOR and 0.0412 < lo < hi < 0.0413
         assert abs(r.frequency - 36.53) < 0.05
     else:  # undamped spring: every delay > 0 fails at high frequency
-        assert r.tau_star == (0.0, 0.0) and r.loss == "unbounded_band"
+        assert r.tau_star == (0.0, 0.0) and r.loss is MarginLoss.UNBOUNDED_BAND
 
 
 @pytest.mark.parametrize("values", [dict(kd=500, bd=25, b1=20), dict(kd=2000, bd=60, b1=100),
@@ -122,7 +132,13 @@ def test_delay_independent_and_not_passive_at_zero():
 def test_result_api_and_rounding():
     r = delay_margin(WALL, "tau", values=dict(m=1, b=2, K=50, B=1))
     d = r.to_dict()
-    assert set(d) >= {"tau_star", "frequency", "loss", "delay_independent", "passive_at_zero"}
+    assert set(d) >= {
+        "tau_star",
+        "frequency",
+        "loss",
+        "delay_independent",
+        "passive_at_zero",
+    }
     json.dumps(d, allow_nan=False)
     assert "tau_star=" in repr(r) and "<table>" in r._repr_html_()
     lo, hi = r.exact

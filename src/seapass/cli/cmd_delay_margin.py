@@ -57,7 +57,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     add_model_options(p)
     p.add_argument("--Z", help="a raw impedance with the delay, e.g. 'm*s + b + K*exp(-tau*s)/s'")
     p.add_argument(
-        "--rtol", type=float, default=1e-6, help="relative width of the enclosure of tau*"
+        "--rtol",
+        type=float,
+        default=1e-6,
+        help="relative width of the enclosure of tau*",
     )
     add_plot_option(p, "the first failing delay per frequency with the enclosure of tau*")
     add_force_option(p)
@@ -125,15 +128,24 @@ def run(args: argparse.Namespace) -> int:
         print_json(result.to_dict())
     else:
         if result.tau_star is not None:
-            lo, hi = result.tau_star
+            from fractions import Fraction
+
+            from ..exact.rounding import decimal_down, enclosure_text
+
+            lo, hi = result.exact or (
+                Fraction(result.tau_star[0]),
+                Fraction(result.tau_star[1]),
+            )
             where = {
                 "interior": f"at w = {result.frequency:.6g} rad/s" if result.frequency else "",
                 "low_frequency": "as w -> 0",
                 "unbounded_band": "at arbitrarily high frequencies, for every delay > 0",
-            }.get(result.loss or "", "")
-            # repr: the shortest text of each float, so the printed lo is exactly the
-            # certified (rounded-down) lo and the printed hi the rounded-up hi
-            print(f"tau* in [{lo!r}, {hi!r}] s ({result.loss} {where})".replace(" )", ")"))
+            }.get(str(result.loss or ""), "")
+            # inward: the printed lower end is at most the certified lo (so below tau*);
+            # the enclosure is printed outward, so it still holds tau*
+            if result.outcome is Outcome.PASSIVE:
+                print(f"passive for every delay {args.name} <= {decimal_down(lo, 6)} s")
+            print(f"tau* in {enclosure_text(lo, hi)} s ({result.loss} {where})".replace(" )", ")"))
         elif result.delay_independent:
             print(f"passive for every delay {args.name} >= 0")
         else:

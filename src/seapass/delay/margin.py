@@ -27,7 +27,7 @@ The virtual wall behind a delay, ``Z = m s + b + K e^{-sτ}/s``: ``τ* = b/K``, 
 ``ω → 0`` (the continuous-time form of Colgate and Schenkel's ``b > KT/2``).
 
 >>> r = delay_margin("m*s + b + K*exp(-tau*s)/s", "tau", values=dict(m=1, b=2, K=50))
->>> r.loss, [round(x, 6) for x in r.tau_star]
+>>> str(r.loss), [round(x, 6) for x in r.tau_star]
 ('low_frequency', [0.04, 0.04])
 """
 
@@ -35,18 +35,17 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
 from flint import fmpq
 
 from ..analysis.passivity import positive_real_test
 from ..errors import DelayError, NotPassiveError, ParameterError, did_you_mean
 from ..exact import poly as ep
 from ..exact.axis import safe_float
+from ..exact.rounding import decimal_down, decimal_up
 from ..files.limits import MIN_RTOL
-from ..model.display import html_card, short_repr
 from ..model.sea import Impedance
 from ..outcome import Outcome
 from .balls import arb_of, lower, precision, round_down, round_up, upper
@@ -54,9 +53,11 @@ from .bands import dangerous_bands
 from .firstdelay import FirstDelay
 from .highfreq import high_frequency
 from .lowfreq import limit_polynomial, uniform_cutoff
+from .marginresult import DEFAULT_RTOL, LOSS_KINDS, DelayMarginResult, MarginCause, MarginLoss
 from .passivity import growth_at_infinity
 from .search import prove_at_least, search_minimum
 from .stability import (
+    LoopKind,
     characteristic,
     crossings,
     delay_independent_stability,
@@ -72,148 +73,35 @@ from .structure import (
 )
 from .trig import TrigRealPart, real_part
 
-__all__ = ["DEFAULT_RTOL", "LOSS_KINDS", "DelayMarginResult", "delay_margin", "margin_of"]
-
-DEFAULT_RTOL = 1e-6
-"""Relative width of the enclosure of ``τ*``."""
+__all__ = [
+    "DEFAULT_RTOL",
+    "LOSS_KINDS",
+    "DelayMarginResult",
+    "MarginCause",
+    "MarginLoss",
+    "delay_margin",
+    "margin_of",
+]
 
 DEFAULT_MARGIN_BUDGET = 50_000
 """Pieces of the branch and bound on ``g(ω)`` before the enclosure is undecided."""
-
-LOSS_KINDS = ("interior", "low_frequency", "unbounded_band")
-
-
-@dataclass(frozen=True, kw_only=True, repr=False)
-class DelayMarginResult:
-    """The passivity delay margin of a design.
-
-    Attributes
-    ----------
-    delay : str
-        The delay parameter.
-    outcome : Outcome
-        The verdict for every delay in ``[0, tau_star[0]]``: ``passive`` (certified;
-        also when the design is passive for every delay), ``not_passive`` (not even at
-        zero delay) or ``undecided``.
-    tau_star : (float, float) or None
-        ``[lo, hi]`` [s] enclosing ``τ*``; None when the design is not passive at zero delay
-        or is passive for every delay (`delay_independent`).  ``lo`` is rounded down and
-        certified passive together with every smaller delay; at ``hi`` (rounded up) the
-        design is proven not passive, or ``hi`` is the exact first root of the
-        low-frequency coefficient.
-    frequency : float or None
-        Where passivity is lost [rad/s] (None for a limit ``ω → 0`` or ``∞``).
-    loss : str or None
-        ``"interior"``, ``"low_frequency"`` or ``"unbounded_band"``.
-    delay_independent : bool
-        Passive for every delay ``τ ≥ 0`` (exact).
-    passive_at_zero : bool
-        Passive without delay (exact).
-    certified : bool
-        ``hi - lo <= rtol·hi`` was reached (False: the enclosure is valid but wider).
-    """
-
-    delay: str
-    outcome: Outcome
-    tau_star: tuple[float, float] | None = None
-    frequency: float | None = None
-    loss: str | None = None
-    delay_independent: bool = False
-    passive_at_zero: bool = True
-    certified: bool = True
-    rtol: float = DEFAULT_RTOL
-    cause: str = ""
-    detail: str = ""
-    evaluations: int = 0
-    exact: tuple[fmpq, fmpq] | None = field(default=None, compare=False)
-    impedance: DelayedImpedance | None = field(default=None, compare=False)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "delay": self.delay,
-            "tau_star": list(self.tau_star) if self.tau_star is not None else None,
-            "frequency": self.frequency,
-            "loss": self.loss,
-            "delay_independent": self.delay_independent,
-            "passive_at_zero": self.passive_at_zero,
-            "outcome": str(self.outcome),
-            "certified": self.certified,
-            "rtol": self.rtol,
-            "cause": self.cause,
-            "detail": self.detail,
-            "evaluations": self.evaluations,
-        }
-
-    def curve(self, points: int = 400) -> tuple[np.ndarray, np.ndarray]:
-        """The first failing delay ``g(ω)`` sampled over the dangerous band (for pictures)."""
-        if self.impedance is None:
-            return np.zeros(0), np.zeros(0)
-        f = real_part(self.impedance)
-        if f.order != 1 or high_frequency(f).kind != "positive":
-            return np.zeros(0), np.zeros(0)
-        g = FirstDelay(f)
-        ws: list[float] = []
-        gs: list[float] = []
-        for lo, hi in dangerous_bands(f):
-            a = max(safe_float(lo), safe_float(hi) * 1e-4)
-            for w in np.geomspace(a, safe_float(hi), points):
-                with precision(64):
-                    v = g.at(ep.rational(float(w)))
-                    if g.safe(arb_of(ep.rational(float(w)))) or not v.is_finite():
-                        continue
-                    ws.append(float(w))
-                    gs.append(float(v.mid()))
-        return np.array(ws), np.array(gs)
-
-    def plot(self, *, ax: Any = None, **kwargs: Any) -> Any:
-        """``g(ω)`` over the dangerous band with the enclosure of ``τ*``; returns the Axes."""
-        from ..plot.delay import plot_delay_margin
-
-        return plot_delay_margin(self, ax=ax, **kwargs)
-
-    def __repr__(self) -> str:
-        return short_repr(
-            "DelayMarginResult",
-            {
-                "delay": self.delay,
-                "tau_star": list(self.tau_star) if self.tau_star else None,
-                "loss": self.loss,
-                "frequency": self.frequency,
-                "delay_independent": self.delay_independent or None,
-                "passive_at_zero": None if self.passive_at_zero else False,
-                "outcome": str(self.outcome) if self.outcome is not Outcome.PASSIVE else None,
-            },
-        )
-
-    def _repr_html_(self) -> str:
-        if self.tau_star is not None:
-            lo, hi = self.tau_star
-            star = f"[{lo:.6g}, {hi:.6g}] s"
-        else:
-            star = "every delay" if self.delay_independent else "none (not passive at 0)"
-        rows: list[tuple[str, Any]] = [
-            ("delay margin τ*", star),
-            ("loss", self.loss or "none"),
-            ("frequency", "limit" if self.frequency is None else f"{self.frequency:.6g} rad/s"),
-            ("verdict on [0, lo]", self.outcome.label),
-            ("detail", self.detail),
-        ]
-        return html_card(f"Delay margin of {self.delay}", rows, note="Certified enclosure.")
 
 
 @dataclass
 class _Candidate:
     tau: fmpq  # a delay proven not passive (or the exact low-frequency root's upper end)
-    loss: str
+    loss: MarginLoss
     frequency: float | None
-    cause: str
+    cause: MarginCause
 
 
 def _result(z: DelayedImpedance, **kw: Any) -> DelayMarginResult:
     return DelayMarginResult(delay=z.name, impedance=z, **kw)
 
 
-def _zero_margin(z: DelayedImpedance, detail: str, loss: str, **kw: Any) -> DelayMarginResult:
+def _zero_margin(
+    z: DelayedImpedance, detail: str, loss: MarginLoss, **kw: Any
+) -> DelayMarginResult:
     zero = fmpq(0)
     return _result(
         z, outcome=Outcome.PASSIVE, tau_star=(0.0, 0.0), loss=loss, exact=(zero, zero),
@@ -264,7 +152,10 @@ def _verified_interior(f: TrigRealPart, g: FirstDelay, omega: fmpq, rtol: float)
 
 
 def margin_of(
-    z: DelayedImpedance, *, rtol: float = DEFAULT_RTOL, budget: int = DEFAULT_MARGIN_BUDGET
+    z: DelayedImpedance,
+    *,
+    rtol: float = DEFAULT_RTOL,
+    budget: int = DEFAULT_MARGIN_BUDGET,
 ) -> DelayMarginResult:
     """`delay_margin` of an exact delayed impedance (its delay value is ignored)."""
     res0 = positive_real_test(*z.at(fmpq(1)))
@@ -275,28 +166,28 @@ def margin_of(
         )  # fmt: skip
     f = real_part(z)
     ch = characteristic(z.den)
-    if ch.kind == "unsupported" or f.order > 1:
+    if ch.kind is LoopKind.UNSUPPORTED or f.order > 1:
         raise DelayError(
             "the delay margin is computed for a delay to the first power: N(s,E) and D(s,E) "
             "linear in E = exp(-NAME*s); this design has exp(-k*NAME*s) with k >= 2 in Z"
         )
-    if ch.kind == "advanced":
-        return _zero_margin(z, "advanced-type loop: unstable for every delay > 0", "unbounded_band", cause="stability")  # fmt: skip
+    if ch.kind is LoopKind.ADVANCED:
+        return _zero_margin(z, "advanced-type loop: unstable for every delay > 0", MarginLoss.UNBOUNDED_BAND, cause=MarginCause.STABILITY)  # fmt: skip
     ratio = ch.neutral_ratio
     if ratio is not None and ratio > 1:
-        return _zero_margin(z, "neutral loop with |q_n/p_n| > 1: unstable for every delay > 0", "unbounded_band", cause="stability")  # fmt: skip
+        return _zero_margin(z, "neutral loop with |q_n/p_n| > 1: unstable for every delay > 0", MarginLoss.UNBOUNDED_BAND, cause=MarginCause.STABILITY)  # fmt: skip
     if ratio is not None and ratio == 1:
         return _undecided(z, "neutral loop with |q_n/p_n| = 1: root chains approach the axis")
     if ch.s_power >= 2:
         return _undecided(z, "a pole of order >= 2 at s = 0 in D: the pole order may change with the delay")  # fmt: skip
     inf, _confirm = growth_at_infinity(z)
     if inf is not None:
-        return _zero_margin(z, f"for every delay > 0: {inf.detail}", "unbounded_band", cause="infinity")  # fmt: skip
+        return _zero_margin(z, f"for every delay > 0: {inf.detail}", MarginLoss.UNBOUNDED_BAND, cause=MarginCause.INFINITY)  # fmt: skip
     hf = high_frequency(f)
     if hf.kind == "unbounded":
         return _zero_margin(
             z, "for every delay > 0, Re Z(jw) < 0 at arbitrarily high frequencies (the "
-            "leading term changes sign with w*tau)", "unbounded_band", cause="real_part",
+            "leading term changes sign with w*tau)", MarginLoss.UNBOUNDED_BAND, cause=MarginCause.REAL_PART,
         )  # fmt: skip
     if hf.kind == "tangent":
         return _undecided(z, "the leading high-frequency term of Re Z touches 0: undecided")
@@ -326,22 +217,29 @@ def _enclose(
         if fp(0) == 0:
             first = next(c for c in fp.coeffs() if c != 0)
             if first < 0:
-                return _zero_margin(z, "Re Z(jw) < 0 as w -> 0 for every delay > 0", "low_frequency", cause="real_part")  # fmt: skip
+                return _zero_margin(z, "Re Z(jw) < 0 as w -> 0 for every delay > 0", MarginLoss.LOW_FREQUENCY, cause=MarginCause.REAL_PART)  # fmt: skip
             return _undecided(z, "the low-frequency coefficient of Re Z vanishes at zero delay")
         root = _low_frequency_root(fp, rtol)
         if root == "even":
             return _undecided(z, "the low-frequency coefficient of Re Z touches 0")
         if isinstance(root, tuple):
             low = root
-            cands.append(_Candidate(root[1], "low_frequency", None, "real_part"))
-    every = crossings(ch) if ch.kind in ("retarded", "neutral") else []
+            cands.append(_Candidate(root[1], MarginLoss.LOW_FREQUENCY, None, MarginCause.REAL_PART))
+    every = crossings(ch) if ch.kind in (LoopKind.RETARDED, LoopKind.NEUTRAL) else []
     # lo must stay below every first crossing delay (balls may overlap: take them all)
     stab_floor = min((lower(c.delay) for c in every), default=None)
     crossing = min(every, key=lambda c: upper(c.delay)) if every else None
     if crossing is not None:
         tau_c = upper(crossing.delay) * (1 + ep.rational(rtol) / 16)
         if stability_at(ch, tau_c).stable is False:  # proven unstable just past the crossing
-            cands.append(_Candidate(tau_c, "interior", float(crossing.omega.mid()), "stability"))
+            cands.append(
+                _Candidate(
+                    tau_c,
+                    MarginLoss.INTERIOR,
+                    float(crossing.omega.mid()),
+                    MarginCause.STABILITY,
+                )
+            )
     g = FirstDelay(f) if bands else None
     hf = high_frequency(f)
     omega1 = hf.omega1 if hf.omega1 is not None else fmpq(0)
@@ -352,14 +250,16 @@ def _enclose(
             tau_h = _verified_interior(f, g, w, rtol)
             count += 1
             if tau_h is not None:
-                cands.append(_Candidate(tau_h, "interior", safe_float(w), "real_part"))
+                cands.append(
+                    _Candidate(tau_h, MarginLoss.INTERIOR, safe_float(w), MarginCause.REAL_PART)
+                )
     if not cands:
         return _undecided(z, "no delay at which passivity is lost was found or proven")
     best = min(cands, key=lambda c: c.tau)
     for _round in range(8):
         hi = best.tau
         lo = hi * (1 - ep.rational(rtol) / 2)
-        if low is not None and (lo >= low[0] or best.loss == "low_frequency"):
+        if low is not None and (lo >= low[0] or best.loss is MarginLoss.LOW_FREQUENCY):
             lo = low[0]
         if lo <= 0:
             return _undecided(z, "the margin is below the resolution of rtol", hi)
@@ -387,13 +287,18 @@ def _enclose(
         if status == "counter" and counter is not None:
             tau_h = _verified_interior(f, g, counter, rtol)
             if tau_h is not None and tau_h < best.tau:
-                best = _Candidate(tau_h, "interior", safe_float(counter), "real_part")
+                best = _Candidate(
+                    tau_h,
+                    MarginLoss.INTERIOR,
+                    safe_float(counter),
+                    MarginCause.REAL_PART,
+                )
                 continue
         return _result(
             z, outcome=Outcome.UNDECIDED, tau_star=(0.0, round_up(hi)), certified=False,
             loss=best.loss, frequency=best.frequency, cause=best.cause, evaluations=count,
-            detail=f"passivity on [0, {safe_float(lo):.6g}] s was not certified within "
-            f"{budget} pieces; tau* <= {round_up(hi):.6g} s is proven",
+            detail=f"passivity on [0, {decimal_down(lo, 6)}] s was not certified within "
+            f"{budget} pieces; tau* <= {decimal_up(hi, 6)} s is proven",
         )  # fmt: skip
     return _undecided(z, "the enclosure did not settle", best.tau)
 
@@ -405,14 +310,15 @@ def _final(
     where = "as w -> 0" if best.frequency is None else f"at w = {best.frequency:.6g} rad/s"
     what = (
         "a root of the loop reaches the imaginary axis"
-        if best.cause == "stability"
+        if best.cause is MarginCause.STABILITY
         else "Re Z(jw) < 0"
     )
     return _result(
         z, outcome=Outcome.PASSIVE, tau_star=(lo_f, hi_f), exact=(lo, hi),
         frequency=best.frequency, loss=best.loss, cause=best.cause, rtol=rtol,
         certified=bool(hi - lo <= ep.rational(rtol) * hi), evaluations=count,
-        detail=f"passive for every delay up to {lo_f:.6g} s; beyond {hi_f:.6g} s {what} {where}",
+        detail=f"passive for every delay up to {decimal_down(lo, 6)} s; beyond "
+        f"{decimal_up(hi, 6)} s {what} {where}",
     )  # fmt: skip
 
 
@@ -459,7 +365,7 @@ def delay_margin(
     >>> ours = SEA(D1="k1 + b1*s", CA="(kd + bd*s)*exp(-tau*s)",
     ...            values=dict(m=1, b=10, k1=1000, b1=20, kd=500, bd=25, tau=None))
     >>> r = delay_margin(ours, "tau")
-    >>> r.loss, round(r.tau_star[0], 4), round(r.frequency, 1)
+    >>> str(r.loss), round(r.tau_star[0], 4), round(r.frequency, 1)
     ('interior', 0.0413, 36.5)
     """
     if not (isinstance(rtol, int | float) and math.isfinite(rtol) and MIN_RTOL <= rtol <= 1e-2):

@@ -53,7 +53,7 @@ from ..model.display import html_card, short_repr
 from ..outcome import Outcome
 from .balls import PRECISIONS
 from .sign import DEFAULT_BUDGET, certify
-from .stability import Characteristic, characteristic, stability_at
+from .stability import Characteristic, LoopKind, characteristic, stability_at
 from .structure import DelayedImpedance, SystemLike, delayed_impedance, has_model_delay
 from .trig import real_part
 
@@ -61,6 +61,7 @@ __all__ = [
     "TOLERANCE_POLICY",
     "DelayPassivityResult",
     "DelayReason",
+    "LoopStability",
     "decide",
     "delayed_passivity",
     "growth_at_infinity",
@@ -74,6 +75,14 @@ TOLERANCE_POLICY = (
     "from exact axis crossings; an answer the balls cannot give within the budget is "
     "'undecided', never passive; no Pade approximation is used"
 )
+
+
+class LoopStability(StrEnum):
+    """The loop with the port held, at the delay."""
+
+    STABLE = "stable"
+    UNSTABLE = "unstable"
+    UNDECIDED = "undecided"
 
 
 class DelayReason(StrEnum):
@@ -108,9 +117,9 @@ class DelayPassivityResult:
         The delay parameter.
     tau : float
         The delay [s].
-    stability : str
+    stability : LoopStability
         ``"stable"``, ``"unstable"`` or ``"undecided"`` (the loop with the port held).
-    characteristic : str
+    characteristic : LoopKind or None
         ``"rational"``, ``"retarded"``, ``"neutral"``, ``"advanced"`` or ``"unsupported"``.
     evaluations : int
         Ball evaluations spent on ``Re Z(jω)`` (the counted budget).
@@ -124,8 +133,8 @@ class DelayPassivityResult:
     omega: float | None = None
     delay: str = ""
     tau: float = 0.0
-    stability: str = "stable"
-    characteristic: str = ""
+    stability: LoopStability = LoopStability.STABLE
+    characteristic: LoopKind | None = None
     evaluations: int = 0
     precision: int = 0
     tolerance: str = TOLERANCE_POLICY
@@ -156,8 +165,8 @@ class DelayPassivityResult:
             "witness_frequency": self.omega,
             "omega": self.omega,
             "delay": {"name": self.delay, "tau": self.tau},
-            "stability": self.stability,
-            "characteristic": self.characteristic,
+            "stability": str(self.stability),
+            "characteristic": None if self.characteristic is None else str(self.characteristic),
             "evaluations": self.evaluations,
             "precision": self.precision,
             "tolerance": self.tolerance,
@@ -234,7 +243,8 @@ def _at_zero(z: DelayedImpedance, ch: Characteristic, tau: fmpq) -> DelayPassivi
         rest = ch.common * (ch.p + ch.q)
         if coeffs[order] / rest(fmpq(0)) <= 0:
             return _fail(
-                DelayReason.AXIS_RESIDUE, "the pole at s = 0 has a residue that is not positive"
+                DelayReason.AXIS_RESIDUE,
+                "the pole at s = 0 has a residue that is not positive",
             )
     return None
 
@@ -276,7 +286,10 @@ def _float(q: fmpq | None) -> float | None:
 
 
 def decide(
-    z: DelayedImpedance, *, budget: int = DEFAULT_BUDGET, max_precision: int = PRECISIONS[-1]
+    z: DelayedImpedance,
+    *,
+    budget: int = DEFAULT_BUDGET,
+    max_precision: int = PRECISIONS[-1],
 ) -> DelayPassivityResult:
     """Decide the passivity of an exact delayed impedance at its delay ``z.tau``."""
     if z.tau is None:
@@ -292,7 +305,11 @@ def decide(
             detail=res.detail, omega=res.omega, **base,
         )  # fmt: skip
     st = stability_at(ch, tau)
-    base["stability"] = {True: "stable", False: "unstable", None: "undecided"}[st.stable]
+    base["stability"] = {
+        True: LoopStability.STABLE,
+        False: LoopStability.UNSTABLE,
+        None: LoopStability.UNDECIDED,
+    }[st.stable]
     if st.stable is False:
         return _fail(DelayReason.RHP_POLE, f"the loop is unstable: {st.detail}", **base)
     zero = _at_zero(z, ch, tau) if st.stable else None

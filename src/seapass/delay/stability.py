@@ -35,7 +35,7 @@ Examples
 
 >>> from flint import fmpq, fmpq_poly
 >>> ch = characteristic((fmpq_poly([2, 1]), fmpq_poly([1])))
->>> ch.kind, stability_at(ch, fmpq(5)).stable, delay_independent_stability(ch)
+>>> str(ch.kind), stability_at(ch, fmpq(5)).stable, delay_independent_stability(ch)
 ('retarded', True, True)
 
 ``s + 1/2 + 2 e^{-sτ}`` crosses at ``ω = √15/2`` and is unstable from ``τ ≈ 0.94``:
@@ -51,6 +51,7 @@ from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass, field
+from enum import StrEnum
 
 from flint import acb, arb, arb_poly, fmpq, fmpq_poly
 
@@ -61,6 +62,7 @@ from .balls import PRECISIONS, arb_of, ball, precision
 __all__ = [
     "Characteristic",
     "Crossing",
+    "LoopKind",
     "Stability",
     "characteristic",
     "crossings",
@@ -152,6 +154,21 @@ def rhp_count(p: fmpq_poly) -> int | None:
 # ---------------------------------------------------------------- the quasi-polynomial
 
 
+class LoopKind(StrEnum):
+    """The type of the characteristic equation ``p(s) + q(s) e^{-sτ} = 0``."""
+
+    RATIONAL = "rational"
+    """No delay in ``D``."""
+    RETARDED = "retarded"
+    """``deg q < deg p``."""
+    NEUTRAL = "neutral"
+    """``deg q = deg p``."""
+    ADVANCED = "advanced"
+    """``deg q > deg p``: unstable for every delay ``> 0``."""
+    UNSUPPORTED = "unsupported"
+    """``E²`` or higher in ``D``."""
+
+
 @dataclass(frozen=True)
 class Characteristic:
     """``D(s, E) = s^k · common(s) · (p(s) + q(s) E)``; ``kind`` as in the module docstring
@@ -161,12 +178,12 @@ class Characteristic:
     q: fmpq_poly
     s_power: int
     common: fmpq_poly
-    kind: str
+    kind: LoopKind
 
     @property
     def neutral_ratio(self) -> fmpq | None:
         """``|q_n/p_n|`` of a neutral equation (None otherwise)."""
-        if self.kind != "neutral":
+        if self.kind is not LoopKind.NEUTRAL:
             return None
         return abs(self.q.leading_coefficient() / self.p.leading_coefficient())
 
@@ -182,22 +199,22 @@ def characteristic(den: tuple[fmpq_poly, ...]) -> Characteristic:
     while len(parts) > 1 and parts[-1].is_zero():
         parts.pop()
     if len(parts) > 2:
-        return Characteristic(parts[0], fmpq_poly([]), 0, fmpq_poly([1]), "unsupported")
+        return Characteristic(parts[0], fmpq_poly([]), 0, fmpq_poly([1]), LoopKind.UNSUPPORTED)
     big_p = parts[0]
     big_q = parts[1] if len(parts) > 1 else fmpq_poly([])
     k = min(_s_order(big_p), _s_order(big_q) if not big_q.is_zero() else _s_order(big_p))
     shift = fmpq_poly([0, 1]) ** k
     big_p, big_q = big_p // shift, big_q // shift
     if big_q.is_zero():
-        return Characteristic(big_p, big_q, k, fmpq_poly([1]), "rational")
+        return Characteristic(big_p, big_q, k, fmpq_poly([1]), LoopKind.RATIONAL)
     g = big_p.gcd(big_q)
     p, q = big_p // g, big_q // g
     if q.degree() > p.degree():
-        kind = "advanced"
+        kind = LoopKind.ADVANCED
     elif q.degree() == p.degree():
-        kind = "neutral"
+        kind = LoopKind.NEUTRAL
     else:
-        kind = "retarded"
+        kind = LoopKind.RETARDED
     return Characteristic(p, q, k, g, kind)
 
 
@@ -254,7 +271,7 @@ def _crossing_at(ch: Characteristic, w_poly: fmpq_poly, iv: tuple[fmpq, fmpq]) -
 
 def crossings(ch: Characteristic) -> list[Crossing]:
     """Every frequency at which a root crosses the axis for some ``τ > 0`` (retarded/neutral)."""
-    if ch.kind not in ("retarded", "neutral"):
+    if ch.kind not in (LoopKind.RETARDED, LoopKind.NEUTRAL):
         return []
     w_poly = squared_magnitude_polynomial(ch.p) - squared_magnitude_polynomial(ch.q)
     if w_poly.is_zero():
@@ -295,14 +312,14 @@ def stability_at(ch: Characteristic, tau: fmpq) -> Stability:
     bad = _common_ok(ch)
     if bad is not None:
         return bad
-    if ch.kind == "unsupported":
+    if ch.kind is LoopKind.UNSUPPORTED:
         return Stability(None, "the characteristic equation has e^{-2s tau} or higher: unsupported")
-    if ch.kind == "rational" or tau == 0:
+    if ch.kind is LoopKind.RATIONAL or tau == 0:
         n = rhp_count(ch.p + ch.q)
         if n is None:
             return Stability(None, "a root on the imaginary axis")
         return Stability(n == 0, "" if n == 0 else f"{n} right-half-plane roots", n)
-    if ch.kind == "advanced":
+    if ch.kind is LoopKind.ADVANCED:
         return Stability(False, "advanced type (deg Q > deg P): infinitely many unstable roots")
     ratio = ch.neutral_ratio
     if ratio is not None and ratio > 1:
@@ -333,16 +350,16 @@ def delay_independent_stability(ch: Characteristic) -> bool | None:
             return None
         if n > 0:
             return False
-    if ch.kind == "unsupported":
+    if ch.kind is LoopKind.UNSUPPORTED:
         return None
     n0 = rhp_count(ch.p + ch.q)
     if n0 is None:
         return None
     if n0 > 0:
         return False
-    if ch.kind == "rational":
+    if ch.kind is LoopKind.RATIONAL:
         return True
-    if ch.kind == "advanced":
+    if ch.kind is LoopKind.ADVANCED:
         return False
     ratio = ch.neutral_ratio
     if ratio is not None and ratio >= 1:
