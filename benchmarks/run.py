@@ -26,6 +26,7 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+import bench_delay  # noqa: E402
 import bench_exact  # noqa: E402
 import bench_explore  # noqa: E402
 import bench_export  # noqa: E402
@@ -112,6 +113,7 @@ def main(argv: list[str] | None = None) -> int:
         bench_sampled,
         bench_ports,
         bench_robust,
+        bench_delay,
     ):
         print(f"running {mod.__name__} ...", file=sys.stderr, flush=True)
         r, n = mod.run(args.quick)

@@ -31,6 +31,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("model",),
     ("analysis",),
     ("ports",),
+    ("delay",),
     ("sim",),
     ("batch",),
     ("sampled",),

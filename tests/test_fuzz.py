@@ -461,6 +461,8 @@ SLOW_BAD = [
     ["tune", "--load-mass", "nan"],
     ["tune", "--set", "kd=1", "--bound", "kd=5:1"],
     ["tune", "--maxiter", "-5"],
+    ["delay-margin", "tau", "ours", "--rtol", "nan"],
+    ["delay-margin", "tau", "--Z", "exp(s)"],
     ["sweep", "--grid", "kd=abc"],
     ["sweep", "--range", "1:0"],
     ["sweep", "--sample", "-1"],

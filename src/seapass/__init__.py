@@ -13,6 +13,7 @@ subpackage          what lives there
 ``seapass.model``   ``SEA``, the safe parser, stiffness, catalog, design files
 ``seapass.analysis``  exact passivity, conditions, passive sets, witnesses
 ``seapass.ports``   two-ports and n-ports: absolute stability, passivity
+``seapass.delay``   continuous time delay: certified passivity, delay margin
 ``seapass.sim``     simulation, tracking metrics
 ``seapass.batch``   vectorized verdicts and step metrics
 ``seapass.sampled``  discrete controllers, sampled-data passivity, runtime
@@ -57,6 +58,7 @@ _LAZY: dict[str, str] = {
     "load_design": "model.design_file",
     "derive_stiffness": "model.stiffness",
     "is_passive": "robust.api",
+    "delay_margin": "delay.margin",
     "PassivityResult": "analysis.passivity",
     "passivity_indices": "analysis.indices",
     "passive_intervals": "robust.api",
@@ -85,9 +87,9 @@ _LAZY: dict[str, str] = {
 }
 
 _SUBPACKAGES = frozenset(
-    {"analysis", "batch", "cli", "errors", "exact", "explore", "export", "files", "model",
-     "outcome", "paper", "plot", "ports", "report", "rig", "robust", "sampled", "sim", "sweep",
-     "tuning"}
+    {"analysis", "batch", "cli", "delay", "errors", "exact", "explore", "export", "files",
+     "model", "outcome", "paper", "plot", "ports", "report", "rig", "robust", "sampled", "sim",
+     "sweep", "tuning"}
 )  # fmt: skip
 """Every subpackage and top-level module, loaded on first attribute access."""
 
@@ -105,6 +107,7 @@ __all__ = [
     "__version__",
     "absolute_stability",
     "analyze",
+    "delay_margin",
     "derive_controller",
     "derive_stiffness",
     "exact_passivity_condition",
@@ -152,6 +155,7 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
     from .analysis.passivity import PassivityResult
     from .analysis.region import passive_map
     from .analysis.witness import find_destabilizing_environment
+    from .delay.margin import delay_margin
     from .export.c_code import export_c
     from .model.controller import Controller, derive_controller
     from .model.design_file import Design, load_design

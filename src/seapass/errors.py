@@ -12,6 +12,7 @@ from collections.abc import Iterable
 __all__ = [
     "CompilerError",
     "DegenerateModelError",
+    "DelayError",
     "ExpressionError",
     "FileFormatError",
     "MissingExtraError",
@@ -64,6 +65,11 @@ class ModelError(SeapassError, ValueError):
 
 class DegenerateModelError(ModelError):
     """A model whose port impedance is identically zero or undefined."""
+
+
+class DelayError(ModelError):
+    """A delay ``exp(-NAME*s)`` where a method does not support one, or a delayed model
+    outside the structure seapass decides (see ``seapass.delay``)."""
 
 
 class UnrealizableError(ModelError):

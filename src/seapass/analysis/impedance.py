@@ -19,6 +19,7 @@ from flint import fmpq, fmpq_mpoly, fmpq_poly
 from ..errors import ParameterError
 from ..exact import poly as ep
 from ..exact.axis import at_j_omega, even_to_x
+from ..model.delayatom import delay_refusal, model_delays
 from ..model.expr import to_fraction
 from ..model.freebody import exact_impedance
 from ..model.rational import S_NAME, univariate
@@ -108,7 +109,11 @@ def compiled_impedance(system: SEA | Impedance) -> tuple[fmpq_mpoly, fmpq_mpoly,
         if found is not None:
             _CACHE.move_to_end(key)
             return found
-    num, den = exact_impedance(system).canonical()
+    z = exact_impedance(system)
+    delays = model_delays(z)
+    if delays:  # E = e^{-s tau} is no parameter: the exact rational test does not apply
+        raise delay_refusal(delays[0])
+    num, den = z.canonical()
     found = (num, den, exact_support(num, den))
     with _LOCK:
         _CACHE[key] = found

@@ -41,6 +41,7 @@ COMMANDS: tuple[str, ...] = (
     "simulate",
     "tune",
     "sampled",
+    "delay_margin",
     "sweep",
     "rig",
     "export",

@@ -25,10 +25,16 @@ EXAMPLE = """examples:
       --impedance "kv + bv*s" --damping-injection ba --feedforward --explain \\
       --set m=0.4 --set b=3 --set k1=2500 --set b1=2 --set kp=2 --set ki=20 \\
       --set kv=1000 --set bv=5 --set ba=20
+  seapass check --D1 "k1 + b1*s" --CA "(kd + bd*s)*exp(-tau*s)" --set m=1 --set b=10 \
+      --set k1=1000 --set b1=20 --set kd=500 --set bd=25 --set tau=0.001 --json
+
+A delay factor exp(-NAME*s) (NAME a parameter in seconds) is decided with certified
+ball arithmetic; an answer it cannot certify is 'undecided' (exit 1), never passive.
 
 exit codes (like cmp, so a CI job can gate on it):
   0  passive
-  1  not passive (with --uncertain: not passive for some plant of the box, or undecided)
+  1  not passive (with --uncertain: not passive for some plant of the box, or undecided;
+     with a delay: or undecided)
   2  bad input or another error (one 'error:' line on stderr)
 """
 
@@ -51,18 +57,29 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     p.add_argument("--explain", action="store_true",
                    help="also show how C_A and C_L follow from the controller blocks")  # fmt: skip
     add_json_option(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, allow_delay=True)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..analysis.indices import passivity_indices
-    from ..analysis.passivity import is_passive
+    from ..delay.passivity import DelayPassivityResult, is_passive
 
     if args.uncertain:
         return run_robust_check(args)
     system, resolved = system_from_design_args(args)
     realizable = warn_unrealizable(system)
     result = is_passive(system)
+    if isinstance(result, DelayPassivityResult):  # a delay exp(-NAME*s): certified, no indices
+        if args.json:
+            print_json({**result.to_dict(), "indices": None, "realizable": realizable})
+        else:
+            print(f"{result.status}: {result.detail}")
+            if result.omega is not None:
+                print(f"witness: Re Z(jw) < 0 at w = {result.omega:.6g} rad/s (proven)")
+            print(
+                f"delay: {result.delay} = {result.tau:g} s; loop with the port held: {result.stability}"
+            )
+        return 0 if result.passive else 1
     indices = passivity_indices(system)
     explained = _explanation(args, system) if args.explain else None
     if args.json:

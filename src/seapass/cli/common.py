@@ -384,13 +384,16 @@ def model_from_args(
         values[name] = None
     CA, CL = elements_from_args(args, values)
     try:
-        return SEA(
-            D1=args.D1 or "0",
-            D2=args.D2 or "0",
-            CA=CA or "0",
-            CL=CL or "0",
-            values=values,
-            plant=tuple(plant),
+        return refuse_delay_unless_allowed(
+            args,
+            SEA(
+                D1=args.D1 or "0",
+                D2=args.D2 or "0",
+                CA=CA or "0",
+                CL=CL or "0",
+                values=values,
+                plant=tuple(plant),
+            ),
         )
     except ParameterError as exc:
         free = {f"values[{n!r}]": label for n, label in labels.items()}
@@ -427,7 +430,25 @@ def system_from_args(args: argparse.Namespace) -> Any:
         return model_from_args(args)
     if model_given(args):
         raise ParameterError("give either --Z or the model elements --D1/--D2/--CA/--CL, not both")
-    return Impedance(expr=args.Z, values=values_from_args(args))
+    return refuse_delay_unless_allowed(args, Impedance(expr=args.Z, values=values_from_args(args)))
+
+
+DELAY_COMMANDS = "'seapass check' and 'seapass delay-margin'"
+"""The commands that decide a model with a delay factor ``exp(-NAME*s)``."""
+
+
+def refuse_delay_unless_allowed(args: argparse.Namespace, system: Any) -> Any:
+    """Refuse a delay factor in a command that does not handle one (``allow_delay`` unset)."""
+    from ..delay.structure import has_model_delay
+
+    if not getattr(args, "allow_delay", False) and has_model_delay(system):
+        from ..errors import DelayError
+
+        raise DelayError(
+            f"this command does not handle a delay exp(-NAME*s) yet; {DELAY_COMMANDS} "
+            "decide delayed designs"
+        )
+    return system
 
 
 def announce_report(out: Path, written: Sequence[Path]) -> None:

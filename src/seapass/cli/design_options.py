@@ -23,7 +23,14 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from ..errors import ParameterError
-from .common import check_period, parse_named, parse_range, values_from_args, warn
+from .common import (
+    check_period,
+    parse_named,
+    parse_range,
+    refuse_delay_unless_allowed,
+    values_from_args,
+    warn,
+)
 
 __all__ = [
     "add_design_argument",
@@ -192,7 +199,7 @@ def design_from_args(
         check_period(args.period)
         loop = {k: getattr(args, k, None) for k in ("period", "delay", "velocity_filter", "method")}
     try:
-        return resolve_design(
+        resolved = resolve_design(
             design,
             elements=elements,
             values=values,
@@ -212,6 +219,8 @@ def design_from_args(
             msg = str(exc)[len(exc.argument) + 2 :]
             raise ParameterError(f"{where[exc.argument]}: {msg}") from None
         raise
+    refuse_delay_unless_allowed(args, resolved.sea)
+    return resolved
 
 
 def system_from_design_args(args: argparse.Namespace) -> tuple[Any, Any]:
@@ -230,7 +239,8 @@ def system_from_design_args(args: argparse.Namespace) -> tuple[Any, Any]:
         )
     if args.unit:
         raise ParameterError("--unit names a parameter of an SEA design, not of --Z")
-    return Impedance(expr=args.Z, values=values_from_args(args)), None
+    z = Impedance(expr=args.Z, values=values_from_args(args))
+    return refuse_delay_unless_allowed(args, z), None
 
 
 def declared(args: argparse.Namespace) -> bool:

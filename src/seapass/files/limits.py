@@ -15,7 +15,11 @@ from __future__ import annotations
 from ..errors import ParameterError
 
 __all__ = [
+    "MAX_DELAY_GAINS",
+    "MAX_DELAY_MULTIPLE",
+    "MAX_DELAY_PIECES",
     "MAX_DELAY_SAMPLES",
+    "MAX_DELAY_SECONDS",
     "MAX_DESCRIPTION_CHARS",
     "MAX_DESIGNS",
     "MAX_EXACT_BITS",
@@ -148,6 +152,19 @@ split into boxes so small that the budgeted branch and bound cannot end."""
 
 MAX_UNCERTAIN_MAGNITUDE = 1e12
 """Largest ``|LO|``, ``|HI|`` of an uncertain parameter (keeps the exact rationals small)."""
+MAX_DELAY_SECONDS = 1000.0
+"""A continuous delay ``exp(-NAME*s)``, in seconds (beyond it a value is a unit slip)."""
+
+MAX_DELAY_PIECES = 100_000
+"""Initial pieces of the middle band that a certified check at a fixed delay may scan
+(``θ = ωτ`` advances at most 1 rad per piece): a longer delay is refused up front unless a
+witness or the delay-independent test settles it first."""
+
+MAX_DELAY_MULTIPLE = 4
+"""Largest whole multiple ``k`` in ``exp(-k*NAME*s)`` (the power of ``E = e^{-sτ}``)."""
+
+MAX_DELAY_GAINS = 200
+"""Gains evaluated by one (gain, delay) region or edge search (each a certified delay margin)."""
 
 MIN_RTOL = 1e-12
 """Smallest relative width of a certified edge enclosure (``rtol`` of

@@ -81,10 +81,12 @@ def fraction_size(expr: sp.Expr) -> FractionSize:
     FractionSize(num_degree=1, den_degree=1, num_terms=2, den_terms=1)
     """
 
+    from .symbolic import Delay  # loaded by now: symbolic imports this module
+
     def walk(e: sp.Basic) -> tuple[int, int, int, int]:  # deg N, deg D, terms N, terms D
         if e == _S:
             return 1, 0, 1, 1
-        if e.is_Atom:
+        if e.is_Atom or isinstance(e, Delay):  # a delay e^{-sτ} is a constant generator
             return 0, 0, 1, 1
         if isinstance(e, sp.Add):
             dn, dd, tn, td = walk(e.args[0])

@@ -16,7 +16,6 @@ May import: [`seapass.errors`][seapass.errors] and the modules of
 
 from __future__ import annotations
 
-import ast
 import functools
 from collections.abc import Iterable, Mapping
 from fractions import Fraction
@@ -26,7 +25,7 @@ from typing import Any, TypeAlias
 from flint import fmpq
 
 from ..errors import ExpressionError, ParameterError, did_you_mean
-from .expr import check_name, exact_expression, parse_tree, to_fraction
+from .expr import check_name, exact_expression, parse_tree, to_fraction, tree_names
 from .rational import RatFunc, context, variables
 
 __all__ = [
@@ -172,11 +171,10 @@ def source_names(source: Source, allowed: frozenset[str]) -> frozenset[str]:
     """
     kind, value = source
     if kind == "text":
-        tree = parse_tree(value, allowed)
-        return frozenset(n.id for n in ast.walk(tree) if isinstance(n, ast.Name)) - {"s"}
+        return tree_names(parse_tree(value, allowed))
     if kind == "number":
         return frozenset()
-    return frozenset(str(x) for x in value.free_symbols) - {"s"}
+    return frozenset(str(x) for x in value.free_symbols) - {"s"}  # Delay(tau) holds tau
 
 
 def poly_names(p: Any) -> set[str]:

@@ -3,14 +3,15 @@
 User text is never given to `eval` or to a plain `sympy.sympify`.
 It is parsed by `ast` in ``eval`` mode and every node is checked against a
 whitelist (`parse_tree`): numeric literals, whitelisted names, ``+ - * /``, unary
-signs and integer powers (``**`` or ``^``).  The checked tree is then folded node
+signs, integer powers (``**`` or ``^``) and one delay factor ``exp(-NAME*s)`` (the only
+call allowed; see [`seapass.model.delayatom`][seapass.model.delayatom]).  The checked tree is then folded node
 by node by `evaluate`, with one dispatch table from node kinds to the operations of
 an *algebra*, so no user string ever reaches a code path that can execute code.
 Two algebras exist: exact rational functions of ``s`` and the parameters
 (`exact_expression`, [`seapass.model.rational`][seapass.model.rational]; no sympy)
 and sympy expressions (`parse_expression`, for the symbolic analyses; sympy is
-imported on first use).  A new kind of atom (a delay factor, say) is one more
-entry of the table and one more algebra operation.
+imported on first use).  A new kind of atom is one more entry of the table and one
+more algebra operation, as the delay factor is (``delay``).
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from typing import TYPE_CHECKING, Any, Generic, Protocol, TypeVar
 
 from ..errors import ExpressionError, ParameterError, SymbolicLimitError, did_you_mean
 from ..files.limits import MAX_EXPONENT, MAX_EXPRESSION_LENGTH, MAX_NODES
+from .delayatom import call_names, check_one_delay, delay_call, delay_variable, tree_delays
 from .values import (
     check_ascii,
     check_name,
@@ -62,6 +64,7 @@ __all__ = [
     "parse_value",
     "symbol",
     "to_fraction",
+    "tree_names",
     "underflows",
     "validate_values",
 ]
@@ -144,7 +147,14 @@ def _checked_tree(src: str, allowed: frozenset[str]) -> ast.expr:
     if nodes > MAX_NODES:
         raise ExpressionError(f"expression {src!r} is too large ({nodes} nodes > {MAX_NODES})")
     _check(tree.body, allowed, src)
+    check_one_delay(tree_delays(tree.body), repr(src))
     return tree.body
+
+
+def tree_names(tree: ast.AST) -> frozenset[str]:
+    """The parameter names a checked tree uses (``s`` and function names left out)."""
+    names = frozenset(n.id for n in ast.walk(tree) if isinstance(n, ast.Name))
+    return names - call_names(tree) - {"s"}
 
 
 def _check(node: ast.AST, allowed: frozenset[str], src: str) -> None:
@@ -167,11 +177,11 @@ def _check(node: ast.AST, allowed: frozenset[str], src: str) -> None:
             _integer_exponent(node.right, src)
         else:
             _check(node.right, allowed, src)
+    elif isinstance(node, ast.Call):  # the one extension point: a delay exp(-NAME*s)
+        delay_call(node, allowed, src)
     else:
         what = type(node).__name__
-        if isinstance(node, ast.Call):
-            what = "function call"
-        elif isinstance(node, ast.Attribute):
+        if isinstance(node, ast.Attribute):
             what = "attribute access"
         raise ExpressionError(
             f"{what} is not allowed in {src!r}: use numbers, parameter names, s, + - * / and "
@@ -240,6 +250,7 @@ class Algebra(Protocol[T]):
     def div(self, left: T, right: T) -> T: ...
     def neg(self, operand: T) -> T: ...
     def power(self, base: T, exponent: int) -> T: ...
+    def delay(self, name: str, multiple: int) -> T: ...
 
 
 class _Fold(Generic[T]):
@@ -253,6 +264,7 @@ class _Fold(Generic[T]):
             ast.Name: self.name,
             ast.UnaryOp: self.unary,
             ast.BinOp: self.binary,
+            ast.Call: self.call,
         }
 
     def __call__(self, node: ast.AST) -> T:
@@ -267,6 +279,9 @@ class _Fold(Generic[T]):
     def unary(self, node: ast.UnaryOp) -> T:
         inner = self(node.operand)
         return self.algebra.neg(inner) if isinstance(node.op, ast.USub) else inner
+
+    def call(self, node: ast.Call) -> T:
+        return self.algebra.delay(*delay_call(node, None, self.src))
 
     def binary(self, node: ast.BinOp) -> T:
         a = self.algebra
@@ -324,8 +339,8 @@ def _exact(src: str, allowed: frozenset[str]) -> RatFunc:
     from .rational import RatFunc, context, variables
 
     tree = _checked_tree(src, allowed)
-    names = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
-    ctx = context(variables(names))
+    delays = tree_delays(tree)
+    ctx = context(variables(tree_names(tree) | {delay_variable(d) for d in delays}))
 
     class Exact:
         def number(self, value: Fraction) -> RatFunc:
@@ -343,6 +358,9 @@ def _exact(src: str, allowed: frozenset[str]) -> RatFunc:
         div = staticmethod(RatFunc.__truediv__)
         neg = staticmethod(RatFunc.__neg__)
         power = staticmethod(RatFunc.__pow__)
+
+        def delay(self, name: str, multiple: int) -> RatFunc:
+            return RatFunc.variable(ctx, delay_variable(name)) ** multiple
 
     try:
         return evaluate(tree, Exact(), src)

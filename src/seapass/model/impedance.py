@@ -16,6 +16,7 @@ from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 from ..errors import DegenerateModelError, ExpressionError
+from .delayatom import delay_of_variable
 from .display import html_card, short_repr
 from .elements import (
     LazySympy,
@@ -86,7 +87,7 @@ class Impedance:
         state["_given"] = (given, self.num, self.den)
         # before cancelling: a parameter that cancels out was still used
         check_used(vals, _impedance_parts(sources, allowed)[1], "Z")
-        left = self.exact().parameters()
+        left = _user_names(self.exact().parameters())
         if set(vals) - left:  # a parameter that cancelled out no longer matters
             object.__setattr__(
                 self, "values", MappingProxyType({k: v for k, v in vals.items() if k in left})
@@ -113,7 +114,7 @@ class Impedance:
 
     @property
     def parameters(self) -> tuple[str, ...]:
-        return tuple(sorted(self.exact().parameters()))
+        return tuple(sorted(_user_names(self.exact().parameters())))
 
     @property
     def free_parameters(self) -> tuple[str, ...]:
@@ -159,6 +160,11 @@ class Impedance:
         rows: list[tuple[str, Any]] = [("Z(s)", str(self.expr))]
         rows += [(k, "free" if v is None else v) for k, v in self.values.items()]
         return html_card("Impedance", rows)
+
+
+def _user_names(names: frozenset[str]) -> frozenset[str]:
+    """Parameter names as a user writes them: the delay variable ``_E_tau`` is ``tau``."""
+    return frozenset(delay_of_variable(n) or n for n in names)
 
 
 def _coefficients(coeffs: Any, allowed: frozenset[str], what: str) -> tuple[Source, ...]:

@@ -20,6 +20,7 @@ coefficient positive in sympy's order of generators), so results printed from
 either path agree to the last bit.
 
 What lives here: `RatFunc`, the variable ordering (`variables`).  May import:
+`seapass.model.delayatom` (the delay variable's prefix),
 [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files] and python-flint.
 """
 
@@ -34,6 +35,7 @@ from flint import fmpq, fmpq_mpoly, fmpq_mpoly_ctx, fmpq_poly, fmpz
 
 from ..errors import SymbolicLimitError
 from ..files.limits import MAX_EXACT_BITS, MAX_EXACT_DEGREE, MAX_EXACT_TERMS, MAX_EXACT_WORK
+from .delayatom import DELAY_PREFIX, delay_refusal
 
 __all__ = ["S_NAME", "RatFunc", "context", "on_axis", "sympy_order", "univariate", "variables"]
 
@@ -303,11 +305,19 @@ _S_ONLY = fmpq_mpoly_ctx.get((S_NAME,), "lex")
 
 
 def univariate(p: fmpq_mpoly, values: Mapping[str, fmpq]) -> fmpq_poly:
-    """``p`` with every variable but ``s`` replaced by ``values[name]``, as an ``fmpq_poly``."""
-    args = [
-        _S_ONLY.gen(0) if n == S_NAME else _S_ONLY.constant(values.get(n, 0))
-        for n in p.context().names()
-    ]
+    """``p`` with every variable but ``s`` replaced by ``values[name]``, as an ``fmpq_poly``.
+
+    Raises
+    ------
+    DelayError
+        When ``p`` holds a delay ``E = e^{-sτ}`` (the variable ``_E_tau``): it is no
+        number, and a rational analysis does not apply (see [`seapass.delay`][seapass.delay]).
+    """
+    names = p.context().names()
+    for n, d in zip(names, p.degrees(), strict=True):
+        if d > 0 and n.startswith(DELAY_PREFIX):
+            raise delay_refusal(n[len(DELAY_PREFIX) :])
+    args = [_S_ONLY.gen(0) if n == S_NAME else _S_ONLY.constant(values.get(n, 0)) for n in names]
     q = p.compose(*args, ctx=_S_ONLY)
     if q.is_zero():
         return fmpq_poly([])

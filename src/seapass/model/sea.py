@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, NamedTuple, TypeAlias
 
 from ..errors import DegenerateModelError, ExpressionError, ParameterError, did_you_mean
+from .delayatom import model_delays
 from .display import html_card, short_repr
 from .elements import (
     LazySympy,
@@ -95,7 +96,9 @@ def _model_facts(sources: tuple[Source, ...], allowed: frozenset[str]) -> _Facts
             dens.append((attr, exact[attr].den, names))
     return _Facts(
         parameters=tuple(sorted(used)),
-        s_in_mass_or_damping=next((a for a in ("m", "b") if "s" in exact[a].names()), ""),
+        s_in_mass_or_damping=next(
+            (a for a in ("m", "b") if "s" in exact[a].names() or model_delays(exact[a])), ""
+        ),
         port_unconnected=exact["D1"].is_zero and exact["D2"].is_zero,
         mass=exact["m"],
         denominators=tuple(dens),

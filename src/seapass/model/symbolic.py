@@ -6,8 +6,9 @@ rational functions ([`seapass.model.rational`][seapass.model.rational]) and neve
 imports this module.  The parser proper (the whitelist, the fold of a checked tree)
 lives in [`seapass.model.expr`][seapass.model.expr].
 
-What lives here: `S`, `W`, `symbol`, `sympy_expression`, `check_sympy_input`,
-`exact_from_sympy`.
+What lives here: `S`, `W`, `symbol`, `Delay` (the sympy form of a delay factor
+``exp(-NAME*s)``, see [`seapass.model.delayatom`][seapass.model.delayatom]),
+`sympy_expression`, `check_sympy_input`, `exact_from_sympy`.
 May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files] and
 the modules of [`seapass.model`][seapass.model] below it (`expr`, `budget`, `rational`).
 """
@@ -24,10 +25,21 @@ from flint import fmpq
 
 from ..errors import ExpressionError
 from .budget import check_symbolic_size
+from .delayatom import check_one_delay, delay_variable
 from .expr import evaluate
 from .rational import RatFunc, context, variables
 
-__all__ = ["S", "W", "check_sympy_input", "exact_from_sympy", "symbol", "sympy_expression"]
+__all__ = [
+    "Delay",
+    "S",
+    "W",
+    "check_sympy_input",
+    "delay_atoms",
+    "delay_names",
+    "exact_from_sympy",
+    "symbol",
+    "sympy_expression",
+]
 
 S = sp.Symbol("s")
 """Laplace variable and angular frequency."""
@@ -37,6 +49,43 @@ W = sp.Symbol("w", real=True)
 def symbol(name: str) -> sp.Symbol:
     """Return the positive real sympy symbol used for parameter ``name``."""
     return sp.Symbol(name, positive=True)
+
+
+class Delay(sp.Function):
+    """``e^{-s·τ}`` of the delay parameter ``τ`` (``Delay(tau)``); printed ``exp(-tau*s)``.
+
+    For sympy it is a constant (it does not contain ``s``): a generator ``E``.
+
+    Examples
+    --------
+    >>> from seapass.model.expr import parse_expression
+    >>> z = parse_expression("kd*exp(-2*tau*s)", ["kd", "tau"])
+    >>> z, delay_names(z)
+    (kd*exp(-tau*s)**2, ('tau',))
+    """
+
+    nargs = 1
+
+    def _sympystr(self, printer: Any) -> str:
+        arg = printer._print(self.args[0])
+        if not self.args[0].is_Symbol:
+            arg = f"({arg})"
+        return f"exp(-{arg}*s)"
+
+    def _latex(self, printer: Any) -> str:
+        return rf"e^{{-{printer._print(self.args[0])} s}}"
+
+
+def delay_atoms(expr: Any) -> set[sp.Expr]:
+    """The distinct delay applications ``Delay(τ)`` in ``expr``."""
+    if not isinstance(expr, sp.Basic):
+        return set()
+    return set(expr.atoms(Delay))
+
+
+def delay_names(expr: Any) -> tuple[str, ...]:
+    """Names of the delay parameters in ``expr``, sorted."""
+    return tuple(sorted(str(a.args[0]) for a in delay_atoms(expr)))
 
 
 class _Sympy:
@@ -78,6 +127,9 @@ class _Sympy:
             raise ZeroDivisionError
         return base**exponent
 
+    def delay(self, name: str, multiple: int) -> sp.Expr:
+        return Delay(symbol(name)) ** multiple
+
 
 def sympy_expression(tree: ast.expr, src: str) -> sp.Expr:
     """The sympy expression of a tree checked by [`parse_tree`][seapass.model.expr.parse_tree]."""
@@ -108,6 +160,9 @@ def check_sympy_input(expr: sp.Expr, allowed: Iterable[str], what: str) -> sp.Ex
         else:
             raise ExpressionError(f"{what}: unknown symbol {name!r}")
     expr = expr.xreplace(subs)
+    check_one_delay(delay_names(expr), what)
+    if any(not a.args[0].is_Symbol for a in delay_atoms(expr)):
+        raise ExpressionError(f"{what}: a delay must be exp(-NAME*s) with NAME a parameter")
     if not expr.is_rational_function(S):
         raise ExpressionError(f"{what}: {expr} is not a rational function of s")
     check_symbolic_size(expr, what)
@@ -122,6 +177,8 @@ def exact_from_sympy(expr: sp.Expr, what: str) -> RatFunc:
     ExpressionError
         When a coefficient is not a rational number (``sqrt(2)*s``, say).
     """
+    # a delay Delay(tau) is the exact variable _E_tau (see seapass.model.delayatom)
+    expr = expr.xreplace({a: sp.Symbol(delay_variable(str(a.args[0]))) for a in delay_atoms(expr)})
     num, den = sp.fraction(sp.together(expr))
     gens = [x for x in (num.free_symbols | den.free_symbols)]
     ctx = context(variables(str(x) for x in gens if x != S))

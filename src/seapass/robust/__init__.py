@@ -11,7 +11,7 @@ the box, a verified worst-case plant, or undecided),
 [`intervals`][seapass.robust.intervals] (robust passive intervals of a gain) and
 [`api`][seapass.robust.api] (``is_passive`` and ``passive_intervals`` with ``box=``).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis].
+May import: [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box).
 """
 
 from .box import UncertainBox, uncertain_box

@@ -1,0 +1,155 @@
+"""``seapass delay-margin``: the passivity delay margin τ* of a design, certified."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ..errors import ParameterError
+from ..files.limits import check_rtol
+from .common import (
+    add_force_option,
+    add_json_option,
+    add_model_options,
+    add_plot_option,
+    plot_path,
+    print_json,
+    values_from_args,
+    write_figure,
+)
+
+EXAMPLE = """examples:
+  seapass delay-margin tau ours --set kd=500 --set bd=25 --set b1=20 --json
+  seapass delay-margin tau ours --set kd=500 --set bd=25 --set b1=20 --plot margin.png
+  seapass delay-margin tau --D1 "k1 + b1*s" --CA "(kd + bd*s)*exp(-tau*s)" --set m=1 \\
+      --set b=10 --set k1=1000 --set b1=20 --set kd=500 --set bd=25
+  seapass delay-margin tau --Z "m*s + b + K*exp(-tau*s)/s" --set m=1 --set b=2 --set K=50
+
+NAME is the delay parameter (seconds); it is free here, so do not give it with --set.
+Give DESIGN right after NAME.
+DESIGN is LP, APD or ours (the paper's plant m = 1, b = 10, k1 = 1000; give the gains
+with --set) or a design file; a design without exp(-NAME*s) gets the delay on its
+controllers C_A and C_L (a loop latency).
+
+tau_star [lo, hi]: every delay up to lo is certified passive (lo is rounded down), and at
+hi (rounded up) passivity is proven lost; hi - lo <= rtol*hi.  tau_star is null when the
+design is not passive without delay (passive_at_zero false) or is passive for every delay
+(delay_independent true).  loss: interior (at 'frequency'), low_frequency (w -> 0) or
+unbounded_band (tau* = 0: every delay > 0 fails at arbitrarily high frequencies).
+
+exit codes: 0 margin found (or passive for every delay), 1 not passive without delay or
+undecided, 2 bad input (one 'error:' line on stderr)
+"""
+
+
+def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
+    p = sub.add_parser(
+        "delay-margin",
+        help="certified passivity delay margin tau*: the largest delay such that the design "
+        "stays passive for every delay up to it",
+        description="Certified enclosure of the passivity delay margin tau* of a design with "
+        "a delay exp(-NAME*s) (exact structure, exact asymptotics, arb balls; never a Pade "
+        "approximation or a frequency grid), the frequency where passivity is lost and how.",
+        epilog=EXAMPLE,
+    )
+    p.add_argument("name", metavar="NAME", help="the delay parameter, e.g. tau")
+    p.add_argument("design", nargs="?", metavar="DESIGN", help="LP, APD, ours or a design file")
+    add_model_options(p)
+    p.add_argument("--Z", help="a raw impedance with the delay, e.g. 'm*s + b + K*exp(-tau*s)/s'")
+    p.add_argument(
+        "--rtol",
+        type=float,
+        default=1e-6,
+        help="relative width of the enclosure of tau*",
+    )
+    add_plot_option(p, "the first failing delay per frequency with the enclosure of tau*")
+    add_force_option(p)
+    add_json_option(p)
+    p.set_defaults(func=run, allow_delay=True)
+
+
+def _system(args: argparse.Namespace) -> object:
+    """The design named on the command line, with the delay on its controllers if needed."""
+    from ..model.catalog import CATALOG
+    from ..model.design_file import load_design
+    from ..model.expr import check_name
+    from ..model.sea import Impedance
+    from .common import model_from_args
+
+    try:
+        check_name(args.name)
+    except ValueError as exc:
+        raise ParameterError(f"NAME: {exc}") from None
+    model_given = any(getattr(args, e) not in (None, "0") for e in ("D1", "D2", "CA", "CL"))
+    given = [w for w, on in (("DESIGN", args.design), ("the model --D1 ...", model_given),
+                             ("--Z", args.Z is not None)) if on]  # fmt: skip
+    if len(given) > 1:
+        raise ParameterError(f"give one of DESIGN, the model --D1/--D2/--CA/--CL or --Z, not {' and '.join(given)}")  # fmt: skip
+    if not given:
+        raise ParameterError("nothing to analyse: give DESIGN (LP, APD, ours or a design file), the model --D1 ... --set, or --Z")  # fmt: skip
+    values = values_from_args(args)
+    if args.name in values:
+        raise ParameterError(f"--set {args.name}: {args.name} is the delay whose margin is computed; do not give it a value")  # fmt: skip
+    if args.Z is not None:
+        if "exp" not in args.Z:
+            raise ParameterError(f"--Z has no delay: write it as exp(-{args.name}*s), e.g. 'm*s + b + K*exp(-{args.name}*s)/s'")  # fmt: skip
+        return Impedance(expr=args.Z, values={**values, args.name: None})
+    if model_given:
+        from ..delay.structure import controller_delay
+
+        try:
+            sea = model_from_args(args, extra_free={args.name: f"NAME {args.name}"})
+        except ParameterError as exc:
+            if f"NAME {args.name}" not in str(exc):
+                raise
+            sea = model_from_args(args)  # NAME unused: the delay goes on the controllers
+        return controller_delay(sea, args.name)
+    from ..delay.structure import controller_delay
+
+    name = args.design
+    if name.lower() in {k.lower() for k in CATALOG} and not Path(name).is_file():
+        return controller_delay(name, args.name, values)
+    path = Path(name)
+    if path.suffix != ".toml" and not path.exists():
+        raise ParameterError(f"DESIGN {name!r} is neither a design file nor one of LP, APD, ours")
+    return controller_delay(load_design(path), args.name, values)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..delay.margin import delay_margin
+    from ..outcome import Outcome
+
+    check_rtol(args.rtol)
+    figure = plot_path(args.plot, force=args.force)  # checked before the work starts
+    result = delay_margin(_system(args), args.name, rtol=args.rtol)
+    if figure is not None:
+        write_figure(lambda: result.plot(), figure, force=args.force)
+    if args.json:
+        print_json(result.to_dict())
+    else:
+        if result.tau_star is not None:
+            from fractions import Fraction
+
+            from ..exact.rounding import decimal_down, enclosure_text
+
+            lo, hi = result.exact or (
+                Fraction(result.tau_star[0]),
+                Fraction(result.tau_star[1]),
+            )
+            where = {
+                "interior": f"at w = {result.frequency:.6g} rad/s" if result.frequency else "",
+                "low_frequency": "as w -> 0",
+                "unbounded_band": "at arbitrarily high frequencies, for every delay > 0",
+            }.get(str(result.loss or ""), "")
+            # inward: the printed lower end is at most the certified lo (so below tau*);
+            # the enclosure is printed outward, so it still holds tau*
+            if result.outcome is Outcome.PASSIVE:
+                print(f"passive for every delay {args.name} <= {decimal_down(lo, 6)} s")
+            print(f"tau* in {enclosure_text(lo, hi)} s ({result.loss} {where})".replace(" )", ")"))
+        elif result.delay_independent:
+            print(f"passive for every delay {args.name} >= 0")
+        else:
+            print(f"tau*: none ({result.detail})")
+        if result.outcome is not Outcome.PASSIVE or not result.certified:
+            print(f"{result.outcome.label}: {result.detail}")
+    return 0 if result.outcome is Outcome.PASSIVE else 1
