@@ -25,7 +25,7 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "seapass"
 
 #: Bottom to top.  A package may import from its own layer group only where listed together.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "version", "outcome"),
+    ("errors", "version", "outcome", "progress"),
     ("files",),
     ("exact",),
     ("model",),

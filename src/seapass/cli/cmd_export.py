@@ -95,6 +95,11 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="compile the files with the system C compiler and compare them with the Python "
         "controller on 10,000 steps",
     )
+    c.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress on stderr while the gains are certified",
+    )
     add_json_option(c)
     c.set_defaults(func=run_c)
 
@@ -102,6 +107,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 def run_c(args: argparse.Namespace) -> int:
     from ..export.c_code import export_c
     from ..export.compiled import find_c_compiler, verify_c
+    from .progress import choose_progress
 
     tunable = None
     if args.tunable is not None:
@@ -113,17 +119,18 @@ def run_c(args: argparse.Namespace) -> int:
     if args.verify and find_c_compiler() is None:  # before anything is written
         raise CompilerError("--verify needs a C compiler: none found (set CC or install gcc)")
     try:
-        res = export_c(
-            args.design,
-            args.out,
-            force_limit=args.force_limit,
-            hardware_delay=args.hardware_delay,
-            set_gains=args.set_gains,
-            tunable=tunable,
-            allow_nonpassive=args.allow_nonpassive,
-            rtol=args.rtol,
-            progress=True,
-        )
+        with choose_progress(not args.no_progress) as progress:
+            res = export_c(
+                args.design,
+                args.out,
+                force_limit=args.force_limit,
+                hardware_delay=args.hardware_delay,
+                set_gains=args.set_gains,
+                tunable=tunable,
+                allow_nonpassive=args.allow_nonpassive,
+                rtol=args.rtol,
+                progress=progress,
+            )
     except SeapassError as exc:
         text = str(exc)
         for python, option in _OPTIONS.items():

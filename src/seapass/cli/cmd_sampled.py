@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
-from typing import Any
 
 from ..errors import ParameterError
 from ..files.limits import MAX_RTOL, MIN_RTOL, check_rtol
@@ -55,6 +53,22 @@ def _loop_options(
     add_out_dir_option(p, "figures, CSV and JSON")
 
 
+def _budget_options(p: argparse.ArgumentParser, what: str) -> None:
+    p.add_argument(
+        "--max-boxes",
+        type=int,
+        default=None,
+        metavar="N",
+        help=f"work budget of {what} in boxes (counted, never timed; default 20000): what "
+        "is not settled then is reported undecided, never passive",
+    )
+    p.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress on stderr (else a live bar on a terminal, one line per task otherwise)",
+    )
+
+
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
     p = sub.add_parser(
         "sampled",
@@ -93,6 +107,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         default=1e-9,
         help=f"relative width of every edge enclosure, in [{MIN_RTOL:g}, {MAX_RTOL:g}]",
     )
+    _budget_options(b, "the branch and bound")
     add_model_options(b)
     _loop_options(b)
     b.set_defaults(func=run_bound)
@@ -117,9 +132,14 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         default=1e-6,
         help=f"relative width of edge enclosures, in [{MIN_RTOL:g}, {MAX_RTOL:g}]",
     )
+    _budget_options(r, "each row's branch and bound")
     add_model_options(r)
     _loop_options(r, delay=1, velocity_filter=50.0)
     r.set_defaults(func=run_region)
+
+
+def _max_boxes(args: argparse.Namespace) -> dict[str, int]:
+    return {} if args.max_boxes is None else {"max_boxes": args.max_boxes}
 
 
 def _range(text: str, flag: str = "--range") -> tuple[float, float]:
@@ -164,6 +184,7 @@ def run_check(args: argparse.Namespace) -> int:
 
 def run_bound(args: argparse.Namespace) -> int:
     from ..sampled.bound import sampled_passive_bound
+    from .progress import choose_progress
 
     lo, hi = _range(args.range)
     loop = loop_from_args(args)
@@ -171,10 +192,11 @@ def run_bound(args: argparse.Namespace) -> int:
     d = check_out_dir(args.out)
     sea = model_from_args(args, extra_free={args.param: f"sampled bound {args.param}"})
     warn_unrealizable(sea)
-    res = sampled_passive_bound(
-        sea, args.param, loop=loop, lo=lo, hi=hi, rtol=args.rtol,
-        max_precision=args.max_precision, progress=True,
-    )  # fmt: skip
+    with choose_progress(not args.no_progress) as progress:
+        res = sampled_passive_bound(
+            sea, args.param, loop=loop, lo=lo, hi=hi, rtol=args.rtol,
+            max_precision=args.max_precision, progress=progress, **_max_boxes(args),
+        )  # fmt: skip
     out = res.to_dict()
     if d is not None:
         from ..plot.sampled import plot_bound
@@ -189,7 +211,12 @@ def run_bound(args: argparse.Namespace) -> int:
     print(f"passive {args.param} at T = {loop.period:g} s (delay {loop.delay}): {ivs}")
     for e in res.edges:
         print(f"  edge in [{e.lo:.12g}, {e.hi:.12g}] ({e.kind.replace('_', ' ')})")
-    if res.undecided:
+    if res.budget_exhausted:
+        print(
+            f"  stopped at the box budget: {len(res.undecided)} undecided piece(s) "
+            "(never passive; raise --max-boxes)"
+        )
+    elif res.undecided:
         print(f"  undecided slivers: {len(res.undecided)} (each narrower than rtol)")
     if res.low_frequency is not None:
         print(f"  low-frequency condition: {res.low_frequency}")
@@ -198,6 +225,7 @@ def run_bound(args: argparse.Namespace) -> int:
 
 def run_region(args: argparse.Namespace) -> int:
     from ..sampled.region import sampled_region
+    from .progress import choose_progress
 
     lo1, hi1 = _range(args.range)
     lo2, hi2 = _range(args.range2, "--range2")
@@ -211,11 +239,11 @@ def run_region(args: argparse.Namespace) -> int:
         extra_free={args.p1: f"sampled region {args.p1}", args.p2: f"sampled region {args.p2}"},
     )
     warn_unrealizable(sea)
-    with _RowProgress(f"Z-width map {args.p1} vs {args.p2}") as progress:
+    with choose_progress(not args.no_progress) as progress:
         zmap = sampled_region(
             sea, args.p1, args.p2, loop=loop, p1_range=(lo1, hi1), p2_range=(lo2, hi2),
             n=args.rows, rtol=args.rtol, log_p2=args.log, max_precision=args.max_precision,
-            progress=progress,
+            progress=progress, **_max_boxes(args),
         )  # fmt: skip
     if out is not None:
         from ..plot.sampled import plot_zwidth
@@ -235,29 +263,3 @@ def run_region(args: argparse.Namespace) -> int:
         cells = "  ".join(f"{'none' if math.isnan(b[i]) else f'{b[i]:.6g}':>28}" for b in bounds)
         print(f"{v:>12.6g}  {cells}")
     return 0
-
-
-class _RowProgress:
-    """A rich progress bar over the rows when stderr is a terminal (else silent)."""
-
-    def __init__(self, label: str) -> None:
-        self.label = label
-        self.bar: Any = None
-        self.task: Any = None
-
-    def __enter__(self) -> Any:
-        if not sys.stderr.isatty():
-            return None
-        from rich.progress import Progress
-
-        self.bar = Progress(transient=True)
-        self.bar.start()
-        self.task = self.bar.add_task(self.label, total=None)
-        return self._advance
-
-    def _advance(self, done: int, total: int) -> None:
-        self.bar.update(self.task, completed=done, total=total)
-
-    def __exit__(self, *exc: object) -> None:
-        if self.bar is not None:
-            self.bar.stop()

@@ -23,6 +23,7 @@ import jinja2
 from ..errors import ParameterError
 from ..files.atomic import atomic_write_text
 from ..model.design_file import Design, load_design
+from ..progress import ProgressLike, as_progress
 from ..version import __version__
 from .deployment import Deployment, plan_deployment
 from .realization import FilterSpec
@@ -305,7 +306,7 @@ def export_c(
     tunable: Sequence[str] | None = None,
     allow_nonpassive: bool = False,
     rtol: float = 1e-6,
-    progress: bool = False,
+    progress: ProgressLike = None,
 ) -> ExportResult:
     """Write ``seapass_ctrl.h`` and ``seapass_ctrl.c`` for the deployed controller of ``design``.
 
@@ -354,7 +355,7 @@ def export_c(
         tunable=tunable,
         allow_nonpassive=allow_nonpassive,
         rtol=rtol,
-        progress=progress,
+        progress=as_progress(progress, where="export_c"),
     )
     files = render_c(dep)
     for t in targets:

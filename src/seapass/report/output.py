@@ -1,8 +1,10 @@
 """Writing a report directory: ``report.html``, ``report.md``, ``data/`` and ``figures/``.
 
 `write_report` writes the whole directory into a temporary sibling
-directory and swaps it in only when complete: an interrupted run leaves the
-previous directory untouched.
+directory and swaps it in only when complete: an interrupted write leaves the
+previous directory untouched.  A report written again as it grows (``analyze``
+writes each finished stage at once) reuses the files that did not change: they
+are hard-linked from the previous directory, not written again.
 
 Files seapass did not write are never deleted.  The marker file
 ``.seapass-report`` holds the manifest of what seapass wrote; a file the user
@@ -21,12 +23,19 @@ import shutil
 from pathlib import Path
 
 from ..errors import OutputPathError
-from ..files.atomic import atomic_write, atomic_write_text, check_writable, sibling_dir
+from ..files.atomic import atomic_write, check_writable, sibling_dir
 from ..version import __version__
 from .document import Report
 from .render import render_html, render_markdown
 
-__all__ = ["MARKER", "OWNED", "check_output_dir", "foreign_files", "write_report"]
+__all__ = [
+    "MARKER",
+    "OWNED",
+    "check_output_dir",
+    "foreign_files",
+    "report_paths",
+    "write_report",
+]
 
 
 MARKER = ".seapass-report"
@@ -134,6 +143,26 @@ def _carry_over(old: Path, new: Path, rels: list[str]) -> None:
                 shutil.copy2(src, dst)
 
 
+def _link_same(old: Path, new: Path, data: bytes) -> bool:
+    """Hard-link ``old`` (a file seapass wrote) to ``new`` when it holds exactly ``data``."""
+    try:
+        if old.is_symlink() or not old.is_file() or old.stat().st_size != len(data):
+            return False
+        if old.read_bytes() != data:
+            return False
+        new.parent.mkdir(parents=True, exist_ok=True)
+        os.link(old, new)
+    except OSError:
+        return False
+    return True
+
+
+def report_paths(report: Report) -> list[Path]:
+    """The paths `write_report` writes for ``report``, relative to the directory, sorted."""
+    names = {"report.html", "report.md", MARKER, *report.files()}
+    return [Path(rel) for rel in sorted(names)]
+
+
 def write_report(report: Report, out: str | os.PathLike[str]) -> list[Path]:
     """Write ``report.html``, ``report.md``, ``data/`` and ``figures/`` into ``out``.
 
@@ -162,14 +191,15 @@ def write_report(report: Report, out: str | os.PathLike[str]) -> list[Path]:
     keep = foreign_files(target) if target.is_dir() else []
     tmp = sibling_dir(target)
     old: Path | None = None
+    ours = (_manifest(target) or set()) if target.is_dir() else set()
     try:
         for rel, content in sorted(files.items()):
             path = tmp / rel
-            if isinstance(content, bytes):
-                with atomic_write(path, "wb") as fh:
-                    fh.write(content)
-            else:
-                atomic_write_text(path, content)
+            data = content if isinstance(content, bytes) else content.encode("utf-8")
+            if rel in ours and _link_same(target / rel, path, data):
+                continue
+            with atomic_write(path, "wb") as fh:
+                fh.write(data)
         _carry_over(target, tmp, keep)
         if target.exists():
             old = sibling_dir(target, suffix=".old")

@@ -11,7 +11,6 @@ structure (``tp = 0``, ``tz = tp``, a gain of 0) are decided one by one.
 from __future__ import annotations
 
 import math
-import sys
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from enum import StrEnum
@@ -24,7 +23,8 @@ from ..model.display import Shown, html_card, short_repr
 from ..model.loop import LoopAttributes, SampledLoop, loop_argument
 from ..model.sea import SEA
 from ..outcome import Outcome
-from .boxes import BoxVerdict, bound_boxes
+from ..progress import Progress, ProgressLike, as_progress, task
+from .boxes import MAX_BOXES, BoxVerdict, bound_boxes
 from .controllers import controller_tfs
 from .family import controller_family
 from .lowfreq import low_frequency_limit
@@ -83,6 +83,9 @@ class SampledBoundResult(LoopAttributes):
     design_passive : bool or None
         The design value lies in a proven passive interval (None: no design value);
         `design_outcome` tells not passive from undecided.
+    budget_exhausted : bool
+        The branch and bound stopped at ``max_boxes`` boxes; what it had not settled is
+        in ``undecided`` (never reported passive).
     """
 
     param: str
@@ -98,6 +101,7 @@ class SampledBoundResult(LoopAttributes):
     design_value: float | None = None
     design_passive: bool | None = None
     low_frequency: str | None = None
+    budget_exhausted: bool = False
 
     @property
     def period(self) -> float:
@@ -133,6 +137,7 @@ class SampledBoundResult(LoopAttributes):
             "design_value": self.design_value,
             "design_passive": self.design_passive,
             "low_frequency": self.low_frequency,
+            "budget_exhausted": self.budget_exhausted,
         }
 
     def to_csv(self) -> str:
@@ -253,7 +258,8 @@ def sampled_passive_bound(
     rtol: float = 1e-9,
     design_value: float | None = None,
     max_precision: int = PRECISIONS[-1],
-    progress: bool = False,
+    max_boxes: int = MAX_BOXES,
+    progress: ProgressLike = None,
     **old: Any,
 ) -> SampledBoundResult:
     """Certified passive values of the controller parameter ``param`` in ``[lo, hi]``.
@@ -279,8 +285,13 @@ def sampled_passive_bound(
         reported (it always agrees with the intervals).
     max_precision : int
         Precision cap (bits) of the balls.
-    progress : bool
-        Show a rich progress bar when stderr is a terminal.
+    max_boxes : int, default 20000
+        Budget of the branch and bound, in boxes examined (counted, not timed).  When it
+        runs out, what is not settled is reported ``undecided`` (never passive) and
+        ``budget_exhausted`` is set.
+    progress : Progress, optional
+        Where the branch and bound reports: one task of 100 steps, the percent of the
+        range decided (default: none; ``True``/``False`` still work for one release).
     **old
         ``period=, delay=, velocity_filter=, method=``: the loop's old spelling, still
         accepted for one release with a
@@ -298,7 +309,12 @@ def sampled_passive_bound(
     [0, 10033]
     """
     loop = loop_argument(loop, old, where="sampled_passive_bound")
+    shown = as_progress(progress, where="sampled_passive_bound")
     max_precision = check_precision(max_precision)
+    if isinstance(max_boxes, bool) or not isinstance(max_boxes, int) or max_boxes < 1:
+        raise ParameterError(
+            f"max_boxes must be a positive whole number, got {max_boxes!r}", argument="max_boxes"
+        )
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise ParameterError(f"need a finite range lo < hi, got [{lo}, {hi}]")
     check_rtol(rtol)
@@ -333,16 +349,14 @@ def sampled_passive_bound(
         start = max(start, decide(key, ka, kl, T, max_precision=max_precision).precision)
     flo, fhi = Fraction(lo), Fraction(hi)
     span = fhi - flo
-    advance = _progress_bar(progress, f"sampled bound of {param}")
-    try:
+    label = f"sampled bound of {param} in [{lo:g}, {hi:g}] (at most {max_boxes} boxes)"
+    with task(shown, label, 100):
         boxes = bound_boxes(
             key, T, fam, flo, fhi,
             rtol=Fraction(rtol), atol=Fraction(rtol) * span / 10**6,
-            start_precision=start, max_precision=max_precision, advance=advance,
+            start_precision=start, max_precision=max_precision, max_boxes=max_boxes,
+            advance=_Percent(shown),
         )  # fmt: skip
-    finally:
-        if advance is not None:
-            advance(None)
     # values where the deployed controller differs from the family: decided alone
     points = {}
     for v in fam.special:
@@ -430,22 +444,19 @@ def _assemble(
         design_value=design_value,
         design_passive=design_passive,
         low_frequency=low,
+        budget_exhausted=any(r is SampledReason.BUDGET for _a, _b, _o, r in merged),
     )
 
 
-def _progress_bar(progress: bool, label: str) -> Any:
-    if not (progress and sys.stderr.isatty()):
-        return None
-    from rich.progress import Progress
+class _Percent:
+    """The share of the range decided, as whole percent steps of ``progress``."""
 
-    bar = Progress(transient=True)
-    task = bar.add_task(label, total=1.0)
-    bar.start()
+    def __init__(self, progress: Progress) -> None:
+        self.progress, self.decided, self.shown = progress, 0.0, 0
 
-    def advance(step: float | None) -> None:
-        if step is None:
-            bar.stop()
-        else:
-            bar.advance(task, step)
-
-    return advance
+    def __call__(self, width: float) -> None:
+        self.decided += width
+        now = min(int(self.decided * 100), 100)
+        if now > self.shown:
+            self.progress.advance(now - self.shown, note=f"{now} % of the range decided")
+            self.shown = now

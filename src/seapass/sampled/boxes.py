@@ -53,7 +53,8 @@ from .verdict import (
 
 __all__ = ["BoxVerdict", "bound_boxes"]
 
-#: Most boxes examined in one bound (bounds time; what is left is reported undecided).
+#: Most boxes examined in one bound by default (bounds the work; what is left is reported
+#: undecided).
 MAX_BOXES = 20000
 
 
@@ -244,12 +245,16 @@ def bound_boxes(
     atol: Fraction,
     start_precision: int = PRECISIONS[0],
     max_precision: int = PRECISIONS[-1],
+    max_boxes: int = MAX_BOXES,
     advance: Callable[[float], None] | None = None,
 ) -> list[BoxVerdict]:
     """Partition ``[lo, hi]`` into proven boxes and undecided leaves (sorted).
 
     Undecided regions that are not edges (proven boxes of opposite verdicts on both sides)
-    are examined again at the next precision, up to ``max_precision``.
+    are examined again at the next precision, up to ``max_precision``.  At most
+    ``max_boxes`` boxes are examined: what is left then is ``undecided`` with reason
+    ``BUDGET``.  ``advance(width)`` is called with the share of ``[lo, hi]`` each
+    decided box covers.
     """
     a_zero, l_zero = fam.actuator.is_zero, fam.load.is_zero
     if a_zero and l_zero:
@@ -272,6 +277,11 @@ def bound_boxes(
         stack = [(a, b, ()) for a, b in reversed(todo)]
         while stack:
             a, b, start = stack.pop()
+            if boxes >= max_boxes:
+                done.append(
+                    BoxVerdict(lo=a, hi=b, outcome=Outcome.UNDECIDED, reason=SampledReason.BUDGET)
+                )
+                continue
             boxes += 1
             outcome, reason, part = _classify(s, a, b, l_zero, start)
             if outcome is not Outcome.UNDECIDED:
@@ -279,13 +289,16 @@ def bound_boxes(
                 if advance:
                     advance(float((b - a) / (hi - lo)))
                 continue
-            if b - a <= max(tol_rel * max(abs(a), abs(b)), atol) or boxes > MAX_BOXES:
+            if b - a <= max(tol_rel * max(abs(a), abs(b)), atol):
                 leaves.append((a, b))
                 continue
             mid = (a + b) / 2
             stack.append((mid, b, part))
             stack.append((a, mid, part))
-        proven = sorted(done, key=lambda v: v.lo)
+        # boxes the budget left unexamined are no side of an edge
+        proven = sorted(
+            (v for v in done if v.reason is not SampledReason.BUDGET), key=lambda v: v.lo
+        )
         todo = []
         for group in _merge(leaves):
             if _is_edge(group, proven):
@@ -299,12 +312,12 @@ def bound_boxes(
                 )
             else:
                 todo.append(group)
-        if not todo or boxes > MAX_BOXES:
+        if not todo or boxes >= max_boxes:
             break
+    # left for a higher precision when the budget ran out, else undecided at the cap
+    left = SampledReason.BUDGET if boxes >= max_boxes else SampledReason.UNDECIDED
     for a, b in todo:
-        done.append(
-            BoxVerdict(lo=a, hi=b, outcome=Outcome.UNDECIDED, reason=SampledReason.UNDECIDED)
-        )
+        done.append(BoxVerdict(lo=a, hi=b, outcome=Outcome.UNDECIDED, reason=left))
     return sorted(done, key=lambda v: v.lo)
 
 

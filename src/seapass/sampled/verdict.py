@@ -52,7 +52,9 @@ class SampledReason(StrEnum):
     CONTINUOUS_NOT_PASSIVE = "continuous_not_passive"
     """The deployment policy's continuous-time gate (see `sampled_passivity`)."""
     UNDECIDED = "undecided"
-    """Not decided at the precision cap (or the box budget of a bound)."""
+    """Not decided at the precision cap."""
+    BUDGET = "budget"
+    """Not examined: the box budget of a bound ran out (bounds only)."""
     EDGE = "edge"
     """An undecided box leaf between proven boxes of opposite verdicts (bounds only)."""
 
