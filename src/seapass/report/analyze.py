@@ -178,8 +178,7 @@ ANALYSIS: tuple[AnalysisStage, ...] = (
     ),
     AnalysisStage(
         key="sampled", title="Sampled-data passivity",
-        computes="the verdict under the digital controller and every gain's certified "
-        "passive set ([control] rate)",
+        computes="the verdict and every gain's certified passive set at [control] rate",
         run=design_hardware.stage_sampled,
         budget=StageBudget(unit="boxes per certified bound", full=2000, quick=500,
                            maximum=MAX_BOXES * 50),
@@ -212,7 +211,7 @@ def stages_text() -> str:
         else:
             b = s.budget
             same = b.full == b.quick
-            budget = f"{b.unit}: {b.full}" + ("" if same else f" ({b.quick} with --quick)")
+            budget = f"{b.full} {b.unit}" + ("" if same else f" ({b.quick} with --quick)")
         lines.append(f"  {s.key:<10} {s.computes}\n  {'':<10} budget: {budget}")
     return "\n".join(lines)
 

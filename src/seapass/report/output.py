@@ -143,6 +143,15 @@ def _carry_over(old: Path, new: Path, rels: list[str]) -> None:
                 shutil.copy2(src, dst)
 
 
+def _remove(path: Path) -> None:
+    """Remove a directory seapass made; an interrupt in the middle finishes it first."""
+    try:
+        shutil.rmtree(path, ignore_errors=True)
+    except BaseException:  # Ctrl-C or SIGTERM while removing: no leftovers, then go on
+        shutil.rmtree(path, ignore_errors=True)
+        raise
+
+
 def _link_same(old: Path, new: Path, data: bytes) -> bool:
     """Hard-link ``old`` (a file seapass wrote) to ``new`` when it holds exactly ``data``."""
     try:
@@ -206,11 +215,11 @@ def write_report(report: Report, out: str | os.PathLike[str]) -> list[Path]:
             os.replace(target, old / "previous")
         os.replace(tmp, target)
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        _remove(tmp)
         if old is not None and not target.exists() and (old / "previous").exists():
             os.replace(old / "previous", target)
         raise
     finally:
         if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
+            _remove(old)
     return [Path(rel) for rel in sorted(files)]

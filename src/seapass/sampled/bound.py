@@ -351,12 +351,14 @@ def sampled_passive_bound(
     span = fhi - flo
     label = f"sampled bound of {param} in [{lo:g}, {hi:g}] (at most {max_boxes} boxes)"
     with task(shown, label, 100):
+        percent = _Percent(shown)
         boxes = bound_boxes(
             key, T, fam, flo, fhi,
             rtol=Fraction(rtol), atol=Fraction(rtol) * span / 10**6,
             start_precision=start, max_precision=max_precision, max_boxes=max_boxes,
-            advance=_Percent(shown),
+            advance=percent,
         )  # fmt: skip
+        percent.finish()
     # values where the deployed controller differs from the family: decided alone
     points = {}
     for v in fam.special:
@@ -460,3 +462,9 @@ class _Percent:
         if now > self.shown:
             self.progress.advance(now - self.shown, note=f"{now} % of the range decided")
             self.shown = now
+
+    def finish(self) -> None:
+        """The rest: edge enclosures and what was left undecided."""
+        if self.shown < 100:
+            self.progress.advance(100 - self.shown, note="done")
+            self.shown = 100
