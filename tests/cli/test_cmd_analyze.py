@@ -3,21 +3,14 @@
 from __future__ import annotations
 
 import json
-import os
-import signal
-import subprocess
-import sys
-import time
 from pathlib import Path
 
 import pytest
 
-from long_jobs import hard_design
+from long_jobs import Recorder, hard_design
 from seapass.cli import main
+from seapass.cli.common import Terminated
 from seapass.report.analyze import ANALYSIS
-
-SEAPASS = str(Path(sys.executable).with_name("seapass"))
-
 
 def test_analyze_help_lists_every_stage_and_its_budget(capsys: pytest.CaptureFixture[str]) -> None:
     with pytest.raises(SystemExit) as exit_:
@@ -81,44 +74,92 @@ def test_bad_budgets_are_one_error_line(
     assert not out.exists()  # refused before any work
 
 
-def _wait_for(path: Path, proc: subprocess.Popen[str]) -> None:
-    """Poll until ``path`` exists (the process must still be running)."""
-    while not path.exists():
-        if proc.poll() is not None:
-            raise AssertionError(f"exited with {proc.returncode} first: {proc.communicate()}")
-        time.sleep(0.05)
+class _StopAtStage(Recorder):
+    """The command's progress: raises ``interrupt`` when stage ``at`` (e.g. "[2/") starts."""
+
+    def __init__(self, at: str, interrupt: BaseException) -> None:
+        super().__init__()
+        self.at, self.interrupt = at, interrupt
+
+    def start(self, task: str, total: int | None = None) -> None:
+        if task.startswith(self.at):
+            raise self.interrupt  # a start that raises opens nothing
+        super().start(task, total)
+
+    def __enter__(self) -> _StopAtStage:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        pass
 
 
 @pytest.mark.parametrize(
-    ("sig", "code", "jobs"), [(signal.SIGINT, 130, "1"), (signal.SIGTERM, 143, "2")]
+    ("interrupt", "code", "jobs", "finished"),
+    [
+        (KeyboardInterrupt(), 130, "1", ["ok", "not_run", "ok"]),  # Ctrl-C in the second stage
+        (Terminated(), 143, "1", ["ok", "not_run", "ok"]),  # what SIGTERM raises
+        # two workers: the costliest stage (sampled) is announced first, before any finished
+        (KeyboardInterrupt(), 130, "2", ["not_run", "not_run", "ok"]),
+    ],
 )
 def test_an_interrupt_leaves_a_valid_partial_report(
-    tmp_path: Path, sig: signal.Signals, code: int, jobs: str
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+    interrupt: BaseException,
+    code: int,
+    jobs: str,
+    finished: list[str],
 ) -> None:
+    """Ctrl-C injected through the progress (no real signal): exit 130 and the report of
+    the finished stages, marked incomplete, with no leftovers."""
+    import seapass.cli.progress
+
+    stopper = _StopAtStage("[2/" if jobs == "1" else "[", interrupt)
+    monkeypatch.setattr(seapass.cli.progress, "choose_progress", lambda enabled: stopper)
     out = tmp_path / "r"
-    cmd = [SEAPASS, "analyze", str(hard_design(tmp_path)),
-           "--out", str(out), "--stages", "passivity,sampled", "--budget", "sampled=1000000",
-           "--jobs", jobs]  # fmt: skip
-    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
-    try:
-        _wait_for(out / "data" / "passivity.json", proc)  # the first stage is written
-        proc.send_signal(sig)
-        stdout, stderr = proc.communicate(timeout=600)  # a hang guard only: it exits at once
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-    assert proc.returncode == code, stderr
-    assert "Traceback" not in stderr
-    assert f"interrupted; the report of the finished stages is in {out}" in stderr
-    assert stdout == ""
+    argv = ["analyze", str(hard_design(tmp_path)), "--out", str(out),
+            "--stages", "passivity,sampled", "--budget", "sampled=1000000", "--jobs", jobs]  # fmt: skip
+    assert main(argv) == code
+    captured = capsys.readouterr()
+    assert "Traceback" not in captured.err and captured.out == ""
+    assert captured.err.splitlines()[-1] == (
+        f"error: interrupted; the report of the finished stages is in {out} (marked incomplete)"
+    )
+    assert stopper.balanced  # every task closed however the run ended
     sections = json.loads((out / "data/sections.json").read_text())
-    assert [s["status"] for s in sections] == ["ok", "not_run", "ok"]
-    assert json.loads((out / "data/passivity.json").read_text())["passive"] is True
+    assert [s["status"] for s in sections] == finished
     assert json.loads((out / "data/incomplete.json").read_text())["complete"] is False
     md = (out / "report.md").read_text()
-    assert "> **Incomplete report:** interrupted: 1 of 2 analyses finished" in md
+    done = finished.count("ok") - 1  # the design file's section is always there
+    assert f"> **Incomplete report:** interrupted: {done} of 2 analyses finished" in md
     assert "## Sampled-data passivity\n\n*not run*" in md
+    if done:
+        assert json.loads((out / "data/passivity.json").read_text())["passive"] is True
     html = (out / "report.html").read_text()
     assert 'id="incomplete"' in html and html.rstrip().endswith("</html>")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["hard.toml", "r"]  # no leftovers
+
+
+def test_sigterm_stops_like_ctrl_c_without_sending_a_signal() -> None:
+    """``main`` turns SIGTERM into `Terminated` (a KeyboardInterrupt) and restores the
+    handler it found; the handler is called directly here, no signal is sent."""
+    import signal
+
+    import seapass.cli as cli
+
+    before = signal.getsignal(signal.SIGTERM)
+    seen: list[object] = []
+
+    def during(argv: object) -> int:
+        seen.append(signal.getsignal(signal.SIGTERM))
+        return 0
+
+    mp = pytest.MonkeyPatch()
+    with mp.context() as m:
+        m.setattr(cli, "_main", during)
+        assert cli.main([]) == 0
+    assert seen == [cli._terminate] and signal.getsignal(signal.SIGTERM) == before
+    with pytest.raises(Terminated):
+        cli._terminate(signal.SIGTERM, None)
+    assert isinstance(Terminated(), KeyboardInterrupt)

@@ -11,7 +11,7 @@ from long_jobs import Recorder
 from seapass.errors import SeapassDeprecationWarning
 from seapass.progress import task
 from seapass.report.document import Section, SectionStatus
-from seapass.report.pipeline import Stage, StageContext, run_stages, stage_progress
+from seapass.report.pipeline import Stage, StageContext, run_stages
 
 
 def _ok(key: str) -> Any:
@@ -86,19 +86,9 @@ def test_an_interrupt_keeps_the_finished_sections() -> None:
     assert got == ["p"] and rec.balanced
 
 
-def test_old_progress_spellings_of_the_pipeline() -> None:
-    def old_style(context: StageContext) -> Section:
-        stage_progress(1, 2, "half")
-        return Section("o", "O")
-
-    seen: list[tuple[str, float, str]] = []
-    with pytest.warns(SeapassDeprecationWarning):
-        secs = run_stages(
-            [Stage("o", "O", old_style), Stage("g", "G", _with_parts)],
-            progress=False,
-            on_progress=lambda *a: seen.append(a),
-        )
-    assert [s.key for s in secs] == ["o", "g"]
-    assert seen == [("g", 0.5, "first"), ("g", 1.0, "second")]
-    with pytest.warns(SeapassDeprecationWarning):
-        stage_progress(1, 2, "outside a run: nothing happens")
+def test_old_progress_spelling_of_the_pipeline() -> None:
+    with pytest.warns(SeapassDeprecationWarning, match=r"run_stages\(progress=False\)"):
+        secs = run_stages([Stage("g", "G", _with_parts)], progress=False)
+    assert [s.key for s in secs] == ["g"]
+    with pytest.raises(TypeError):
+        run_stages([], on_progress=print)  # type: ignore[call-arg]  # removed: one protocol

@@ -24,18 +24,16 @@ import functools
 import queue as queues
 import threading
 import time
-import warnings
 from collections.abc import Callable, Sequence
-from contextvars import ContextVar
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..errors import MissingExtraError, ParameterError, SeapassDeprecationWarning, SeapassError
+from ..errors import MissingExtraError, ParameterError, SeapassError
 from ..plot.style import bare_figures, figure_style
 from ..progress import NoProgress, Progress, ProgressLike, as_progress, task
 from .document import Section, SectionStatus
 
-__all__ = ["Stage", "StageContext", "run_stages", "select_stages", "stage_progress"]
+__all__ = ["Stage", "StageContext", "run_stages", "select_stages"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -79,27 +77,6 @@ class Stage:
     budget: int | None = None
 
 
-# the running stage's progress, only for the deprecated `stage_progress` (one release)
-_CURRENT: ContextVar[Progress | None] = ContextVar("seapass_stage_progress", default=None)
-
-
-def stage_progress(done: float, total: float, text: str = "") -> None:
-    """Deprecated: a stage reports to ``context.progress`` (a `Progress`) instead.
-
-    For one release it still shows ``text`` as a note of the running stage (nothing
-    outside `run_stages`), with a
-    [`SeapassDeprecationWarning`][seapass.errors.SeapassDeprecationWarning].
-    """
-    warnings.warn(
-        "stage_progress is deprecated; a stage reports to its StageContext.progress",
-        SeapassDeprecationWarning,
-        stacklevel=2,
-    )
-    current = _CURRENT.get()
-    if current is not None and total > 0:
-        current.advance(0, note=text)
-
-
 def select_stages(stages: Sequence[str] | None, available: Sequence[Stage]) -> list[Stage]:
     """The stages named in ``stages`` (``"core"`` = all core stages), in run order."""
     if stages is None:
@@ -121,7 +98,6 @@ def select_stages(stages: Sequence[str] | None, available: Sequence[Stage]) -> l
 def _run_one(stage: Stage, context: StageContext) -> tuple[Section, float]:
     """Run one stage; failures become sections."""
     t0 = time.perf_counter()
-    token = _CURRENT.set(context.progress)
     try:
         with figure_style(), bare_figures():
             sec = stage.run(context)
@@ -131,8 +107,6 @@ def _run_one(stage: Stage, context: StageContext) -> tuple[Section, float]:
         sec = _failed(stage, exc)
     except (SeapassError, ArithmeticError, ValueError, RuntimeError, TypeError) as exc:
         sec = _failed(stage, exc)
-    finally:
-        _CURRENT.reset(token)
     return sec, time.perf_counter() - t0
 
 
@@ -184,47 +158,6 @@ def _run_in_worker(index: int, quick: bool) -> tuple[Section, float]:
     return _run_one(stage, context)
 
 
-class _Fractions:
-    """The deprecated ``on_progress(key, fraction, text)`` of `run_stages`, as a progress."""
-
-    def __init__(self, key: str, call: Callable[[str, float, str], None]) -> None:
-        self.key, self.call = key, call
-        self.open: list[list[Any]] = []
-
-    def start(self, task: str, total: int | None = None) -> None:
-        self.open.append([0, total, task])
-
-    def advance(self, n: int = 1, *, note: str = "") -> None:
-        if self.open:
-            top = self.open[-1]
-            top[0] += n
-            if top[1]:
-                self.call(self.key, min(top[0] / top[1], 1.0), note or top[2])
-
-    def close(self) -> None:
-        if self.open:
-            self.open.pop()
-
-
-class _Both:
-    """Every call to two progresses."""
-
-    def __init__(self, first: Progress, second: Progress) -> None:
-        self.first, self.second = first, second
-
-    def start(self, task: str, total: int | None = None) -> None:
-        self.first.start(task, total)
-        self.second.start(task, total)
-
-    def advance(self, n: int = 1, *, note: str = "") -> None:
-        self.first.advance(n, note=note)
-        self.second.advance(n, note=note)
-
-    def close(self) -> None:
-        self.first.close()
-        self.second.close()
-
-
 def _stage_line(i: int, n: int, stage: Stage) -> str:
     return f"[{i + 1}/{n}] {stage.key}: {stage.title}"
 
@@ -238,7 +171,6 @@ def run_stages(
     jobs: int = 1,
     on_section: Callable[[int, Section], None] | None = None,
     title: str = "report",
-    on_progress: Callable[[str, float, str], None] | None = None,
 ) -> tuple[Section, ...]:
     """Run ``stages``; failures become sections.
 
@@ -268,20 +200,10 @@ def run_stages(
         process, in the order they finish).
     title : str
         The run's task in ``progress``.
-    on_progress : callable, optional
-        Deprecated (one release): ``on_progress(stage key, fraction, text)`` when a
-        stage's task advances; pass ``progress``.
     """
     if jobs < 1:
         raise ParameterError(f"jobs must be at least 1, got {jobs}")
     shown = as_progress(progress, where="run_stages")
-    if on_progress is not None:
-        warnings.warn(
-            "run_stages(on_progress=...) is deprecated; pass progress=, a "
-            "seapass.progress.Progress",
-            SeapassDeprecationWarning,
-            stacklevel=2,
-        )
     jobs = min(jobs, len(stages))
     results: dict[int, tuple[Section, float]] = {}
 
@@ -301,13 +223,10 @@ def run_stages(
     try:
         with task(shown, what, n):
             if workers is not None:
-                _run_parallel(stages, quick, workers, shown, on_progress, finished)
+                _run_parallel(stages, quick, workers, shown, finished)
             for i, st in enumerate(stages if workers is None else ()):
-                inner: Progress = shown
-                if on_progress is not None:
-                    inner = _Both(shown, _Fractions(st.key, on_progress))
-                with task(inner, _stage_line(i, n, st)):
-                    res = _run_one(st, StageContext(quick=quick, budget=st.budget, progress=inner))
+                with task(shown, _stage_line(i, n, st)):
+                    res = _run_one(st, StageContext(quick=quick, budget=st.budget, progress=shown))
                 shown.advance(1, note=f"{st.key} {res[0].status.label}")
                 finished(i, res)
     finally:
@@ -321,16 +240,12 @@ def _run_parallel(
     quick: bool,
     workers: tuple[Any, Any],
     shown: Progress,
-    on_progress: Callable[[str, float, str], None] | None,
     finished: Callable[[int, tuple[Section, float]], None],
 ) -> None:
     """The stages on the forked ``workers``; every event is handled in this thread."""
     pool, mp_queue = workers
     events: queues.Queue[tuple[Any, ...]] = queues.Queue()
     listener = threading.Thread(target=_listen, args=(mp_queue, events.put), daemon=True)
-    fractions = {}
-    if on_progress is not None:
-        fractions = {i: _Fractions(st.key, on_progress) for i, st in enumerate(stages)}
     running: list[str] = []
     try:
         listener.start()
@@ -361,24 +276,11 @@ def _run_parallel(
                 with task(shown, _stage_line(i, len(stages), st)):
                     pass  # announced: the workers' stages overlap, so none stays open here
                 shown.advance(0, note="running " + ", ".join(running))
-            else:  # a stage's own progress: a note here, and the deprecated fractions
-                if kind == "advance" and b:
-                    shown.advance(0, note=f"{st.key}: {b}")
-                if i in fractions:
-                    _replay(fractions[i], kind, a, b)
+            elif kind == "advance" and b:  # a stage's own progress: a note here
+                shown.advance(0, note=f"{st.key}: {b}")
     finally:
         mp_queue.put(None)
         listener.join(timeout=2.0)  # daemon: never blocks an interrupted run
-
-
-def _replay(progress: Progress, kind: str, a: Any, b: Any) -> None:
-    """One call of a worker's `_QueueProgress`, made on ``progress``."""
-    if kind == "start":
-        progress.start(a, b)
-    elif kind == "advance":
-        progress.advance(a, note=b)
-    else:
-        progress.close()
 
 
 def _put_done(events: Any, i: int, res: tuple[Section, float]) -> None:
