@@ -54,6 +54,52 @@ def test_hard_design_stops_at_its_budget_with_one_line_per_stage(
     assert not any(line.startswith("  [") for line in capsys.readouterr().err.splitlines())
 
 
+def test_every_stage_on_a_hard_design_delivers_a_complete_report(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """All stages of a design whose certified sampled search is hard (kd at 4 kHz with a
+    delay: 500 boxes do not settle it): the budgets stop it, the report is complete and
+    names the stopped stages."""
+    from seapass.model.design_file import load_design
+    from seapass.sampled.passivity import sampled_passivity
+
+    path, out = hard_design(tmp_path), tmp_path / "r"
+    argv = ["analyze", str(path), "--out", str(out), "--quick", "--jobs", "1",
+            "--budget", "sampled=40", "--budget", "tuning=2", "--json"]  # fmt: skip
+    assert main(argv) == 0
+    captured = capsys.readouterr()
+    summary = json.loads(captured.out)
+    status = {s["key"]: s["status"] for s in summary["sections"]}
+    assert list(status) == [*(s.key for s in ANALYSIS), "design-file"]  # every stage, in order
+    stopped = {"tuning", "sampled"}
+    # one gain: no witness needed (passive), no Z-width map (two gains), no [rig]
+    skipped = {"witness", "zwidth", "rig"}
+    assert {k for k, v in status.items() if v == "stopped_at_budget"} == stopped
+    assert {k for k, v in status.items() if v == "skipped"} == skipped
+    assert set(status.values()) == {"ok", "stopped_at_budget", "skipped"}
+    assert summary["failed"] == [] and not (out / "data/incomplete.json").exists()
+    assert summary["verdict"] == (
+        "passive in continuous time; passive under sampled-data control at 4000 Hz"
+    )
+    # one progress line per stage on a non-terminal, and the stopped stages named at the end
+    stage_lines = [line for line in captured.err.splitlines() if line.startswith("  [")]
+    assert len(stage_lines) == len(ANALYSIS) and stage_lines[-1].startswith("  [10/10] rig")
+    assert captured.err.splitlines()[-1].endswith("--budget STAGE=N): tuning, sampled")
+    md = (out / "report.md").read_text()
+    assert "Incomplete report" not in md and "stopped at their budget: tuning, sampled" in md
+    section = md[md.index("## Sampled-data passivity") :]
+    assert section.split("\n\n")[1] == "*stopped at budget*"
+    # the unsettled part of kd is undecided, never passive; a separate point decision
+    # confirms the proven interval's ends
+    bound = json.loads((out / "data/sampled.json").read_text())["bounds"]["kd"]
+    assert bound["budget_exhausted"] is True and bound["undecided"]
+    design = load_design(path)
+    assert design.loop is not None
+    for lo, hi in bound["intervals"]:
+        for kd in (lo, hi):
+            assert sampled_passivity(design.sea().with_values(kd=kd), loop=design.loop).passive
+
+
 @pytest.mark.parametrize(
     ("budget", "message"),
     [
