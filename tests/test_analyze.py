@@ -67,9 +67,7 @@ def test_not_passive_design_report(tmp_path: Path, capsys: pytest.CaptureFixture
 
 def test_ours_with_sampled_control() -> None:
     design = load_design(EXAMPLES / "ours.toml")
-    report = analyze(
-        design, quick=True, stages=["passivity", "ranges", "sampled", "zwidth"]
-    )
+    report = analyze(design, quick=True, stages=["passivity", "ranges", "sampled", "zwidth"])
     secs = {s.key: s for s in report.sections}
     assert secs["passivity"].findings[0].verdict == "agrees"
     kd = next(r for r in secs["ranges"].tables[0].rows if r[0] == "kd")

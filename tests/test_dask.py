@@ -20,9 +20,7 @@ distributed = pytest.importorskip("dask.distributed")
 def test_local_cluster_matches_single_process(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, small_sweep: SweepSpec, assert_same_rows: Any
 ) -> None:
-    ref = pq.read_table(
-        run_design_sweep(small_sweep, tmp_path / "ref.parquet").path
-    )
+    ref = pq.read_table(run_design_sweep(small_sweep, tmp_path / "ref.parquet").path)
     # the default is one worker per core; pretend this machine has 2 whatever it has
     monkeypatch.setattr(seapass.sweep.cluster, "available_cores", lambda: 2)
     seen: list[object] = []
@@ -74,7 +72,5 @@ def test_existing_scheduler_address(
     ):
         # Dask's default MALLOC_TRIM_THRESHOLD_ would double a chunk's CPU time (page faults)
         assert set(client.run(_worker_env).values()) == {(None, "1")}
-        res = run_design_sweep(
-            small_sweep, tmp_path / "d.csv", scheduler=cluster.scheduler_address
-        )
+        res = run_design_sweep(small_sweep, tmp_path / "d.csv", scheduler=cluster.scheduler_address)
     assert_same_rows(pacsv.read_csv(res.path), ref)

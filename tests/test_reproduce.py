@@ -8,13 +8,13 @@ from pathlib import Path
 
 import pytest
 
+from long_jobs import Recorder
 from seapass.cli import main
 from seapass.errors import MissingExtraError, OutputPathError
 from seapass.plot.style import figure_bytes
+from seapass.progress import task
 from seapass.report.document import FigureData, Finding, Report, Section, Table
 from seapass.report.output import write_report
-from long_jobs import Recorder
-from seapass.progress import task
 from seapass.report.pipeline import Stage, StageContext, run_stages, select_stages
 from seapass.report.reproduce import STAGES, reproduce, stage_keys
 

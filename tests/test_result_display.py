@@ -70,9 +70,7 @@ def results(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
             n=3,
             rtol=1e-3,
         ),
-        "sweep": run_design_sweep(
-            sweep_spec, tmp_path_factory.mktemp("sweep") / "s.parquet"
-        ),
+        "sweep": run_design_sweep(sweep_spec, tmp_path_factory.mktemp("sweep") / "s.parquet"),
     }
 
 

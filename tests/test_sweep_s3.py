@@ -65,9 +65,7 @@ def test_s3_directory_file_resume_and_dask_workers(
     )
 
     fs.rm(["sweeps/dir/part-000001.parquet", "sweeps/dir/part-000003.parquet"])
-    again = run_design_sweep(
-        SPEC, "s3://sweeps/dir/", storage_options=opts, resume=True
-    )
+    again = run_design_sweep(SPEC, "s3://sweeps/dir/", storage_options=opts, resume=True)
     assert again.chunks_computed == 2 and again.n_passive == one.n_passive
 
     pytest.importorskip("dask.distributed")

@@ -133,7 +133,8 @@ class _Calls:
     """An old callback as a progress: called after every step of the outermost task."""
 
     def __init__(self, call: Callable[[int, int | None, str], None]) -> None:
-        self.call, self.open, self.done, self.total = call, 0, 0, None
+        self.call, self.open, self.done = call, 0, 0
+        self.total: int | None = None
 
     def start(self, task: str, total: int | None = None) -> None:
         if self.open == 0:

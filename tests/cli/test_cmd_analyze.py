@@ -12,6 +12,7 @@ from seapass.cli import main
 from seapass.cli.common import Terminated
 from seapass.report.analyze import ANALYSIS
 
+
 def test_analyze_help_lists_every_stage_and_its_budget(capsys: pytest.CaptureFixture[str]) -> None:
     with pytest.raises(SystemExit) as exit_:
         main(["analyze", "--help"])

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from typing import Any
 
 from ..errors import ParameterError
 from ..files.limits import MAX_RTOL, MIN_RTOL, check_rtol
@@ -138,7 +139,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     r.set_defaults(func=run_region)
 
 
-def _max_boxes(args: argparse.Namespace) -> dict[str, int]:
+def _max_boxes(args: argparse.Namespace) -> dict[str, Any]:
     return {} if args.max_boxes is None else {"max_boxes": args.max_boxes}
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -69,7 +70,7 @@ def stage_sampled(design: Design, context: StageContext) -> Section:
         )  # fmt: skip
     rtol = 1e-6 if context.quick else 1e-9
     rows, bounds, stopped = [], {}, []
-    budget = {} if context.budget is None else {"max_boxes": context.budget}
+    budget: dict[str, Any] = {} if context.budget is None else {"max_boxes": context.budget}
     for name, (lo, hi) in design.analysis_ranges().items():
         if name not in design.gains:
             continue

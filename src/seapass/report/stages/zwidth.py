@@ -13,6 +13,7 @@ import math
 import re
 from collections.abc import Sequence
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -138,7 +139,7 @@ def stage_design_zwidth(design: Design, context: StageContext) -> Section:
     sea: SEA = design.sea().with_values(**{p1: None, p2: None})
     loop = _with_filter(design.loop)
     n = 5 if context.quick else 15
-    budget = {} if context.budget is None else {"max_boxes": context.budget}
+    budget: dict[str, Any] = {} if context.budget is None else {"max_boxes": context.budget}
     try:
         zmap = sampled_region(
             sea, p1, p2, loop=loop, p1_range=ranges[p1], p2_range=ranges[p2], n=n, rtol=1e-6,
