@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import io
 import re
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -190,3 +191,57 @@ def test_sampled_region_reports_rows_and_their_bounds() -> None:
             p2_range=(0, 50), n=2, setups=[ideal], progress=lambda d, t: rows.append((d, t)),
         )  # fmt: skip
     assert rows == [(1, 2), (2, 2)]
+
+
+def _jobs(tmp: Path, sweep: object) -> dict[str, Callable[[Progress], object]]:
+    """Every long job outside analyze, each on a small input, taking the progress."""
+    from seapass.export.c_code import export_c
+    from seapass.paper.simstudy import run_simulation_study
+    from seapass.paper.tables import build_tables
+    from seapass.report.reproduce import reproduce
+    from seapass.rig.experiment import run_experiment
+    from seapass.rig.rigfile import paper_rig
+    from seapass.sweep.runner import run_design_sweep
+
+    ours = SRC.parents[1] / "examples" / "ours.toml"
+    return {
+        "sweep": lambda p: run_design_sweep(sweep, tmp / "s.parquet", progress=p),  # type: ignore[arg-type]
+        "rig sweep": lambda p: run_experiment(
+            paper_rig(), designs=("LP",), load_masses=[10.0], kd=[0.0, 100.0], progress=p
+        ),
+        "paper study": lambda p: run_simulation_study(
+            designs=("LP",), quick=True, horizon=1.0, dt=2e-3, progress=p
+        ),
+        "paper tables": lambda p: build_tables(progress=p),
+        "export c": lambda p: export_c(ours, tmp / "c", set_gains=True, tunable=["kd"], progress=p),
+        "reproduce": lambda p: reproduce(stages=["stiffness"], quick=True, progress=p),
+    }
+
+
+@pytest.mark.parametrize(
+    "job", ["sweep", "rig sweep", "paper study", "paper tables", "export c", "reproduce"]
+)
+def test_every_long_job_stops_cleanly_at_an_interrupt(
+    job: str, tmp_path: Path, small_sweep: object
+) -> None:
+    """KeyboardInterrupt from the progress's first advance: it propagates, every task is
+    closed, no output is left half-written, and the same call then completes (the
+    library keeps no state from the interrupted run)."""
+    run = _jobs(tmp_path, small_sweep)[job]
+    rec = Recorder(stop_at=1)
+    with pytest.raises(KeyboardInterrupt):
+        run(rec)
+    assert rec.balanced and rec.calls[0][0] == "start" and rec.advances == 1
+    left = sorted(p.name for p in tmp_path.iterdir())
+    # a sweep keeps its finished parts to resume from (each written atomically)
+    assert left == (["s.parquet.parts"] if job == "sweep" else [])
+    if job in ("paper tables", "reproduce"):
+        return  # complete runs of these are tested elsewhere (tens of seconds each)
+    again = Recorder()
+    if job == "sweep":
+        from seapass.sweep.runner import run_design_sweep
+
+        run_design_sweep(small_sweep, tmp_path / "s.parquet", resume=True, progress=again)  # type: ignore[arg-type]
+    else:
+        run(again)
+    assert again.balanced and again.advances >= 1
