@@ -5,6 +5,7 @@ from __future__ import annotations
 import io
 import json
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -81,3 +82,34 @@ def test_tune_writes_one_line_on_a_non_terminal(capsys: pytest.CaptureFixture[st
     assert capsys.readouterr().err.splitlines()[0] == "tuning APD: 2 generations"
     assert main([*argv, "--no-progress"]) in (0, 1)
     assert "tuning" not in capsys.readouterr().err
+
+
+_WALL = ["--D1", "k1 + b1*s", "--CL", "kd", "--set", "m=1", "--set", "b=10", "--set", "k1=1000"]
+
+
+@pytest.mark.parametrize(
+    ("argv", "first"),
+    [
+        (["sweep", *_WALL, "--set", "b1=20", "--grid", "kd=0:1000:500", "--no-metrics"],
+         "sweep: 3 designs in 1 chunks"),
+        (["rig", "sweep", "--design", "LP", "--load-mass", "10", "--kd-max", "100",
+          "--kd-step", "100"], "kd sweeps on the twin of paper-rig"),
+        (["sampled", "region", "kd", "b1", "--period", "0.002", *_WALL, "--range", "0:2000",
+          "--range2", "0:40", "--rows", "2"], "Z-width map of kd against b1"),
+        (["export", "c", "examples/ours.toml", "--set-gains", "--tunable", "kd"],
+         "certifying 1 gain(s) at the sampled rate"),
+    ],
+)  # fmt: skip
+def test_long_commands_write_lines_on_a_non_terminal_and_none_when_asked(
+    argv: list[str], first: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """stderr is not a terminal under pytest: one line per task (no bar, no per-step
+    chatter); ``--no-progress``: none."""
+    out = ["--out", str(tmp_path / ("o.csv" if argv[0] == "sweep" else "o"))]
+    assert main([*argv, *out]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert any(line.startswith(first) for line in err), err
+    assert not any("\r" in line or "%" in line for line in err)
+    assert main([*argv, "--out", str(tmp_path / ("p.csv" if argv[0] == "sweep" else "p")),
+                 "--no-progress"]) == 0  # fmt: skip
+    assert not any(line.lstrip().startswith(first) for line in capsys.readouterr().err.splitlines())
