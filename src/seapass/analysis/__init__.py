@@ -12,7 +12,7 @@ bounds, and the exact proof that none of them destabilizes a design) and
 [`witness`][seapass.analysis.witness] with [`witness_search`][seapass.analysis.witness_search]
 (a passive environment, within bounds, that destabilizes a design that is not passive).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model].
+May import: [`seapass.errors`][seapass.errors], ``seapass.outcome``, [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model].
 """
 
 from .boundary import PassiveRegion, passive_region

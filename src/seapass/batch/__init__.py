@@ -7,7 +7,7 @@ data, compiled once), [`step_metrics`][seapass.batch.step_metrics] (settling tim
 final error and overshoot from the exact modal solution) and their helpers.
 Every batch function documents its axes and broadcasts length-1 axes.
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model],
+May import: [`seapass.errors`][seapass.errors], ``seapass.outcome``, [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model],
 [`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim].
 """
 

@@ -9,7 +9,7 @@ overshoot limits, exact continuous and sampled passivity where it matters),
 and a clean Ctrl-C) and [`optimize`][seapass.tuning.optimize] (`tune`, the
 one entry point, and its `TuningResult`).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.progress], [`seapass.model`][seapass.model],
+May import: [`seapass.errors`][seapass.errors], ``seapass.outcome``, [`seapass.progress`][seapass.progress], [`seapass.model`][seapass.model],
 [`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim],
 [`seapass.sampled`][seapass.sampled] (the sampled-data passivity constraint).
 """
