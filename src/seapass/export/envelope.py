@@ -109,6 +109,8 @@ def certify_gains(
     ``progress`` gets one task with a step per tunable gain.
     """
     shown = as_progress(progress, where="certify_gains")
+    if not tunable:  # nothing to certify: no task to show
+        return _certify(design, tunable, rtol, shown)
     with task(shown, f"certifying {len(tunable)} gain(s) at the sampled rate", len(tunable)):
         return _certify(design, tunable, rtol, shown)
 

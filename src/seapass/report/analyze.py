@@ -56,6 +56,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from enum import StrEnum
 from functools import partial
 
 from ..errors import ParameterError
@@ -322,16 +323,16 @@ def analyze(
         check_output_dir(out)
     done: dict[int, Section] = {}
 
-    def assemble(state: str) -> Report:
+    def assemble(state: _Run) -> Report:
         return _report(design, chosen, done, quick, state)
 
     def finished(i: int, section: Section) -> None:
         done[i] = section
         if out is not None:
-            write_report(assemble("running"), out)
+            write_report(assemble(_Run.RUNNING), out)
 
     if out is not None:
-        write_report(assemble("running"), out)
+        write_report(assemble(_Run.RUNNING), out)
     try:
         run_stages(
             chosen, quick=quick, progress=shown, log=log, jobs=jobs, on_section=finished,
@@ -339,22 +340,30 @@ def analyze(
         )  # fmt: skip
     except KeyboardInterrupt:
         if out is not None:
-            write_report(assemble("interrupted"), out)
+            write_report(assemble(_Run.INTERRUPTED), out)
         raise
-    report = assemble("complete")
+    report = assemble(_Run.COMPLETE)
     if out is not None:
         write_report(report, out)
     return report
 
 
+class _Run(StrEnum):
+    """Where the run is when the report is assembled."""
+
+    RUNNING = "running"
+    INTERRUPTED = "interrupted"
+    COMPLETE = "complete"
+
+
 _NOT_RUN = {
-    "running": "Not run yet: the analysis was still running when this report was written.",
-    "interrupted": "Not run: the analysis was interrupted before this stage finished.",
+    _Run.RUNNING: "Not run yet: the analysis was still running when this report was written.",
+    _Run.INTERRUPTED: "Not run: the analysis was interrupted before this stage finished.",
 }
 
 
 def _report(
-    design: Design, chosen: Sequence[Stage], done: Mapping[int, Section], quick: bool, state: str
+    design: Design, chosen: Sequence[Stage], done: Mapping[int, Section], quick: bool, state: _Run
 ) -> Report:
     """The report of the finished sections; the others *not run* unless ``state`` is complete."""
     sections = tuple(
@@ -364,12 +373,12 @@ def _report(
         for i, st in enumerate(chosen)
     )
     incomplete = ""
-    if state != "complete":
+    if state is not _Run.COMPLETE:
         what = f"{len(done)} of {len(chosen)} analyses finished"
         incomplete = (
             f"{what}; the run was still going when this was written (if it is no longer "
             "running, it was stopped)."
-            if state == "running"
+            if state is _Run.RUNNING
             else f"interrupted: {what}. The finished analyses are complete; the others are "
             "marked *not run*. Run `seapass analyze` again for the whole report."
         )

@@ -263,7 +263,7 @@ def _run_parallel(
                 continue
             i, kind, a, b = msg
             st = stages[i]
-            if kind == "done":
+            if kind == "finished":
                 left -= 1
                 if st.key in running:
                     running.remove(st.key)
@@ -284,7 +284,7 @@ def _run_parallel(
 
 
 def _put_done(events: Any, i: int, res: tuple[Section, float]) -> None:
-    events.put((i, "done", res, None))
+    events.put((i, "finished", res, None))
 
 
 def _put_error(events: Any, i: int, exc: BaseException) -> None:

@@ -279,10 +279,10 @@ def run_design_sweep(
     threads = 1
     try:
         with (
+            _executor(spec, store.parts, scheduler, workers) as (threads, run),  # may refuse
             task(
                 shown, f"sweep: {spec.n_designs} designs in {spec.n_chunks} chunks", spec.n_chunks
             ),
-            _executor(spec, store.parts, scheduler, workers) as (threads, run),
         ):
             if store.resumed:
                 shown.advance(store.resumed, note="resumed")
