@@ -72,6 +72,11 @@ def default_range(value: float | None) -> tuple[float, float]:
     return (0.0, max(10.0 * abs(value), 1000.0))
 
 
+def _empty() -> Mapping[str, Any]:
+    """A read-only empty mapping (the default of the mapping fields)."""
+    return MappingProxyType({})
+
+
 @dataclass(frozen=True, kw_only=True, repr=False)
 class ResolvedDesign:
     """What a command runs: the file merged with the caller's values (see `resolve_design`).
@@ -105,10 +110,10 @@ class ResolvedDesign:
     step: float | None = None
     horizon: float | None = None
     load_masses: tuple[float, ...] = PAPER_EXPERIMENT.load_masses
-    ranges: Mapping[str, tuple[float, float]] = field(default_factory=dict)
-    values: Mapping[str, float] = field(default_factory=dict)
-    units: Mapping[str, str] = field(default_factory=dict)
-    environment: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    ranges: Mapping[str, tuple[float, float]] = field(default_factory=_empty)
+    values: Mapping[str, float] = field(default_factory=_empty)
+    units: Mapping[str, str] = field(default_factory=_empty)
+    environment: Mapping[str, tuple[float, float]] = field(default_factory=_empty)
     design: Design | None = None
 
     def __post_init__(self) -> None:
