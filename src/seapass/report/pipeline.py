@@ -150,12 +150,13 @@ class _QueueProgress:
         self.queue.put((self.index, "close", None, None))
 
 
-def _run_in_worker(index: int, quick: bool) -> tuple[Section, float]:
-    """Worker entry point: stage ``index`` of the inherited list; progress through the queue."""
+def _run_in_worker(index: int, quick: bool) -> None:
+    """Worker entry point: stage ``index`` of the inherited list.  Its progress and then its
+    result go through the one queue, so the parent sees every note before the result."""
     stage, queue = _WORKER_STAGES[index], _WORKER_QUEUE
     queue.put((index, "begin", None, None))
     context = StageContext(quick=quick, budget=stage.budget, progress=_QueueProgress(index, queue))
-    return _run_one(stage, context)
+    queue.put((index, "finished", _run_one(stage, context), None))
 
 
 def _stage_line(i: int, n: int, stage: Stage) -> str:
@@ -251,10 +252,8 @@ def _run_parallel(
         listener.start()
         for i in sorted(range(len(stages)), key=lambda i: -stages[i].cost):
             pool.apply_async(
-                _run_in_worker, (i, quick),
-                callback=functools.partial(_put_done, events, i),
-                error_callback=functools.partial(_put_error, events, i),
-            )  # fmt: skip
+                _run_in_worker, (i, quick), error_callback=functools.partial(_put_error, events, i)
+            )
         left = len(stages)
         while left:
             try:
@@ -281,10 +280,6 @@ def _run_parallel(
     finally:
         mp_queue.put(None)
         listener.join(timeout=2.0)  # daemon: never blocks an interrupted run
-
-
-def _put_done(events: Any, i: int, res: tuple[Section, float]) -> None:
-    events.put((i, "finished", res, None))
 
 
 def _put_error(events: Any, i: int, exc: BaseException) -> None:
