@@ -159,7 +159,6 @@ def run_workers_write(spec: SweepSpec, address: str | None, out: Path, n: int) -
         spec,
         out,
         scheduler=address,
-        progress=False,
         on_part=lambda s: received.append(len(pickle.dumps(s))),
     )
     t, c = time.perf_counter() - t0, time.process_time() - c0

@@ -39,7 +39,7 @@ def run(quick: bool) -> tuple[list[Row], list[str]]:
         chunk_size=8192,
     )
     with tempfile.TemporaryDirectory() as tmp:
-        t_ours = timed(lambda: run_design_sweep(spec, Path(tmp) / "s.parquet", progress=False))
+        t_ours = timed(lambda: run_design_sweep(spec, Path(tmp) / "s.parquet"))
     idx, vals = spec.chunk_values(0)
     n_naive = 6 if quick else 30
     pick = np.linspace(0, idx.size - 1, n_naive).astype(int)

@@ -68,9 +68,7 @@ def test_not_passive_design_report(tmp_path: Path, capsys: pytest.CaptureFixture
 
 def test_ours_with_sampled_control() -> None:
     design = load_design(EXAMPLES / "ours.toml")
-    report = analyze(
-        design, quick=True, stages=["passivity", "ranges", "sampled", "zwidth"], progress=False
-    )
+    report = analyze(design, quick=True, stages=["passivity", "ranges", "sampled", "zwidth"])
     secs = {s.key: s for s in report.sections}
     assert secs["passivity"].findings[0].verdict == "agrees"
     kd = next(r for r in secs["ranges"].tables[0].rows if r[0] == "kd")
@@ -92,7 +90,7 @@ def test_ours_with_sampled_control() -> None:
 
 def test_tuning_lp_quick() -> None:
     design = load_design(EXAMPLES / "lp.toml")
-    report = analyze(design, quick=True, stages=["tuning"], progress=False)
+    report = analyze(design, quick=True, stages=["tuning"])
     (sec,) = report.sections[:1]
     assert sec.status == "ok"
     (gain,) = sec.tables[0].rows
@@ -106,21 +104,21 @@ def test_tuning_lp_quick() -> None:
 
 def test_no_control_rate_skips_sampled() -> None:
     design = load_design(EXAMPLES / "apd.toml")
-    report = analyze(design, stages=["sampled"], progress=False)
+    report = analyze(design, stages=["sampled"])
     assert report.sections[0].status == "skipped"
     assert "[control] rate" in report.sections[0].text
     assert ANALYSIS_STAGES == (
         "passivity", "witness", "stiffness", "frequency", "ranges", "twoport", "response",
         "tuning", "sampled", "zwidth", "rig",
     )  # fmt: skip
-    rig = analyze(design, stages=["rig"], progress=False).sections[0]
+    rig = analyze(design, stages=["rig"]).sections[0]
     assert rig.status == "skipped" and "[rig]" in rig.text
 
 
 def test_rig_stage_on_the_twin() -> None:
     design = load_design(EXAMPLES / "ours.toml")
     assert design.rig_file == "paper"
-    sec = analyze(design, quick=True, stages=["rig"], progress=False).sections[0]
+    sec = analyze(design, quick=True, stages=["rig"]).sections[0]
     assert sec.status == "ok"
     rows = sec.tables[0].rows
     assert [r[0] for r in rows] == [0.1, 0.6]  # the rig's load masses

@@ -20,9 +20,7 @@ distributed = pytest.importorskip("dask.distributed")
 def test_local_cluster_matches_single_process(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, small_sweep: SweepSpec, assert_same_rows: Any
 ) -> None:
-    ref = pq.read_table(
-        run_design_sweep(small_sweep, tmp_path / "ref.parquet", progress=False).path
-    )
+    ref = pq.read_table(run_design_sweep(small_sweep, tmp_path / "ref.parquet").path)
     # the default is one worker per core; pretend this machine has 2 whatever it has
     monkeypatch.setattr(seapass.sweep.cluster, "available_cores", lambda: 2)
     seen: list[object] = []
@@ -30,7 +28,6 @@ def test_local_cluster_matches_single_process(
         small_sweep,
         tmp_path / "dask.parquet",
         scheduler="local",
-        progress=False,
         on_part=seen.append,
     )
     assert res.chunks_computed == small_sweep.n_chunks and res.workers == 2
@@ -54,7 +51,7 @@ def test_cli_local_cluster_with_workers(
     summary = json.loads(captured.out)
     assert summary["workers"] == 1 and summary["n_designs"] == small_sweep.n_designs
     assert f"wrote {out}" in captured.err
-    ref = run_design_sweep(small_sweep, tmp_path / "ref", progress=False)
+    ref = run_design_sweep(small_sweep, tmp_path / "ref")
     assert (summary["n_passive"], summary["n_settled"]) == (ref.n_passive, ref.n_settled)
 
 
@@ -67,7 +64,7 @@ def _worker_env() -> tuple[str | None, str | None]:
 def test_existing_scheduler_address(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, small_sweep: SweepSpec, assert_same_rows: Any
 ) -> None:
-    ref = pacsv.read_csv(run_design_sweep(small_sweep, tmp_path / "ref.csv", progress=False).path)
+    ref = pacsv.read_csv(run_design_sweep(small_sweep, tmp_path / "ref.csv").path)
     monkeypatch.delenv("MALLOC_TRIM_THRESHOLD_", raising=False)
     with (
         seapass.sweep.cluster.local_cluster(2) as cluster,
@@ -75,7 +72,5 @@ def test_existing_scheduler_address(
     ):
         # Dask's default MALLOC_TRIM_THRESHOLD_ would double a chunk's CPU time (page faults)
         assert set(client.run(_worker_env).values()) == {(None, "1")}
-        res = run_design_sweep(
-            small_sweep, tmp_path / "d.csv", scheduler=cluster.scheduler_address, progress=False
-        )
+        res = run_design_sweep(small_sweep, tmp_path / "d.csv", scheduler=cluster.scheduler_address)
     assert_same_rows(pacsv.read_csv(res.path), ref)

@@ -119,7 +119,7 @@ def test_one_batch_of_sweeps_equals_separate_sweeps():
 
 
 def test_experiment_findings_on_coarse_grid():
-    res = run_experiment(RIG, kd=[0.0, 100.0, 150.0, 600.0, 1200.0, 2000.0], progress=False)
+    res = run_experiment(RIG, kd=[0.0, 100.0, 150.0, 600.0, 1200.0, 2000.0])
     assert len(res.sweeps) == 4
     claims = {f.claim: f for f in res.findings}
     assert claims["LP becomes unstable at high gain"].match is True

@@ -190,7 +190,7 @@ def test_analyze_stage_draws_the_three_plots() -> None:
 
     examples = Path(__file__).resolve().parents[1] / "examples"
     design = load_design(examples / "load_pd_not_passive.toml")
-    (sec,) = analyze(design, quick=True, stages=["frequency"], progress=False).sections[:1]
+    (sec,) = analyze(design, quick=True, stages=["frequency"]).sections[:1]
     assert sec.status == "ok"
     assert [f.name for f in sec.figures] == ["bode", "real_part", "nyquist"]
     exact = is_passive(design.sea()).response().negative_bands

@@ -8,12 +8,14 @@ from pathlib import Path
 
 import pytest
 
+from long_jobs import Recorder
 from seapass.cli import main
 from seapass.errors import MissingExtraError, OutputPathError
 from seapass.plot.style import figure_bytes
+from seapass.progress import task
 from seapass.report.document import FigureData, Finding, Report, Section, Table
 from seapass.report.output import write_report
-from seapass.report.pipeline import Stage, run_stages, select_stages, stage_progress
+from seapass.report.pipeline import Stage, StageContext, run_stages, select_stages
 from seapass.report.reproduce import STAGES, reproduce, stage_keys
 
 
@@ -144,7 +146,7 @@ def test_interrupt_leaves_previous_output(tmp_path: Path) -> None:
         raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
-        run_stages([Stage("a", "A", lambda q: _tiny()), Stage("b", "B", boom)], progress=False)
+        run_stages([Stage("a", "A", lambda q: _tiny()), Stage("b", "B", boom)])
     after = {p.name: p.read_bytes() for p in out.rglob("*") if p.is_file()}
     assert after == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
@@ -180,7 +182,6 @@ def test_failed_and_skipped_stages_are_reported() -> None:
     secs = run_stages(
         [Stage("a", "A", bad), Stage("b", "B", broken_import), Stage("m", "M", no_mujoco),
          Stage("c", "C", lambda q: _tiny("c"))],
-        progress=False,
     )  # fmt: skip
     # a broken import is a bug and fails loudly; only a named optional extra is skipped
     assert [s.status for s in secs] == ["failed", "failed", "skipped", "ok"]
@@ -201,7 +202,7 @@ def test_stage_selection(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> 
 
 
 def test_report_text_rendering(tmp_path: Path) -> None:
-    report = reproduce(stages=[], progress=False)
+    report = reproduce(stages=[])
     assert report.sections == ()
     out = tmp_path / "o"
     write_report(Report("R & D", "intro <b>", (_tiny(),)), out)
@@ -221,25 +222,29 @@ def _stage_bad(quick: bool) -> Section:
     raise RuntimeError("stage exploded")
 
 
-def _stage_with_progress(quick: bool) -> Section:
-    stage_progress(0, 2, "first half")
-    stage_progress(2, 2, "done")
+def _stage_with_progress(context: StageContext) -> Section:
+    with task(context.progress, "halves", 2):
+        context.progress.advance(1, note="first half")
+        context.progress.advance(1, note="done")
     return _tiny("g")
 
 
 @pytest.mark.parametrize("jobs", [1, 2])
 def test_progress_within_stages_reaches_the_caller(jobs: int) -> None:
-    seen: list[tuple[str, float, str]] = []
+    rec = Recorder()
     stages = [Stage("g", "G", _stage_with_progress), Stage("p", "P", _stage_ok)]
-    run_stages(stages, progress=False, jobs=jobs, on_progress=lambda *a: seen.append(a))
-    assert seen == [("g", 0.0, "first half"), ("g", 1.0, "done")]
-    stage_progress(1, 2, "outside a run: nothing happens")
+    run_stages(stages, jobs=jobs, progress=rec)
+    notes = [c[2] for c in rec.calls if c[0] == "advance" and c[1] == (1 if jobs == 1 else 0)]
+    # in this process the stage's own task nests; from a worker its notes name the stage
+    want = ["first half", "done"] if jobs == 1 else ["g: first half", "g: done"]
+    assert [n for n in notes if n.endswith(("first half", "done"))] == want
+    assert rec.balanced
 
 
 def test_parallel_stages_match_sequential() -> None:
     stages = [Stage("p", "P", _stage_ok), Stage("q", "Q", _stage_bad)]
-    seq = run_stages(stages, progress=False, jobs=1)
-    par = run_stages(stages, progress=False, jobs=2)
+    seq = run_stages(stages, jobs=1)
+    par = run_stages(stages, jobs=2)
     assert [s.status for s in par] == ["ok", "failed"]
     assert par[0].figures[0].png == seq[0].figures[0].png
     assert par[0].files == seq[0].files and par[1].text == seq[1].text

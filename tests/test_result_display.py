@@ -46,7 +46,6 @@ def results(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
             maxiter=4,
             popsize=4,
             dt_search=1e-2,
-            progress=False,
         )
     sweep_spec = SweepSpec(
         sea=SEA(D1="k1 + b1*s", CL="kd", values=dict(m=1.0, b=10.0, k1=1000.0)),
@@ -72,9 +71,7 @@ def results(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
             n=3,
             rtol=1e-3,
         ),
-        "sweep": run_design_sweep(
-            sweep_spec, tmp_path_factory.mktemp("sweep") / "s.parquet", progress=False
-        ),
+        "sweep": run_design_sweep(sweep_spec, tmp_path_factory.mktemp("sweep") / "s.parquet"),
     }
 
 

@@ -71,7 +71,7 @@ def test_parse_grid_and_range() -> None:
 
 def test_grid_sweep_rows_match_batch_functions(tmp_path: Path) -> None:
     spec = _spec()
-    res = run_design_sweep(spec, tmp_path / "out.parquet", progress=False)
+    res = run_design_sweep(spec, tmp_path / "out.parquet")
     t = pq.read_table(res.path)
     assert t.num_rows == 4 * 7 == res.n_designs
     assert t.column("index").to_pylist() == list(range(28))
@@ -90,8 +90,8 @@ def test_grid_sweep_rows_match_batch_functions(tmp_path: Path) -> None:
 
 def test_csv_output_has_the_same_rows(tmp_path: Path) -> None:
     spec = _spec(metrics=False)
-    a = pq.read_table(run_design_sweep(spec, tmp_path / "a.parquet", progress=False).path)
-    b = pacsv.read_csv(run_design_sweep(spec, tmp_path / "b.csv", progress=False).path)
+    a = pq.read_table(run_design_sweep(spec, tmp_path / "a.parquet").path)
+    b = pacsv.read_csv(run_design_sweep(spec, tmp_path / "b.csv").path)
     assert a.column_names == b.column_names == ["index", "b1", "kd", "passive", "margin"]
     for name in a.column_names:
         np.testing.assert_array_equal(
@@ -109,17 +109,17 @@ def test_interrupted_sweep_resumes_without_duplicates(tmp_path: Path) -> None:
             raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
-        run_design_sweep(spec, out, progress=False, on_part=boom)
+        run_design_sweep(spec, out, on_part=boom)
     parts = tmp_path / "r.parquet.parts"
     assert sorted(p.name for p in parts.glob("part-*.parquet")) == [
         f"part-{c:06d}.parquet" for c in range(4)
     ]
     assert not out.exists()
     with pytest.raises(FileFormatError, match="resume=True"):
-        run_design_sweep(spec, out, progress=False)
-    res = run_design_sweep(spec, out, resume=True, progress=False)
+        run_design_sweep(spec, out)
+    res = run_design_sweep(spec, out, resume=True)
     assert res.chunks_resumed == 4 and res.chunks_computed == spec.n_chunks - 4
-    fresh = run_design_sweep(spec, tmp_path / "fresh.parquet", progress=False)
+    fresh = run_design_sweep(spec, tmp_path / "fresh.parquet")
     a, b = pq.read_table(res.path), pq.read_table(fresh.path)
     assert a.equals(b)
     assert res.n_passive == fresh.n_passive
@@ -127,10 +127,10 @@ def test_interrupted_sweep_resumes_without_duplicates(tmp_path: Path) -> None:
 
 def test_resume_refuses_a_different_sweep(tmp_path: Path) -> None:
     out = tmp_path / "dir"
-    run_design_sweep(_spec(metrics=False), out, progress=False)  # a directory dataset is kept
+    run_design_sweep(_spec(metrics=False), out)  # a directory dataset is kept
     assert (out / "_manifest.json").is_file()
     with pytest.raises(FileFormatError, match="different sweep"):
-        run_design_sweep(_spec(metrics=False, seed=3), out, resume=True, progress=False)
+        run_design_sweep(_spec(metrics=False, seed=3), out, resume=True)
     data = heatmap_data(out, "kd", "b1")
     assert data.passive_fraction.shape == (4, 7)
 
@@ -144,8 +144,8 @@ def test_random_sampling_is_reproducible_and_in_range(tmp_path: Path) -> None:
         chunk_size=16,
         metrics=False,
     )
-    a = pq.read_table(run_design_sweep(spec, tmp_path / "a.parquet", progress=False).path)
-    b = pq.read_table(run_design_sweep(spec, tmp_path / "b.parquet", progress=False).path)
+    a = pq.read_table(run_design_sweep(spec, tmp_path / "a.parquet").path)
+    b = pq.read_table(run_design_sweep(spec, tmp_path / "b.parquet").path)
     assert a.equals(b) and a.num_rows == 50
     kd = a.column("kd").to_numpy()
     assert kd.min() >= 0 and kd.max() <= 5000 and np.unique(kd).size == 50
@@ -171,7 +171,7 @@ def test_load_mass_can_be_swept(tmp_path: Path) -> None:
         grid=(GridAxis("m_L", 1.0, 25.0, 12.0),),
         chunk_size=2,
     )
-    t = pq.read_table(run_design_sweep(spec, tmp_path / "m.parquet", progress=False).path)
+    t = pq.read_table(run_design_sweep(spec, tmp_path / "m.parquet").path)
     ts = t.column("settling_time").to_numpy()
     assert t.column("passive").to_numpy(zero_copy_only=False).all()
     assert np.all(np.diff(ts) > 0)  # heavier loads settle later

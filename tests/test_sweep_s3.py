@@ -49,14 +49,14 @@ def test_s3_directory_file_resume_and_dask_workers(
 ) -> None:
     fs, opts = s3
     SPEC, _assert_same = small_sweep, assert_same_rows
-    ref = pq.read_table(run_design_sweep(SPEC, tmp_path / "ref.parquet", progress=False).path)
+    ref = pq.read_table(run_design_sweep(SPEC, tmp_path / "ref.parquet").path)
 
-    one = run_design_sweep(SPEC, "s3://sweeps/one.parquet", storage_options=opts, progress=False)
+    one = run_design_sweep(SPEC, "s3://sweeps/one.parquet", storage_options=opts)
     with fs.open("sweeps/one.parquet", "rb") as fh:
         _assert_same(pq.read_table(fh), ref)
     assert fs.ls("sweeps", refresh=True) == ["sweeps/one.parquet"]  # parts merged and removed
 
-    res = run_design_sweep(SPEC, "s3://sweeps/dir/", storage_options=opts, progress=False)
+    res = run_design_sweep(SPEC, "s3://sweeps/dir/", storage_options=opts)
     assert fs.isfile(f"sweeps/dir/{MANIFEST}") and res.n_passive == one.n_passive
     _assert_same(ds.dataset("sweeps/dir", filesystem=fs).to_table().sort_by("index"), ref)
     assert (
@@ -65,9 +65,7 @@ def test_s3_directory_file_resume_and_dask_workers(
     )
 
     fs.rm(["sweeps/dir/part-000001.parquet", "sweeps/dir/part-000003.parquet"])
-    again = run_design_sweep(
-        SPEC, "s3://sweeps/dir/", storage_options=opts, resume=True, progress=False
-    )
+    again = run_design_sweep(SPEC, "s3://sweeps/dir/", storage_options=opts, resume=True)
     assert again.chunks_computed == 2 and again.n_passive == one.n_passive
 
     pytest.importorskip("dask.distributed")
@@ -76,7 +74,7 @@ def test_s3_directory_file_resume_and_dask_workers(
     with local_cluster(2) as cluster:
         dask_res = run_design_sweep(
             SPEC, "s3://sweeps/dask/", storage_options=opts,
-            scheduler=cluster.scheduler_address, progress=False,
+            scheduler=cluster.scheduler_address,
         )  # fmt: skip
     assert dask_res.workers == 2 and dask_res.chunks_computed == SPEC.n_chunks
     _assert_same(ds.dataset("sweeps/dask", filesystem=fs).to_table().sort_by("index"), ref)

@@ -37,14 +37,14 @@ SPEC_FINGERPRINT_BEFORE = "57584e2fff83f3ef"
 @pytest.fixture(scope="module")
 def reference(tmp_path_factory: pytest.TempPathFactory, small_sweep: SweepSpec) -> pa.Table:
     out = tmp_path_factory.mktemp("ref") / "ref.parquet"
-    return pq.read_table(run_design_sweep(small_sweep, out, progress=False).path)
+    return pq.read_table(run_design_sweep(small_sweep, out).path)
 
 
 def test_directory_output_reads_as_a_dataset(
     tmp_path: Path, reference: pa.Table, small_sweep: SweepSpec, assert_same_rows: Any
 ) -> None:
     out = tmp_path / "results"
-    res = run_design_sweep(small_sweep, out, progress=False)
+    res = run_design_sweep(small_sweep, out)
     assert res.path == str(out) and (out / MANIFEST).is_file()
     assert not (out / "manifest.json").exists()
     # the documented read: the manifest's leading underscore makes pyarrow skip it
@@ -63,7 +63,7 @@ def test_directory_output_reads_in_duckdb(
 ) -> None:
     duckdb = pytest.importorskip("duckdb")
     out = tmp_path / "results"
-    run_design_sweep(small_sweep, out, progress=False)
+    run_design_sweep(small_sweep, out)
     con = duckdb.connect()
     n, n_passive, kd_sum = con.execute(
         "SELECT count(*), sum(passive::INT), sum(kd) FROM read_parquet(?)", [str(out)]
@@ -89,7 +89,7 @@ def test_memory_filesystem_gives_the_same_rows(
     url = f"memory://seapass-test/{os.getpid()}/{name}"
     fs = fsspec.filesystem("memory")
     try:
-        res = run_design_sweep(small_sweep, url, progress=False)
+        res = run_design_sweep(small_sweep, url)
         assert res.path == url
         if name.endswith(".parquet"):
             with fs.open(url, "rb") as fh:
@@ -111,7 +111,7 @@ def test_file_url_and_csv(
 ) -> None:
     import pyarrow.csv as pacsv
 
-    res = run_design_sweep(small_sweep, f"file://{tmp_path}/r.csv", progress=False)
+    res = run_design_sweep(small_sweep, f"file://{tmp_path}/r.csv")
     assert Path(res.path.removeprefix("file://")).is_file()
     types = pacsv.ConvertOptions(column_types=reference.schema)
     assert_same_rows(pacsv.read_csv(tmp_path / "r.csv", convert_options=types), reference)
@@ -119,7 +119,7 @@ def test_file_url_and_csv(
 
 def test_memory_filesystem_is_refused_for_dask_workers(small_sweep: SweepSpec) -> None:
     with pytest.raises(ParameterError, match="inside this process"):
-        run_design_sweep(small_sweep, "memory://x/y", scheduler="local", progress=False)
+        run_design_sweep(small_sweep, "memory://x/y", scheduler="local")
 
 
 def test_not_a_sweep_directory_is_refused_and_kept(tmp_path: Path, small_sweep: SweepSpec) -> None:
@@ -127,7 +127,7 @@ def test_not_a_sweep_directory_is_refused_and_kept(tmp_path: Path, small_sweep: 
     out.mkdir()
     (out / "notes.txt").write_text("keep me")
     with pytest.raises(FileFormatError, match="not a seapass sweep directory"):
-        run_design_sweep(small_sweep, out, progress=False)
+        run_design_sweep(small_sweep, out)
     assert (out / "notes.txt").read_text() == "keep me"
 
 
@@ -144,10 +144,10 @@ def test_journal_missing_parts_are_recounted(
     tmp_path: Path, reference: pa.Table, small_sweep: SweepSpec, assert_same_rows: Any
 ) -> None:
     out = tmp_path / "j"
-    res = run_design_sweep(small_sweep, out, progress=False)
+    res = run_design_sweep(small_sweep, out)
     for c in (1, 3):  # parts the journal lists have gone: recount, recompute
         (out / f"part-{c:06d}.parquet").unlink()
-    again = run_design_sweep(small_sweep, out, resume=True, progress=False)
+    again = run_design_sweep(small_sweep, out, resume=True)
     assert again.chunks_computed == 2 and again.chunks_resumed == small_sweep.n_chunks - 2
     assert (again.n_passive, again.n_settled) == (res.n_passive, res.n_settled)
     assert_same_rows(ds.dataset(str(out)).to_table().sort_by("index"), reference)
@@ -172,8 +172,7 @@ def hook(s):
 if __name__ == "__main__":
     seapass.sweep.store.JOURNAL_INTERVAL = float(sys.argv[4])  # seconds between rewrites
     sched = None if sys.argv[2] == "-" else sys.argv[2]
-    run_design_sweep(spec, sys.argv[1], scheduler=sched, workers=2 if sched else None,
-                     progress=False, on_part=hook)
+    run_design_sweep(spec, sys.argv[1], scheduler=sched, workers=2 if sched else None, on_part=hook)
 """
 
 
@@ -204,7 +203,7 @@ def test_resume_after_kill_9_is_lossless(
     assert json.loads((parts / MANIFEST).read_text())["n_done"] == 0
     # a write that a kill interrupted leaves a hidden temporary file: removed on resume
     (parts / ".part-000003.parquet.0123456789ab.part").write_bytes(b"PAR1 half")
-    res = run_design_sweep(small_sweep, out, resume=True, progress=False)
+    res = run_design_sweep(small_sweep, out, resume=True)
     assert res.chunks_resumed == 3 and res.chunks_computed == small_sweep.n_chunks - 3
     assert_same_rows(pq.read_table(out), reference)
     ref_passive = int(np.count_nonzero(reference.column("passive").to_numpy(False)))
@@ -219,7 +218,7 @@ def test_resume_after_kill_9_of_a_dask_client_is_lossless(
     out = tmp_path / "dk"
     kill_midway(out, "local", at_chunk=1)  # with 2 workers writing parts
     assert (out / MANIFEST).is_file()
-    res = run_design_sweep(small_sweep, out, resume=True, progress=False)
+    res = run_design_sweep(small_sweep, out, resume=True)
     assert (
         res.chunks_resumed >= 1 and res.chunks_resumed + res.chunks_computed == small_sweep.n_chunks
     )
@@ -229,7 +228,7 @@ def test_resume_after_kill_9_of_a_dask_client_is_lossless(
 
 def _make_old_directory(spec: SweepSpec, out: Path) -> None:
     """A directory as earlier seapass versions left it: parts beside ``manifest.json``."""
-    run_design_sweep(spec, out, progress=False)
+    run_design_sweep(spec, out)
     (out / MANIFEST).unlink()
     (out / "part-000002.parquet").unlink()  # interrupted before chunk 2 was written
     legacy = {"fingerprint": spec.fingerprint(), "spec": spec.describe(), "format": 1}
@@ -251,7 +250,7 @@ def test_old_manifest_directory_is_refused_with_the_fix(
         FileFormatError,
         match=r"old-style manifest\.json.*resume=True to migrate it to _manifest\.json",
     ):
-        run_design_sweep(small_sweep, out, progress=False)
+        run_design_sweep(small_sweep, out)
     assert (out / "manifest.json").is_file()  # nothing touched
 
 
@@ -260,7 +259,7 @@ def test_old_manifest_directory_is_migrated_on_resume(
 ) -> None:
     out = tmp_path / "old"
     _make_old_directory(small_sweep, out)
-    res = run_design_sweep(small_sweep, out, resume=True, progress=False)
+    res = run_design_sweep(small_sweep, out, resume=True)
     assert res.migrated and res.chunks_computed == 1
     assert not (out / "manifest.json").exists() and (out / MANIFEST).is_file()
     assert_same_rows(ds.dataset(str(out)).to_table().sort_by("index"), reference)
@@ -269,12 +268,12 @@ def test_old_manifest_directory_is_migrated_on_resume(
 
 def test_a_newer_manifest_format_is_refused(tmp_path: Path, small_sweep: SweepSpec) -> None:
     out = tmp_path / "new"
-    run_design_sweep(small_sweep, out, progress=False)
+    run_design_sweep(small_sweep, out)
     doc = json.loads((out / MANIFEST).read_text())
     doc["format"] = 99
     (out / MANIFEST).write_text(json.dumps(doc))
     with pytest.raises(FileFormatError, match="upgrade seapass"):
-        run_design_sweep(small_sweep, out, resume=True, progress=False)
+        run_design_sweep(small_sweep, out, resume=True)
 
 
 def test_unknown_url_protocol_is_one_clear_error(tmp_path: Path) -> None:

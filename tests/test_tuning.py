@@ -20,7 +20,7 @@ QUICK = replace(QUICK_OPTIONS, maxiter=8)
 
 
 def test_lp_search_box_is_the_exact_passive_set():
-    res = tune("LP", options=replace(QUICK, maxiter=3, popsize=4), progress=False)
+    res = tune("LP", options=replace(QUICK, maxiter=3, popsize=4))
     assert res.bounds["kd"] == (0.0, 1000.0)  # kd <= k1, from passive_intervals
     assert 0.0 <= res.gains["kd"] <= 1000.0 and res.passive
 
@@ -38,7 +38,7 @@ def test_ours_is_passive_for_every_kd_by_the_exact_api():
 
 @pytest.mark.parametrize("design", ["LP", "APD", "ours"])
 def test_quick_tune_gives_passive_settling_design_within_limits(design):
-    res = tune(design, options=QUICK, progress=False)
+    res = tune(design, options=QUICK)
     assert res.passive and is_passive(res.sea).passive
     assert res.metrics.settled and res.metrics.settling_time is not None
     assert res.metrics.peak_force <= QUICK.force_limit
@@ -51,15 +51,15 @@ def test_quick_tune_gives_passive_settling_design_within_limits(design):
 
 
 def test_tuning_is_reproducible_and_seeded():
-    a = tune("APD", options=QUICK, progress=False)
-    b = tune("APD", options=QUICK, progress=False)
+    a = tune("APD", options=QUICK)
+    b = tune("APD", options=QUICK)
     assert dict(a.gains) == dict(b.gains)
     assert a.metrics.settling_time == b.metrics.settling_time
 
 
 def test_force_limit_and_bounds_are_respected():
     opts = replace(QUICK, force_limit=100.0)
-    res = tune("APD", tune={"kd": (0.0, 400.0), "bd": (0.0, 50.0)}, options=opts, progress=False)
+    res = tune("APD", tune={"kd": (0.0, 400.0), "bd": (0.0, 50.0)}, options=opts)
     assert res.gains["kd"] <= 400.0 and res.gains["bd"] <= 50.0
     assert res.metrics.peak_force <= 100.0 + 1e-9
 
@@ -75,17 +75,17 @@ def test_keyboard_interrupt_aborts_cleanly():
 def test_bad_design_and_options():
     assert catalog_design("OURS").key == "ours" and catalog_design("apd").key == "APD"
     with pytest.raises(ParameterError, match="unknown design"):
-        tune("PID", options=QUICK, progress=False)
+        tune("PID", options=QUICK)
     with pytest.raises(ParameterError):
         TuningOptions(load_mass=0.0)
     with pytest.raises(ParameterError, match="horizon"):
-        tune("LP", options=TuningOptions(horizon=1e-4), progress=False)
+        tune("LP", options=TuningOptions(horizon=1e-4))
     with pytest.raises(ParameterError):
         TuningOptions(step=0.0)
 
 
 def test_quick_simulation_study():
-    study = run_simulation_study(quick=True, progress=False, horizon=6.0, dt=2e-3)
+    study = run_simulation_study(quick=True, horizon=6.0, dt=2e-3)
     assert study.designs == ("LP", "APD", "ours") and study.masses == (1.0, 10.0, 25.0)
     assert len(study.rows) == 9 and len(study.runs) == 9
     for r in study.rows:
@@ -98,7 +98,7 @@ def test_quick_simulation_study():
     assert study.table_csv().count("\n") == 10
     assert "Ours is" in study.summary()
     with pytest.raises(ParameterError):
-        run_simulation_study(masses=(0.0,), quick=True, progress=False)
+        run_simulation_study(masses=(0.0,), quick=True)
 
 
 @pytest.mark.parametrize(

@@ -34,7 +34,7 @@ FAST = TuningOptions(maxiter=5, popsize=4, dt_search=1e-2)
 def _quiet_tune(*args, **kw):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", TuningWarning)
-        return tune(*args, progress=False, **kw)
+        return tune(*args, **kw)
 
 
 def _cli(argv: list[str]) -> tuple[int, str, str]:
@@ -81,7 +81,7 @@ def test_catalog_names_keep_their_gains_and_boxes_and_take_plant_values():
 
 def test_a_gain_that_wants_more_ends_on_the_edge_and_is_warned_about(capsys):
     with pytest.warns(TuningWarning, match="upper edge of its box"):
-        r = tune(CUSTOM, tune={"bd": (0.0, 10.0)}, options=FAST, progress=False)
+        r = tune(CUSTOM, tune={"bd": (0.0, 10.0)}, options=FAST)
     assert dict(r.on_bound) == {"bd": "upper"} and r.gains["bd"] == 10.0
     code, out, err = _cli(["tune", "--D1", "k1 + b1*s", "--D2", "b2*s", "--CA", "kd + bd*s",
                            *[f"--set={k}={v}" for k, v in CUSTOM.values.items() if k != "bd"],
@@ -214,7 +214,7 @@ def test_analyze_tunes_a_custom_design(tmp_path):
         "[parameters]\nm = 1.0\nb = 10.0\nk1 = 1000.0\nb1 = 30.0\nb2 = 5.0\nkd = 800.0\n"
         "bd = 40.0\n[ranges]\nkd = [0.0, 3000.0]\nbd = [0.0, 300.0]\n"
     )
-    report = seapass.analyze(load_design(path), quick=True, stages=["tuning"], progress=False)
+    report = seapass.analyze(load_design(path), quick=True, stages=["tuning"])
     sec = report.sections[0]
     assert sec.key == "tuning" and sec.status == "ok" and sec.findings[0].verdict == "agrees"
     assert {row[0] for row in sec.tables[0].rows} == {"bd", "kd"}

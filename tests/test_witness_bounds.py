@@ -176,7 +176,7 @@ def test_design_file_environment_and_the_analyze_stage(tmp_path: Path):
     path.write_text(DESIGN)
     design = load_design(path)
     assert dict(design.environment) == {"mass": (0.2, 4.0)}
-    sec = analyze(design, stages=["witness"], progress=False).sections[0]
+    sec = analyze(design, stages=["witness"]).sections[0]
     assert sec.key == "witness" and sec.status == "ok"
     assert "proven exactly" in sec.text and "m in [0.2, 4] kg" in sec.text
     assert sec.findings[0].verdict == "agrees"

@@ -8,6 +8,7 @@ subpackage          what lives there
 ==================  =====================================================
 ``seapass.errors``  every exception and warning (a module)
 ``seapass.outcome``  the verdict vocabulary ``Outcome`` (a module)
+``seapass.progress``  the progress protocol of long jobs (a module)
 ``seapass.files``   guarded reading, atomic writing, TOML, input limits
 ``seapass.exact``   the exact polynomial kernel
 ``seapass.model``   ``SEA``, the safe parser, stiffness, catalog, design files
@@ -88,8 +89,8 @@ _LAZY: dict[str, str] = {
 
 _SUBPACKAGES = frozenset(
     {"analysis", "batch", "cli", "delay", "errors", "exact", "explore", "export", "files",
-     "model", "outcome", "paper", "plot", "ports", "report", "rig", "robust", "sampled", "sim",
-     "sweep", "tuning"}
+     "model", "outcome", "paper", "plot", "ports", "progress", "report", "rig", "robust",
+     "sampled", "sim", "sweep", "tuning"}
 )  # fmt: skip
 """Every subpackage and top-level module, loaded on first attribute access."""
 

@@ -117,10 +117,10 @@ def test_simulate_plot_witness_sweep_tune_from_a_file(fast: Path, tmp_path: Path
           "--range", "b=1:20", "--points", "2"], "--x-range 0:2000 is deprecated"),
         (["sampled", "region", "kd", "b1", "--D1", "k1 + b1*s", "--CL", "kd", "--set", "m=1",
           "--set", "b=10", "--set", "k1=1000", "--range", "0:1000", "--range2", "1:50",
-          "--rows", "2", "--rtol", "1e-3"],
+          "--rows", "2", "--rtol", "1e-3", "--no-progress"],
          ["sampled", "region", "kd", "b1", "--D1", "k1 + b1*s", "--CL", "kd", "--set", "m=1",
           "--set", "b=10", "--set", "k1=1000", "--range", "kd=0:1000", "--range", "b1=1:50",
-          "--points", "2", "--rtol", "1e-3"], "--rows 2 is deprecated"),
+          "--points", "2", "--rtol", "1e-3", "--no-progress"], "--rows 2 is deprecated"),
     ],
 )  # fmt: skip
 def test_old_spellings_still_work_with_a_note(old: list[str], new: list[str], note: str) -> None:

@@ -135,6 +135,8 @@ RAW_WRITES_ALLOWED = {
     "the report directory is checked as a whole by check_output_dir",
     ("report/output.py", "write_report", "os.replace"): "swapping the complete report in",
     ("report/output.py", "_carry_over", "os.link"): "the user's files into the new report",
+    ("report/output.py", "_link_same", "os.link"): "an unchanged file seapass wrote, into the "
+    "new temporary directory (analyze rewrites the report as stages finish)",
     ("report/output.py", "_carry_over", "os.symlink"): "the user's links into the new report",
     ("report/output.py", "_carry_over", "shutil.copy2"): "the user's files into the new report",
     ("export/compiled.py", "compile_c", "write_text"): "a shim in a TemporaryDirectory",

@@ -120,7 +120,7 @@ def test_analyze_draws_one_bode_figure() -> None:
 
     examples = Path(__file__).resolve().parents[2] / "examples"
     design = load_design(examples / "lp.toml")
-    report = analyze(design, quick=True, stages=["stiffness", "frequency"], progress=False)
+    report = analyze(design, quick=True, stages=["stiffness", "frequency"])
     names = [f.name for s in report.sections for f in s.figures]
     assert names == ["bode", "real_part", "nyquist"]
     bode = next(f for s in report.sections for f in s.figures if f.name == "bode")

@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from enum import StrEnum
 from typing import Any, TypeAlias
 
@@ -43,7 +43,7 @@ import numpy as np
 import sympy as sp
 from flint import fmpq_poly
 
-from ..errors import NotPassiveError
+from ..errors import NotPassiveError, ParameterError
 from ..exact.halfline import HalfLinePoint
 from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA, Impedance
@@ -129,6 +129,9 @@ class WitnessResult:
     outside : Environment or None
         When nothing in ``bounds`` destabilizes the design: one found without
         bounds that does.
+    budget_exhausted : bool
+        The search stopped at ``max_candidates`` before trying every candidate
+        (nothing found among those tried).
     """
 
     outcome: Outcome
@@ -145,6 +148,7 @@ class WitnessResult:
     bounds: EnvironmentBounds | None = None
     certified: bool = False
     outside: Environment | None = None
+    budget_exhausted: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -162,6 +166,7 @@ class WitnessResult:
             "coupled": self.coupled.to_dict() if self.coupled else None,
             "max_real_part": self.coupled.max_real_part if self.coupled else None,
             "simulation": self.simulation.to_dict() if self.simulation else None,
+            "budget_exhausted": self.budget_exhausted,
         }
 
     @property
@@ -249,6 +254,7 @@ def find_destabilizing_environment(
     values: Mapping[str, float] | None = None,
     simulate: bool = True,
     throw: bool = False,
+    max_candidates: int | None = None,
 ) -> WitnessResult:
     """Find a passive environment within ``bounds`` that destabilizes a non-passive design.
 
@@ -266,6 +272,11 @@ def find_destabilizing_environment(
     throw : bool, default False
         Raise [`NotPassiveError`][seapass.errors.NotPassiveError] describing the witness
         when one is found (for scripts that must stop on unsafe designs).
+    max_candidates : int, optional
+        Budget of the search in candidate environments scored exactly (counted, not
+        timed; default: every candidate).  When it runs out first,
+        ``budget_exhausted`` is set; the exact certificate over ``bounds`` is still
+        tried.
 
     Returns
     -------
@@ -283,6 +294,15 @@ def find_destabilizing_environment(
     >>> w.found, w.coupled.rhp, 0.1 <= w.environment.mass <= 10
     (True, True, True)
     """
+    if max_candidates is not None and (
+        isinstance(max_candidates, bool)
+        or not isinstance(max_candidates, int)
+        or max_candidates < 1
+    ):
+        raise ParameterError(
+            f"max_candidates must be a positive whole number, got {max_candidates!r}",
+            argument="max_candidates",
+        )
     pr = is_passive(system, values=values)
     if pr.passive:
         return WitnessResult(
@@ -307,12 +327,13 @@ def find_destabilizing_environment(
     else:
         cells = crossing_cells(rn, rd, bounds) if not rn.is_zero() else []
         stages = [("tuned at w0", bounded_candidates(rn, rd, bounds, cells))]
-    hit, count = _search(num, den, stages, bounds)
+    hit, count = _search(num, den, stages, bounds, max_candidates)
     if hit is not None:
         method, env, w0 = hit
         coupled = coupled_stability(system, env, values=values)
         return _found(system, values, pr, method, env, w0, coupled, count, simulate, throw, bounds)
-    return _not_found(num, den, rn, rd, pr, count, bounds, cells)
+    stopped = max_candidates is not None and max_candidates < sum(len(c) for _m, c in stages)
+    return replace(_not_found(num, den, rn, rd, pr, count, bounds, cells), budget_exhausted=stopped)
 
 
 def _search(
@@ -320,14 +341,18 @@ def _search(
     den: fmpq_poly,
     stages: list[tuple[str, list[Candidate]]],
     bounds: EnvironmentBounds | None,
+    budget: int | None = None,
 ) -> tuple[tuple[str, Environment, float | None] | None, int]:
-    """Score every candidate exactly, stage by stage; the fastest growth of the first
-    stage with one wins and is refined.  ``(method, environment, ω0)`` or None."""
+    """Score every candidate exactly (at most ``budget``), stage by stage; the fastest
+    growth of the first stage with one wins and is refined.  ``(method, environment,
+    ω0)`` or None."""
     count = 0
     fallback: tuple[str, Environment, float | None] | None = None
     for method, cands in stages:
         best: tuple[float, Environment, float | None] | None = None
         for env, wc in cands:
+            if budget is not None and count >= budget:
+                break
             count += 1
             growth, rate = score(num, den, env)
             if growth is Growth.RHP and (best is None or rate > best[0]):

@@ -17,14 +17,16 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import signal
 import sys
+import threading
 import warnings
 from collections.abc import Sequence
 from typing import Any
 
 from ..errors import SeapassDeprecationWarning, SeapassError
 from ..version import __version__
-from .common import EXIT_CODES, HelpFormatter, error_text, warn
+from .common import EXIT_CODES, HelpFormatter, Terminated, error_text, interrupted_code, warn
 
 __all__ = ["COMMANDS", "main", "run"]
 
@@ -108,9 +110,29 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     Exit codes: 0 success, 1 a negative verdict of a check (``check``: not
     passive), 2 bad input or another error (one ``error:`` line on stderr),
-    130 interrupted, 141 standard output closed early (``seapass check … | head
-    -1``: quietly, as a command killed by ``SIGPIPE``).
+    130 interrupted (Ctrl-C), 141 standard output closed early (``seapass check … | head
+    -1``: quietly, as a command killed by ``SIGPIPE``), 143 terminated (SIGTERM: stopped
+    as cleanly as Ctrl-C).
     """
+    previous = _on_sigterm(_terminate)
+    try:
+        return _main(argv)
+    finally:
+        _on_sigterm(previous)
+
+
+def _terminate(signum: int, frame: Any) -> None:
+    raise Terminated()
+
+
+def _on_sigterm(handler: Any) -> Any:
+    """Install ``handler`` for SIGTERM (main thread only); the previous handler, or None."""
+    if handler is None or threading.current_thread() is not threading.main_thread():
+        return None
+    return signal.signal(signal.SIGTERM, handler)
+
+
+def _main(argv: Sequence[str] | None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(list(argv) if argv is not None else None)
@@ -128,9 +150,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             return EXIT_STDOUT_CLOSED
         print(f"error: {error_text(exc)}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         print("error: interrupted; no partial output was written", file=sys.stderr)
-        return 130
+        return interrupted_code(exc)
     except (SeapassError, ValueError, OSError) as exc:
         print(f"error: {error_text(exc)}", file=sys.stderr)
         return 2

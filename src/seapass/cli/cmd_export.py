@@ -97,6 +97,11 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "controller on 10,000 steps",
     )
     add_force_option(c)
+    c.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress on stderr while the gains are certified",
+    )
     add_json_option(c)
     c.set_defaults(func=run_c)
 
@@ -104,6 +109,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 def run_c(args: argparse.Namespace) -> int:
     from ..export.c_code import HEADER, SOURCE, export_c
     from ..export.compiled import find_c_compiler, verify_c
+    from .progress import choose_progress
 
     tunable = None
     if args.tunable is not None:
@@ -115,18 +121,19 @@ def run_c(args: argparse.Namespace) -> int:
     if args.verify and find_c_compiler() is None:  # before anything is written
         raise CompilerError("--verify needs a C compiler: none found (set CC or install gcc)")
     try:
-        res = export_c(
-            args.design,
-            args.out,
-            force_limit=args.force_limit,
-            hardware_delay=args.hardware_delay,
-            set_gains=args.set_gains,
-            tunable=tunable,
-            allow_nonpassive=args.allow_nonpassive,
-            rtol=args.rtol,
-            progress=True,
-            force=args.force,
-        )
+        with choose_progress(not args.no_progress) as progress:
+            res = export_c(
+                args.design,
+                args.out,
+                force_limit=args.force_limit,
+                hardware_delay=args.hardware_delay,
+                set_gains=args.set_gains,
+                tunable=tunable,
+                allow_nonpassive=args.allow_nonpassive,
+                rtol=args.rtol,
+                progress=progress,
+                force=args.force,
+            )
     except SeapassError as exc:
         text = str(exc)
         for python, option in _OPTIONS.items():

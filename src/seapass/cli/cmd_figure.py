@@ -43,7 +43,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--quick", action="store_true", help="small optimiser budget (preview)")
     p.add_argument("--horizon", type=float, default=10.0, help="evaluation horizon [s]")
     p.add_argument("--seed", type=int, default=0, help="optimiser seed")
-    p.add_argument("--no-progress", action="store_true", help="never show progress bars")
+    p.add_argument("--no-progress", action="store_true", help="no progress on stderr")
     add_json_option(p, "the table of the figure")
     p.set_defaults(func=run)
 
@@ -54,16 +54,15 @@ def run(args: argparse.Namespace) -> int:
     from ..paper.simstudy import run_simulation_study
     from ..plot.sim import plot_simulation_study
     from ..tuning.problem import TuningOptions
+    from .progress import choose_progress
 
     out = check_out_dir(args.out, files=FILES, force=args.force)
     assert out is not None  # --out is required
     opts = replace(TuningOptions(), seed=args.seed, horizon=args.horizon)
-    study = run_simulation_study(
-        options=opts,
-        quick=args.quick,
-        horizon=args.horizon,
-        progress=False if args.no_progress else None,
-    )
+    with choose_progress(not args.no_progress) as progress:
+        study = run_simulation_study(
+            options=opts, quick=args.quick, horizon=args.horizon, progress=progress
+        )
     # compute everything first, then write each file atomically
     save_plot(
         lambda: plot_simulation_study(study), out / "sims", formats=("png", "pdf"), force=args.force

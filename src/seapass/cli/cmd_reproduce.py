@@ -11,11 +11,9 @@ from .common import (
     add_force_option,
     add_jobs_argument,
     add_json_option,
-    announce_report,
     print_json,
-    print_section_problems,
-    report_summary,
 )
+from .report_output import announce_report, print_section_problems, report_summary
 
 EXAMPLE = """examples:
   seapass reproduce --out results/
@@ -51,7 +49,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="comma-separated stages to run (default: all; 'core' = tables,stiffness,regions)",
     )
     add_jobs_argument(p)
-    p.add_argument("--no-progress", action="store_true", help="never show the progress bar")
+    p.add_argument("--no-progress", action="store_true", help="no progress on stderr")
     add_force_option(p)
     add_json_option(p, "a summary (files, sections, findings)")
     p.set_defaults(func=run)
@@ -70,17 +68,19 @@ def run(args: argparse.Namespace) -> int:
     from ..report.document import Verdict
     from ..report.output import check_output_dir, write_report
     from ..report.reproduce import reproduce
+    from .progress import choose_progress
 
     out = Path(args.out)
     check_output_dir(out, force=args.force)  # fail now, not after minutes of work
     t0 = time.perf_counter()
-    report = reproduce(
-        quick=args.quick,
-        stages=parse_stages(args.stages),
-        progress=False if args.no_progress else None,
-        log=lambda line: print(line, file=sys.stderr),
-        jobs=args.jobs,
-    )
+    with choose_progress(not args.no_progress) as progress:
+        report = reproduce(
+            quick=args.quick,
+            stages=parse_stages(args.stages),
+            progress=progress,
+            log=lambda line: print(line, file=sys.stderr),
+            jobs=args.jobs,
+        )
     written = write_report(report, out, force=args.force)
     announce_report(out, written)
     counts = report.summary().counts

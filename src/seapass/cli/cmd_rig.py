@@ -156,7 +156,7 @@ def register(subparsers: Any) -> None:
     sw.add_argument(
         "--kd-step", type=_positive, help="gain step (N/m; with --design FILE: of the swept gain)"
     )
-    sw.add_argument("--no-progress", action="store_true", help="no progress bar")
+    sw.add_argument("--no-progress", action="store_true", help="no progress on stderr")
     sw.set_defaults(func=_sweep)
 
     im = sub.add_parser(
@@ -255,6 +255,7 @@ def _rig(args: argparse.Namespace) -> Rig:
 
 def _sweep(args: argparse.Namespace) -> int:
     from ..rig.experiment import ExperimentResult, run_experiment
+    from .progress import choose_progress
 
     rig = _rig(args)
     out = check_out_dir(args.out, files=("sweep.csv", "sweep.png", "sweep.pdf"), force=args.force)
@@ -285,14 +286,15 @@ def _sweep(args: argparse.Namespace) -> int:
         raise ParameterError(
             f"--kd-step {kd_step:g} gives more than {MAX_KD_GAINS_CLI} gains; use a larger step"
         )
-    result = run_experiment(
-        rig,
-        designs=designs,
-        load_masses=args.load_mass,
-        kd_max=kd_max,
-        kd_step=kd_step,
-        progress=not args.no_progress and not args.json,
-    )
+    with choose_progress(not args.no_progress and not args.json) as progress:
+        result = run_experiment(
+            rig,
+            designs=designs,
+            load_masses=args.load_mass,
+            kd_max=kd_max,
+            kd_step=kd_step,
+            progress=progress,
+        )
     return _report_sweep(args, result, out)
 
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 from typing import Any
 
 from ..errors import ParameterError
@@ -75,6 +74,22 @@ def _loop_options(p: argparse.ArgumentParser, *, default: str = "0.002 (500 Hz)"
     add_force_option(p)
 
 
+def _budget_options(p: argparse.ArgumentParser, what: str) -> None:
+    p.add_argument(
+        "--max-boxes",
+        type=int,
+        default=None,
+        metavar="N",
+        help=f"work budget of {what} in boxes (counted, never timed; default 20000): what "
+        "is not settled then is reported undecided, never passive",
+    )
+    p.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress on stderr (else a live bar on a terminal, one line per task otherwise)",
+    )
+
+
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
     p = sub.add_parser(
         "sampled",
@@ -113,6 +128,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         default=1e-9,
         help=f"relative width of every edge enclosure, in [{MIN_RTOL:g}, {MAX_RTOL:g}]",
     )
+    _budget_options(b, "the branch and bound")
     add_model_options(b)
     _loop_options(b)
     b.set_defaults(func=run_bound)
@@ -138,6 +154,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         default=1e-6,
         help=f"relative width of edge enclosures, in [{MIN_RTOL:g}, {MAX_RTOL:g}]",
     )
+    _budget_options(r, "each row's branch and bound")
     add_model_options(r)
     _loop_options(r, default="0.002 (500 Hz), 1 sample of delay, a 50 Hz filter")
     r.set_defaults(func=run_region)
@@ -150,6 +167,10 @@ def _default_loop(region: bool = False) -> Any:
     if region:
         return SampledLoop(period=0.002, delay=1, velocity_filter=50.0)
     return SampledLoop(period=0.002)
+
+
+def _max_boxes(args: argparse.Namespace) -> dict[str, Any]:
+    return {} if args.max_boxes is None else {"max_boxes": args.max_boxes}
 
 
 def run_check(args: argparse.Namespace) -> int:
@@ -196,6 +217,7 @@ def run_check(args: argparse.Namespace) -> int:
 def run_bound(args: argparse.Namespace) -> int:
     from ..exact.rounding import enclosure_text, interval_text
     from ..sampled.bound import sampled_passive_bound
+    from .progress import choose_progress
 
     given = ranges_from_args(args, [args.param])[args.param]
     resolved = design_from_args(
@@ -209,10 +231,11 @@ def run_bound(args: argparse.Namespace) -> int:
     sea, loop = resolved.sea, resolved.loop
     lo, hi = resolved.range_of(args.param, given)
     warn_unrealizable(sea)
-    res = sampled_passive_bound(
-        sea, args.param, loop=loop, lo=lo, hi=hi, rtol=args.rtol,
-        max_precision=args.max_precision, progress=True,
-    )  # fmt: skip
+    with choose_progress(not args.no_progress) as progress:
+        res = sampled_passive_bound(
+            sea, args.param, loop=loop, lo=lo, hi=hi, rtol=args.rtol,
+            max_precision=args.max_precision, progress=progress, **_max_boxes(args),
+        )  # fmt: skip
     out = {**res.to_dict(), **units_json(args, resolved)}
     if d is not None:
         from ..plot.sampled import plot_bound
@@ -232,7 +255,7 @@ def run_bound(args: argparse.Namespace) -> int:
     if res.budget_exhausted:
         print(
             f"  stopped at the budget of boxes: {len(res.undecided)} undecided sub-interval(s) "
-            "(not shown as passive): "
+            "(not shown as passive; raise --max-boxes): "
             + ", ".join(enclosure_text(a, b) for a, b in res.undecided[:5])
         )
     elif res.undecided:
@@ -245,6 +268,7 @@ def run_bound(args: argparse.Namespace) -> int:
 def run_region(args: argparse.Namespace) -> int:
     from ..exact.rounding import decimal_down, exact_text
     from ..sampled.region import sampled_region
+    from .progress import choose_progress
 
     if args.p1 == args.p2:
         raise ParameterError(f"sampled region: give two different parameters, got {args.p1} twice")
@@ -264,11 +288,11 @@ def run_region(args: argparse.Namespace) -> int:
         args.out, files=[f"{stem}.{x}" for x in ("csv", "json", "png")], force=args.force
     )
     warn_unrealizable(sea)
-    with _RowProgress(f"Z-width map {args.p1} vs {args.p2}") as progress:
+    with choose_progress(not args.no_progress) as progress:
         zmap = sampled_region(
             sea, args.p1, args.p2, loop=loop, p1_range=(lo1, hi1), p2_range=(lo2, hi2),
             n=rows, rtol=args.rtol, log_p2=args.log, max_precision=args.max_precision,
-            progress=progress,
+            progress=progress, **_max_boxes(args),
         )  # fmt: skip
     if out is not None:
         from ..plot.sampled import plot_zwidth
@@ -291,29 +315,3 @@ def run_region(args: argparse.Namespace) -> int:
         )
         print(f"{exact_text(v):>12}  {cells}")
     return 0
-
-
-class _RowProgress:
-    """A rich progress bar over the rows when stderr is a terminal (else silent)."""
-
-    def __init__(self, label: str) -> None:
-        self.label = label
-        self.bar: Any = None
-        self.task: Any = None
-
-    def __enter__(self) -> Any:
-        if not sys.stderr.isatty():
-            return None
-        from rich.progress import Progress
-
-        self.bar = Progress(transient=True)
-        self.bar.start()
-        self.task = self.bar.add_task(self.label, total=None)
-        return self._advance
-
-    def _advance(self, done: int, total: int) -> None:
-        self.bar.update(self.task, completed=done, total=total)
-
-    def __exit__(self, *exc: object) -> None:
-        if self.bar is not None:
-            self.bar.stop()

@@ -16,6 +16,7 @@ from .common import (
     announce,
     check_step,
     deprecated_alias,
+    interrupted_code,
     parse_named,
     plot_path,
     print_json,
@@ -106,7 +107,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         metavar="N",
         help="worker processes of --scheduler local (default: one per core this process may use)",
     )
-    o.add_argument("--no-progress", action="store_true", help="no progress bar")
+    o.add_argument("--no-progress", action="store_true", help="no progress on stderr")
     o.add_argument(
         "--heatmap", metavar="X,Y", help="two parameters for the heat maps (needs --plot)"
     )
@@ -122,6 +123,7 @@ def run(args: argparse.Namespace) -> int:
     from ..sweep import GridAxis, RangeAxis, SweepSpec, heatmap_data, run_design_sweep
     from ..sweep.cluster import available_cores
     from ..sweep.spec import LOAD_MASS
+    from .progress import choose_progress
 
     grid = [
         GridAxis(name, *(parse_value(v, f"--grid {name}") for v in parts))
@@ -193,22 +195,23 @@ def run(args: argparse.Namespace) -> int:
         out = pathlib.Path(args.out)
         check_writable(out, directory=out.suffix.lower() not in (".parquet", ".csv"))
     try:
-        result = run_design_sweep(
-            spec,
-            args.out,
-            resume=args.resume,
-            scheduler=args.scheduler,
-            workers=args.workers,
-            progress=not args.no_progress,
-            force=args.force,
-        )
-    except KeyboardInterrupt:
+        with choose_progress(not args.no_progress) as progress:
+            result = run_design_sweep(
+                spec,
+                args.out,
+                resume=args.resume,
+                scheduler=args.scheduler,
+                workers=args.workers,
+                progress=progress,
+                force=args.force,
+            )
+    except KeyboardInterrupt as exc:
         print(
             "error: interrupted; finished chunks are saved, rerun the same command with "
             "--resume to continue",
             file=sys.stderr,
         )
-        return 130
+        return interrupted_code(exc)
     announce(result.path)
     summary = result.to_dict()
     if heat is not None and figure is not None:

@@ -57,8 +57,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="tune the gains of any design for the best passive step response",
         description="Differential evolution (seeded, reproducible) on the simulated step "
         "response, under exact passivity (always), sampled-data passivity (--period), a "
-        "force limit and an overshoot limit. A progress bar is shown on stderr when it "
-        "is a terminal; Ctrl-C stops cleanly (exit 130).",
+        "force limit and an overshoot limit. Progress goes to stderr (a live bar on a terminal, "
+        "one line otherwise; --no-progress: none); Ctrl-C stops cleanly (exit 130).",
         epilog=EXAMPLE,
     )
     p.add_argument("design", nargs="?", metavar="DESIGN", help="design file or LP, APD, ours")
@@ -92,7 +92,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     b.add_argument("--popsize", type=int, help="population per gain (default: 12; --quick: 6)")
     b.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
     b.add_argument("--quick", action="store_true", help="small budget (for previews and tests)")
-    b.add_argument("--no-progress", action="store_true", help="never show a progress bar")
+    b.add_argument("--no-progress", action="store_true", help="no progress on stderr")
     add_json_option(p)
     p.set_defaults(func=run)
 
@@ -226,19 +226,20 @@ def _units(args: argparse.Namespace, file: Design | None, names: Sequence[str]) 
 
 def run(args: argparse.Namespace) -> int:
     from ..tuning.optimize import tune
+    from .progress import choose_progress
 
     boxes = parse_tune([*args.tune, *args.bound])
     design, file, values = _design(args, boxes)
     opts = options_from_args(args, file)
     check_step(args.step)
-    with warnings.catch_warnings():
+    with warnings.catch_warnings(), choose_progress(not args.no_progress) as progress:
         warnings.simplefilter("ignore", TuningWarning)  # printed below, once, as lines
         result = tune(
             design,
             tune=boxes or None,
             values=values or None,
             options=opts,
-            progress=False if args.no_progress else None,
+            progress=progress,
             allow_plant=args.allow_plant,
         )
     for message in result.warnings:

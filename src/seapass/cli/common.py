@@ -55,6 +55,7 @@ from .output import (
 __all__ = [
     "EXIT_CODES",
     "HelpFormatter",
+    "Terminated",
     "add_force_option",
     "add_jobs_argument",
     "add_json_option",
@@ -62,7 +63,6 @@ __all__ = [
     "add_out_dir_option",
     "add_plot_option",
     "announce",
-    "announce_report",
     "atomic_save",
     "atomic_write",
     "atomic_write_text",
@@ -75,14 +75,13 @@ __all__ = [
     "cli_words",
     "deprecated_alias",
     "error_text",
+    "interrupted_code",
     "json_text",
     "model_from_args",
     "parse_named",
     "parse_range",
     "plot_path",
     "print_json",
-    "print_section_problems",
-    "report_summary",
     "save_plot",
     "system_from_args",
     "values_from_args",
@@ -97,7 +96,16 @@ EXIT_CODES = """exit codes:
   0    success (check: passive)
   1    a negative verdict of a check (check: not passive), like cmp
   2    bad input or another error: one 'error:' line on stderr
-  130  interrupted"""
+  130  interrupted (Ctrl-C); 143 terminated (SIGTERM)"""
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised where Ctrl-C raises ``KeyboardInterrupt``: long jobs stop the same way."""
+
+
+def interrupted_code(exc: BaseException) -> int:
+    """The exit code of an interrupted command: 143 after SIGTERM, else 130 (Ctrl-C)."""
+    return 143 if isinstance(exc, Terminated) else 130
 
 
 class HelpFormatter(argparse.RawDescriptionHelpFormatter):
@@ -158,10 +166,17 @@ _FLAGS = {
     "ranges": "--range",
     "samples": "--sample",
     "grid": "--grid",
+    "budgets": "--budget",
 }
 
 
-_KEYED = {"values": "--set", "bounds": "--bound", "tune": "--tune", "units": "--unit"}
+_KEYED = {
+    "values": "--set",
+    "bounds": "--bound",
+    "tune": "--tune",
+    "units": "--unit",
+    "budgets": "--budget",
+}
 
 
 def cli_flag(argument: str) -> str:
@@ -170,7 +185,7 @@ def cli_flag(argument: str) -> str:
     >>> cli_flag("values['kd']"), cli_flag("tune['kd']"), cli_flag("load_mass"), cli_flag("CA")
     ('--set kd', '--tune kd', '--load-mass', '--CA')
     """
-    m = re.fullmatch(r"(values|bounds|tune|units)\['([^']*)'\]", argument)
+    m = re.fullmatch(r"(values|bounds|tune|units|budgets)\['([^']*)'\]", argument)
     if m:
         return f"{_KEYED[m.group(1)]} {m.group(2)}"
     if argument in _FLAGS:
@@ -221,7 +236,9 @@ def cli_words(text: str, argument: str | None = None) -> str:
     msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"e.g. --set \1=VALUE", msg)
     msg = re.sub(r"tune=\{'(\w+)': \([^)]*\)\}", r"--tune \1=LO:HI", msg)
     msg = re.sub(
-        r"(values|tune|units)\['(\w+)'\]", lambda m: f"{_KEYED[m.group(1)]} {m.group(2)}", msg
+        r"(values|tune|units|budgets)\['(\w+)'\]",
+        lambda m: f"{_KEYED[m.group(1)]} {m.group(2)}",
+        msg,
     )
     return re.sub(r"\b([a-z][a-z_]*)=True\b", lambda m: "--" + m.group(1).replace("_", "-"), msg)
 
@@ -451,29 +468,6 @@ def refuse_delay_unless_allowed(args: argparse.Namespace, system: Any) -> Any:
     return system
 
 
-def announce_report(out: Path, written: Sequence[Path]) -> None:
-    """``wrote`` lines for a report directory: the two reports, then a count of the rest."""
-    from .output import announce
-
-    names = {p.as_posix() for p in written}
-    for main in ("report.html", "report.md"):
-        if main in names:
-            announce(out / main)
-    data = sum(1 for n in names if n.startswith("data/"))
-    figures = sum(1 for n in names if n.startswith("figures/"))
-    print(f"wrote {data} data files and {figures} figures in {out}", file=sys.stderr)
-
-
-def report_summary(report: Any, out: Path, written: Sequence[Path]) -> dict[str, Any]:
-    """The ``--json`` summary of a report directory: files, sections and their status."""
-    return {
-        "out": str(out),
-        "files": [p.as_posix() for p in written],
-        "sections": [{"key": s.key, "title": s.title, "status": s.status} for s in report.sections],
-        "failed": list(report.failed),
-    }
-
-
 def write_figure(
     draw: Callable[[], Any], path: str | os.PathLike[str], *, force: bool = False
 ) -> Path:
@@ -486,15 +480,3 @@ def write_figure(
     assert p is not None
     (written,) = save_plot(draw, p, force=force, flag="--plot")
     return written
-
-
-def print_section_problems(report: Any) -> None:
-    """One stderr line naming the skipped sections of a report, one per failed section."""
-    from ..report.document import SectionStatus
-
-    skipped = [s.key for s in report.sections if s.status == SectionStatus.SKIPPED]
-    if skipped:
-        print(f"  skipped (reason in the report): {', '.join(skipped)}", file=sys.stderr)
-    for s in report.sections:
-        if s.status == SectionStatus.FAILED:
-            print(f"  {s.key} FAILED: {s.text}", file=sys.stderr)

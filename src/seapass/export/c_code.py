@@ -23,6 +23,7 @@ import jinja2
 from ..errors import ParameterError
 from ..files.owned import check_replaceable, write_output_text
 from ..model.design_file import Design, load_design
+from ..progress import ProgressLike, as_progress
 from ..version import __version__
 from .ctext import C_KEYWORDS, c_code, c_comment, c_identifier, c_number, c_string, finalize
 from .deployment import Deployment, plan_deployment
@@ -292,7 +293,7 @@ def export_c(
     tunable: Sequence[str] | None = None,
     allow_nonpassive: bool = False,
     rtol: float = 1e-6,
-    progress: bool = False,
+    progress: ProgressLike = None,
     force: bool = False,
 ) -> ExportResult:
     """Write ``seapass_ctrl.h`` and ``seapass_ctrl.c`` for the deployed controller of ``design``.
@@ -347,7 +348,7 @@ def export_c(
         tunable=tunable,
         allow_nonpassive=allow_nonpassive,
         rtol=rtol,
-        progress=progress,
+        progress=as_progress(progress, where="export_c"),
     )
     files = render_c(dep)
     for t in targets:

@@ -22,6 +22,7 @@ from ..errors import NotPassiveError, ParameterError
 from ..files.limits import check_rtol
 from ..model.design_file import Design
 from ..model.loop import LoopAttributes, SampledLoop
+from ..progress import ProgressLike, as_progress
 from ..sampled.controllers import DiscreteController, filter_pole
 from .envelope import GainEnvelope, certify_gains, sampled_verdict
 from .realization import FilterSpec, realize
@@ -141,7 +142,7 @@ def plan_deployment(
     tunable: Sequence[str] | None = None,
     allow_nonpassive: bool = False,
     rtol: float = 1e-6,
-    progress: bool = False,
+    progress: ProgressLike = None,
 ) -> Deployment:
     """Decide the deployed controller of ``design`` and certify its envelope.
 
@@ -165,8 +166,10 @@ def plan_deployment(
     rtol : float
         Relative width of the edge enclosures of the per-gain intervals, certified by
         [`sampled_passive_bound`][seapass.sampled.bound.sampled_passive_bound].
-    progress : bool, default False
-        Show a progress bar while the intervals are computed.
+    progress : Progress, optional
+        Where the certification reports: one task with a step per tunable gain, each
+        gain's certified bound a task inside it (default: none; ``True``/``False``
+        still work for one release).
 
     Raises
     ------
@@ -216,7 +219,8 @@ def plan_deployment(
             f"{delay} and velocity filter {vf or 'none'}: {verdict.detail}; lower the gains "
             "(see sampled_passive_bound) or pass allow_nonpassive=True"
         )
-    envelopes, notes = certify_gains(design, names, rtol=rtol, progress=progress)
+    shown = as_progress(progress, where="plan_deployment")
+    envelopes, notes = certify_gains(design, names, rtol=rtol, progress=shown)
     return Deployment(
         design=design,
         loop=loop,

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from ..model.design_file import Design
+from ..progress import Progress, ProgressLike, as_progress, task
 from ..sampled.bound import sampled_passive_bound
 from ..sampled.passivity import SampledPassivityResult, sampled_passivity
 
@@ -69,7 +70,7 @@ def inward_interval(lo: Fraction | float, hi: Fraction | float) -> tuple[float, 
 
 
 def _certified_interval(
-    design: Design, gain: str, lo: float, hi: float, *, rtol: float, progress: bool
+    design: Design, gain: str, lo: float, hi: float, *, rtol: float, progress: Progress
 ) -> tuple[Fraction, Fraction] | None:
     """Sampled-data passive interval of ``gain`` (others at their values) containing its value."""
     res = sampled_passive_bound(
@@ -99,13 +100,24 @@ def certify_gains(
     tunable: Sequence[str],
     *,
     rtol: float = 1e-6,
-    progress: bool = False,
+    progress: ProgressLike = None,
 ) -> tuple[tuple[GainEnvelope, ...], tuple[str, ...]]:
     """Envelope of every controller gain of ``design``; tunable ones get their interval.
 
     Returns the envelopes (sorted by name) and notes for gains whose certified
     value lies in no passive interval found (then only that value is allowed).
+    ``progress`` gets one task with a step per tunable gain.
     """
+    shown = as_progress(progress, where="certify_gains")
+    if not tunable:  # nothing to certify: no task to show
+        return _certify(design, tunable, rtol, shown)
+    with task(shown, f"certifying {len(tunable)} gain(s) at the sampled rate", len(tunable)):
+        return _certify(design, tunable, rtol, shown)
+
+
+def _certify(
+    design: Design, tunable: Sequence[str], rtol: float, progress: Progress
+) -> tuple[tuple[GainEnvelope, ...], tuple[str, ...]]:
     notes: list[str] = []
     envelopes = []
     ranges = design.analysis_ranges()
@@ -116,6 +128,7 @@ def certify_gains(
         if g in tunable:
             search = (float(ranges[g][0]), float(ranges[g][1]))
             iv = _certified_interval(design, g, *search, rtol=rtol, progress=progress)
+            progress.advance(1, note=g)
             if iv is None:
                 notes.append(
                     f"{g}: no passive interval of [{search[0]:g}, {search[1]:g}] contains the "

@@ -76,6 +76,11 @@ def default_range(value: float | None) -> tuple[float, float]:
     return (0.0, max(10.0 * abs(value), 1000.0))
 
 
+def _empty() -> Mapping[str, Any]:
+    """A read-only empty mapping (the default of the mapping fields)."""
+    return MappingProxyType({})
+
+
 @dataclass(frozen=True, kw_only=True, repr=False)
 class ResolvedDesign:
     """What a command runs: the file merged with the caller's values (see `resolve_design`).

@@ -5,7 +5,7 @@ seapass derives, each bound classified), [`tablefmt`][seapass.paper.tablefmt] (t
 Markdown and LaTeX renderings of them) and [`simstudy`][seapass.paper.simstudy]
 (Sec. V: LP, APD and Ours tuned at one load mass, tested at three).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
+May import: [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.progress], [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
 [`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim], [`seapass.tuning`][seapass.tuning].
 """
 

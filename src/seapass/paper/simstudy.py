@@ -29,6 +29,7 @@ from ..errors import ParameterError, TuningWarning
 from ..files.jsontext import json_text
 from ..model.catalog import design as catalog_design
 from ..model.experiment import PAPER_EXPERIMENT
+from ..progress import Progress, ProgressLike, as_progress, task
 from ..sim.metrics import TrackingMetrics, tracking_metrics
 from ..sim.simulate import SimulationResult, Step, simulate
 from ..tuning.optimize import TuningResult, tune
@@ -165,6 +166,37 @@ class SimulationStudy:
         return buf.getvalue()
 
 
+def _study_design(
+    key: str,
+    opts: TuningOptions,
+    masses: tuple[float, ...],
+    horizon: float,
+    dt: float,
+    progress: Progress,
+    tuned: dict[str, TuningResult],
+    runs: dict[tuple[str, float], SimulationResult],
+    rows: list[StudyRow],
+    on_design: Callable[[TuningResult], None] | None,
+) -> None:
+    """Tune one design and simulate it at every mass (into ``tuned``, ``runs``, ``rows``)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", TuningWarning)  # kept in tr.warnings and the JSON
+        tr = tune(key, options=opts, progress=progress)
+    tuned[key] = tr
+    if on_design is not None:
+        on_design(tr)
+    for mass in masses:
+        res = simulate(
+            tr.sea, load_mass=mass, scenario=Step(tr.options.step), horizon=horizon, dt=dt
+        )
+        runs[(key, mass)] = res
+        rows.append(
+            StudyRow(
+                design=key, load_mass=mass, metrics=tracking_metrics(res, tolerance=opts.tolerance)
+            )
+        )
+
+
 def run_simulation_study(
     *,
     designs: Sequence[str] = ("LP", "APD", "ours"),
@@ -173,7 +205,7 @@ def run_simulation_study(
     quick: bool = False,
     horizon: float = PAPER_EXPERIMENT.horizon,
     dt: float = 1e-3,
-    progress: bool | None = None,
+    progress: ProgressLike = None,
     on_design: Callable[[TuningResult], None] | None = None,
 ) -> SimulationStudy:
     """Tune each design at ``options.load_mass`` and evaluate it at every mass.
@@ -191,8 +223,9 @@ def run_simulation_study(
         Use the small budget of `QUICK_OPTIONS` (for tests and previews).
     horizon, dt : float
         Evaluation horizon and time step (s).
-    progress : bool, optional
-        Progress bars on stderr (default: when stderr is a TTY).
+    progress : Progress, optional
+        Where the study reports: one task with a step per design, each design's tuning
+        a task inside it.  Default: none; ``True``/``False`` still work for one release.
     on_design : callable, optional
         Called with each `TuningResult` as it completes.
 
@@ -200,6 +233,7 @@ def run_simulation_study(
     -------
     SimulationStudy
     """
+    shown = as_progress(progress, where="run_simulation_study")
     keys = tuple(catalog_design(d).key for d in designs)
     if not keys:
         raise ParameterError("designs is empty")
@@ -218,24 +252,11 @@ def run_simulation_study(
     runs: dict[tuple[str, float], SimulationResult] = {}
     rows: list[StudyRow] = []
     step = PAPER_EXPERIMENT.step
-    for key in keys:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", TuningWarning)  # kept in tr.warnings and the JSON
-            tr = tune(key, options=opts, progress=progress)
-        tuned[key] = tr
-        step = tr.options.step
-        if on_design is not None:
-            on_design(tr)
-        for mass in ms:
-            res = simulate(tr.sea, load_mass=mass, scenario=Step(step), horizon=horizon, dt=dt)
-            runs[(key, mass)] = res
-            rows.append(
-                StudyRow(
-                    design=key,
-                    load_mass=mass,
-                    metrics=tracking_metrics(res, tolerance=opts.tolerance),
-                )
-            )
+    with task(shown, f"simulation study: {len(keys)} design(s)", len(keys)):
+        for key in keys:
+            _study_design(key, opts, ms, horizon, dt, shown, tuned, runs, rows, on_design)
+            step = tuned[key].options.step
+            shown.advance(1, note=key)
     return SimulationStudy(
         designs=keys,
         masses=ms,

@@ -20,7 +20,7 @@ numeric test, so a classification never rests on sampling alone except
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 from enum import StrEnum
 from types import MappingProxyType
@@ -36,6 +36,7 @@ from ..model.catalog import design as catalog_design
 from ..model.expr import STANDARD_SYMBOLS, W, parse_expression, symbol
 from ..model.sea import SEA
 from ..model.stiffness import derive_stiffness, paper_eq4_stiffness, passivity_polynomial
+from ..progress import Progress, ProgressLike, as_progress, task
 
 __all__ = [
     "PAPER_ROWS",
@@ -310,22 +311,30 @@ def _probe_bound(
     return BoundStatus.CONSISTENT, None
 
 
-def build_tables(*, progress: Callable[[str], None] | None = None) -> list[TableRow]:
+def build_tables(*, progress: ProgressLike = None) -> list[TableRow]:
     """Derive every row of Tables I and II and the proposed design.
 
     Parameters
     ----------
-    progress : callable, optional
-        Called with each row name before it is processed.
+    progress : Progress, optional
+        Where the derivation reports: one task with a step per row (the row's name as
+        the note).  Default: none.  A callable ``f(row_name)``, the old spelling, still
+        works for one release.
 
     Returns
     -------
     list of TableRow
     """
+    shown = as_progress(
+        progress, where="build_tables", call=lambda f: lambda done, total, note: f(note)
+    )
+    with task(shown, f"Tables I and II: {len(PAPER_ROWS)} rows", len(PAPER_ROWS)):
+        return _build_rows(shown)
+
+
+def _build_rows(progress: Progress) -> list[TableRow]:
     rows = []
     for row in PAPER_ROWS:
-        if progress:
-            progress(row.name)
         sea = SEA(D1=row.D1, D2=row.D2, CA=row.CA, CL=row.CL, name=row.name)
         derived = derive_stiffness(sea).stiffness
         printed = sp.cancel(_parse(row.stiffness))
@@ -356,6 +365,7 @@ def build_tables(*, progress: Callable[[str], None] | None = None) -> list[Table
                 notes=tuple(notes),
             )
         )
+        progress.advance(1, note=row.name)
     return rows
 
 

@@ -60,6 +60,16 @@ class SectionStatus(StrEnum):
     """An optional input or extra is missing; the reason is in the section's text."""
     FAILED = "failed"
     """The stage raised; the error is in the section's text."""
+    STOPPED_AT_BUDGET = "stopped_at_budget"
+    """The stage reached its work budget; the section holds what it had (never a verdict
+    it did not reach) and says which budget to raise."""
+    NOT_RUN = "not_run"
+    """The run was interrupted before the stage finished; the report is incomplete."""
+
+    @property
+    def label(self) -> str:
+        """In words: ``"stopped at budget"``, ``"not run"``, ``"ok"``..."""
+        return self.value.replace("_", " ")
 
 
 class Verdict(StrEnum):
@@ -394,7 +404,8 @@ class Summary:
 
     ``counts`` has every `Verdict`; ``differences`` maps every
     `Discrepancy` to its findings as ``(section key, finding index, finding)``;
-    ``problems`` are the sections that were skipped or failed.
+    ``problems`` are the sections that did not complete (skipped, failed, stopped at
+    their budget or not run).
     """
 
     counts: Mapping[Verdict, int]
@@ -408,12 +419,15 @@ class Report:
 
     ``headline`` is the first line of the summary block (what was checked);
     the renderers add the counts and every difference by kind after it.
+    ``incomplete`` says why the report is partial (an interrupted run, or one still
+    running when it was written); empty for a complete report.
     """
 
     title: str
     intro: str
     sections: tuple[Section, ...]
     headline: str = ""
+    incomplete: str = ""
 
     @property
     def findings(self) -> list[tuple[str, Finding]]:
@@ -448,6 +462,8 @@ class Report:
                 [{"key": s.key, "title": s.title, "status": s.status} for s in self.sections]
             ),
         }
+        if self.incomplete:
+            out["data/incomplete.json"] = to_json({"complete": False, "why": self.incomplete})
         for s in self.sections:
             for t in s.tables:
                 out[f"data/{t.name}.csv"] = t.to_csv()

@@ -1,8 +1,10 @@
 """Writing a report directory: ``report.html``, ``report.md``, ``data/`` and ``figures/``.
 
 `write_report` writes the whole directory into a temporary sibling
-directory and swaps it in only when complete: an interrupted run leaves the
-previous directory untouched.
+directory and swaps it in only when complete: an interrupted write leaves the
+previous directory untouched.  A report written again as it grows (``analyze``
+writes each finished stage at once) reuses the files that did not change: they
+are hard-linked from the previous directory, not written again.
 
 Files seapass did not write are never deleted.  The directory's manifest
 ``.seapass-written`` (the one record of what seapass wrote, see
@@ -29,7 +31,15 @@ from ..files.owned import MANIFEST, file_digest, read_manifest, write_manifest
 from .document import Report
 from .render import render_html, render_markdown
 
-__all__ = ["LEGACY_MARKER", "MARKER", "OWNED", "check_output_dir", "foreign_files", "write_report"]
+__all__ = [
+    "LEGACY_MARKER",
+    "MARKER",
+    "OWNED",
+    "check_output_dir",
+    "foreign_files",
+    "report_paths",
+    "write_report",
+]
 
 
 MARKER = MANIFEST
@@ -154,6 +164,35 @@ def _carry_over(old: Path, new: Path, rels: list[str]) -> None:
                 shutil.copy2(src, dst)
 
 
+def _remove(path: Path) -> None:
+    """Remove a directory seapass made; an interrupt in the middle finishes it first."""
+    try:
+        shutil.rmtree(path, ignore_errors=True)
+    except BaseException:  # Ctrl-C or SIGTERM while removing: no leftovers, then go on
+        shutil.rmtree(path, ignore_errors=True)
+        raise
+
+
+def _link_same(old: Path, new: Path, data: bytes) -> bool:
+    """Hard-link ``old`` (a file seapass wrote) to ``new`` when it holds exactly ``data``."""
+    try:
+        if old.is_symlink() or not old.is_file() or old.stat().st_size != len(data):
+            return False
+        if old.read_bytes() != data:
+            return False
+        new.parent.mkdir(parents=True, exist_ok=True)
+        os.link(old, new)
+    except OSError:
+        return False
+    return True
+
+
+def report_paths(report: Report) -> list[Path]:
+    """The paths `write_report` writes for ``report``, relative to the directory, sorted."""
+    names = {"report.html", "report.md", *report.files()}
+    return [Path(rel) for rel in sorted(names)]
+
+
 def write_report(report: Report, out: str | os.PathLike[str], *, force: bool = False) -> list[Path]:
     """Write ``report.html``, ``report.md``, ``data/`` and ``figures/`` into ``out``.
 
@@ -192,9 +231,13 @@ def write_report(report: Report, out: str | os.PathLike[str], *, force: bool = F
                 also[rel] = written[rel]  # another command's file: still seapass's
     tmp = sibling_dir(target)
     old: Path | None = None
+    ours = (_manifest(target) or {}) if target.is_dir() and _is_report_dir(target) else {}
     try:
         for rel, data in sorted(files.items()):
-            with atomic_write(tmp / rel, "wb") as fh:
+            path = tmp / rel
+            if rel in ours and _link_same(target / rel, path, data):
+                continue  # unchanged since the last write (analyze writes as stages finish)
+            with atomic_write(path, "wb") as fh:
                 fh.write(data)
         write_manifest(tmp, {**also, **digests})
         _carry_over(target, tmp, keep)
@@ -203,11 +246,11 @@ def write_report(report: Report, out: str | os.PathLike[str], *, force: bool = F
             os.replace(target, old / "previous")
         os.replace(tmp, target)
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        _remove(tmp)
         if old is not None and not target.exists() and (old / "previous").exists():
             os.replace(old / "previous", target)
         raise
     finally:
         if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
+            _remove(old)
     return [Path(rel) for rel in sorted(files)]

@@ -2,78 +2,79 @@
 [`analyze`][seapass.report.analyze.analyze].
 
 A report is a sequence of independent `Stage` objects, each returning a
-[`Section`][seapass.report.document.Section].  `run_stages` runs them under
-a progress bar, in this process or in forked workers (the costliest stages
-first, so two workers finish together), with every figure drawn in the one
-seapass style on bare (non-pyplot) figures.  A stage reports progress within
-itself with `stage_progress`; the bar shows it, whichever process runs the
-stage.  A stage that needs an
-optional extra that is not installed (`seapass.errors.MissingExtraError`, e.g.
-MuJoCo) becomes a *skipped* section; a stage that raises anything else, a
-missing module included, becomes a *failed* section naming the error, and the
-command exits non-zero.
+[`Section`][seapass.report.document.Section] from a `StageContext` (the reduced
+budgets of ``--quick``, the stage's work budget, its progress).  `run_stages` runs them
+in this process or in forked workers (the costliest stages first, so two workers
+finish together), with every figure drawn in the one seapass style on bare
+(non-pyplot) figures, and reports to one [`Progress`][seapass.progress.Progress]: the
+run is a task of one step per stage, each stage a task inside it (in this process,
+the stage's own tasks nest inside that; from workers, they become notes).  Each
+finished section is handed to ``on_section`` at once (``analyze`` writes it), so an
+interrupted run keeps what it finished.  A stage that needs an optional extra that is
+not installed (`seapass.errors.MissingExtraError`, e.g. MuJoCo) becomes a *skipped*
+section; a stage that raises anything else, a missing module included, becomes a
+*failed* section naming the error, and the command exits non-zero.  A stage that
+reaches its work budget returns its section with status ``stopped_at_budget`` and
+what it has.
 """
 
 from __future__ import annotations
 
 import functools
-import sys
+import queue as queues
 import threading
 import time
 from collections.abc import Callable, Sequence
-from contextvars import ContextVar
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from ..errors import MissingExtraError, ParameterError, SeapassError
 from ..plot.style import bare_figures, figure_style
+from ..progress import NoProgress, Progress, ProgressLike, as_progress, task
 from .document import Section, SectionStatus
 
-__all__ = ["Stage", "run_stages", "select_stages", "stage_progress"]
+__all__ = ["Stage", "StageContext", "run_stages", "select_stages"]
+
+
+@dataclass(frozen=True, kw_only=True)
+class StageContext:
+    """What a running stage is given.
+
+    Attributes
+    ----------
+    quick : bool
+        Reduced budgets and coarser grids (``--quick``).
+    budget : int or None
+        The stage's work budget in its own counted unit (boxes of a certified bound,
+        generations, twin runs...; see the stage); None: the stage's default.
+    progress : Progress
+        Where the stage reports; its tasks nest inside the stage's task.
+    """
+
+    quick: bool = False
+    budget: int | None = None
+    progress: Progress = field(default_factory=NoProgress)
+
+    def budget_or(self, default: int) -> int:
+        """The budget given, else ``default``."""
+        return default if self.budget is None else self.budget
 
 
 @dataclass(frozen=True)
 class Stage:
-    """One step of a report: ``run(quick)`` returns a [`Section`][seapass.report.document.Section].
+    """One step of a report: ``run(context)`` returns a [`Section`][seapass.report.document.Section].
 
     ``cost`` is the stage's expected run time relative to the others (any
-    unit); with several workers the costliest stages start first.
+    unit); with several workers the costliest stages start first.  ``budget`` is
+    handed to ``run`` in its `StageContext` (None: the stage's default).
     """
 
     key: str
     title: str
-    run: Callable[[bool], Section]
+    run: Callable[[StageContext], Section]
     core: bool = True
     cost: float = 1.0
-
-
-_PROGRESS: ContextVar[Callable[[float, str], None] | None] = ContextVar(
-    "seapass_stage_progress", default=None
-)
-
-
-def stage_progress(done: float, total: float, text: str = "") -> None:
-    """Report progress within the running stage: ``done`` of ``total`` steps, at ``text``.
-
-    Stages call it in their loops; `run_stages` shows it on the progress bar
-    (also from worker processes).  Outside `run_stages` it does nothing.
-    """
-    callback = _PROGRESS.get()
-    if callback is not None and total > 0:
-        callback(min(max(done / total, 0.0), 1.0), text)
-
-
-class _Throttle:
-    """Forward at most one update per ``interval`` seconds (always the last of a stage)."""
-
-    def __init__(self, send: Callable[[float, str], None], interval: float = 0.1) -> None:
-        self.send, self.interval, self.last = send, interval, -1.0
-
-    def __call__(self, fraction: float, text: str) -> None:
-        now = time.monotonic()
-        if now - self.last >= self.interval or fraction >= 1.0:
-            self.last = now
-            self.send(fraction, text)
+    budget: int | None = None
 
 
 def select_stages(stages: Sequence[str] | None, available: Sequence[Stage]) -> list[Stage]:
@@ -94,23 +95,18 @@ def select_stages(stages: Sequence[str] | None, available: Sequence[Stage]) -> l
     return [s for s in available if s.key in wanted]
 
 
-def _run_one(
-    stage: Stage, quick: bool, on_progress: Callable[[float, str], None] | None = None
-) -> tuple[Section, float]:
+def _run_one(stage: Stage, context: StageContext) -> tuple[Section, float]:
     """Run one stage; failures become sections."""
     t0 = time.perf_counter()
-    token = _PROGRESS.set(None if on_progress is None else _Throttle(on_progress))
     try:
         with figure_style(), bare_figures():
-            sec = stage.run(quick)
+            sec = stage.run(context)
     except MissingExtraError as exc:
         sec = Section(stage.key, stage.title, status=SectionStatus.SKIPPED, text=f"Skipped: {exc}")
     except ImportError as exc:  # a broken install or a bug: never skipped
         sec = _failed(stage, exc)
     except (SeapassError, ArithmeticError, ValueError, RuntimeError, TypeError) as exc:
         sec = _failed(stage, exc)
-    finally:
-        _PROGRESS.reset(token)
     return sec, time.perf_counter() - t0
 
 
@@ -132,130 +128,162 @@ def _init_worker(queue: Any) -> None:
     import signal
 
     global _WORKER_QUEUE
-    # the parent handles Ctrl-C and terminates the workers
+    # the parent handles Ctrl-C and SIGTERM and terminates the workers
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
     _WORKER_QUEUE = queue
 
 
-def _run_in_worker(index: int, quick: bool) -> tuple[Section, float]:
-    """Worker entry point: stage ``index`` of the inherited list; progress through the queue."""
-    queue = _WORKER_QUEUE
+class _QueueProgress:
+    """A stage's progress in a worker: every call goes to the parent through the queue."""
 
-    def send(fraction: float, text: str) -> None:
-        queue.put((index, fraction, text))
+    def __init__(self, index: int, queue: Any) -> None:
+        self.index, self.queue = index, queue
 
-    return _run_one(_WORKER_STAGES[index], quick, send if queue is not None else None)
+    def start(self, task: str, total: int | None = None) -> None:
+        self.queue.put((self.index, "start", task, total))
+
+    def advance(self, n: int = 1, *, note: str = "") -> None:
+        self.queue.put((self.index, "advance", n, note))
+
+    def close(self) -> None:
+        self.queue.put((self.index, "close", None, None))
 
 
-class _Tracker:
-    """The progress bar over the stages, the results, and the per-stage log lines."""
+def _run_in_worker(index: int, quick: bool) -> None:
+    """Worker entry point: stage ``index`` of the inherited list.  Its progress and then its
+    result go through the one queue, so the parent sees every note before the result."""
+    stage, queue = _WORKER_STAGES[index], _WORKER_QUEUE
+    queue.put((index, "begin", None, None))
+    context = StageContext(quick=quick, budget=stage.budget, progress=_QueueProgress(index, queue))
+    queue.put((index, "finished", _run_one(stage, context), None))
 
-    def __init__(
-        self,
-        stages: Sequence[Stage],
-        bar: Any,
-        show: bool,
-        log: Callable[[str], None] | None,
-        on_progress: Callable[[str, float, str], None] | None,
-    ) -> None:
-        self.stages, self.bar, self.show = stages, bar, show
-        self.log, self.on_progress = log, on_progress
-        self.task = bar.add_task("starting", total=len(stages))
-        self.fractions = [0.0] * len(stages)
-        self.results: dict[int, tuple[Section, float]] = {}
 
-    def moved(self, i: int, fraction: float, text: str) -> None:
-        """Stage ``i`` reports ``fraction`` done (from this process or a worker's queue)."""
-        if self.on_progress is not None:
-            self.on_progress(self.stages[i].key, fraction, text)
-        self.fractions[i] = fraction
-        where = f"{self.stages[i].title}: {text}" if text else self.stages[i].title
-        self.bar.update(self.task, completed=sum(self.fractions), description=where)
-
-    def done(self, i: int, res: tuple[Section, float]) -> None:
-        self.results[i] = res
-        self.fractions[i] = 1.0
-        left = len(self.stages) - len(self.results)
-        self.bar.update(
-            self.task, completed=sum(self.fractions),
-            description=f"finished {self.stages[i].title} ({left} to go)",
-        )  # fmt: skip
-        if self.log is not None:
-            line = f"{self.stages[i].key}: {res[0].status} in {res[1]:.1f} s"
-            # above a live bar, print through it so the lines do not tear it
-            if self.show:
-                self.bar.console.print(line, highlight=False)
-            else:
-                self.log(line)
+def _stage_line(i: int, n: int, stage: Stage) -> str:
+    return f"[{i + 1}/{n}] {stage.key}: {stage.title}"
 
 
 def run_stages(
     stages: Sequence[Stage],
     *,
     quick: bool = False,
-    progress: bool | None = None,
+    progress: ProgressLike = None,
     log: Callable[[str], None] | None = None,
     jobs: int = 1,
-    on_progress: Callable[[str, float, str], None] | None = None,
+    on_section: Callable[[int, Section], None] | None = None,
+    title: str = "report",
 ) -> tuple[Section, ...]:
-    """Run ``stages`` under a progress bar; failures become sections.
+    """Run ``stages``; failures become sections.
 
     A stage that needs an optional extra that is not installed
     (`MissingExtraError`) becomes a ``skipped`` section; any other exception,
     a broken import included, becomes a ``failed`` section naming the error.
-    ``KeyboardInterrupt`` propagates (workers are terminated).  ``log``
-    receives one line per stage with its wall time (never written to the
-    report, which stays deterministic).  With ``jobs > 1`` the stages run in
-    that many forked worker processes (stages are independent), the costliest
-    first; the sections are returned in stage order and are identical to a
-    sequential run.  ``on_progress`` receives ``(stage key, fraction done,
-    text)`` whenever a stage reports progress with `stage_progress` (also
-    from the workers, at most ten times a second per stage).
-    """
-    from rich.console import Console
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+    ``KeyboardInterrupt`` propagates (workers are terminated); every section
+    finished before it has been handed to ``on_section``.
 
+    Parameters
+    ----------
+    stages : sequence of Stage
+    quick : bool
+        Handed to every stage in its `StageContext`.
+    progress : Progress, optional
+        The run is one task (``title``, one step per stage), each stage a task inside
+        it.  Default: none (``True``/``False`` still work for one release).
+    log : callable, optional
+        Receives one line per finished stage with its wall time (never written to
+        the report, which stays deterministic).
+    jobs : int
+        Worker processes (forked; stages are independent), the costliest first;
+        the sections are returned in stage order and are identical to a sequential
+        run.
+    on_section : callable, optional
+        ``on_section(index, section)`` as soon as stage ``index`` finishes (in this
+        process, in the order they finish).
+    title : str
+        The run's task in ``progress``.
+    """
     if jobs < 1:
         raise ParameterError(f"jobs must be at least 1, got {jobs}")
-    show = sys.stderr.isatty() if progress is None else progress
+    shown = as_progress(progress, where="run_stages")
     jobs = min(jobs, len(stages))
-    # fork before the progress bar starts its refresh thread
-    pool: Any = None
-    queue: Any = None
-    if jobs > 1:
-        pool, queue = _start_workers(stages, jobs)
-    listener: threading.Thread | None = None
-    columns = (TextColumn("[bold]{task.description}"), BarColumn(),
-               TextColumn("{task.percentage:>3.0f}%"), TimeElapsedColumn())  # fmt: skip
+    results: dict[int, tuple[Section, float]] = {}
+
+    def finished(i: int, res: tuple[Section, float]) -> None:
+        results[i] = res
+        if log is not None:
+            log(f"{stages[i].key}: {res[0].status.label} in {res[1]:.1f} s")
+        if on_section is not None:
+            on_section(i, res[0])
+
+    n = len(stages)
+    what = f"{title}: {n} stage{'s' if n != 1 else ''}" + (
+        f" on {jobs} processes" if jobs > 1 else ""
+    )
+    # fork before a live progress display starts its refresh thread
+    workers = _start_workers(stages, jobs) if jobs > 1 else None
     try:
-        with Progress(
-            *columns, console=Console(file=sys.stderr), disable=not show, transient=True
-        ) as bar:
-            track = _Tracker(stages, bar, show, log, on_progress)
-            if pool is None:
-                for i, st in enumerate(stages):
-                    bar.update(track.task, description=st.title)
-                    track.done(i, _run_one(st, quick, functools.partial(track.moved, i)))
-            else:
-                listener = threading.Thread(target=_listen, args=(queue, track.moved), daemon=True)
-                listener.start()
-                bar.update(track.task, description=f"{len(stages)} stages on {jobs} processes")
-                order = sorted(range(len(stages)), key=lambda i: -stages[i].cost)
-                pending = [
-                    pool.apply_async(
-                        _run_in_worker, (i, quick), callback=functools.partial(track.done, i)
-                    )
-                    for i in order
-                ]
-                for p in pending:
-                    p.get()
+        with task(shown, what, n):
+            if workers is not None:
+                _run_parallel(stages, quick, workers, shown, finished)
+            for i, st in enumerate(stages if workers is None else ()):
+                with task(shown, _stage_line(i, n, st)):
+                    res = _run_one(st, StageContext(quick=quick, budget=st.budget, progress=shown))
+                shown.advance(1, note=f"{st.key} {res[0].status.label}")
+                finished(i, res)
     finally:
-        if pool is not None:
-            _stop_workers(pool)
-        if listener is not None:
-            queue.put(None)
-            listener.join(timeout=2.0)  # daemon: never blocks an interrupted run
-    return tuple(track.results[i][0] for i in range(len(stages)))
+        if workers is not None:
+            _stop_workers(workers[0])
+    return tuple(results[i][0] for i in range(n))
+
+
+def _run_parallel(
+    stages: Sequence[Stage],
+    quick: bool,
+    workers: tuple[Any, Any],
+    shown: Progress,
+    finished: Callable[[int, tuple[Section, float]], None],
+) -> None:
+    """The stages on the forked ``workers``; every event is handled in this thread."""
+    pool, mp_queue = workers
+    events: queues.Queue[tuple[Any, ...]] = queues.Queue()
+    listener = threading.Thread(target=_listen, args=(mp_queue, events.put), daemon=True)
+    running: list[str] = []
+    try:
+        listener.start()
+        for i in sorted(range(len(stages)), key=lambda i: -stages[i].cost):
+            pool.apply_async(
+                _run_in_worker, (i, quick), error_callback=functools.partial(_put_error, events, i)
+            )
+        left = len(stages)
+        while left:
+            try:
+                msg = events.get(timeout=0.2)  # a timeout keeps Ctrl-C responsive
+            except queues.Empty:
+                continue
+            i, kind, a, b = msg
+            st = stages[i]
+            if kind == "finished":
+                left -= 1
+                if st.key in running:
+                    running.remove(st.key)
+                shown.advance(1, note=f"{st.key} {a[0].status.label}")
+                finished(i, a)
+            elif kind == "error":
+                raise a
+            elif kind == "begin":
+                running.append(st.key)
+                with task(shown, _stage_line(i, len(stages), st)):
+                    pass  # announced: the workers' stages overlap, so none stays open here
+                shown.advance(0, note="running " + ", ".join(running))
+            elif kind == "advance" and b:  # a stage's own progress: a note here
+                shown.advance(0, note=f"{st.key}: {b}")
+    finally:
+        mp_queue.put(None)
+        listener.join(timeout=2.0)  # daemon: never blocks an interrupted run
+
+
+def _put_error(events: Any, i: int, exc: BaseException) -> None:
+    events.put((i, "error", exc, None))
 
 
 def _start_workers(stages: Sequence[Stage], jobs: int) -> tuple[Any, Any]:
@@ -271,12 +299,12 @@ def _start_workers(stages: Sequence[Stage], jobs: int) -> tuple[Any, Any]:
 
 def _stop_workers(pool: Any) -> None:
     global _WORKER_STAGES
-    pool.terminate()
+    pool.terminate()  # idempotent
     pool.join()
     _WORKER_STAGES = ()
 
 
-def _listen(queue: Any, moved: Callable[[int, float, str], None]) -> None:
-    """Forward progress messages of the workers until the sentinel ``None``."""
+def _listen(queue: Any, put: Callable[[tuple[Any, ...]], None]) -> None:
+    """Forward the workers' messages until the sentinel ``None``."""
     while (msg := queue.get()) is not None:
-        moved(*msg)
+        put(msg)

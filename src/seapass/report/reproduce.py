@@ -41,6 +41,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
+from ..progress import ProgressLike, as_progress
 from ..version import __version__
 from .document import Report, SectionStatus
 from .pipeline import Stage, run_stages, select_stages
@@ -71,7 +72,7 @@ def reproduce(
     *,
     quick: bool = False,
     stages: Sequence[str] | None = None,
-    progress: bool | None = None,
+    progress: ProgressLike = None,
     log: Callable[[str], None] | None = None,
     jobs: int = 1,
 ) -> Report:
@@ -84,8 +85,10 @@ def reproduce(
     stages : sequence of str, optional
         Stage keys to run (see `STAGES`; ``"core"`` selects the stages
         that need only the core modules).  Default: all.
-    progress : bool, optional
-        Rich progress bar over the stages on stderr (default: when stderr is a TTY).
+    progress : Progress, optional
+        Where the run reports (a [`seapass.progress.Progress`][seapass.progress.Progress]):
+        a task of one step per stage, each stage a task inside it.  Default: none;
+        ``True``/``False`` still work for one release.
     log : callable, optional
         Receives one line per finished stage (name, status, wall time).
     jobs : int
@@ -103,7 +106,14 @@ def reproduce(
        Linear Control of Series Elastic Actuators".
     """
     chosen = select_stages(stages, STAGES)
-    sections = run_stages(chosen, quick=quick, progress=progress, log=log, jobs=jobs)
+    sections = run_stages(
+        chosen,
+        quick=quick,
+        progress=as_progress(progress, where="reproduce"),
+        log=log,
+        jobs=jobs,
+        title="reproduce",
+    )
     skipped = [s.key for s in STAGES if s not in chosen]
     intro = (
         "Mehta & Losey, *Combining Performance and Passivity in Linear Control of Series "

@@ -16,7 +16,7 @@ nonlinear plant: friction, saturation, encoders), [`twin`][seapass.rig.twin]
 [`mujoco_model`][seapass.rig.mujoco_model] (an optional MuJoCo cross-check; needs
 the ``mujoco`` extra).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
+May import: [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.progress], [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
 [`seapass.sim`][seapass.sim], [`seapass.sampled`][seapass.sampled] (the discrete controllers the twin
 runs).
 """

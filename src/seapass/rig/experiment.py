@@ -29,8 +29,7 @@ References
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -41,6 +40,7 @@ from ..errors import ParameterError
 from ..files.csvtext import rows_csv
 from ..files.limits import MAX_KD_GAINS
 from ..model.display import html_card, short_repr
+from ..progress import ProgressLike, as_progress, task
 from ..sim.metrics import Settling
 from .findings import ExperimentFinding, sweep_findings
 from .predictions import RIG_DESIGNS, controller_gains, critical_gain, rig_design
@@ -406,20 +406,6 @@ class ExperimentResult:
         }
 
 
-@contextmanager
-def _progress(enabled: bool, total: int, label: str) -> Iterator[Any]:
-    import sys
-
-    if not enabled or not sys.stderr.isatty():
-        yield None
-        return
-    from rich.progress import Progress
-
-    with Progress(transient=True) as prog:
-        task = prog.add_task(label, total=total)
-        yield lambda: prog.advance(task)
-
-
 def run_experiment(
     rig: Rig,
     *,
@@ -428,16 +414,24 @@ def run_experiment(
     kd: ArrayLike | None = None,
     kd_max: float | None = None,
     kd_step: float | None = None,
-    progress: bool = True,
+    progress: ProgressLike = None,
 ) -> ExperimentResult:
-    """Settling experiment for every design × load mass (axis order of ``sweeps``)."""
+    """Settling experiment for every design × load mass (axis order of ``sweeps``).
+
+    ``progress`` (a [`Progress`][seapass.progress.Progress]) gets one task of one step:
+    the sweeps run as one batch.  Default: none; ``True``/``False`` still work for one
+    release.
+    """
+    shown = as_progress(progress, where="run_experiment")
     masses = list(rig.experiment.load_masses if load_masses is None else load_masses)
-    with _progress(progress, 1, "kd sweep") as tick:
+    label = (
+        f"kd sweeps on the twin of {rig.name}: {len(designs)} design(s) x {len(masses)} mass(es)"
+    )
+    with task(shown, label, 1):
         sweeps = run_rig_sweeps(
             rig, designs=designs, load_masses=masses, kd=kd, kd_max=kd_max, kd_step=kd_step
         )
-        if tick is not None:
-            tick()
+        shown.advance(1)
     return ExperimentResult(
         rig_name=rig.name, sweeps=tuple(sweeps), findings=tuple(sweep_findings(sweeps))
     )

@@ -16,7 +16,7 @@ passive sets of one parameter), [`region`][seapass.sampled.region] (Z-width maps
 a simulation check) and [`runtime`][seapass.sampled.runtime] (a fixed-rate control loop
 with safety, for hardware or the twin).
 
-May import: [`seapass.errors`][seapass.errors], ``seapass.outcome``, [`seapass.files`][seapass.files],
+May import: [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.progress], ``seapass.outcome``, [`seapass.files`][seapass.files],
 [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis].
 """
 

@@ -11,7 +11,6 @@ structure (``tp = 0``, ``tz = tp``, a gain of 0) are decided one by one.
 from __future__ import annotations
 
 import math
-import sys
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from enum import StrEnum
@@ -32,7 +31,8 @@ from ..model.display import Shown, html_card, short_repr
 from ..model.loop import LoopAttributes, SampledLoop, loop_argument
 from ..model.sea import SEA
 from ..outcome import Outcome
-from .boxes import MAX_BOXES, BoxVerdict, bound_boxes
+from ..progress import ProgressLike, as_progress, task
+from .boxes import MAX_BOXES, BoxVerdict, DecidedShare, bound_boxes
 from .controllers import DiscreteController, controller_parts
 from .family import controller_family
 from .lowfreq import low_frequency_limit
@@ -97,7 +97,7 @@ class SampledBoundResult(LoopAttributes):
         `design_outcome` tells not passive from undecided.
     budget_exhausted : bool
         The branch and bound stopped at ``max_boxes`` boxes; what it had not settled is
-        in ``undecided``.
+        in ``undecided`` (never reported passive).
     """
 
     param: str
@@ -274,7 +274,7 @@ def sampled_passive_bound(
     design_value: float | None = None,
     max_precision: int = PRECISIONS[-1],
     max_boxes: int = MAX_BOXES,
-    progress: bool = False,
+    progress: ProgressLike = None,
     **old: Any,
 ) -> SampledBoundResult:
     """Certified passive values of the controller parameter ``param`` in ``[lo, hi]``.
@@ -304,8 +304,9 @@ def sampled_passive_bound(
         Budget of the branch and bound, in boxes examined (counted, not timed).  When it
         runs out, what is not settled is reported ``undecided`` (never passive) and
         ``budget_exhausted`` is set.
-    progress : bool
-        Show a rich progress bar when stderr is a terminal.
+    progress : Progress, optional
+        Where the branch and bound reports: one task of 100 steps, the percent of the
+        range decided (default: none; ``True``/``False`` still work for one release).
     **old
         ``period=, delay=, velocity_filter=, method=``: the loop's old spelling, still
         accepted for one release with a
@@ -323,12 +324,15 @@ def sampled_passive_bound(
     [0, 10033]
     """
     loop = loop_argument(loop, old, where="sampled_passive_bound")
+    shown = as_progress(progress, where="sampled_passive_bound")
     max_precision = check_precision(max_precision)
+    if isinstance(max_boxes, bool) or not isinstance(max_boxes, int) or max_boxes < 1:
+        raise ParameterError(
+            f"max_boxes must be a positive whole number, got {max_boxes!r}", argument="max_boxes"
+        )
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise ParameterError(f"need a finite range lo < hi, got [{lo}, {hi}]")
     check_rtol(rtol)
-    if isinstance(max_boxes, bool) or not isinstance(max_boxes, int) or max_boxes < 1:
-        raise ParameterError(f"max_boxes must be a positive whole number, got {max_boxes!r}")
     base = sea.with_values(**(values or {}))
     if param not in base.parameters:
         raise ParameterError(
@@ -360,17 +364,16 @@ def sampled_passive_bound(
         d = decide(key, ka, kl, T, max_precision=max_precision, hidden=hidden)
         start = max(start, d.precision)
     flo, fhi = Fraction(lo), Fraction(hi)
-    advance = _progress_bar(progress, f"sampled bound of {param}")
-    try:
+    label = f"sampled bound of {param} in [{lo:g}, {hi:g}] (at most {max_boxes} boxes)"
+    with task(shown, label, 100):
+        percent = DecidedShare(shown)
         boxes = bound_boxes(
             key, T, fam, flo, fhi,
             rtol=Fraction(rtol), atol=Fraction(rtol) * (fhi - flo) / 10**6,
             start_precision=start, max_precision=max_precision, max_boxes=max_boxes,
-            advance=advance,
+            advance=percent,
         )  # fmt: skip
-    finally:
-        if advance is not None:
-            advance(None)
+        percent.finish()
     # values where the deployed controller differs from the family: decided alone
     points = {}
     for v in fam.special:
@@ -480,21 +483,3 @@ def _assemble(
         low_frequency=low,
         budget_exhausted=any(r is SampledReason.BUDGET for _a, _b, _s, r in merged),
     )
-
-
-def _progress_bar(progress: bool, label: str) -> Any:
-    if not (progress and sys.stderr.isatty()):
-        return None
-    from rich.progress import Progress
-
-    bar = Progress(transient=True)
-    task = bar.add_task(label, total=1.0)
-    bar.start()
-
-    def advance(step: float | None) -> None:
-        if step is None:
-            bar.stop()
-        else:
-            bar.advance(task, step)
-
-    return advance

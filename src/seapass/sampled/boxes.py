@@ -29,6 +29,7 @@ from typing import Any
 from flint import arb, arb_poly, fmpq, fmpq_poly
 
 from ..outcome import Outcome
+from ..progress import Progress
 from .alias import AliasSums
 from .certified import (
     Sign,
@@ -52,7 +53,7 @@ from .verdict import (
     precision_ladder,
 )
 
-__all__ = ["BoxVerdict", "bound_boxes"]
+__all__ = ["MAX_BOXES", "BoxVerdict", "DecidedShare", "bound_boxes"]
 
 #: Most boxes examined in one bound (bounds time; what is left is reported undecided).
 MAX_BOXES = 20000
@@ -261,6 +262,7 @@ def bound_boxes(
     are not edges (proven boxes of opposite verdicts on both sides) are examined again at
     the next precision, up to ``max_precision``.  At most ``max_boxes`` boxes are
     examined: what is left then is reported ``undecided`` with reason ``SampledReason.BUDGET``.
+    ``advance(width)`` is called with the share of ``[lo, hi]`` each decided box covers.
     """
     a_zero, l_zero = fam.actuator.is_zero, fam.load.is_zero
     if a_zero and l_zero:
@@ -317,12 +319,13 @@ def bound_boxes(
             mid = (a + b) / 2
             stack.append((mid, b, level, part))
             stack.append((a, mid, level, part))
-        proven = sorted(done, key=lambda v: v.lo)
+        # only decided boxes are sides of an edge (not those the budget left unexamined)
+        proven = sorted((v for v in done if v.outcome is not undecided), key=lambda v: v.lo)
         for ga, gb, level in _merge(leaves):
             if _is_edge((ga, gb), proven):
                 done.append(BoxVerdict(lo=ga, hi=gb, outcome=undecided, reason=SampledReason.EDGE))
-            elif level + 1 < len(ladder) and boxes < max_boxes:
-                stack.append((ga, gb, level + 1, ()))
+            elif level + 1 < len(ladder):
+                stack.append((ga, gb, level + 1, ()))  # BUDGET when the budget is spent
             else:
                 done.append(
                     BoxVerdict(lo=ga, hi=gb, outcome=undecided, reason=SampledReason.UNDECIDED)
@@ -348,3 +351,24 @@ def _is_edge(leaf: tuple[Fraction, Fraction], proven: list[BoxVerdict]) -> bool:
     left = next((v.outcome for v in reversed(proven) if v.hi == a), None)
     right = next((v.outcome for v in proven if v.lo == b), None)
     return left is not None and right is not None and left != right
+
+
+class DecidedShare:
+    """The share of the range decided, as whole percent steps of ``progress``: the
+    ``advance`` of `bound_boxes` (`finish` adds what no decided box covered)."""
+
+    def __init__(self, progress: Progress) -> None:
+        self.progress, self.decided, self.shown = progress, 0.0, 0
+
+    def __call__(self, width: float) -> None:
+        self.decided += width
+        now = min(int(self.decided * 100), 100)
+        if now > self.shown:
+            self.progress.advance(now - self.shown, note=f"{now} % of the range decided")
+            self.shown = now
+
+    def finish(self) -> None:
+        """The rest: edge enclosures and what was left undecided."""
+        if self.shown < 100:
+            self.progress.advance(100 - self.shown, note="done")
+            self.shown = 100

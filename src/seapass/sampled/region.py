@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import io
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
@@ -34,7 +34,9 @@ from ..exact.rounding import decimal_down
 from ..model.display import html_card, short_repr
 from ..model.loop import SampledLoop, loop_argument
 from ..model.sea import SEA
+from ..progress import ProgressLike, as_progress, task
 from .bound import SampledBoundResult, sampled_passive_bound
+from .boxes import MAX_BOXES
 from .passivity import check_precision
 from .verdict import PRECISIONS
 
@@ -78,6 +80,11 @@ class ZWidthMap:
     def period(self) -> float:
         """Control period (s) of every setup."""
         return self.setups[0].period
+
+    @property
+    def budget_exhausted(self) -> bool:
+        """Some row's branch and bound stopped at its box budget (its rest is undecided)."""
+        return any(r.budget_exhausted for rows in self.rows.values() for r in rows)
 
     def upper_boundary(self, label: str) -> np.ndarray:
         """Largest passive ``p1`` for every ``p2`` row (NaN where none)."""
@@ -176,7 +183,8 @@ def sampled_region(
     rtol: float = 1e-6,
     log_p2: bool = False,
     max_precision: int = PRECISIONS[-1],
-    progress: Callable[[int, int], None] | None = None,
+    max_boxes: int = MAX_BOXES,
+    progress: ProgressLike = None,
     **old: Any,
 ) -> ZWidthMap:
     """Z-width map: certified passive sets of ``p1`` on ``n`` rows of ``p2``.
@@ -204,8 +212,14 @@ def sampled_region(
     max_precision : int
         Precision cap (bits) of the balls, as in
         [`sampled_passive_bound`][seapass.sampled.bound.sampled_passive_bound].
-    progress : callable, optional
-        Called with ``(done, total)`` after each row.
+    max_boxes : int, default 20000
+        Budget of each row's branch and bound in boxes (as in
+        [`sampled_passive_bound`][seapass.sampled.bound.sampled_passive_bound]); a row
+        that reaches it has ``budget_exhausted`` set (see `ZWidthMap.budget_exhausted`).
+    progress : Progress, optional
+        Where the map reports: one task with a step per row and setup, each row's bound
+        a task inside it (default: none).  A callable ``f(done, total)``, the old
+        spelling, still works for one release.
     **old
         ``period=, method=``: the loop's old spelling (then the default setups have one
         sample of delay and a 50 Hz filter), accepted for one release with a
@@ -229,6 +243,9 @@ def sampled_region(
         loop = loop if setups is not None else loop.replace(delay=1, velocity_filter=50.0)
     else:
         loop = loop_argument(loop, old, where="sampled_region")
+    shown = as_progress(
+        progress, where="sampled_region", call=lambda f: lambda done, total, note: f(done, total)
+    )
     max_precision = check_precision(max_precision)
     if p1 == p2:
         raise ParameterError("sampled region needs two different parameters")
@@ -247,18 +264,17 @@ def sampled_region(
         )
     rows: dict[str, list[SampledBoundResult]] = {s.label: [] for s in setups}
     base = sea.with_values(**{p1: None, p2: None})
-    total, done = len(setups) * len(values), 0
-    for s in setups:
-        for v in values:
-            row = sampled_passive_bound(
-                base.with_values(**{p2: float(v)}), p1, loop=s,
-                lo=float(p1_range[0]), hi=float(p1_range[1]), rtol=rtol,
-                max_precision=max_precision,
-            )  # fmt: skip
-            rows[s.label].append(row)
-            done += 1
-            if progress is not None:
-                progress(done, total)
+    total = len(setups) * len(values)
+    with task(shown, f"Z-width map of {p1} against {p2}: {total} rows", total):
+        for s in setups:
+            for v in values:
+                row = sampled_passive_bound(
+                    base.with_values(**{p2: float(v)}), p1, loop=s,
+                    lo=float(p1_range[0]), hi=float(p1_range[1]), rtol=rtol,
+                    max_precision=max_precision, max_boxes=max_boxes, progress=shown,
+                )  # fmt: skip
+                rows[s.label].append(row)
+                shown.advance(1, note=f"{s.label}, {p2} = {float(v):.6g}")
     return ZWidthMap(
         p1=p1, p2=p2, p1_range=(float(p1_range[0]), float(p1_range[1])),
         p2_values=tuple(float(v) for v in values), setups=setups,

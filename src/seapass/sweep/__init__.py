@@ -5,7 +5,7 @@ resumable on-disk store of parts ([`store`][seapass.sweep.store]), the runner th
 computes chunks locally or on Dask ([`runner`][seapass.sweep.runner]) and heat-map
 aggregates of a finished sweep ([`heatmap`][seapass.sweep.heatmap]).
 
-May import: [`seapass.errors`][seapass.errors], ``seapass.version``, [`seapass.files`][seapass.files],
+May import: [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.progress], ``seapass.version``, [`seapass.files`][seapass.files],
 [`seapass.model`][seapass.model], [`seapass.sim`][seapass.sim], [`seapass.batch`][seapass.batch].  Figures of sweeps live in
 [`seapass.plot.sweep`][seapass.plot.sweep].
 """

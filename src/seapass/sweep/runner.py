@@ -16,7 +16,6 @@ identical however the chunks run.  What a sweep is lives in
 from __future__ import annotations
 
 import os
-import sys
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
@@ -32,6 +31,7 @@ from ..errors import OutputPathError, ParameterError
 from ..files.owned import check_replaceable, record_written
 from ..model.display import html_card, short_repr
 from ..model.sea import SEA
+from ..progress import ProgressLike, as_progress, task
 from ..sim.metrics import SETTLING_CODES
 from .cluster import check_scheduler, dask_client, run_bounded, total_threads
 from .location import Location, open_location
@@ -207,26 +207,6 @@ class DesignSweepResult:
 
 
 @contextmanager
-def _progress(enabled: bool, total: int, done: int) -> Iterator[Callable[[], None]]:
-    """A rich progress bar on a terminal; yields the function that advances it."""
-    if not (enabled and sys.stderr.isatty()):
-        yield lambda: None
-        return
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        TextColumn,
-        TimeRemainingColumn,
-    )
-
-    columns = (TextColumn("sweep"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
-    with Progress(*columns, transient=True) as prog:
-        task = prog.add_task("chunks", total=total, completed=done)
-        yield lambda: prog.advance(task)
-
-
-@contextmanager
 def _executor(
     spec: SweepSpec, parts: Location, scheduler: str | None, workers: int | None
 ) -> Iterator[tuple[int, Callable[[Sequence[int]], Iterator[PartSummary]]]]:
@@ -278,7 +258,7 @@ def run_design_sweep(
     scheduler: str | None = None,
     workers: int | None = None,
     storage_options: Mapping[str, Any] | None = None,
-    progress: bool = True,
+    progress: ProgressLike = None,
     on_part: Callable[[PartSummary], None] | None = None,
     force: bool = False,
 ) -> DesignSweepResult:
@@ -303,8 +283,9 @@ def run_design_sweep(
         only with ``scheduler="local"``.
     storage_options : mapping, optional
         Options of the fsspec file system of ``out`` (credentials, endpoint).
-    progress : bool
-        Show a rich progress bar (only on a terminal).
+    progress : Progress, optional
+        Where the sweep reports: one task with a step per chunk (resumed chunks count
+        at the start).  Default: none; ``True``/``False`` still work for one release.
     on_part : callable, optional
         Called as ``on_part(summary)`` after each part is recorded (tests, monitoring).
     force : bool
@@ -318,6 +299,7 @@ def run_design_sweep(
         A ``KeyboardInterrupt`` is re-raised after the journal is saved; the
         finished parts stay on disk for ``resume=True``.
     """
+    shown = as_progress(progress, where="run_design_sweep")
     check_scheduler(scheduler, workers)
     where = open_location(out, storage_options)
     _check_output(where, scheduler, force)
@@ -329,14 +311,18 @@ def run_design_sweep(
     threads = 1
     try:
         with (
-            _progress(progress, spec.n_chunks, store.resumed) as advance,
-            _executor(spec, store.parts, scheduler, workers) as (threads, run),
+            _executor(spec, store.parts, scheduler, workers) as (threads, run),  # may refuse
+            task(
+                shown, f"sweep: {spec.n_designs} designs in {spec.n_chunks} chunks", spec.n_chunks
+            ),
         ):
+            if store.resumed:
+                shown.advance(store.resumed, note="resumed")
             for summary in run(todo):
                 store.record(summary)
                 computed += 1
                 compute_seconds += summary.seconds
-                advance()
+                shown.advance(1)
                 if on_part is not None:
                     on_part(summary)
     finally:

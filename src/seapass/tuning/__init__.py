@@ -5,11 +5,12 @@ their box, the objective and the limits: `TuningOptions`, validated into a
 `TuningProblem` before any work), [`cost`][seapass.tuning.cost] (what the
 optimizer minimizes: the simulated objective, penalties for the force and
 overshoot limits, exact continuous and sampled passivity where it matters),
-[`search`][seapass.tuning.search] (differential evolution with a seed, a progress
-bar and a clean Ctrl-C) and [`optimize`][seapass.tuning.optimize] (`tune`, the
+[`search`][seapass.tuning.search] (differential evolution with a seed, its progress
+and a clean Ctrl-C) and [`optimize`][seapass.tuning.optimize] (`tune`, the
 one entry point, and its `TuningResult`).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
+May import: [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.progress],
+[`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
 [`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim],
 [`seapass.sampled`][seapass.sampled] (the sampled-data passivity constraint),
 [`seapass.outcome`][seapass.outcome].

@@ -26,7 +26,6 @@ References
 
 from __future__ import annotations
 
-import sys
 import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -35,10 +34,11 @@ from typing import Any
 
 from ..analysis.passivity import PassivityResult, is_passive
 from ..analysis.region import passive_intervals
-from ..errors import NotPassiveError, ParameterError, TuningWarning
+from ..errors import NotPassiveError, ParameterError, SeapassDeprecationWarning, TuningWarning
 from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA
 from ..outcome import Outcome
+from ..progress import ProgressLike, as_progress
 from ..sampled.passivity import SampledPassivityResult, sampled_passivity
 from ..sim.metrics import TrackingMetrics, overshoot_text, tracking_metrics
 from ..sim.scenarios import Step
@@ -99,6 +99,8 @@ class TuningResult:
         The best search cost (objective plus penalties, at ``options.dt_search``).
     evaluations, passivity_checks, sampled_checks : int
         Simulations, exact continuous and sampled passivity tests run.
+    generations : int
+        Generations the search ran: ``options.maxiter`` unless it converged earlier.
     sea : SEA
         The design with the tuned gains.
     options : ResolvedTuning
@@ -124,6 +126,7 @@ class TuningResult:
     evaluations: int
     passivity_checks: int
     sampled_checks: int
+    generations: int = 0
     sea: SEA = field(repr=False)
     options: ResolvedTuning = field(repr=False)
     passivity: PassivityResult | None = field(default=None, repr=False)
@@ -159,6 +162,7 @@ class TuningResult:
             "evaluations": self.evaluations,
             "passivity_checks": self.passivity_checks,
             "sampled_checks": self.sampled_checks,
+            "generations": self.generations,
             "load_mass": o.load_mass,
             "step": o.step,
             "horizon": o.horizon,
@@ -251,7 +255,7 @@ def tune(
     tune: BoxLike | None = None,
     values: Mapping[str, float] | None = None,
     options: TuningOptions | None = None,
-    progress: bool | None = None,
+    progress: ProgressLike = None,
     callback: Callable[[int, float], None] | None = None,
     throw: bool = False,
     allow_plant: bool = False,
@@ -277,11 +281,14 @@ def tune(
         catalog design: ``tune("ours", values={"k1": 1005, "b1": 30}, tune=["kd", "bd"])``.
     options : TuningOptions, optional
         Objective, limits, load mass, step, sampled-data period, budget, seed.
-    progress : bool, optional
-        A rich progress bar on stderr (default: when stderr is a terminal).
+    progress : Progress, optional
+        Where the search reports (a [`seapass.progress.Progress`][seapass.progress.Progress]):
+        one task of ``options.maxiter`` steps, advanced after every generation with the
+        best cost as its note; a ``KeyboardInterrupt`` from it stops the run.  Default:
+        none.  ``True``/``False`` still work for one release (deprecated).
     callback : callable, optional
-        ``callback(generation, best_cost)`` after each generation; raising
-        ``KeyboardInterrupt`` stops the run.
+        Deprecated (one release): ``callback(generation, best_cost)`` after each
+        generation; use ``progress``.
     throw : bool, default False
         Raise [`NotPassiveError`][seapass.errors.NotPassiveError] when the result is
         not feasible (not passive, or a limit is violated).
@@ -303,7 +310,7 @@ def tune(
     ParameterError
         For invalid input (before any work), naming the argument.
     KeyboardInterrupt
-        Propagated after the progress bar is closed; nothing is written.
+        Propagated after the progress task is closed; nothing is written.
 
     Examples
     --------
@@ -311,7 +318,7 @@ def tune(
     >>> sea = seapass.SEA(D1="k1 + b1*s", CA="kd + bd*s",
     ...                   values=dict(m=1, b=10, k1=1000, b1=30, kd=500, bd=25))
     >>> r = seapass.tune(sea, tune={"kd": (0, 3000), "bd": (0, 400)},
-    ...                  maxiter=4, popsize=4, dt_search=1e-2, progress=False)
+    ...                  maxiter=4, popsize=4, dt_search=1e-2)
     >>> r.passive, sorted(r.gains)
     (True, ['bd', 'kd'])
     """
@@ -322,19 +329,27 @@ def tune(
         _sampled_verdict(problem, problem.candidate(sum(bounds[g]) / 2 for g in problem.gains))
     checks = ConstraintChecks(problem)
     cost = CandidateCost(problem, checks)
-    show = sys.stderr.isatty() if progress is None else progress
+    shown = as_progress(progress, where="tune")
+    if callback is not None:
+        warnings.warn(
+            "tune(callback=...) is deprecated; pass progress=, a seapass.progress.Progress "
+            "whose advance() runs after every generation",
+            SeapassDeprecationWarning,
+            stacklevel=2,
+        )
     found = differential_search(
         cost,
         [bounds[g] for g in problem.gains],
         problem.options,
         label=problem.name,
-        progress=show,
+        progress=shown,
         callback=callback,
     )
     x, best = snap_to_edges(problem, bounds, [float(v) for v in found.x], float(found.fun), cost)
     result = verify(
-        problem, x, bounds=bounds, checks=checks, cost=best, evaluations=cost.evaluations
-    )
+        problem, x, bounds=bounds, checks=checks, cost=best, evaluations=cost.evaluations,
+        generations=int(found.nit),
+    )  # fmt: skip
     for message in result.warnings:
         warnings.warn(message, TuningWarning, stacklevel=2)
     if throw and not result.feasible:
@@ -375,11 +390,12 @@ def verify(
     checks: ConstraintChecks | None = None,
     cost: float = float("nan"),
     evaluations: int = 0,
+    generations: int = 0,
 ) -> TuningResult:
     """Everything about the gains ``x``: exact verdicts, metrics at ``dt_verify``, limits.
 
-    ``cost`` and ``evaluations`` are the search's best cost and simulation count, when
-    ``x`` comes from a search.
+    ``cost``, ``evaluations`` and ``generations`` are the search's best cost, simulation
+    count and generations, when ``x`` comes from a search.
     """
     opts = problem.options
     gains = dict(zip(problem.gains, x, strict=True))
@@ -406,6 +422,7 @@ def verify(
         evaluations=evaluations,
         passivity_checks=len(checks.continuous) if checks else 0,
         sampled_checks=len(checks.sampled) if checks else 0,
+        generations=generations,
         sea=sea,
         options=opts,
         passivity=pr,

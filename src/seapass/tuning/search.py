@@ -1,4 +1,4 @@
-"""The global search: differential evolution with a fixed seed, a progress bar and clean Ctrl-C,
+"""The global search: differential evolution with a fixed seed, progress and clean Ctrl-C,
 then `snap_to_edges` for an optimum that the search approaches on the edge of its box.
 
 References
@@ -10,7 +10,6 @@ References
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from typing import Any
@@ -18,6 +17,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import differential_evolution
 
+from ..progress import Progress, task
 from .problem import TuningOptions, TuningProblem
 
 __all__ = ["SNAP_FRACTION", "differential_search", "single_threaded_blas", "snap_to_edges"]
@@ -32,49 +32,38 @@ def differential_search(
     options: TuningOptions,
     *,
     label: str,
-    progress: bool,
+    progress: Progress,
     callback: Callable[[int, float], None] | None = None,
 ) -> Any:
     """Minimize ``cost`` over the box ``bounds`` (one ``(lo, hi)`` per gain).
 
     ``options.maxiter`` generations of ``options.popsize × len(bounds)``
     members, Latin-hypercube start, seeded by ``options.seed`` (reproducible),
-    no gradient polish (the cost is piecewise smooth at best).  A rich progress
-    bar on stderr shows the generation and the best cost when ``progress``;
-    ``callback(generation, best_cost)`` runs after every generation.  A
-    ``KeyboardInterrupt`` (also from the callback) propagates after the bar is
-    closed.
+    no gradient polish (the cost is piecewise smooth at best).  The search is one
+    task of ``progress`` (``options.maxiter`` steps), advanced after every
+    generation with the best cost as its note.  A ``KeyboardInterrupt`` (also from
+    ``progress.advance``) propagates after the task is closed.
 
     Returns
     -------
     scipy.optimize.OptimizeResult
+        ``nit`` is the number of generations run.
     """
-    from rich.console import Console
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    generation = [0]
+
+    def on_generation(intermediate_result: Any) -> bool:
+        generation[0] += 1
+        best = float(intermediate_result.fun)
+        progress.advance(1, note=f"best {best:.4g}")
+        if callback is not None:  # the deprecated callback(generation, best) of tune
+            callback(generation[0], best)
+        return False
 
     with (
         single_threaded_blas(),
-        Progress(
-            TextColumn(f"tuning {label}"),
-            BarColumn(),
-            TextColumn("gen {task.completed}/{task.total}  best {task.fields[best]}"),
-            TimeElapsedColumn(),
-            disable=not progress,
-            console=Console(file=sys.stderr) if progress else None,
-            transient=True,
-        ) as bar,
+        task(progress, f"tuning {label}: {options.maxiter} generations", options.maxiter),
     ):
-        task = bar.add_task("tune", total=options.maxiter, best="-")
-        generation = [0]
-
-        def on_generation(intermediate_result: Any) -> bool:
-            generation[0] += 1
-            best = float(intermediate_result.fun)
-            bar.update(task, advance=1, best=f"{best:.4g}")
-            if callback is not None:
-                callback(generation[0], best)
-            return False
-
         return differential_evolution(
             cost,
             list(bounds),

@@ -7,9 +7,10 @@ python-control splits ``*_response`` from ``*_plot``: ``*_data`` computes,
 
 from __future__ import annotations
 
+import math
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -18,13 +19,14 @@ from ...analysis.freqresp import FrequencyResponse, PeakKind, stiffness_response
 from ...errors import ParameterError, TuningWarning
 from ...model.design_file import Design
 from ...plot.sim import plot_step_responses
+from ...progress import ProgressLike, as_progress, task
 from ...sampled.passivity import SampledPassivityResult, sampled_passivity
 from ...sim.metrics import overshoot_percent, tracking_metrics
 from ...sim.simulate import Step, simulate
 from ...tuning.optimize import TuningResult, tune
 from ...tuning.problem import QUICK_OPTIONS, TuningOptions
-from ..document import FigureData, Finding, Section, Table, Verdict, to_json
-from ..pipeline import stage_progress
+from ..document import FigureData, Finding, Section, SectionStatus, Table, Verdict, to_json
+from ..pipeline import StageContext
 
 __all__ = [
     "TuningData",
@@ -47,9 +49,9 @@ __all__ = [
 Runs = Sequence[tuple[float, Any, Any]]
 
 
-def stiffness_data(design: Design, quick: bool) -> FrequencyResponse:
-    """``F_L/X_L(jω)`` of the design over 0.1–1e4 rad/s."""
-    points = 200 if quick else 400
+def stiffness_data(design: Design, quick: bool, *, points: int | None = None) -> FrequencyResponse:
+    """``F_L/X_L(jω)`` of the design over 0.1–1e4 rad/s (``points``: default 400, 200 quick)."""
+    points = points or (200 if quick else 400)
     return stiffness_response(design.sea(), np.logspace(-1, 4, points), label=design.name)
 
 
@@ -102,20 +104,35 @@ def _peak_quantity(r: FrequencyResponse) -> str:
     return f"largest over 0.1-1e4 rad/s, at {edge} (no peak inside the range)"
 
 
-def stage_stiffness(design: Design, quick: bool) -> Section:
-    r = stiffness_data(design, quick)
+def stage_stiffness(design: Design, context: StageContext) -> Section:
+    """Budget: frequency points of the response (the grid; nothing is decided on it)."""
+    r = stiffness_data(design, context.quick, points=context.budget)
     return stiffness_section(r, stiffness_figures(design, r))
 
 
-def step_responses(sea: Any, design: Design, dt: float) -> list[tuple[float, Any, Any]]:
-
+def step_responses(
+    sea: Any,
+    design: Design,
+    dt: float,
+    *,
+    budget: int | None = None,
+    progress: ProgressLike = None,
+) -> list[tuple[float, Any, Any]]:
+    """The step response at every load mass of the design, in order, while the simulated
+    time steps (all masses together) stay within ``budget`` (default: no limit)."""
+    shown = as_progress(progress, where="step_responses")
+    steps = math.ceil(design.horizon / dt)
+    masses = design.load_masses
+    if budget is not None:
+        masses = masses[: budget // steps]
     out = []
-    for i, mass in enumerate(design.load_masses):
-        stage_progress(i, len(design.load_masses), f"step response, m_L = {mass:g} kg")
-        res = simulate(
-            sea, load_mass=mass, scenario=Step(design.step), horizon=design.horizon, dt=dt
-        )
-        out.append((mass, res, tracking_metrics(res)))
+    with task(shown, f"step responses at {len(masses)} load mass(es)", len(masses)):
+        for mass in masses:
+            res = simulate(
+                sea, load_mass=mass, scenario=Step(design.step), horizon=design.horizon, dt=dt
+            )
+            out.append((mass, res, tracking_metrics(res)))
+            shown.advance(1, note=f"m_L = {mass:g} kg")
     return out
 
 
@@ -172,9 +189,26 @@ def response_section(design: Design, runs: Runs, figures: Sequence[FigureData]) 
     )
 
 
-def stage_response(design: Design, quick: bool) -> Section:
-    runs = step_responses(design.sea(), design, 2e-3 if quick else 1e-3)
-    return response_section(design, runs, response_figures(design, runs))
+def stage_response(design: Design, context: StageContext) -> Section:
+    """Budget: simulated time steps, all load masses together (masses beyond it are not
+    simulated and the section is stopped at its budget)."""
+    dt = 2e-3 if context.quick else 1e-3
+    runs = step_responses(
+        design.sea(), design, dt, budget=context.budget, progress=context.progress
+    )
+    sec = response_section(design, runs, response_figures(design, runs) if runs else ())
+    left = design.load_masses[len(runs) :]
+    if not left:
+        return sec
+    steps = math.ceil(design.horizon / dt)
+    return replace(
+        sec,
+        status=SectionStatus.STOPPED_AT_BUDGET,
+        text=sec.text
+        + f" **Stopped at the budget of {context.budget} time steps** ({steps} per load "
+        f"mass): m_L = {', '.join(f'{m:g}' for m in left)} kg not simulated (raise it with "
+        "`--budget response=N`).",
+    )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -189,13 +223,24 @@ class TuningData:
     sampled: SampledPassivityResult | None
 
 
-def tuning_data(design: Design, quick: bool) -> TuningData:
-    """The best passive gains of the design's controller, in the boxes of its ``[ranges]``."""
+def tuning_data(
+    design: Design,
+    quick: bool,
+    *,
+    generations: int | None = None,
+    progress: ProgressLike = None,
+) -> TuningData:
+    """The best passive gains of the design's controller, in the boxes of its ``[ranges]``.
+
+    ``generations`` replaces the search's ``maxiter`` (default: 60, 12 quick).
+    """
     opts = QUICK_OPTIONS if quick else TuningOptions()
+    if generations is not None:
+        opts = opts.replace(maxiter=generations)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", TuningWarning)  # they go into the text
-            tr = tune(design, options=opts, progress=False)
+            tr = tune(design, options=opts, progress=progress)
     except ParameterError as exc:  # e.g. a single gain passive nowhere in its box
         return TuningData(
             options=opts, quick=quick, result=None, refused=str(exc), runs=(), sampled=None
@@ -291,10 +336,26 @@ def tuning_section(design: Design, data: TuningData, figures: Sequence[FigureDat
     )
 
 
-def stage_tuning(design: Design, quick: bool) -> Section:
-    """The best passive gains of the design's controller, in the boxes of its ``[ranges]``."""
-    data = tuning_data(design, quick)
-    return tuning_section(design, data, tuning_figures(design, data))
+def stage_tuning(design: Design, context: StageContext) -> Section:
+    """The best passive gains of the design's controller, in the boxes of its ``[ranges]``.
+
+    Budget: generations of the search.  A budget below the default (60, 12 quick) that
+    the search uses up stops the stage at its budget, with the best gains found.
+    """
+    data = tuning_data(design, context.quick, generations=context.budget, progress=context.progress)
+    sec = tuning_section(design, data, tuning_figures(design, data))
+    planned = (QUICK_OPTIONS if context.quick else TuningOptions()).maxiter
+    tr = data.result
+    if tr is None or context.budget is None or not (tr.generations >= context.budget < planned):
+        return sec
+    return replace(
+        sec,
+        status=SectionStatus.STOPPED_AT_BUDGET,
+        text=sec.text
+        + f" **Stopped at the budget of {context.budget} generations** (of {planned}): "
+        "the best gains found so far, verified as above (raise it with "
+        "`--budget tuning=N`).",
+    )
 
 
 def _verdict(ok: bool) -> Verdict:

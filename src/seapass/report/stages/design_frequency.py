@@ -16,6 +16,7 @@ from ...analysis.portresponse import ImpedanceResponse, impedance_response
 from ...model.design_file import Design
 from ...plot.passivity import plot_bode, plot_nyquist, plot_real_part
 from ..document import FigureData, Section, Table, to_json
+from ..pipeline import StageContext
 
 __all__ = [
     "FrequencyData",
@@ -39,10 +40,11 @@ class FrequencyData:
     reference: float | None
 
 
-def frequency_data(design: Design, quick: bool) -> FrequencyData:
-    """``Z_L(jω)`` with the exact bands where ``Re Z_L(jω) < 0``, and ``F_L/X_L(jω)``."""
+def frequency_data(design: Design, quick: bool, *, points: int | None = None) -> FrequencyData:
+    """``Z_L(jω)`` with the exact bands where ``Re Z_L(jω) < 0``, and ``F_L/X_L(jω)``
+    (``points`` on the drawn curves: default 600, 300 quick)."""
     sea = design.sea()
-    resp = impedance_response(sea, points=300 if quick else 600, label=design.name)
+    resp = impedance_response(sea, points=points or (300 if quick else 600), label=design.name)
     fr = stiffness_response(sea, resp.omega, label=design.name)
     return FrequencyData(impedance=resp, stiffness=fr, reference=design.values.get("k1"))
 
@@ -114,7 +116,10 @@ def frequency_section(data: FrequencyData, figures: Sequence[FigureData]) -> Sec
     )
 
 
-def stage_frequency(design: Design, quick: bool) -> Section:
-    """Bode of ``F_L/X_L`` with phase, ``Re Z_L(jω)`` with the failing bands, Nyquist of ``Z_L``."""
-    data = frequency_data(design, quick)
+def stage_frequency(design: Design, context: StageContext) -> Section:
+    """Bode of ``F_L/X_L`` with phase, ``Re Z_L(jω)`` with the failing bands, Nyquist of ``Z_L``.
+
+    Budget: frequency points of the drawn curves (the bands are exact, whatever the grid).
+    """
+    data = frequency_data(design, context.quick, points=context.budget)
     return frequency_section(data, frequency_figures(data))

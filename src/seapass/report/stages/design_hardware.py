@@ -8,7 +8,8 @@ figures is split as python-control splits ``*_response`` from ``*_plot``
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -19,10 +20,11 @@ from ...model.design_file import Design
 from ...model.expr import S, symbol
 from ...outcome import Outcome
 from ...plot.rig import plot_rig_sweep
+from ...progress import ProgressLike, as_progress, task
 from ...rig.design_sweep import design_gain, run_design_sweeps
 from ...rig.experiment import ExperimentResult, RigSweepResult, run_rig_sweeps
 from ...rig.rigfile import Rig, load_rig, paper_rig
-from ...sampled.bound import sampled_passive_bound
+from ...sampled.bound import intervals_text, sampled_passive_bound
 from ...sampled.passivity import sampled_passivity
 from ..document import (
     FigureData,
@@ -34,7 +36,7 @@ from ..document import (
     format_intervals,
     to_json,
 )
-from ..pipeline import stage_progress
+from ..pipeline import StageContext
 
 __all__ = [
     "DesignRigData",
@@ -47,8 +49,12 @@ __all__ = [
 ]
 
 
-def stage_sampled(design: Design, quick: bool) -> Section:
+def stage_sampled(design: Design, context: StageContext) -> Section:
+    """The sampled-data verdict and the certified passive set of every gain.
 
+    Budget: boxes of each gain's branch and bound (what a bound leaves is reported
+    undecided, never passive, and the stage is stopped at its budget).
+    """
     loop = design.loop
     if loop is None:
         return Section(
@@ -57,7 +63,6 @@ def stage_sampled(design: Design, quick: bool) -> Section:
             "analysed in continuous time only.",
         )  # fmt: skip
     sea = design.sea()
-    steps = iter(range(len(design.analysis_ranges())))
     try:
         res = sampled_passivity(sea, loop=loop)
     except ModelError as exc:
@@ -65,24 +70,27 @@ def stage_sampled(design: Design, quick: bool) -> Section:
             "sampled", "Sampled-data passivity", status=SectionStatus.SKIPPED,
             text=f"Skipped: the sampled-data test does not apply to this plant: {exc}",
         )  # fmt: skip
-    rtol = 1e-6 if quick else 1e-9
-    rows, bounds = [], {}
+    rtol = 1e-6 if context.quick else 1e-9
+    rows, bounds, stopped = [], {}, []
+    budget: dict[str, Any] = {} if context.budget is None else {"max_boxes": context.budget}
     for name, (lo, hi) in design.analysis_ranges().items():
-        stage_progress(next(steps), len(design.analysis_ranges()), f"largest passive {name}")
         if name not in design.gains:
             continue
         value = design.values[name]
         b = sampled_passive_bound(
             sea.with_values(**{name: None}), name, loop=loop, lo=lo, hi=hi, rtol=rtol,
-            design_value=value,
+            design_value=value, progress=context.progress, **budget,
         )  # fmt: skip
         bounds[name] = b.to_dict()
+        if b.budget_exhausted:
+            stopped.append(name)
         edges = "; ".join(
             f"{enclosure_text(e.lo, e.hi, digits=10)} ({e.kind.replace('_', ' ')})" for e in b.edges
         )
         rows.append(
             (name, value, f"[{b.lo:g}, {b.hi:g}]", format_intervals(b.intervals, b.hi),
-             edges or "none", "yes" if b.design_passive else "no")
+             edges or "none", "yes" if b.design_passive else "no",
+             intervals_text(_joined(b.undecided), most=5) if b.undecided else "none")
         )  # fmt: skip
     setup = (
         f"T = {loop.period * 1e3:.4g} ms ({loop.rate:g} Hz), delay {loop.delay} "
@@ -104,7 +112,15 @@ def stage_sampled(design: Design, quick: bool) -> Section:
         "(`seapass.sampled.passivity`): the power polynomial's sign is decided with ball "
         "arithmetic, ω → 0 included. Each gain's passive set is certified by branch and bound "
         f"(`seapass.sampled.bound`): no scan, edges enclosed to a relative width of {rtol:g}; "
-        "the range includes the design's own value.",
+        "the range includes the design's own value."
+        + (
+            f"\n\n**Stopped at the budget of {context.budget} boxes per bound** for "
+            + ", ".join(f"`{g}`" for g in stopped)
+            + ": the part of the range the branch and bound did not settle is listed as "
+            "undecided (never passive); raise it with `--budget sampled=N`."
+            if stopped
+            else ""
+        ),
         tables=(
             Table(
                 name="sampled_ranges",
@@ -116,6 +132,7 @@ def stage_sampled(design: Design, quick: bool) -> Section:
                     "passive set (sampled, certified)",
                     "edge enclosures",
                     "value passive",
+                    "undecided",
                 ),
                 rows=tuple(rows),
             ),
@@ -128,7 +145,19 @@ def stage_sampled(design: Design, quick: bool) -> Section:
             ),
         ),
         files={"sampled.json": to_json({"verdict": res.to_dict(), "bounds": bounds})},
+        status=SectionStatus.STOPPED_AT_BUDGET if stopped else SectionStatus.OK,
     )
+
+
+def _joined(pieces: Sequence[tuple[float, float]]) -> list[tuple[float, float]]:
+    """Touching intervals joined (the undecided leaves of a bound stopped at its budget)."""
+    out: list[tuple[float, float]] = []
+    for a, b in sorted(pieces):
+        if out and a <= out[-1][1]:
+            out[-1] = (out[-1][0], max(out[-1][1], b))
+        else:
+            out.append((a, b))
+    return out
 
 
 def matching_experiment_design(design: Design) -> str | None:
@@ -149,13 +178,20 @@ class DesignRigData:
 
     rig: Rig
     sweeps: tuple[RigSweepResult, ...]
+    gains_cut: int = 0
+    """Gains of the kd grid left out by the budget (the highest ones)."""
 
 
 _RIG_TITLE = "On the digital twin of a rig"
 
 
-def rig_data(design: Design, quick: bool) -> DesignRigData | Section:
-    """The kd sweeps on the twin, or the skipped section when the twin does not apply."""
+def rig_data(
+    design: Design, quick: bool, *, budget: int | None = None, progress: ProgressLike = None
+) -> DesignRigData | Section:
+    """The kd sweeps on the twin, or the skipped section when the twin does not apply.
+
+    At most ``budget`` twin runs (gains × load masses): the kd grid is cut from the top.
+    """
     if design.rig_file is None:
         return Section(
             "rig",
@@ -173,21 +209,35 @@ def rig_data(design: Design, quick: bool) -> DesignRigData | Section:
                 text="Skipped: the design has no controller gain to sweep on the twin.",
             )  # fmt: skip
         gain = design_gain(design)
-        stage_progress(0, 2, f"{gain} sweeps on the twin of {rig.name}")
         lo, hi = design.analysis_ranges()[gain]
         step = (hi - lo) / (10 if quick else 20)
-        sweeps = run_design_sweeps(rig, design, gain=gain, load_masses=ex.load_masses,
-                                   gain_step=step)  # fmt: skip
+        shown = as_progress(progress, where="rig_data")
+        with task(shown, f"{gain} sweeps on the twin of {rig.name}", 1):
+            sweeps = run_design_sweeps(rig, design, gain=gain, load_masses=ex.load_masses,
+                                       gain_step=step)  # fmt: skip
+            shown.advance(1)
         return DesignRigData(rig=rig, sweeps=tuple(sweeps))
     bd = design.values.get("bd") if key == "ours" else None
     step = ex.kd_step * (4 if quick else 1)
-    stage_progress(0, 2, f"kd sweeps on the twin of {rig.name}")
-    sweeps = run_rig_sweeps(rig, designs=(key,), load_masses=ex.load_masses, kd_step=step, bd=bd)
-    return DesignRigData(rig=rig, sweeps=tuple(sweeps))
+    grid = np.arange(0.0, ex.kd_max + 0.5 * step, step)
+    keep = grid.size if budget is None else min(grid.size, budget // len(ex.load_masses))
+    if keep == 0:
+        return Section(
+            "rig", _RIG_TITLE, status=SectionStatus.STOPPED_AT_BUDGET,
+            text=f"Stopped at the budget of {budget} twin runs: fewer than one gain per load "
+            f"mass ({len(ex.load_masses)}); raise it with `--budget rig=N`.",
+        )  # fmt: skip
+    shown = as_progress(progress, where="rig_data")
+    runs = keep * len(ex.load_masses)
+    with task(shown, f"kd sweeps on the twin of {rig.name}: {runs} runs", 1):
+        sweeps = run_rig_sweeps(
+            rig, designs=(key,), load_masses=ex.load_masses, kd=grid[:keep], bd=bd
+        )
+        shown.advance(1)
+    return DesignRigData(rig=rig, sweeps=tuple(sweeps), gains_cut=grid.size - keep)
 
 
 def rig_figures(data: DesignRigData) -> tuple[FigureData, ...]:
-    stage_progress(1, 2, "figure")
     fig = plot_rig_sweep(ExperimentResult(rig_name=data.rig.name, sweeps=data.sweeps, findings=()))
     gain = data.sweeps[0].gain if data.sweeps else "kd"
     return (FigureData.of("rig_sweep", f"{gain} sweep on the twin.", fig),)
@@ -247,8 +297,23 @@ def rig_section(design: Design, data: DesignRigData, figures: Sequence[FigureDat
     )
 
 
-def stage_rig(design: Design, quick: bool) -> Section:
-    data = rig_data(design, quick)
+def stage_rig(design: Design, context: StageContext) -> Section:
+    """A kd sweep on the twin of the design's rig.
+
+    Budget: twin runs (kd gains × load masses); the highest gains beyond it are not
+    run and the stage is stopped at its budget.
+    """
+    data = rig_data(design, context.quick, budget=context.budget, progress=context.progress)
     if isinstance(data, Section):
         return data
-    return rig_section(design, data, rig_figures(data))
+    sec = rig_section(design, data, rig_figures(data))
+    if not data.gains_cut:
+        return sec
+    top = max(float(s.kd[-1]) for s in data.sweeps)
+    return replace(
+        sec,
+        status=SectionStatus.STOPPED_AT_BUDGET,
+        text=sec.text + f" **Stopped at the budget of {context.budget} twin runs**: kd swept up to "
+        f"{top:g} N/m only, {data.gains_cut} higher gain(s) per load mass not run (raise it "
+        "with `--budget rig=N`).",
+    )

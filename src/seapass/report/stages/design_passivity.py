@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from typing import Any
 
 import sympy as sp
@@ -26,6 +27,7 @@ from ...model.units import unit_label
 from ...plot.region import plot_passive_intervals
 from ...plot.style import axes_grid
 from ...plot.witness import plot_witness
+from ...progress import ProgressLike, as_progress, task
 from ..document import (
     FigureData,
     Finding,
@@ -38,7 +40,7 @@ from ..document import (
     to_json,
 )
 from ..formula import decimal_rational
-from ..pipeline import stage_progress
+from ..pipeline import StageContext
 
 __all__ = [
     "ranges_data",
@@ -146,8 +148,9 @@ def _verdict_text(res: Any) -> str:
     )
 
 
-def stage_passivity(design: Design, quick: bool) -> Section:
-    """The exact verdict at the file's values, the stiffness and the symbolic condition."""
+def stage_passivity(design: Design, context: StageContext) -> Section:
+    """The exact verdict at the file's values, the stiffness and the symbolic condition
+    (exact; no budget: the design file's size limits bound the work)."""
     sea = design.sea()
     res = is_passive(sea)
     k = derive_stiffness(sea).stiffness
@@ -183,15 +186,23 @@ def stage_passivity(design: Design, quick: bool) -> Section:
 RangesData = tuple[tuple[str, PassiveIntervals], ...]
 
 
-def ranges_data(design: Design, quick: bool) -> RangesData:
-    """The exact passive set of every gain (and ranged parameter), the others at their values."""
+def ranges_data(
+    design: Design, quick: bool, *, budget: int | None = None, progress: ProgressLike = None
+) -> RangesData:
+    """The exact passive set of every gain (and ranged parameter), the others at their values.
+
+    At most ``budget`` parameters (in the order of the design's ranges; default all);
+    ``progress`` gets one task with a step per parameter.
+    """
+    shown = as_progress(progress, where="ranges_data")
     sea = design.sea()
-    ranges = design.analysis_ranges()
+    ranges = list(design.analysis_ranges().items())[:budget]
     results = []
-    for i, (name, (lo, hi)) in enumerate(ranges.items()):
-        stage_progress(i, len(ranges), f"passive {name}")
-        others = {k: v for k, v in design.values.items() if k != name}
-        results.append((name, passive_intervals(sea, name, lo, hi, values=others)))
+    with task(shown, f"exact passive sets of {len(ranges)} parameter(s)", len(ranges)):
+        for name, (lo, hi) in ranges:
+            others = {k: v for k, v in design.values.items() if k != name}
+            results.append((name, passive_intervals(sea, name, lo, hi, values=others)))
+            shown.advance(1, note=name)
     return tuple(results)
 
 
@@ -269,10 +280,25 @@ def ranges_section(design: Design, results: RangesData, figures: Sequence[Figure
     )
 
 
-def stage_ranges(design: Design, quick: bool) -> Section:
-    """The exact passive set of every gain (and ranged parameter), the others at their values."""
-    results = ranges_data(design, quick)
-    return ranges_section(design, results, ranges_figures(design, results))
+def stage_ranges(design: Design, context: StageContext) -> Section:
+    """The exact passive set of every gain (and ranged parameter), the others at their values.
+
+    Budget: parameters (each one exact passive set); the others are listed as not
+    analysed and the section is stopped at its budget.
+    """
+    results = ranges_data(design, context.quick, budget=context.budget, progress=context.progress)
+    sec = ranges_section(design, results, ranges_figures(design, results))
+    left = [k for k in design.analysis_ranges() if k not in dict(results)]
+    if not left:
+        return sec
+    return replace(
+        sec,
+        status=SectionStatus.STOPPED_AT_BUDGET,
+        text=sec.text
+        + f" **Stopped at the budget of {len(results)} parameter(s)**: "
+        + ", ".join(f"`{k}`" for k in left)
+        + " not analysed (raise it with `--budget ranges=N`).",
+    )
 
 
 def witness_figures(res: WitnessResult) -> tuple[FigureData, ...]:
@@ -352,8 +378,21 @@ def witness_section(
     )
 
 
-def stage_witness(design: Design, quick: bool) -> Section:
-    """For a design that is not passive: a passive environment that destabilizes it."""
+def stage_witness(design: Design, context: StageContext) -> Section:
+    """For a design that is not passive: a passive environment that destabilizes it.
+
+    Budget: candidate environments scored exactly (the search stops there, nothing found
+    among those tried; the exact certificate is still tried).
+    """
     bounds = bounds_from_mapping(dict(design.environment))
-    res = find_destabilizing_environment(design.sea(), bounds=bounds)
-    return witness_section(design, bounds, res, witness_figures(res))
+    res = find_destabilizing_environment(design.sea(), bounds=bounds, max_candidates=context.budget)
+    sec = witness_section(design, bounds, res, witness_figures(res))
+    if not res.budget_exhausted or res.certified:
+        return sec
+    return replace(
+        sec,
+        status=SectionStatus.STOPPED_AT_BUDGET,
+        text=sec.text
+        + f"\n\n**Stopped at the budget of {context.budget} candidate environments** before "
+        "the search was finished (raise it with `--budget witness=N`).",
+    )

@@ -37,8 +37,9 @@ from ...ports.friction import FrictionCertificate, friction_certificate
 from ...ports.stability import eta_text
 from ...ports.twoport import two_port
 from ...ports.witness import MAX_PAIRS, VIRTUAL_ENVIRONMENT
+from ...progress import NoProgress, Progress, task
 from ..document import FigureData, Finding, Section, Table, Verdict, format_intervals, to_json
-from ..pipeline import stage_progress
+from ..pipeline import StageContext
 
 __all__ = [
     "TwoPortData",
@@ -71,24 +72,29 @@ class TwoPortData:
     friction: tuple[FrictionCertificate, ...]
 
 
-def twoport_data(design: Design, quick: bool) -> TwoPortData:
-    """The two-port of ``design`` decided exactly, its gain sets and its friction certificates."""
+def twoport_data(design: Design, quick: bool, *, progress: Progress | None = None) -> TwoPortData:
+    """The two-port of ``design`` decided exactly, its gain sets and its friction certificates.
+
+    ``progress`` gets one task with a step per decision (default: none).
+    """
+    shown = NoProgress() if progress is None else progress
     sea = design.sea()
     tp = two_port(sea)
     person = bounds_from_mapping(dict(design.environment))
     ranges = design.analysis_ranges()
     steps = len(ranges) + 1 + len(FRICTION_SITES)
-    stage_progress(0, steps, "absolute stability")
-    check = check_two_port(tp, bounds=(person, VIRTUAL_ENVIRONMENT))
-    sets = []
-    for i, (name, (lo, hi)) in enumerate(ranges.items()):
-        stage_progress(1 + i, steps, f"absolutely stable {name}")
-        free = tp.with_values(**{name: None})
-        sets.append((name, port_intervals(free, name, lo, hi, criterion=Criterion.ABSOLUTE)))
-    friction = []
-    for j, site in enumerate(FRICTION_SITES):
-        stage_progress(1 + len(ranges) + j, steps, f"friction at the {site}")
-        friction.append(friction_certificate(sea, at=site))
+    with task(shown, f"two-port of {design.name}", steps):
+        check = check_two_port(tp, bounds=(person, VIRTUAL_ENVIRONMENT))
+        shown.advance(note="absolute stability")
+        sets = []
+        for name, (lo, hi) in ranges.items():
+            free = tp.with_values(**{name: None})
+            sets.append((name, port_intervals(free, name, lo, hi, criterion=Criterion.ABSOLUTE)))
+            shown.advance(note=f"absolutely stable {name}")
+        friction = []
+        for site in FRICTION_SITES:
+            friction.append(friction_certificate(sea, at=site))
+            shown.advance(note=f"friction at the {site}")
     return TwoPortData(check=check, person=person, ranges=tuple(sets), friction=tuple(friction))
 
 
@@ -313,7 +319,8 @@ def twoport_section(design: Design, data: TwoPortData, figures: Sequence[FigureD
     )
 
 
-def stage_twoport(design: Design, quick: bool) -> Section:
-    """Absolute stability, η, two-port passivity, gain sets and friction of a design file."""
-    data = twoport_data(design, quick)
+def stage_twoport(design: Design, context: StageContext) -> Section:
+    """Absolute stability, η, two-port passivity, gain sets and friction of a design file
+    (exact; no budget: the witness search verifies at most ``MAX_PAIRS`` pairs)."""
+    data = twoport_data(design, context.quick, progress=context.progress)
     return twoport_section(design, data, twoport_figures(data))

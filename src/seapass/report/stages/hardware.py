@@ -19,6 +19,7 @@ from ...errors import NotPassiveError
 from ...exact.rounding import decimal_down
 from ...plot.rig import plot_deploy, plot_impacts, plot_rig_sweep
 from ...plot.sampled import plot_sampled_limits
+from ...progress import ProgressLike, as_progress, task
 from ...rig.experiment import ExperimentResult, run_rig_sweeps
 from ...rig.findings import sweep_findings
 from ...rig.impacts import PAPER_K_OUT, ImpactResult, run_impacts
@@ -38,7 +39,7 @@ from ..document import (
     format_intervals,
     to_json,
 )
-from ..pipeline import stage_progress
+from ..pipeline import StageContext
 
 __all__ = [
     "DeployData",
@@ -76,9 +77,7 @@ def _finding(f: Any) -> Finding:
 def _rig_sweeps(rig: Any, step: float) -> ExperimentResult:
     """The kd sweep of every design and load mass, as one batch on the twin."""
     masses = rig.experiment.load_masses
-    stage_progress(0, 4, f"{len(RIG_DESIGNS) * len(masses)} kd sweeps on the twin")
     sweeps = run_rig_sweeps(rig, designs=RIG_DESIGNS, load_masses=masses, kd_step=step)
-    stage_progress(2, 4, "impacts")
     return ExperimentResult(
         rig_name=rig.name, sweeps=sweeps, findings=tuple(sweep_findings(sweeps))
     )
@@ -152,17 +151,21 @@ class RigData:
     impacts: ImpactResult
 
 
-def rig_data(quick: bool) -> RigData:
+def rig_data(quick: bool, *, progress: ProgressLike = None) -> RigData:
     """The hardware experiment (Sec. VI, Fig. 3) on the digital twin."""
+    shown = as_progress(progress, where="rig_data")
     rig = paper_rig()
     # quick: 100 N/m steps still put two gains below 200 N/m (the low-gain finding)
     step = rig.experiment.kd_step * (4 if quick else 1)
-    ex = _rig_sweeps(rig, step)
-    return RigData(rig=rig, step=step, experiment=ex, impacts=run_impacts(rig))
+    with task(shown, "kd sweeps and impacts on the twin", 2):
+        ex = _rig_sweeps(rig, step)
+        shown.advance(1, note="kd sweeps")
+        impacts = run_impacts(rig)
+        shown.advance(1, note="impacts")
+    return RigData(rig=rig, step=step, experiment=ex, impacts=impacts)
 
 
 def rig_figures(data: RigData) -> tuple[FigureData, ...]:
-    stage_progress(3, 4, "figures")
     return (
         FigureData.of(
             "rig_sweep",
@@ -195,9 +198,9 @@ def rig_section(data: RigData, figures: Sequence[FigureData]) -> Section:
     )
 
 
-def stage_rig(quick: bool) -> Section:
+def stage_rig(context: StageContext) -> Section:
     """The hardware experiment (Sec. VI, Fig. 3) on the digital twin."""
-    data = rig_data(quick)
+    data = rig_data(context.quick, progress=context.progress)
     return rig_section(data, rig_figures(data))
 
 
@@ -214,23 +217,28 @@ class SampledLimits:
     designs: tuple[tuple[str, str, float, PassiveIntervals, tuple[SampledBoundResult, ...]], ...]
 
 
-def sampled_data(quick: bool) -> SampledLimits:
+def sampled_data(quick: bool, *, progress: ProgressLike = None) -> SampledLimits:
     """Largest passive kd at the rig's rate, ideal and with its delay and filter."""
+    shown = as_progress(progress, where="sampled_data")
     rig = paper_rig()
     bd = rig.experiment.bd_ours
     setups = [("ideal", rig.loop.replace(delay=0, velocity_filter=None)), ("rig", rig.loop)]
     designs = [("LP", rig_sea(rig, "LP"), 2000.0), ("Ours", rig_sea(rig, "ours", bd=bd), 1e5)]
-    steps = iter(range(len(designs) * len(setups)))
     rtol = 1e-6 if quick else 1e-9
     out = []
-    for name, sea, hi in designs:
-        cont = passive_intervals(sea, "kd", 0.0, hi)
-        per = []
-        for label, loop in setups:
-            stage_progress(next(steps), len(designs) * len(setups), f"{name}, {label}")
-            per.append(sampled_passive_bound(sea, "kd", loop=loop, lo=0.0, hi=hi, rtol=rtol))
-        controller = str(sea.CA) if name == "Ours" else str(sea.CL)
-        out.append((name, controller, hi, cont, tuple(per)))
+    with task(shown, "sampled bounds of kd", len(designs) * len(setups)):
+        for name, sea, hi in designs:
+            cont = passive_intervals(sea, "kd", 0.0, hi)
+            per = []
+            for label, loop in setups:
+                per.append(
+                    sampled_passive_bound(
+                        sea, "kd", loop=loop, lo=0.0, hi=hi, rtol=rtol, progress=shown
+                    )
+                )
+                shown.advance(1, note=f"{name}, {label}")
+            controller = str(sea.CA) if name == "Ours" else str(sea.CL)
+            out.append((name, controller, hi, cont, tuple(per)))
     return SampledLimits(rig=rig, rtol=rtol, designs=tuple(out))
 
 
@@ -312,9 +320,9 @@ def sampled_section(data: SampledLimits, figures: Sequence[FigureData]) -> Secti
     )
 
 
-def stage_sampled(quick: bool) -> Section:
+def stage_sampled(context: StageContext) -> Section:
     """Largest passive kd at the rig's rate, ideal and with its delay and filter."""
-    data = sampled_data(quick)
+    data = sampled_data(context.quick, progress=context.progress)
     return sampled_section(data, sampled_figures(data))
 
 
@@ -331,8 +339,9 @@ class DeployData:
     cases: tuple[tuple[str, LoopRecord | None, str], ...]
 
 
-def deploy_data(quick: bool) -> DeployData:
+def deploy_data(quick: bool, *, progress: ProgressLike = None) -> DeployData:
     """The discrete controllers on the twin behind the continuous and sampled passivity gate."""
+    shown = as_progress(progress, where="deploy_data")
     rig = paper_rig()
     period, delay = rig.period, rig.control.delay
     filt = rig.control.velocity_filter
@@ -344,20 +353,21 @@ def deploy_data(quick: bool) -> DeployData:
         ("LP, kd = 800", LPController(800.0, period), rig_sea(rig, "LP", kd=800.0)),
     ]  # fmt: skip
     out: list[tuple[str, LoopRecord | None, str]] = []
-    for label, ctrl, sea in cases:
-        stage_progress(len(out), len(cases), label)
-        plant = TwinPlant(rig, load_mass=0.1)
-        plant.reset(x_A=0.02, x_L=0.02)
-        hw = SimulatedHardware(plant, delay=delay)
-        try:
-            loop = ControlLoop(
-                hw, ctrl, period=period, force_limit=rig.force_limit,
-                position_limits=(-0.15, 0.15), design=sea, delay=delay,
-            )  # fmt: skip
-        except NotPassiveError as exc:
-            out.append((label, None, str(exc)))
-            continue
-        out.append((label, loop.run(duration), ""))
+    with task(shown, f"{len(cases)} controllers behind the gate", len(cases)):
+        for label, ctrl, sea in cases:
+            shown.advance(1, note=label)
+            plant = TwinPlant(rig, load_mass=0.1)
+            plant.reset(x_A=0.02, x_L=0.02)
+            hw = SimulatedHardware(plant, delay=delay)
+            try:
+                loop = ControlLoop(
+                    hw, ctrl, period=period, force_limit=rig.force_limit,
+                    position_limits=(-0.15, 0.15), design=sea, delay=delay,
+                )  # fmt: skip
+            except NotPassiveError as exc:
+                out.append((label, None, str(exc)))
+                continue
+            out.append((label, loop.run(duration), ""))
     return DeployData(period=period, delay=delay, cases=tuple(out))
 
 
@@ -416,7 +426,7 @@ def deploy_section(data: DeployData, figures: Sequence[FigureData]) -> Section:
     )
 
 
-def stage_deploy(quick: bool) -> Section:
+def stage_deploy(context: StageContext) -> Section:
     """The discrete controllers on the twin behind the continuous and sampled passivity gate."""
-    data = deploy_data(quick)
+    data = deploy_data(context.quick, progress=context.progress)
     return deploy_section(data, deploy_figures(data))

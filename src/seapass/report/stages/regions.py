@@ -28,6 +28,7 @@ from ...model.sea import SEA
 from ...paper.tables import PAPER_ROWS, PaperRow, paper_bound_set
 from ...plot.region import plot_kd_bars, plot_passive_region
 from ...plot.witness import plot_witness
+from ...progress import Progress, ProgressLike, as_progress, task
 from ..document import (
     Discrepancy,
     FigureData,
@@ -40,7 +41,7 @@ from ..document import (
     formula,
     to_json,
 )
-from ..pipeline import stage_progress
+from ..pipeline import StageContext
 
 __all__ = [
     "REGION_VALUES",
@@ -141,11 +142,11 @@ def judge_bound(exact: Sequence[Interval], paper: Any, hi: float) -> Discrepancy
 # ------------------------------------------------------------------ compute
 
 
-def _kd_rows(hi: float, base: dict[str, float]) -> tuple[KdRow, ...]:
+def _kd_rows(hi: float, base: dict[str, float], progress: Progress) -> tuple[KdRow, ...]:
     """Every row's exact passive set of ``kd`` in ``[0, hi]`` against its bound."""
     out = []
-    for i, row in enumerate(PAPER_ROWS):
-        stage_progress(i, len(PAPER_ROWS) + 3, f"passive kd of {row.name}")
+    for row in PAPER_ROWS:
+        progress.advance(1, note=f"passive kd of {row.name}")
         sea = row.design.sea()
         vals = {k: base[k] for k in sea.parameters if k != "kd"}
         res = passive_intervals(sea, "kd", 0.0, hi, values=vals)
@@ -184,19 +185,25 @@ def _witnesses(rows: Sequence[KdRow]) -> tuple[tuple[KdRow, float, WitnessResult
     return tuple(out)
 
 
-def regions_data(quick: bool) -> RegionsData:
+def regions_data(quick: bool, *, progress: ProgressLike = None) -> RegionsData:
     """The exact passive sets of every row, the load-side P region, the proposed design's
     passive set and the destabilizing environments of the unsafe bounds."""
-    rows = _kd_rows(1e4, {**REFERENCE_VALUES, **REGION_VALUES})
+    shown = as_progress(progress, where="regions_data")
+    with task(shown, "exact passive regions", len(PAPER_ROWS) + 2):
+        return _regions(quick, shown)
+
+
+def _regions(quick: bool, progress: Progress) -> RegionsData:
+    rows = _kd_rows(1e4, {**REFERENCE_VALUES, **REGION_VALUES}, progress)
     lp = catalog_design("mech/parallel-spring-damper").sea(PAPER_VALUES, b1=None)
     region = passive_region(lp, "b1", _B1_BOX, "kd", _KD_BOX, points=240 if quick else 480)
-    stage_progress(len(PAPER_ROWS), len(PAPER_ROWS) + 3, "kd × b1 region")
+    progress.advance(1, note="kd × b1 region")
     # exact per column: the data file, and the largest passive kd the finding quotes
     b1s = np.linspace(*_B1_BOX, 13 if quick else 31)
     columns = passive_map(lp, "b1", b1s, "kd", _KD_BOX, y_points=2)
     ours = catalog_design("proposed").sea(REGION_VALUES)
     proposed = passive_intervals(ours, "kd", 0.0, 1e6)
-    stage_progress(len(PAPER_ROWS) + 2, len(PAPER_ROWS) + 3, "destabilizing environments")
+    progress.advance(1, note="destabilizing environments")
     return RegionsData(
         hi=1e4, kd_rows=rows, lp_region=region, lp_columns=columns, proposed=proposed,
         witnesses=_witnesses(rows),
@@ -371,7 +378,7 @@ def regions_section(data: RegionsData, figures: Sequence[FigureData]) -> Section
     )
 
 
-def stage_regions(quick: bool) -> Section:
+def stage_regions(context: StageContext) -> Section:
     """The exact passive set of ``kd`` of every row against the paper's bound, and 2-D maps."""
-    data = regions_data(quick)
+    data = regions_data(context.quick, progress=context.progress)
     return regions_section(data, regions_figures(data))

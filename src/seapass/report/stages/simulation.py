@@ -20,9 +20,10 @@ from ...model.catalog import design as catalog_design
 from ...model.experiment import PAPER_EXPERIMENT
 from ...paper.simstudy import SimulationStudy, run_simulation_study
 from ...plot.sim import plot_simulation_study, plot_tradeoff
+from ...progress import Progress, ProgressLike, as_progress, task
 from ...sim.metrics import overshoot_percent
 from ..document import FigureData, Finding, Section, Table, Verdict
-from ..pipeline import stage_progress
+from ..pipeline import StageContext
 
 __all__ = [
     "TradeoffData",
@@ -37,15 +38,9 @@ __all__ = [
 ]
 
 
-def simulation_data(quick: bool) -> SimulationStudy:
+def simulation_data(quick: bool, *, progress: ProgressLike = None) -> SimulationStudy:
     """The paper's simulation study (Sec. V, Fig. 4): tuned LP, APD and Ours at three masses."""
-    tuned: list[str] = []
-
-    def tuned_one(result: Any) -> None:
-        tuned.append(result.design)
-        stage_progress(len(tuned), 3, f"tuned {result.design}")
-
-    return run_simulation_study(quick=quick, progress=False, on_design=tuned_one)
+    return run_simulation_study(quick=quick, progress=progress)
 
 
 def simulation_figures(study: SimulationStudy) -> tuple[FigureData, ...]:
@@ -123,10 +118,10 @@ def simulation_section(
     )
 
 
-def stage_simulation(quick: bool) -> Section:
+def stage_simulation(context: StageContext) -> Section:
     """The paper's simulation study (Sec. V, Fig. 4): tuned LP, APD and Ours at three masses."""
-    study = simulation_data(quick)
-    return simulation_section(study, simulation_figures(study), quick=quick)
+    study = simulation_data(context.quick, progress=context.progress)
+    return simulation_section(study, simulation_figures(study), quick=context.quick)
 
 
 _LOAD_MASS, _STEP, _HORIZON = (
@@ -138,7 +133,7 @@ _LOAD_MASS, _STEP, _HORIZON = (
 
 def _tuned_lp(quick: bool) -> tuple[float, float | None]:
     """The simulation study's tuned LP (same tuner, options and seed): ``kd`` and its settling time."""
-    study = run_simulation_study(designs=("LP",), masses=(_LOAD_MASS,), quick=quick, progress=False)
+    study = run_simulation_study(designs=("LP",), masses=(_LOAD_MASS,), quick=quick)
     return float(study.tuning["LP"].gains["kd"]), study.rows[0].metrics.settling_time
 
 
@@ -238,16 +233,22 @@ class TradeoffData:
     at_tuned: float
 
 
-def tradeoff_data(quick: bool) -> TradeoffData:
+def tradeoff_data(quick: bool, *, progress: ProgressLike = None) -> TradeoffData:
     """Exact passivity and settling time over whole 2-D gain grids (batch engine)."""
+    shown = as_progress(progress, where="tradeoff_data")
+    with task(shown, "design-space trade-off", 3):
+        return _tradeoff(quick, shown)
+
+
+def _tradeoff(quick: bool, progress: Progress) -> TradeoffData:
     n = 21 if quick else 41
-    stage_progress(0, 4, "tuning LP as in the simulation study")
     kd_lp, t_lp = _tuned_lp(quick)
+    progress.advance(1, note="tuned LP as in the simulation study")
     grids: list[TradeoffGrid] = []
     best_lp, at_tuned = None, float("nan")
-    for k, (label, sea, (xn, xs), (yn, ys)) in enumerate(_tradeoff_cases(n, kd_lp)):
-        stage_progress(1 + k, 4, f"{label}: {xs.size * ys.size} designs")
+    for label, sea, (xn, xs), (yn, ys) in _tradeoff_cases(n, kd_lp):
         pas, ts, best = _grid(sea, (xn, xs), (yn, ys))
+        progress.advance(1, note=f"{label}: {xs.size * ys.size} designs")
         marks: tuple[tuple[float, float, str], ...] = ()
         if label == "LP":
             best_lp, at_tuned = best, float(ts[0, int(np.searchsorted(xs, kd_lp))])
@@ -259,7 +260,6 @@ def tradeoff_data(quick: bool) -> TradeoffData:
 
 
 def tradeoff_figures(data: TradeoffData) -> tuple[FigureData, ...]:
-    stage_progress(3, 4, "figure")
     return (
         FigureData.of(
             "tradeoff",
@@ -315,7 +315,7 @@ def tradeoff_section(data: TradeoffData, figures: Sequence[FigureData]) -> Secti
     )
 
 
-def stage_tradeoff(quick: bool) -> Section:
+def stage_tradeoff(context: StageContext) -> Section:
     """Exact passivity and settling time over whole 2-D gain grids (batch engine)."""
-    data = tradeoff_data(quick)
+    data = tradeoff_data(context.quick, progress=context.progress)
     return tradeoff_section(data, tradeoff_figures(data))

@@ -20,6 +20,7 @@ from ...paper.tablefmt import format_latex, format_markdown
 from ...paper.tables import PAPER_ROWS, BoundStatus, PaperRow, TableRow, build_tables
 from ...plot.passivity import plot_bode
 from ...plot.style import axes_grid, set_suptitle
+from ...progress import ProgressLike, as_progress, task
 from ..document import (
     Discrepancy,
     FigureData,
@@ -31,7 +32,7 @@ from ..document import (
     formula,
     to_json,
 )
-from ..pipeline import stage_progress
+from ..pipeline import StageContext
 
 __all__ = [
     "stage_stiffness",
@@ -142,15 +143,9 @@ def _group_table(key: str, name: str, title: str, rows: Sequence[TableRow]) -> T
     )
 
 
-def stage_tables(quick: bool) -> Section:
+def stage_tables(context: StageContext) -> Section:
     """Tables I and II and the proposed design, derived and compared with the paper."""
-    done = [0]
-
-    def tick(name: str) -> None:
-        stage_progress(done[0], len(PAPER_ROWS), name)
-        done[0] += 1
-
-    rows = build_tables(progress=tick)
+    rows = build_tables(progress=context.progress)
     tables = tuple(_group_table(key, name, title, rows) for key, name, title in _GROUPS)
     findings = [f for r in rows for f in _row_findings(r)]
     n_bad = sum(1 for r in rows if r.notes)
@@ -220,24 +215,26 @@ def _stiffness_figure(title: str, group: Sequence[StiffnessRow]) -> Any:
     return fig
 
 
-def stiffness_data(quick: bool) -> tuple[StiffnessRow, ...]:
+def stiffness_data(quick: bool, *, progress: ProgressLike = None) -> tuple[StiffnessRow, ...]:
     """The rendered stiffness of every table row at the reference values (computed)."""
+    shown = as_progress(progress, where="stiffness_data")
     omega = np.logspace(-1, 4, 200 if quick else 400)
     results = []
-    for k, row in enumerate(PAPER_ROWS):
-        stage_progress(k, len(PAPER_ROWS) + len(_GROUPS), row.name)
-        sea = row.design.sea()
-        vals = {n: REFERENCE_VALUES[n] for n in sea.parameters}
-        results.append((row, vals, stiffness_response(sea, omega, values=vals, label=row.title)))
+    with task(shown, f"stiffness of {len(PAPER_ROWS)} rows", len(PAPER_ROWS)):
+        for row in PAPER_ROWS:
+            sea = row.design.sea()
+            vals = {n: REFERENCE_VALUES[n] for n in sea.parameters}
+            resp = stiffness_response(sea, omega, values=vals, label=row.title)
+            results.append((row, vals, resp))
+            shown.advance(1, note=row.name)
     return tuple(results)
 
 
 def stiffness_figures(results: Sequence[StiffnessRow]) -> tuple[FigureData, ...]:
     """One figure per table: the Bode pair of each of its rows."""
     figures = []
-    for g, (key, name, _title) in enumerate(_GROUPS):
+    for key, name, _title in _GROUPS:
         title = {"I": "Table I", "II": "Table II"}.get(key, "Proposed design")
-        stage_progress(len(PAPER_ROWS) + g, len(PAPER_ROWS) + len(_GROUPS), f"{title} figure")
         group = [r for r in results if r[0].table == key]
         figures.append(
             FigureData.of(
@@ -285,7 +282,7 @@ def stiffness_section(results: Sequence[StiffnessRow], figures: Sequence[FigureD
     )
 
 
-def stage_stiffness(quick: bool) -> Section:
+def stage_stiffness(context: StageContext) -> Section:
     """The rendered stiffness of every table row at the reference values."""
-    results = stiffness_data(quick)
+    results = stiffness_data(context.quick, progress=context.progress)
     return stiffness_section(results, stiffness_figures(results))

@@ -12,6 +12,8 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Sequence
+from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -34,6 +36,7 @@ from ..document import (
     Verdict,
     to_json,
 )
+from ..pipeline import StageContext
 
 __all__ = ["stage_design_zwidth", "stage_zwidth", "zwidth_figures", "zwidth_section"]
 
@@ -91,14 +94,15 @@ def zwidth_section(
     )
 
 
-def stage_zwidth(quick: bool) -> Section:
+def stage_zwidth(context: StageContext) -> Section:
     """Ours on the paper's rig: passive ``kd`` against ``bd`` at the rig's rate."""
     rig = paper_rig()
     sea = rig_sea(rig, "ours", bd=rig.experiment.bd_ours).with_values(bd=None, kd=None)
-    n = 5 if quick else 21
+    n = 5 if context.quick else 21
     loop = _with_filter(rig.loop)
     zmap = sampled_region(
         sea, "kd", "bd", loop=loop, p1_range=(0.0, 1e5), p2_range=(0.0, 100.0), n=n, rtol=1e-6,
+        progress=context.progress,
     )  # fmt: skip
     ideal, _delayed, real = (zmap.upper_boundary(s.label) for s in zmap.setups)
 
@@ -126,8 +130,12 @@ def _first(text: str, name: str) -> int:
     return found.start() if found else len(text)
 
 
-def stage_design_zwidth(design: Design, quick: bool) -> Section:
-    """The design's first two controller gains against each other at its control rate."""
+def stage_design_zwidth(design: Design, context: StageContext) -> Section:
+    """The design's first two controller gains against each other at its control rate.
+
+    Budget: boxes of each row's branch and bound (a row that reaches it keeps its
+    unsettled part undecided, never passive, and the stage is stopped at its budget).
+    """
     title = "Z-width map (sampled-data passive region of two gains)"
     if design.loop is None:
         return Section("zwidth", title, status=SectionStatus.SKIPPED,
@@ -144,10 +152,12 @@ def stage_design_zwidth(design: Design, quick: bool) -> Section:
     ranges = design.analysis_ranges()
     sea: SEA = design.sea().with_values(**{p1: None, p2: None})
     loop = _with_filter(design.loop)
-    n = 5 if quick else 15
+    n = 5 if context.quick else 15
+    budget: dict[str, Any] = {} if context.budget is None else {"max_boxes": context.budget}
     try:
         zmap = sampled_region(
             sea, p1, p2, loop=loop, p1_range=ranges[p1], p2_range=ranges[p2], n=n, rtol=1e-6,
+            progress=context.progress, **budget,
         )  # fmt: skip
     except ModelError as exc:
         return Section("zwidth", title, status=SectionStatus.SKIPPED,
@@ -158,4 +168,14 @@ def stage_design_zwidth(design: Design, quick: bool) -> Section:
             f" (The design has no velocity filter; {loop.velocity_filter:g} Hz is shown for "
             "comparison.)"
         )
-    return zwidth_section("zwidth", title, zmap, text, (), zwidth_figures("zwidth", zmap))
+    if zmap.budget_exhausted:
+        text += (
+            f"\n\n**Stopped at the budget of {context.budget} boxes per row**: on the rows "
+            "that reached it, the part of the range the branch and bound did not settle is "
+            "undecided (never passive; the largest passive value shown is proven); raise it "
+            "with `--budget zwidth=N`."
+        )
+    sec = zwidth_section("zwidth", title, zmap, text, (), zwidth_figures("zwidth", zmap))
+    if zmap.budget_exhausted:
+        sec = replace(sec, status=SectionStatus.STOPPED_AT_BUDGET)
+    return sec
