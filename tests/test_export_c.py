@@ -377,7 +377,12 @@ def test_not_passive_design_is_refused_unless_allowed(tmp_path: Path) -> None:
         ((), {"force_limit": math.inf}, "positive finite force"),
         ((), {"force_limit": 1.0, "hardware_delay": 2}, "exceeds the certified delay"),
         ((), {"force_limit": 1.0, "tunable": ["kd"]}, "need set_gains"),
-        ((), {"force_limit": 1.0, "set_gains": True, "tunable": ["k1"]}, "not a controller gain"),
+        (
+            (),
+            {"force_limit": 1.0, "set_gains": True, "tunable": ["k1"]},
+            "k1' is a plant parameter",
+        ),
+        ((), {"force_limit": 1.0, "set_gains": True, "tunable": ["kq"]}, "not a controller gain"),
         ((), {"force_limit": 1.0, "set_gains": True, "tunable": []}, "at least one gain"),
     ],
 )

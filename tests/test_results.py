@@ -28,6 +28,7 @@ INPUTS = {
     # models, catalog entries and loaded files
     "seapass.model.sea.SEA", "seapass.model.impedance.Impedance", "seapass.model.catalog.CatalogDesign",
     "seapass.model.design_file.Design", "seapass.model.realization._Element",
+    "seapass.model.realization._Controller",
     "seapass.rig.rigfile.Rig", "seapass.rig.log.RigLog", "seapass.paper.tables.PaperRow",
     # the rig file's declarative schema
     "seapass.files.schema.Field", "seapass.rig.schema.MotorSpec",
@@ -46,7 +47,7 @@ INPUTS = {
     "seapass.tuning.problem.TuningProblem", "seapass.explore.state.ExploreState",
     "seapass.report.pipeline.Stage",
     # exact values and compiled kernels
-    "seapass.exact.halfline.HalfLinePoint", "seapass.sampled.controllers.DiscreteTF",
+    "seapass.exact.halfline.HalfLinePoint", "seapass.sampled.joint.DiscreteTF",
     "seapass.sampled.plant.Plant", "seapass.sampled.alias.Pole", "seapass.sampled.alias.AliasSums",
     "seapass.sampled.family.ControllerPolys", "seapass.sampled.family.ControllerFamily",
     "seapass.analysis.environment_box._Polys", "seapass.batch.kernel.PassivityKernel",
@@ -63,7 +64,7 @@ MUTABLE = {
     "seapass.explore.reports.ReportJob", "seapass.sampled.boxes._Setup",
     "seapass.sampled.controllers.DiscreteController", "seapass.sampled.controllers.LPController",
     "seapass.sampled.controllers.APDController", "seapass.sampled.controllers.OursController",
-    "seapass.tuning.cost.ConstraintChecks",
+    "seapass.tuning.cost.ConstraintChecks", "seapass.sampled.joint.JointDifferenceEquation",
 }  # fmt: skip
 MUTABLE_TYPES = {
     "list", "dict", "set", "List", "Dict", "Set", "MutableMapping", "MutableSequence",

@@ -233,6 +233,12 @@ def _classify(
     return Outcome.UNDECIDED, SampledReason.NONE, ()
 
 
+def _dc_power_vanishes(s: _Setup, value: Fraction) -> bool:
+    """Whether the family's power at ``λ = value`` may be 0 at ``ω = 0`` (``x = 1``)."""
+    with precision(s.prec):
+        return bool(_shift(s.p_family, arb(_fq(value)))[0](arb(1)).contains(0))
+
+
 def _global_minimum(poly: arb_poly) -> list[Fraction]:
     xs = [math.cos(math.pi * i / 256) for i in range(257)] + [1 - 2.0**-k for k in range(12, 48, 4)]
     vals = [_value(poly, x) for x in xs]
@@ -283,11 +289,12 @@ def bound_boxes(
 
     tol_rel = rtol / 4  # adjacent leaves may merge into one enclosure
     undecided = Outcome.UNDECIDED
-    # where the family's structure changes (ki = 0 removes an integrator) the power may
-    # vanish at ω = 0 and no box touching the value is ever decided: below `gap` such a
-    # box stays undecided (the value itself is decided alone by the caller)
+    # where the family's structure changes so that the power vanishes at ω = 0 (ki = 0
+    # removes an integrator) no box touching the value is ever decided: below `gap` such a
+    # box stays undecided (the value itself is decided alone by the caller); other special
+    # values (a cancellation, tz = tp) are bisected like any value
     gap = max(rtol, SPECIAL_GAP) * (hi - lo)
-    specials = [v for v in fam.special if lo <= v <= hi]
+    specials = [v for v in fam.special if lo <= v <= hi and _dc_power_vanishes(setup(0), v)]
     done: list[BoxVerdict] = []
     stack: list[tuple[Fraction, Fraction, int, tuple[tuple[Fraction, Fraction], ...]]]
     stack = [(lo, hi, 0, ())]

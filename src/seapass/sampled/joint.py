@@ -193,7 +193,7 @@ def _pad(c: Sequence[Fraction], n: int) -> Poly:
     return tuple(c) + (Fraction(0),) * (n - len(c))
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, kw_only=True)
 class JointRealization:
     """``y = Σ_j N_j(z⁻¹)/D(z⁻¹) x_j`` with one exact common denominator.
 
