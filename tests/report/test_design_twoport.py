@@ -44,8 +44,6 @@ kl = [0.0, 10000.0]
 """
 #: The exact absolutely-stable set of kl in [0, 1e4] (`seapass twoport bound kl`), rounded.
 KL_EDGE = 1523.919
-#: The set as printed: its end rounded inward (1523.91, not 1523.92), so the printed end
-#: point is itself absolutely stable.
 
 
 def _file(tmp_path: Path, kl: float) -> Path:
