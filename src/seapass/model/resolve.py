@@ -61,10 +61,6 @@ ELEMENTS: tuple[str, ...] = ("D1", "D2", "CA", "CL")
 _LOOP_KEYS = ("period", "delay", "velocity_filter", "method")
 
 
-def _empty() -> Mapping[str, Any]:
-    return MappingProxyType({})
-
-
 def default_range(value: float | None) -> tuple[float, float]:
     """``[0, max(10·|value|, 1000)]``, or `DEFAULT_RANGE` without a value.
 

@@ -11,9 +11,7 @@ and [`robust_passive_intervals`][seapass.robust.intervals.robust_passive_interva
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import Any
-
-import sympy as sp
+from typing import TYPE_CHECKING, Any
 
 from ..analysis import region
 from ..analysis.passivity import PassivityResult
@@ -22,6 +20,11 @@ from ..model.sea import SEA, Impedance
 from .box import UncertainBox
 from .intervals import RobustIntervals, robust_passive_intervals
 from .verdict import DEFAULT_BUDGET, RobustResult, robust_check
+
+if TYPE_CHECKING:  # annotations only: the front door loads no sympy
+    import sympy as sp
+
+    from ..delay.passivity import DelayPassivityResult
 
 __all__ = ["is_passive", "passive_intervals"]
 
@@ -33,7 +36,7 @@ def is_passive(
     box: Mapping[str, Any] | UncertainBox | None = None,
     budget: int = DEFAULT_BUDGET,
     throw: bool = False,
-) -> PassivityResult | RobustResult:
+) -> PassivityResult | DelayPassivityResult | RobustResult:
     """Exact passivity of ``system``; with ``box``, for every plant in the box.
 
     Parameters
