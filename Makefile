@@ -4,6 +4,8 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 OUT ?= results
+# test processes (pytest-xdist): one per core on the 2-core CI machine; TEST_WORKERS=0 runs serially
+TEST_WORKERS ?= 2
 
 .PHONY: run test lint typecheck bench bench-scale docs install browser clean
 
@@ -22,7 +24,7 @@ run: $(STAMP)
 
 ## whole test suite: lint, format, types, tests
 test: $(STAMP) browser lint typecheck
-	$(BIN)/python -m pytest -p no:cacheprovider
+	$(BIN)/python -m pytest -p no:cacheprovider -n $(TEST_WORKERS)
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests $(wildcard benchmarks)

@@ -124,6 +124,11 @@ def payloads() -> list[str]:
     return [p.format(m=MARKER) for p in PAYLOADS]
 
 
+def _payload_id(text: str) -> str:
+    """The test id without the process id (each pytest-xdist worker collects the same ids)."""
+    return text.replace(str(MARKER), "MARKER")
+
+
 @pytest.fixture(autouse=True)
 def _no_marker():
     MARKER.unlink(missing_ok=True)
@@ -131,7 +136,7 @@ def _no_marker():
     assert not MARKER.exists()
 
 
-@pytest.mark.parametrize("text", payloads())
+@pytest.mark.parametrize("text", payloads(), ids=_payload_id)
 def test_injection_through_the_parser_does_nothing(text):
     try:
         expr = parse_expression(text)
@@ -143,7 +148,7 @@ def test_injection_through_the_parser_does_nothing(text):
     assert not MARKER.exists()
 
 
-@pytest.mark.parametrize("text", payloads())
+@pytest.mark.parametrize("text", payloads(), ids=_payload_id)
 def test_injection_through_models_and_cli_does_nothing(text):
     for build in (lambda: SEA(D1="k1", CA=text), lambda: Impedance(expr=text)):
         with contextlib.suppress(SeapassError):

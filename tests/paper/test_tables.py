@@ -14,8 +14,9 @@ def test_the_phrase_reads_as_a_sentence(status: BoundStatus) -> None:
 
 
 def test_the_report_says_agree_once() -> None:
+    from seapass.report.pipeline import StageContext
     from seapass.report.stages.tables import stage_tables
 
-    details = [f.detail for f in stage_tables(True).findings]
+    details = [f.detail for f in stage_tables(StageContext(quick=True)).findings]
     assert any("never passive" in d for d in details)
     assert not [d for d in details if "(agrees" in d or d.count("agree") > 1]

@@ -55,7 +55,7 @@ from .highfreq import high_frequency
 from .lowfreq import limit_polynomial, uniform_cutoff
 from .marginresult import DEFAULT_RTOL, LOSS_KINDS, DelayMarginResult, MarginCause, MarginLoss
 from .passivity import growth_at_infinity
-from .search import prove_at_least, search_minimum
+from .search import SearchStatus, prove_at_least, search_minimum
 from .stability import (
     LoopKind,
     characteristic,
@@ -282,9 +282,9 @@ def _enclose(
             return _final(z, lo, hi, best, rtol, count)
         status, counter, used = prove_at_least(g, segments_lo, lo, budget=budget)
         count += used
-        if status == "ok":
+        if status is SearchStatus.OK:
             return _final(z, lo, hi, best, rtol, count)
-        if status == "counter" and counter is not None:
+        if status is SearchStatus.COUNTER and counter is not None:
             tau_h = _verified_interior(f, g, counter, rtol)
             if tau_h is not None and tau_h < best.tau:
                 best = _Candidate(

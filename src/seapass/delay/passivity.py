@@ -347,7 +347,7 @@ def decide(
             detail="Z grows faster than s on some path (the leading terms are not a "
             "positive multiple of s); no negative value of Re Z(jw) was found", **base,
         )  # fmt: skip
-    detail = "positive real (certified)" if cert.reason != "lossless" else "lossless"
+    detail = "positive real (certified)" if not cert.lossless else "lossless"
     return DelayPassivityResult(outcome=Outcome.PASSIVE, detail=detail, **base)
 
 

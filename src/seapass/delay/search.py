@@ -10,6 +10,7 @@ counterexample; beyond the budget the answer is ``"budget"`` (undecided).
 from __future__ import annotations
 
 import math
+from enum import StrEnum
 
 from flint import fmpq
 
@@ -18,6 +19,17 @@ from .balls import PRECISIONS, arb_of, precision
 from .firstdelay import FirstDelay
 
 __all__ = ["prove_at_least", "search_minimum"]
+
+
+class SearchStatus(StrEnum):
+    """How a search for ``g(ω) >= bound`` ended."""
+
+    OK = "ok"
+    """Proven on every segment."""
+    COUNTER = "counter"
+    """A rational ``ω`` with ``g(ω) < bound`` proven."""
+    BUDGET = "budget"
+    """The budget ran out first."""
 
 
 def _value(g: FirstDelay, w: float) -> float:
@@ -69,7 +81,7 @@ def prove_at_least(
     bound: fmpq,
     *,
     budget: int,
-) -> tuple[str, fmpq | None, int]:
+) -> tuple[SearchStatus, fmpq | None, int]:
     """Prove ``g(ω) ≥ bound`` for every ``ω`` in the segments.
 
     Returns ``("ok", None, n)``, ``("counter", ω, n)`` with ``g(ω) < bound`` proven, or
@@ -93,21 +105,21 @@ def prove_at_least(
                 a, b = todo.pop()
                 count += 1
                 if count > budget:
-                    return "budget", None, count
+                    return SearchStatus.BUDGET, None, count
                 enc = g.gap_bound(a, b, bound)
                 if enc is None or enc >= 0:
                     continue
                 c = (a + b) / 2
                 if g.gap(c, bound) < 0 and not g.safe(arb_of(c)):
-                    return "counter", c, count
+                    return SearchStatus.COUNTER, c, count
                 if b - a <= c / fmpq(2) ** (bits - 30):
                     harder.append((a, b))
                     continue
                 todo.append((c, b))
                 todo.append((a, c))
         if not harder:
-            return "ok", None, count
+            return SearchStatus.OK, None, count
         if level == 2:
-            return "budget", None, count
+            return SearchStatus.BUDGET, None, count
         todo = list(reversed(harder))
-    return "budget", None, count
+    return SearchStatus.BUDGET, None, count

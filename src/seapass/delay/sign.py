@@ -66,6 +66,10 @@ MAX_PIECES = MAX_DELAY_PIECES
 at most 1 rad per piece); a delay so long that ``Re Z`` oscillates more often is refused."""
 
 
+LOSSLESS = "lossless"
+"""The ``reason`` of a certificate whose real part vanishes identically."""
+
+
 @dataclass(frozen=True)
 class SignCertificate:
     """Outcome of `certify`.
@@ -85,11 +89,16 @@ class SignCertificate:
     negative: tuple[tuple[fmpq, fmpq], ...] = field(default=())
     undecided: tuple[tuple[fmpq, fmpq], ...] = field(default=())
 
+    @property
+    def lossless(self) -> bool:
+        """Re Z vanishes identically on the axis (passive, lossless)."""
+        return self.reason == LOSSLESS
+
 
 def _zero_delay(f: TrigRealPart) -> SignCertificate:
     px = even_to_x(f.at_zero_delay())
     if px.is_zero():
-        return SignCertificate(Outcome.PASSIVE, reason="lossless")
+        return SignCertificate(Outcome.PASSIVE, reason=LOSSLESS)
     odd = ep.positive_roots_odd_multiplicity(px)
     if ep.count_real_roots(odd, 0) == 0 and px.leading_coefficient() > 0:
         return SignCertificate(Outcome.PASSIVE)
@@ -264,7 +273,7 @@ def certify(
     returns the sub-intervals proven negative (for plots).
     """
     if f.is_zero:
-        return SignCertificate(Outcome.PASSIVE, reason="lossless")
+        return SignCertificate(Outcome.PASSIVE, reason=LOSSLESS)
     if tau == 0 or f.order == 0:
         return _zero_delay(f)
     high = high_frequency(f)
