@@ -25,7 +25,7 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "seapass"
 
 #: Bottom to top.  A package may import from its own layer group only where listed together.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "version", "outcome"),
+    ("errors", "version", "outcome", "lazy"),
     ("progress",),  # imports errors only: the bottom group imports nothing of its own
     ("files",),
     ("exact",),

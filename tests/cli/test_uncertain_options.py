@@ -99,7 +99,7 @@ def test_bound_refuses_a_box_on_the_bounded_parameter() -> None:
     argv = ["bound", "kd", *LP, "--set", "m=1", "--set", "b=10", "--set", "k1=1000",
             "--uncertain", "kd=1:2"]  # fmt: skip
     code, _out, err = _cli(argv)
-    assert code == 2 and err.count("\n") == 1 and "bounded parameter" in err
+    assert code == 2 and err.count("\n") == 1 and "already the parameter of `bound kd`" in err
 
 
 def test_help_shows_uncertain_and_the_cli_budget_is_the_library_default() -> None:

@@ -26,13 +26,18 @@ from .design_options import (
     unit_suffix,
     units_json,
 )
+from .uncertain_options import add_uncertain_options
 
 POINTS = 41
+ROBUST_POINTS = 11  # each robust column costs a one-parameter robust bound
 
 EXAMPLE = """examples:
   seapass region kd bd examples/ours.toml --range kd=0:5000 --points 21
   seapass region kd b1 --D1 "k1 + b1*s" --CL kd --set m=1 --set b=10 --set k1=1000 \\
       --range kd=0:1200 --range b1=0:100 --plot lp_region.png
+  seapass region bd kd --D1 "k1 + b1*s" --CL "kd + bd*s" --set m=1 --set b=10 \\
+      --set b1=5 --uncertain k1=800:1200 --range bd=0:4 --range kd=0:2000 --points 5 \\
+      --plot robust.png                  # robust region (every k1 in the box) over the nominal
 
 A range not given is the design file's [ranges], else [0, max(10*value, 1000)]
 around the file's value, else 0:1e5 (--x-range, --y-range and --nx are the old
@@ -55,12 +60,16 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     add_design_argument(p)
     add_model_options(p)
     add_range_options(
-        p, points=POINTS, points_help=f"number of X values, 2 to {MAX_REGION_COLUMNS}"
+        p,
+        points=POINTS,
+        points_help=f"number of X values, 2 to {MAX_REGION_COLUMNS} "
+        f"({ROBUST_POINTS} with --uncertain)",
     )
     p.add_argument("--x-range", help=argparse.SUPPRESS)  # before 0.4: --range X=LO:HI
     p.add_argument("--y-range", help=argparse.SUPPRESS)  # before 0.4: --range Y=LO:HI
     p.add_argument("--nx", type=int, help=argparse.SUPPRESS)  # before 0.4: --points
     add_plot_option(p, "the map")
+    add_uncertain_options(p)
     add_force_option(p)
     p.add_argument("--out", help=argparse.SUPPRESS)  # before 0.3: the figure; now --plot
     add_json_option(p)
@@ -75,7 +84,7 @@ def run(args: argparse.Namespace) -> int:
 
     if args.x == args.y:
         raise ParameterError("X and Y must be different parameters")
-    nx = points_from_args(args, "nx", POINTS)
+    nx = points_from_args(args, "nx", ROBUST_POINTS if args.uncertain else POINTS)
     if not 2 <= nx <= MAX_REGION_COLUMNS:
         raise ParameterError(f"--points {nx}: use between 2 and {MAX_REGION_COLUMNS} columns")
     given = ranges_from_args(
@@ -88,6 +97,11 @@ def run(args: argparse.Namespace) -> int:
     resolved = design_from_args(args, {args.x: f"region X {args.x}", args.y: f"region Y {args.y}"})
     x_lo, x_hi = resolved.range_of(args.x, given[args.x])
     y_range = resolved.range_of(args.y, given[args.y])
+    if args.uncertain:
+        from .uncertain_options import run_robust_region
+
+        units = (resolved.units.get(args.x), resolved.units.get(args.y))
+        return run_robust_region(args, np.linspace(x_lo, x_hi, nx), y_range, figure, units)
     sea = resolved.sea
     warn_unrealizable(sea)
     pmap = passive_map(sea, args.x, np.linspace(x_lo, x_hi, nx), args.y, y_range)

@@ -1,11 +1,11 @@
-"""``--uncertain NAME=LO:HI`` on ``check`` and ``bound``: robust verdicts over a box of plants.
+"""``--uncertain NAME=LO:HI`` on ``check``, ``bound`` and ``region``: robust verdicts over a box.
 
 `add_uncertain_options` registers ``--uncertain`` (repeatable) and ``--budget``;
-`run_robust_check` and `run_robust_bound` are the robust forms of ``check`` and
-``bound``: they parse, call one library function
-([`robust_check`][seapass.robust.verdict.robust_check] or
-[`robust_passive_intervals`][seapass.robust.intervals.robust_passive_intervals])
-and print.  A name given with ``--uncertain`` is a free parameter: giving it also
+`run_robust_check`, `run_robust_bound` and `run_robust_region` are the robust forms
+of ``check``, ``bound`` and ``region``: they parse, call one library function
+([`robust_check`][seapass.robust.verdict.robust_check],
+[`robust_passive_intervals`][seapass.robust.intervals.robust_passive_intervals] or
+[`robust_passive_map`][seapass.robust.region.robust_passive_map]) and print.  A name given with ``--uncertain`` is a free parameter: giving it also
 with ``--set`` is an error, as is every bad box (one ``error:`` line, exit 2).
 """
 
@@ -18,7 +18,13 @@ from typing import Any
 from ..errors import ParameterError
 from .common import print_json, values_from_args, warn_unrealizable
 
-__all__ = ["CLI_BUDGET", "add_uncertain_options", "run_robust_bound", "run_robust_check"]
+__all__ = [
+    "CLI_BUDGET",
+    "add_uncertain_options",
+    "run_robust_bound",
+    "run_robust_check",
+    "run_robust_region",
+]
 
 CLI_BUDGET = 5000  # seapass.robust.verdict.DEFAULT_BUDGET (a test keeps them equal)
 
@@ -67,7 +73,8 @@ def _box_and_model(args: argparse.Namespace, extra_free: dict[str, str]) -> tupl
     if clash:
         name = sorted(clash)[0]
         raise ParameterError(
-            f"--uncertain {name}: {name} is the bounded parameter; it cannot also be uncertain"
+            f"--uncertain {name}: {name} is already the parameter of `{extra_free[name]}`; "
+            "it cannot also be uncertain"
         )
     if getattr(args, "Z", None) is not None:
         if getattr(args, "design", None) is not None or any(
@@ -146,4 +153,51 @@ def run_robust_bound(args: argparse.Namespace) -> int:
     if result.method is not Method.EXACT:
         outer = ", ".join(enclosure_text(a, b, digits=10) for a, b in result.outer) or "empty"
         print(f"certified: inner set above; no value outside {outer} is robustly passive")
+    return 0
+
+
+def run_robust_region(
+    args: argparse.Namespace,
+    x_values: Any,
+    y_range: tuple[float, float],
+    figure: Any,
+    units: tuple[str | None, str | None],
+) -> int:
+    """``region X Y --uncertain ...``: per column, the robust passive set of Y beside the nominal."""
+    from ..exact.rounding import enclosure_text, exact_text, interval_text
+    from ..robust.region import robust_passive_map
+    from ..robust.verdict import Method
+    from .common import save_plot
+
+    labels = {args.x: f"region X {args.x}", args.y: f"region Y {args.y}"}
+    system, box = _box_and_model(args, labels)
+    try:
+        result = robust_passive_map(
+            system, args.x, x_values, args.y, y_range, box=box, budget=args.budget
+        )
+    except ParameterError as exc:
+        raise _cli_text(exc) from None
+    if figure is not None:
+        from ..plot.region import plot_robust_map
+
+        save_plot(
+            lambda: plot_robust_map(result, title="robust passive region", units=units),
+            figure,
+            force=args.force,
+            flag="--plot",
+        )
+    if args.json:
+        print_json(result.to_dict())
+        return 0
+    span = ", ".join(f"{k} in [{a:g}, {b:g}]" for k, (a, b) in box.intervals.items())
+    nominal = ", ".join(f"{k}={v:g}" for k, v in result.nominal_values.items())
+    print(f"robust: passive for every plant with {span} ({result.method}); nominal: {nominal}")
+    for i, xv in enumerate(result.x):
+        robust = ", ".join(interval_text(a, b) for a, b in result.intervals[i]) or "none"
+        nom = ", ".join(interval_text(a, b) for a, b in result.nominal[i]) or "none"
+        line = f"{args.x} = {exact_text(float(xv))}: robust {args.y} in {robust}; nominal {nom}"
+        if result.method is not Method.EXACT:
+            outer = ", ".join(enclosure_text(a, b) for a, b in result.outer[i]) or "empty"
+            line += f"; outer {outer}"
+        print(line)
     return 0

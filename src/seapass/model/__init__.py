@@ -20,13 +20,14 @@ designs: LP, APD, Ours and every Table I/II row), [`experiment`][seapass.model.e
 [`resolve`][seapass.model.resolve] (a design file merged with the caller's values: what
 every command runs) and [`units`][seapass.model.units] (the unit grammar and defaults).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files].
+May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files].
 """
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from ..lazy import lazy_exports
 
 _LAZY: dict[str, str] = {
     "CATALOG": "catalog",
@@ -81,16 +82,7 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        value = getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_LAZY})
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())
 
 
 if TYPE_CHECKING:  # what type checkers and IDEs see

@@ -20,9 +20,10 @@ from ..model.expr import UNITS
 from .style import axes_grid
 
 __all__ = ["axis_label", "plot_kd_bars", "plot_passive_intervals", "plot_passive_map",
-           "plot_passive_region"]  # fmt: skip
+           "plot_passive_region", "plot_robust_map"]  # fmt: skip
 
 _PASSIVE, _NOT_PASSIVE, _EDGE = "#b7e1cd", "#f4c7c3", "#1b5e20"
+_ROBUST = "#2e7d32"
 
 
 def axis_label(name: str, unit: str | None = None) -> str:
@@ -185,6 +186,64 @@ def plot_passive_map(
     if title:
         ax.set_title(title)
     ax.legend(loc="best", fontsize=8)
+    return ax
+
+
+def _column_edges(x: np.ndarray) -> np.ndarray:
+    """Left and right edge of each column's bar: halfway to the neighbours, within the range."""
+    if x.size == 1:
+        half = max(abs(x[0]) * 0.05, 0.5)
+        return np.array([x[0] - half, x[0] + half])
+    return np.concatenate([[x[0]], (x[:-1] + x[1:]) / 2, [x[-1]]])
+
+
+def plot_robust_map(
+    rmap: Any,
+    *,
+    title: str = "",
+    units: tuple[str | None, str | None] = (None, None),
+    ax: Any = None,
+) -> Any:
+    """Robust passive region (every plant in the box) drawn over the nominal one.
+
+    ``rmap`` is a [`seapass.robust.region.RobustPassiveMap`][seapass.robust.region.RobustPassiveMap].
+    Each column is decided on its own, so each is drawn as a bar as wide as the
+    spacing of the columns: light green where the nominal plant is passive, dark
+    green where every plant in the box is, and (certified method) the outer set's
+    ends as dashes.  Nothing is claimed between two columns.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    ax = axes_grid(ax, 1, 1, figsize=(5.5, 4.2))[0, 0]
+    x = np.asarray(rmap.x, dtype=float)
+    edges = _column_edges(x)
+    y0, y1 = rmap.y_range
+    ax.add_patch(_rectangle(edges[0], y0, edges[-1] - edges[0], y1 - y0))
+    for i in range(x.size):
+        left, width = edges[i], edges[i + 1] - edges[i]
+        for a, b in rmap.nominal[i]:
+            ax.bar(left, b - a, width=width, bottom=a, align="edge", color=_PASSIVE, lw=0)
+        for a, b in rmap.intervals[i]:
+            ax.bar(left, b - a, width=width, bottom=a, align="edge", color=_ROBUST, lw=0)
+        if str(rmap.method) != "exact":
+            for a, b in rmap.outer[i]:
+                ax.hlines([a, b], left, left + width, colors="k", linestyles="--", lw=0.8)
+    span = ", ".join(f"{k} in [{lo:g}, {hi:g}]" for k, (lo, hi) in rmap.box.intervals.items())
+    ax.plot([], [], color=_ROBUST, lw=8, label=f"passive for every plant ({span})")
+    nominal = ", ".join(f"{k}={v:g}" for k, v in rmap.nominal_values.items())
+    ax.plot([], [], color=_PASSIVE, lw=8, label=f"passive for the nominal plant ({nominal})")
+    ax.plot([], [], color=_NOT_PASSIVE, lw=8, label="not passive (nominal)")
+    if str(rmap.method) != "exact":
+        ax.plot([], [], "k--", lw=0.8, label="outer enclosure of the robust set")
+    ax.set_xlabel(axis_label(rmap.param_x, units[0]))
+    ax.set_ylabel(axis_label(rmap.param_y, units[1]))
+    ax.set_xlim(edges[0], edges[-1])
+    ax.set_ylim(y0, y1)
+    if title:
+        ax.set_title(title)
+    ax.legend(loc="best", fontsize=7)
     return ax
 
 

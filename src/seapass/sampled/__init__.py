@@ -16,14 +16,15 @@ passive sets of one parameter), [`region`][seapass.sampled.region] (Z-width maps
 a simulation check) and [`runtime`][seapass.sampled.runtime] (a fixed-rate control loop
 with safety, for hardware or the twin).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.progress], ``seapass.outcome``, [`seapass.files`][seapass.files],
+May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.progress], ``seapass.outcome``, [`seapass.files`][seapass.files],
 [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis].
 """
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from ..lazy import lazy_exports
 
 _LAZY: dict[str, str] = {
     "SampledBoundResult": "bound",
@@ -68,16 +69,7 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        value = getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_LAZY})
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())
 
 
 if TYPE_CHECKING:  # what type checkers and IDEs see
