@@ -1,8 +1,9 @@
-"""``--uncertain NAME=LO:HI`` on ``check`` and ``bound``: robust verdicts over a box of plants.
+"""``--uncertain NAME=LO:HI`` on ``check``, ``bound`` and ``sampled check``: robust verdicts over a box of plants.
 
 `add_uncertain_options` registers ``--uncertain`` (repeatable) and ``--budget``;
 `run_robust_check` and `run_robust_bound` are the robust forms of ``check`` and
-``bound``: they parse, call one library function
+``bound`` (`run_robust_sampled_check` that of ``sampled check``, with
+`add_sampled_uncertain_options`): they parse, call one library function
 ([`robust_check`][seapass.robust.verdict.robust_check] or
 [`robust_passive_intervals`][seapass.robust.intervals.robust_passive_intervals])
 and print.  A name given with ``--uncertain`` is a free parameter: giving it also
@@ -18,7 +19,14 @@ from typing import Any
 from ..errors import ParameterError
 from .common import print_json, values_from_args, warn_unrealizable
 
-__all__ = ["CLI_BUDGET", "add_uncertain_options", "run_robust_bound", "run_robust_check"]
+__all__ = [
+    "CLI_BUDGET",
+    "add_sampled_uncertain_options",
+    "add_uncertain_options",
+    "run_robust_bound",
+    "run_robust_check",
+    "run_robust_sampled_check",
+]
 
 CLI_BUDGET = 5000  # seapass.robust.verdict.DEFAULT_BUDGET (a test keeps them equal)
 
@@ -147,3 +155,58 @@ def run_robust_bound(args: argparse.Namespace) -> int:
         outer = ", ".join(enclosure_text(a, b, digits=10) for a, b in result.outer) or "empty"
         print(f"certified: inner set above; no value outside {outer} is robustly passive")
     return 0
+
+
+def add_sampled_uncertain_options(p: argparse.ArgumentParser) -> None:
+    """``--uncertain NAME=LO:HI`` and ``--budget N`` on ``sampled check``."""
+    g = p.add_argument_group("robust (every plant in a box)")
+    g.add_argument(
+        "--uncertain",
+        action="append",
+        default=[],
+        metavar="NAME=LO:HI",
+        help="an uncertain plant parameter, repeatable, e.g. --uncertain m=0.9:1.1: passive then "
+        "means certified for every plant in the box",
+    )
+    g.add_argument(
+        "--budget",
+        type=int,
+        default=64,
+        metavar="N",
+        help="sub-boxes the certified branch and bound may examine (--uncertain); when they "
+        "run out the verdict is undecided, never passive",
+    )
+
+
+def run_robust_sampled_check(args: argparse.Namespace, default_loop: Any) -> int:
+    """``sampled check --uncertain ...``: exit 0 passive for every plant, 1 otherwise."""
+    from ..robust.box import parse_uncertain, uncertain_box
+    from ..robust.sampled_verdict import robust_sampled_check
+    from .design_options import design_from_args
+
+    try:
+        raw = parse_uncertain(args.uncertain)
+        resolved = design_from_args(
+            args, {n: f"--uncertain {n}" for n in raw}, default_loop=default_loop
+        )
+        warn_unrealizable(resolved.sea)
+        box = uncertain_box(resolved.sea, raw)
+        result = robust_sampled_check(
+            resolved.sea, loop=resolved.loop, box=box, budget=args.budget
+        )
+    except ParameterError as exc:
+        raise _cli_text(exc) from None
+    if args.json:
+        print_json(result.to_dict())
+    else:
+        span = ", ".join(f"{k} in [{lo:g}, {hi:g}]" for k, (lo, hi) in box.intervals.items())
+        loop = resolved.loop
+        print(
+            f"{result.outcome.label} over the box {span} at T = {loop.period:g} s "
+            f"(delay {loop.delay}): {result.detail}"
+        )
+        if result.worst is not None:
+            at = ", ".join(f"{k}={v:.10g}" for k, v in result.worst.values.items())
+            w = result.worst.frequency
+            print(f"worst case: {at}" + (f", N(w) < 0 at w = {w:.6g} rad/s" if w else ""))
+    return 0 if result.passive else 1

@@ -9,10 +9,15 @@ family of impedances as polynomials in the uncertain parameters),
 [`verdict`][seapass.robust.verdict] (`robust_check`: passive for every plant in
 the box, a verified worst-case plant, or undecided),
 [`intervals`][seapass.robust.intervals] (robust passive intervals of a gain) and
-[`api`][seapass.robust.api] (``is_passive`` and ``passive_intervals`` with ``box=``).
+[`api`][seapass.robust.api] (``is_passive`` and ``passive_intervals`` with ``box=``),
+[`sampled_plant`][seapass.robust.sampled_plant] (alias sums of every plant of a box as
+arb balls) and [`sampled_verdict`][seapass.robust.sampled_verdict]
+(`robust_sampled_check`: the sampled-data verdict for every plant of a box).
 
-May import: [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box).
+May import: [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box), [`seapass.sampled`][seapass.sampled] (the certified sampled-data kernel).
 """
+
+from typing import TYPE_CHECKING, Any
 
 from .box import UncertainBox, uncertain_box
 from .intervals import RobustIntervals, robust_passive_intervals
@@ -21,9 +26,24 @@ from .verdict import RobustResult, WorstCase, robust_check
 __all__ = [
     "RobustIntervals",
     "RobustResult",
+    "RobustSampledResult",
     "UncertainBox",
     "WorstCase",
     "robust_check",
     "robust_passive_intervals",
+    "robust_sampled_check",
     "uncertain_box",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    """The sampled-data entry points, loaded on first use (they import the sampled kernel)."""
+    if name in ("robust_sampled_check", "RobustSampledResult"):
+        from . import sampled_verdict
+
+        return getattr(sampled_verdict, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+if TYPE_CHECKING:
+    from .sampled_verdict import RobustSampledResult, robust_sampled_check
