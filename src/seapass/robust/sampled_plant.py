@@ -71,7 +71,7 @@ def _reflect(p: fmpq_mpoly, i: int) -> fmpq_mpoly:
     return p.context().from_dict(d)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class _Split:
     """``p`` as coefficients in ``s`` (ascending), each an mpoly in the parameters."""
 
@@ -85,7 +85,7 @@ class _Split:
         for e, c in zip(p.monoms(), p.coeffs(), strict=True):
             k = e[i]
             parts[k][tuple(0 if j == i else x for j, x in enumerate(e))] = c
-        return cls(tuple(ctx.from_dict(d) for d in parts))
+        return cls(coeffs=tuple(ctx.from_dict(d) for d in parts))
 
     def at(self, names: Sequence[str], ball: Mapping[str, arb]) -> list[arb]:
         return [_eval(c, names, ball) for c in self.coeffs]

@@ -33,6 +33,7 @@ from collections import deque
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
+from types import MappingProxyType
 from typing import Any
 
 from ..errors import NotPassiveError, ParameterError
@@ -195,14 +196,14 @@ def _open_modes_stable(ka: Any, kl: Any, hidden: Any) -> bool:
 def box_outcome(setup: Setup, box: Box, *, prec: int = BOX_PRECISION) -> Outcome:
     """Certified outcome of every plant of ``box``: PASSIVE / NOT_PASSIVE proven for all
     of them, UNDECIDED otherwise (the continuous policy gate is not part of it)."""
-    if setup.no_control:
-        return Outcome.PASSIVE
     if not setup.open_stable:
         return Outcome.NOT_PASSIVE
     if setup.injection:
         return Outcome.UNDECIDED  # decided pointwise by the caller
     with precision(prec):
         ball = {n: ball_of(lo, hi) for n, (lo, hi) in zip(setup.names, box, strict=True)}
+        if setup.no_control:  # the passive physics, for every plant whose physics is proven
+            return Outcome.PASSIVE if setup.plant.plant_ok(ball) else Outcome.UNDECIDED
         sums = setup.plant.sums(ball, setup.period, setup.sums_names, prec)
         if sums is None:
             return Outcome.UNDECIDED
@@ -251,7 +252,7 @@ def point_verdict(
     values = {n: float(x) for n, x in zip(names, point, strict=True)}
     r = sampled_passivity(sea, loop=loop, values=values)
     if r.outcome is Outcome.NOT_PASSIVE:
-        return SampledWorstCase(values=values, frequency=r.omega, result=r)
+        return SampledWorstCase(values=MappingProxyType(values), frequency=r.omega, result=r)
     return None
 
 
