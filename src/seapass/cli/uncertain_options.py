@@ -191,9 +191,7 @@ def run_robust_sampled_check(args: argparse.Namespace, default_loop: Any) -> int
         )
         warn_unrealizable(resolved.sea)
         box = uncertain_box(resolved.sea, raw)
-        result = robust_sampled_check(
-            resolved.sea, loop=resolved.loop, box=box, budget=args.budget
-        )
+        result = robust_sampled_check(resolved.sea, loop=resolved.loop, box=box, budget=args.budget)
     except ParameterError as exc:
         raise _cli_text(exc) from None
     if args.json:

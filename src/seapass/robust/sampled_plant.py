@@ -45,7 +45,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
-from flint import acb, acb_poly, arb, fmpq, fmpq_mpoly
+from flint import acb, acb_poly, arb, fmpq, fmpq_mpoly, fmpz
 
 from ..errors import ModelError, ParameterError
 from ..model.elements import exact_values
@@ -252,7 +252,9 @@ class ParametricPlant:
                 if not _lead_ok(den_c):
                     return None
                 den = acb_poly(den_c)
-                mults = [_multiplicity(f.den, factors[fi][0], self.si) for fi in range(len(factors))]
+                mults = [
+                    _multiplicity(f.den, factors[fi][0], self.si) for fi in range(len(factors))
+                ]
                 values: dict[tuple[int, int], acb] = {}
                 for i, pole in enumerate(poles):
                     m = mults[owner[i]]
@@ -273,7 +275,9 @@ class ParametricPlant:
 
 
 def _substitute(f: RatFunc, values: Mapping[str, fmpq]) -> RatFunc:
-    used = {k: v for k, v in values.items() if k in f.parameters()}
+    used: dict[str | int, int | fmpz | fmpq] = {
+        k: v for k, v in values.items() if k in f.parameters()
+    }
     if not used:
         return f
     return RatFunc.from_polys(f.num.subs(used), f.den.subs(used))

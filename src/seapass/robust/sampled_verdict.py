@@ -160,7 +160,9 @@ class RobustSampledResult:
             ("sub-boxes examined", self.boxes),
         ]
         if self.worst is not None:
-            rows.append(("worst case", ", ".join(f"{k}={v:.8g}" for k, v in self.worst.values.items())))
+            rows.append(
+                ("worst case", ", ".join(f"{k}={v:.8g}" for k, v in self.worst.values.items()))
+            )
         title = f"Robust sampled passivity at T = {self.loop.period * 1e3:g} ms"
         return html_card(title, rows, note=f"Method: {self.method}.")
 
@@ -302,7 +304,11 @@ def robust_sampled_check(
     ('not_passive', {'m': 0.9})
     """
     ubox = uncertain_box(sea, box)
-    if isinstance(budget, bool) or not isinstance(budget, int) or not 1 <= budget <= MAX_SAMPLED_BUDGET:
+    if (
+        isinstance(budget, bool)
+        or not isinstance(budget, int)
+        or not 1 <= budget <= MAX_SAMPLED_BUDGET
+    ):
         raise ParameterError(
             f"budget must be an integer in [1, {MAX_SAMPLED_BUDGET}], got {budget!r}",
             argument="budget",
@@ -318,7 +324,9 @@ def robust_sampled_check(
         check_values(sea.with_values(**{n: float(hi)}))
     setup = Setup(sea, loop, names)
 
-    def result(outcome: Outcome, worst: SampledWorstCase | None, n: int, share: float, detail: str) -> RobustSampledResult:
+    def result(
+        outcome: Outcome, worst: SampledWorstCase | None, n: int, share: float, detail: str
+    ) -> RobustSampledResult:
         r = RobustSampledResult(
             outcome=outcome, box=ubox, worst=worst, loop=loop, boxes=n,
             certified_share=share, detail=detail,
