@@ -171,7 +171,7 @@ def add_sampled_uncertain_options(p: argparse.ArgumentParser) -> None:
     g.add_argument(
         "--budget",
         type=int,
-        default=64,
+        default=4,
         metavar="N",
         help="sub-boxes the certified branch and bound may examine (--uncertain); when they "
         "run out the verdict is undecided, never passive",

@@ -54,7 +54,7 @@ from ..model.sea import SEA
 from ..sampled.alias import MAX_MULTIPLICITY, AliasSums, Pole
 from ..sampled.certified import precision
 
-__all__ = ["ParametricPlant", "ball_of"]
+__all__ = ["ParametricPlant", "Split", "ball_of", "isolate"]
 
 PLANT_ELEMENTS = ("m", "b", "D1", "D2")
 
@@ -72,13 +72,13 @@ def _reflect(p: fmpq_mpoly, i: int) -> fmpq_mpoly:
 
 
 @dataclass(frozen=True, kw_only=True)
-class _Split:
+class Split:
     """``p`` as coefficients in ``s`` (ascending), each an mpoly in the parameters."""
 
     coeffs: tuple[fmpq_mpoly, ...]
 
     @classmethod
-    def of(cls, p: fmpq_mpoly, i: int) -> _Split:
+    def of(cls, p: fmpq_mpoly, i: int) -> Split:
         ctx = p.context()
         deg = p.degrees()[i] if not p.is_zero() else -1
         parts: list[dict[tuple[int, ...], fmpq]] = [{} for _ in range(deg + 1)]
@@ -169,7 +169,7 @@ class ParametricPlant:
             dn, dd = f.degrees_in_s()
             if dn >= 0 and dd - dn < 2 and name != "S4":
                 raise ModelError(f"the alias sum {name} diverges for this plant family")
-        self._factors: dict[tuple[str, ...], list[tuple[_Split, int, bool]]] = {}
+        self._factors: dict[tuple[str, ...], list[tuple[Split, int, bool]]] = {}
 
     def _reflect(self, f: RatFunc) -> RatFunc:
         i = self.ctx.variable_to_index(S_NAME)
@@ -180,7 +180,7 @@ class ParametricPlant:
         dn, dd = self.summands["S4"].degrees_in_s()
         return dd - dn < 2
 
-    def factors(self, names: tuple[str, ...]) -> list[tuple[_Split, int, bool]]:
+    def factors(self, names: tuple[str, ...]) -> list[tuple[Split, int, bool]]:
         """Irreducible factors of the common denominator: ``(coefficients, mult, is s)``."""
         if names not in self._factors:
             lcm = self.ctx.constant(1)
@@ -194,11 +194,23 @@ class ParametricPlant:
                 if e > MAX_MULTIPLICITY:
                     raise ModelError(f"a pole of multiplicity {e} in an alias sum")
                 is_s = f.total_degree() == 1 and f.degrees()[self.si] == 1 and len(f) == 1
-                out.append((_Split.of(f, self.si), int(e), is_s))
+                out.append((Split.of(f, self.si), int(e), is_s))
             self._factors[names] = out
         return self._factors[names]
 
-    def _roots(self, split: _Split, ball: Mapping[str, arb]) -> list[acb] | None:
+    def factor_poly(self, index: int, names: tuple[str, ...]) -> fmpq_mpoly:
+        """The ``index``-th factor of `factors` as a polynomial in ``s`` and the parameters."""
+        split = self.factors(names)[index][0]
+        f = self.ctx.constant(0)
+        for k, c in enumerate(split.coeffs):
+            f += c * self.ctx.gen(self.si) ** k
+        return f
+
+    def multiplicity(self, den: fmpq_mpoly, factor: Split) -> int:
+        """How often ``factor`` divides ``den`` (exactly, for every value of the parameters)."""
+        return _multiplicity(den, factor, self.si)
+
+    def _roots(self, split: Split, ball: Mapping[str, arb]) -> list[acb] | None:
         coeffs = split.at(self.var_names, ball)
         if not _lead_ok(coeffs):
             return None
@@ -207,13 +219,13 @@ class ParametricPlant:
     def plant_ok(self, ball: Mapping[str, arb]) -> bool:
         """The physical plant conditions hold for every plant of the ball (proven)."""
         for den in self.modes:
-            split = _Split.of(den, self.si)
+            split = Split.of(den, self.si)
             if len(split.coeffs) <= 1:
                 continue
             roots = self._roots(split, ball)
             if roots is None or not all(r.real < 0 for r in roots):
                 return False
-        rn, rd = (_Split.of(p, self.si) for p in (self.r.num, self.r.den))
+        rn, rd = (Split.of(p, self.si) for p in (self.r.num, self.r.den))
         r0 = rn.at(self.var_names, ball)[0] / rd.at(self.var_names, ball)[0]
         if not r0 > 0:
             return False
@@ -246,8 +258,8 @@ class ParametricPlant:
             residues: dict[str, tuple[acb, ...]] = {}
             for name in names:
                 f = self.summands[name]
-                num = acb_poly(_Split.of(f.num, self.si).at(self.var_names, ball))
-                den_split = _Split.of(f.den, self.si)
+                num = acb_poly(Split.of(f.num, self.si).at(self.var_names, ball))
+                den_split = Split.of(f.den, self.si)
                 den_c = den_split.at(self.var_names, ball)
                 if not _lead_ok(den_c):
                     return None
@@ -283,7 +295,7 @@ def _substitute(f: RatFunc, values: Mapping[str, fmpq]) -> RatFunc:
     return RatFunc.from_polys(f.num.subs(used), f.den.subs(used))
 
 
-def _multiplicity(den: fmpq_mpoly, factor: _Split, si: int) -> int:
+def _multiplicity(den: fmpq_mpoly, factor: Split, si: int) -> int:
     ctx = den.context()
     f = ctx.constant(0)
     for k, c in enumerate(factor.coeffs):

@@ -37,16 +37,18 @@ from types import MappingProxyType
 from typing import Any
 
 from ..errors import NotPassiveError, ParameterError
+from ..exact.poly import as_poly
 from ..model.display import html_card, short_repr
 from ..model.loop import SampledLoop
 from ..model.sea import SEA
 from ..outcome import Outcome
-from ..sampled.certified import Sign, precision, schur_stable, schur_stable_exact, sign_on
+from ..sampled.certified import precision, schur_stable_exact
 from ..sampled.controllers import DiscreteController, controller_parts
 from ..sampled.passivity import SampledPassivityResult, check_values, sampled_passivity
-from ..sampled.power import polynomial_degree, weighted_polynomials
-from ..sampled.verdict import MAX_POWER_DEGREE, characteristic, needed_sums, point_family
+from ..sampled.power import family_degree
+from ..sampled.verdict import MAX_POWER_DEGREE, needed_sums, point_family
 from .box import UncertainBox, uncertain_box
+from .sampled_local import LocalPower, local_outcome
 from .sampled_plant import ParametricPlant, ball_of
 
 __all__ = [
@@ -57,12 +59,16 @@ __all__ = [
     "robust_sampled_check",
 ]
 
-DEFAULT_SAMPLED_BUDGET = 64
+DEFAULT_SAMPLED_BUDGET = 4
 """Sub-boxes the branch and bound may examine (each one certified decision on balls)."""
 
 MAX_SAMPLED_BUDGET = 100_000
 BOX_PRECISION = 128
-METHOD = "branch and bound over the box: ball alias sums + Descartes on cos(wT) + Schur-Cohn"
+PIECES = 80  # pieces of [-1, 1] in cos(wT) per sub-box before the sub-box is split
+METHOD = (
+    "branch and bound over the box: mean-value ball enclosures, piecewise interpolation "
+    "and Descartes on cos(wT), no characteristic root crossing the unit circle"
+)
 
 Box = tuple[tuple[Fraction, Fraction], ...]
 
@@ -172,6 +178,7 @@ class Setup:
 
     def __init__(self, sea: SEA, loop: SampledLoop, names: tuple[str, ...]) -> None:
         self.plant = ParametricPlant(sea, names)
+        self.sea, self.loop = sea, loop
         self.names = names
         nominal = sea.with_values(**{n: 1.0 for n in names if sea.values.get(n) is None})
         controller = DiscreteController.for_loop(nominal, loop)
@@ -197,33 +204,49 @@ def _open_modes_stable(ka: Any, kl: Any, hidden: Any) -> bool:
 
 def box_outcome(setup: Setup, box: Box, *, prec: int = BOX_PRECISION) -> Outcome:
     """Certified outcome of every plant of ``box``: PASSIVE / NOT_PASSIVE proven for all
-    of them, UNDECIDED otherwise (the continuous policy gate is not part of it)."""
+    of them, UNDECIDED otherwise (the continuous policy gate is not part of it).
+
+    Mean-value enclosures and piecewise interpolation in ``cos ωT``
+    ([`seapass.robust.sampled_local`][seapass.robust.sampled_local]); stability: the
+    centre is stable (its ordinary certified verdict is passive) and no root of the
+    characteristic polynomial reaches the unit circle on the box.
+    """
     if not setup.open_stable:
         return Outcome.NOT_PASSIVE
     if setup.injection:
         return Outcome.UNDECIDED  # decided pointwise by the caller
+    # a centre that is a float (the point verdict takes floats), and the radii around it
+    centre = tuple(Fraction(float(c)) for c in _centre(box))
     with precision(prec):
         ball = {n: ball_of(lo, hi) for n, (lo, hi) in zip(setup.names, box, strict=True)}
-        if setup.no_control:  # the passive physics, for every plant whose physics is proven
-            return Outcome.PASSIVE if setup.plant.plant_ok(ball) else Outcome.UNDECIDED
-        sums = setup.plant.sums(ball, setup.period, setup.sums_names, prec)
-        if sums is None:
+        if not setup.plant.plant_ok(ball):
             return Outcome.UNDECIDED
-        if polynomial_degree(sums, setup.family) > MAX_POWER_DEGREE:
-            raise ParameterError("the power polynomial's degree exceeds the supported maximum")
-        from ..exact.poly import as_poly
-
-        chi = characteristic(sums, as_poly(setup.ka.num), as_poly(setup.ka.den))
-        stable = schur_stable(chi)
-        if stable is False:
-            return Outcome.NOT_PASSIVE
-        (poly,) = weighted_polynomials(sums, setup.family)
-        res = sign_on([poly], Fraction(-1), Fraction(1), budget=200)
-        if res.sign is Sign.NEGATIVE:
-            return Outcome.NOT_PASSIVE
-        if res.sign is Sign.POSITIVE and stable:
+        if setup.no_control:  # the passive physics, for every plant whose physics is proven
             return Outcome.PASSIVE
-    return Outcome.UNDECIDED
+        values = {n: float(c) for n, c in zip(setup.names, centre, strict=True)}
+    at_centre = sampled_passivity(setup.sea, loop=setup.loop, values=values, continuous_gate=False)
+    if at_centre.outcome is not Outcome.PASSIVE:
+        return Outcome.UNDECIDED  # the caller verifies the centre itself
+    with precision(prec):
+        point = {n: ball_of(c, c) for n, c in zip(setup.names, centre, strict=True)}
+        local_c = LocalPower(setup.plant, point, setup.period, setup.sums_names, derive=False)
+        local_b = LocalPower(setup.plant, ball, setup.period, setup.sums_names)
+        if not (local_c.ok and local_b.ok):
+            return Outcome.UNDECIDED
+        radii = [
+            ball_of(r, r)
+            for r in (max(c - lo, hi - c) for c, (lo, hi) in zip(centre, box, strict=True))
+        ]
+        degree = local_c.degree + 1 + family_degree(setup.family)[0] + 2
+        if degree > MAX_POWER_DEGREE:
+            raise ParameterError("the power polynomial's degree exceeds the supported maximum")
+        ka = (as_poly(setup.ka.num), as_poly(setup.ka.den))
+        outcome, stable = local_outcome(
+            local_c, local_b, radii, setup.family, ka, degree, prec, budget=PIECES
+        )
+    if outcome is Outcome.PASSIVE and not stable:
+        return Outcome.UNDECIDED
+    return outcome
 
 
 def split(box: Box) -> tuple[Box, Box]:
@@ -281,7 +304,7 @@ def robust_sampled_check(
         Period, delay, velocity filter and discretization of the digital controller.
     box : mapping or UncertainBox
         Uncertain *plant* parameters, ``{"m": (0.9, 1.1)}``.
-    budget : int, default 64
+    budget : int, default 4
         Sub-boxes the branch and bound may examine; when they run out the answer is
         ``undecided``, never passive.
     continuous_gate : bool, default True
