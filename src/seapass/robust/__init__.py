@@ -11,7 +11,9 @@ the box, a verified worst-case plant, or undecided),
 [`intervals`][seapass.robust.intervals] (robust passive intervals of a gain) and
 [`api`][seapass.robust.api] (``is_passive`` and ``passive_intervals`` with ``box=``),
 [`sampled_plant`][seapass.robust.sampled_plant] (alias sums of every plant of a box as
-arb balls) and [`sampled_verdict`][seapass.robust.sampled_verdict]
+arb balls), [`sampled_local`][seapass.robust.sampled_local] (mean-value enclosures of the
+sampled power over a box, decided piece by piece in ``cos ωT``) and
+[`sampled_verdict`][seapass.robust.sampled_verdict]
 (`robust_sampled_check`: the sampled-data verdict for every plant of a box).
 
 May import: [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box), [`seapass.sampled`][seapass.sampled] (the certified sampled-data kernel).

@@ -388,8 +388,8 @@ def robust_sampled_check(
         return result(
             Outcome.UNDECIDED, None, boxes, share,
             f"certified on {share:.1%} of the box, no failing plant found; the rest is not decided "
-            f"within the budget of {budget} sub-boxes (see docs/robust.md: the ball enclosures "
-            "widen near w = 0, where the power nearly vanishes)",
+            f"within the budget of {budget} sub-boxes (raise budget, or narrow the box: the "
+            "enclosures certify boxes of about 1e-6 relative width, see docs/robust.md)",
         )  # fmt: skip
     if continuous_gate:
         from .verdict import robust_check
