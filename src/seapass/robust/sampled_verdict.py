@@ -4,18 +4,15 @@
 controller at period ``T``, ZOH) is passive for *every* plant of a box of plant
 parameters (``m``, ``b``, ``k1``, ``b1`` ...; the deployed controller is fixed).
 
-Method: branch and bound over the parameter box; in each sub-box the alias sums of every
-plant are enclosed at once ([`seapass.robust.sampled_plant`][seapass.robust.sampled_plant],
-the parameters enter as arb balls through the exact poles, ``e^{pT}`` and the residues),
-and the ordinary certified decision of
-[`seapass.sampled.verdict`][seapass.sampled.verdict] runs on those balls: the weighted
-power polynomial ``P̃(x)`` in ``x = cos ωT`` is interpolated as balls, its sign on
-``[−1, 1]`` is decided by Descartes on Möbius-transformed intervals (the frequency
-branch and bound inside each parameter box), and the characteristic polynomial of the
-loop with the port held is Schur–Cohn tested on ball coefficients.  Each ball contains
-the value of every plant of the sub-box, so a positive sign and a proven Schur-stable
-polynomial hold for every plant there.  A sub-box that is not decided is split in two
-along its relatively widest side.  Sub-boxes are counted (``budget``).
+Method: branch and bound over the parameter box.  In each sub-box the alias sums of every
+plant are enclosed at once ([`seapass.robust.sampled_plant`][seapass.robust.sampled_plant]:
+the parameters enter as arb balls through the exact poles, ``e^{pT}`` and the residues)
+in mean-value form, and the weighted power polynomial ``P̃(x)`` (``x = cos ωT``) is
+decided piece by piece on ``[−1, 1]``
+([`seapass.robust.sampled_local`][seapass.robust.sampled_local]); stability with the port
+held: the centre is stable and no root of the characteristic polynomial reaches the unit
+circle anywhere in the sub-box.  A sub-box that is not decided is split in two along its
+relatively widest side, breadth first.  Sub-boxes are counted (``budget``).
 
 * ``passive``: every sub-box certified (and, by the deployment policy of
   [`sampled_passivity`][seapass.sampled.passivity.sampled_passivity], the continuous
