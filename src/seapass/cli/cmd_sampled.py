@@ -30,6 +30,7 @@ from .design_options import (
     units_json,
 )
 from .loop_options import add_loop_options
+from .uncertain_options import add_sampled_uncertain_options, run_robust_sampled_check
 
 ROWS = 25
 
@@ -112,6 +113,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     add_design_argument(c)
     add_model_options(c)
     _loop_options(c)
+    add_sampled_uncertain_options(c)
     c.set_defaults(func=run_check)
     b = ss.add_parser(
         "bound",
@@ -181,6 +183,10 @@ def run_check(args: argparse.Namespace) -> int:
         sampled_power_curve,
     )
 
+    if args.uncertain:  # every plant of a box (seapass.robust.sampled_verdict)
+        if args.out is not None:
+            raise ParameterError("--out is not available with --uncertain; use --json")
+        return run_robust_sampled_check(args, _default_loop())
     names = ("sampled_check.json", "sampled_power.csv", "sampled_power.png")
     d = check_out_dir(args.out, files=names, force=args.force)
     resolved = design_from_args(args, default_loop=_default_loop())

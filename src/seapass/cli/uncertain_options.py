@@ -1,11 +1,14 @@
-"""``--uncertain NAME=LO:HI`` on ``check``, ``bound`` and ``region``: robust verdicts over a box.
+"""``--uncertain NAME=LO:HI`` on ``check``, ``bound``, ``region`` and ``sampled check``.
 
 `add_uncertain_options` registers ``--uncertain`` (repeatable) and ``--budget``;
 `run_robust_check`, `run_robust_bound` and `run_robust_region` are the robust forms
-of ``check``, ``bound`` and ``region``: they parse, call one library function
+of ``check``, ``bound`` and ``region`` (`run_robust_sampled_check` that of ``sampled
+check``, with `add_sampled_uncertain_options`): they parse, call one library function
 ([`robust_check`][seapass.robust.verdict.robust_check],
-[`robust_passive_intervals`][seapass.robust.intervals.robust_passive_intervals] or
-[`robust_passive_map`][seapass.robust.region.robust_passive_map]) and print.  A name given with ``--uncertain`` is a free parameter: giving it also
+[`robust_passive_intervals`][seapass.robust.intervals.robust_passive_intervals],
+[`robust_passive_map`][seapass.robust.region.robust_passive_map] or
+[`robust_sampled_check`][seapass.robust.sampled_verdict.robust_sampled_check]) and
+print.  A name given with ``--uncertain`` is a free parameter: giving it also
 with ``--set`` is an error, as is every bad box (one ``error:`` line, exit 2).
 """
 
@@ -20,10 +23,12 @@ from .common import print_json, values_from_args, warn_unrealizable
 
 __all__ = [
     "CLI_BUDGET",
+    "add_sampled_uncertain_options",
     "add_uncertain_options",
     "run_robust_bound",
     "run_robust_check",
     "run_robust_region",
+    "run_robust_sampled_check",
 ]
 
 CLI_BUDGET = 5000  # seapass.robust.verdict.DEFAULT_BUDGET (a test keeps them equal)
@@ -201,3 +206,56 @@ def run_robust_region(
             line += f"; outer {outer}"
         print(line)
     return 0
+
+
+def add_sampled_uncertain_options(p: argparse.ArgumentParser) -> None:
+    """``--uncertain NAME=LO:HI`` and ``--budget N`` on ``sampled check``."""
+    g = p.add_argument_group("robust (every plant in a box)")
+    g.add_argument(
+        "--uncertain",
+        action="append",
+        default=[],
+        metavar="NAME=LO:HI",
+        help="an uncertain plant parameter, repeatable, e.g. --uncertain m=0.9:1.1: passive then "
+        "means certified for every plant in the box",
+    )
+    g.add_argument(
+        "--budget",
+        type=int,
+        default=4,
+        metavar="N",
+        help="sub-boxes the certified branch and bound may examine (--uncertain); when they "
+        "run out the verdict is undecided, never passive",
+    )
+
+
+def run_robust_sampled_check(args: argparse.Namespace, default_loop: Any) -> int:
+    """``sampled check --uncertain ...``: exit 0 passive for every plant, 1 otherwise."""
+    from ..robust.box import parse_uncertain, uncertain_box
+    from ..robust.sampled_verdict import robust_sampled_check
+    from .design_options import design_from_args
+
+    try:
+        raw = parse_uncertain(args.uncertain)
+        resolved = design_from_args(
+            args, {n: f"--uncertain {n}" for n in raw}, default_loop=default_loop
+        )
+        warn_unrealizable(resolved.sea)
+        box = uncertain_box(resolved.sea, raw)
+        result = robust_sampled_check(resolved.sea, loop=resolved.loop, box=box, budget=args.budget)
+    except ParameterError as exc:
+        raise _cli_text(exc) from None
+    if args.json:
+        print_json(result.to_dict())
+    else:
+        span = ", ".join(f"{k} in [{lo:g}, {hi:g}]" for k, (lo, hi) in box.intervals.items())
+        loop = resolved.loop
+        print(
+            f"{result.outcome.label} over the box {span} at T = {loop.period:g} s "
+            f"(delay {loop.delay}): {result.detail}"
+        )
+        if result.worst is not None:
+            at = ", ".join(f"{k}={v:.10g}" for k, v in result.worst.values.items())
+            w = result.worst.frequency
+            print(f"worst case: {at}" + (f", N(w) < 0 at w = {w:.6g} rad/s" if w else ""))
+    return 0 if result.passive else 1

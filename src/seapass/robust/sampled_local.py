@@ -1,0 +1,375 @@
+"""Mean-value enclosures of the sampled power over a box of plants, decided piece by piece.
+
+Ball arithmetic over a whole box (`ParametricPlant.sums`) loses the correlation between
+poles and residues: the enclosure of ``N(ω)`` grows like ``10⁴·δ`` for a relative box
+width ``δ``, and the global interpolation of the weighted power polynomial ``P̃(x)``
+(``x = cos ωT``) cannot resolve it near ``x = 1``, where the weight makes ``P̃`` tiny.
+This module removes both obstacles soundly:
+
+* **Mean-value form.** Every quantity is a `Dual`: a ball and the balls of its
+  derivatives in the uncertain parameters (forward-mode chain rule in ball arithmetic;
+  a simple pole ``p`` has ``∂p/∂μ = −(∂f/∂μ)/(∂f/∂s)`` at ``p``).  Evaluated at the
+  box's centre (a point) it gives the value ``v_c``; evaluated on the box's balls it
+  gives enclosures ``D_i`` of the derivatives at every plant of the box.  By the mean
+  value theorem, the value at every plant lies in ``v_c + Σ_i D_i·[−r_i, r_i]``.
+* **Local interpolation.** ``P̃`` (and ``M̃ = W·|d_A + n_A g|²``, which is ``|χ|²`` on
+  the unit circle up to positive factors) is a polynomial in ``x`` of known bounded
+  degree, so on any ``[a, b] ⊂ [−1, 1]`` it is recovered exactly from its values at the
+  Chebyshev nodes of ``[a, b]`` (never ``x = 1``), where it is evaluated directly: the
+  values are all of the size of ``P̃`` on ``[a, b]``, so the ball polynomial in the local
+  variable is as accurate as its values.  Its sign on ``[a, b]`` is decided by Descartes
+  ([`sign_on`][seapass.sampled.certified.sign_on]); undecided pieces are halved.
+
+Stability with the port held: stable at the centre (the ordinary certified decision) and
+``M̃ > 0`` on ``[−1, 1]`` for every plant of the box (no root of ``χ`` crosses the unit
+circle; the leading coefficient of ``χ`` does not depend on the plant) proves stability
+for every plant of the box.  Only simple non-origin poles are handled (a multiple pole:
+``None``, the caller reports the box undecided).
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Mapping, Sequence
+from fractions import Fraction
+from typing import Any
+
+from flint import acb, arb, arb_mat, arb_poly, fmpq, fmpq_poly
+
+from ..outcome import Outcome
+from ..sampled.alias import zeta_numerators
+from ..sampled.certified import Sign, interpolation_matrix, sign_on
+from .sampled_plant import ParametricPlant, Split, isolate
+
+__all__ = ["GEOMETRIC", "Dual", "LocalPower", "local_outcome"]
+
+GEOMETRIC = 20
+"""Pieces ``[1 − 2^-k, 1 − 2^-(k+1)]`` (and their mirror images) the partition starts with."""
+
+
+def _conj(x: Any) -> Any:
+    return x.conjugate() if isinstance(x, acb) else x
+
+
+class Dual:
+    """A ball value and the balls of its partial derivatives (forward mode)."""
+
+    __slots__ = ("d", "v")
+
+    def __init__(self, v: Any, d: Sequence[Any]) -> None:
+        self.v = v
+        self.d = tuple(d)
+
+    def _lift(self, o: Any) -> Dual:
+        return o if isinstance(o, Dual) else Dual(o, (0,) * len(self.d))
+
+    def __add__(self, o: Any) -> Dual:
+        o = self._lift(o)
+        return Dual(self.v + o.v, [a + b for a, b in zip(self.d, o.d, strict=True)])
+
+    __radd__ = __add__
+
+    def __neg__(self) -> Dual:
+        return Dual(-self.v, [-a for a in self.d])
+
+    def __sub__(self, o: Any) -> Dual:
+        return self + (-self._lift(o))
+
+    def __rsub__(self, o: Any) -> Dual:
+        return self._lift(o) - self
+
+    def __mul__(self, o: Any) -> Dual:
+        if not isinstance(o, Dual):
+            return Dual(self.v * o, [a * o for a in self.d])
+        return Dual(self.v * o.v, [a * o.v + self.v * b for a, b in zip(self.d, o.d, strict=True)])
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o: Any) -> Dual:
+        if not isinstance(o, Dual):
+            return Dual(self.v / o, [a / o for a in self.d])
+        inv = 1 / o.v
+        return Dual(
+            self.v * inv,
+            [(a * o.v - self.v * b) * inv * inv for a, b in zip(self.d, o.d, strict=True)],
+        )
+
+    def __rtruediv__(self, o: Any) -> Dual:
+        return self._lift(o) / self
+
+    def __pow__(self, n: int) -> Dual:
+        out: Dual = self._lift(1)
+        for _ in range(n):
+            out = out * self
+        return out
+
+    @property
+    def real(self) -> Dual:
+        return Dual(self.v.real, [a.real if hasattr(a, "real") else a for a in self.d])
+
+    def conjugate(self) -> Dual:
+        return Dual(_conj(self.v), [_conj(a) for a in self.d])
+
+    def exp(self) -> Dual:
+        e = self.v.exp()
+        return Dual(e, [a * e for a in self.d])
+
+
+def _horner(coeffs: Sequence[Any], x: Any) -> Any:
+    acc: Any = acb(0)
+    for c in reversed(coeffs):
+        acc = acc * x + c
+    return acc
+
+
+def _horner_q(p: fmpq_poly, x: Any) -> Any:
+    return _horner([acb(c) for c in p.coeffs()], x)
+
+
+def _bilinear(h: tuple, v: Sequence[acb]) -> Any:
+    """``vᴴ H v`` for the Hermitian ``H`` of `hermitian_entries` (``H00 = 1``)."""
+    h0a, h0l, haa, hal, hll = h
+    v0, va, vl = v
+    c0, ca, cl = (x.conjugate() for x in v)
+    return (
+        c0 * v0
+        + h0a * (c0 * va)
+        + h0a.conjugate() * (ca * v0)
+        + h0l * (c0 * vl)
+        + h0l.conjugate() * (cl * v0)
+        + haa * (ca * va)
+        + hal * (ca * vl)
+        + hal.conjugate() * (cl * va)
+        + hll * (cl * vl)
+    )
+
+
+class LocalPower:
+    """Dual alias sums of every plant of one ball (or of one point), evaluated at any ``z``."""
+
+    def __init__(
+        self,
+        plant: ParametricPlant,
+        ball: Mapping[str, arb],
+        period: Fraction,
+        names: tuple[str, ...],
+        *,
+        derive: bool = True,
+    ) -> None:
+        self.ok = False
+        self.T = arb(fmpq(period.numerator, period.denominator))
+        k = len(plant.names) if derive else 0
+        vn = plant.var_names
+
+        def dual_coeffs(split: Split, p: Any) -> list[Dual]:
+            vals = split.at(vn, ball)
+            ders = [
+                Split.of(p.derivative(n), plant.si).at(vn, ball) if not p.is_zero() else []
+                for n in plant.names[:k]
+            ]
+            out = []
+            for j, v in enumerate(vals):
+                out.append(Dual(acb(v), [acb(d[j]) if j < len(d) else acb(0) for d in ders]))
+            return out
+
+        self.poles: list[tuple[Dual | None, int]] = []  # (pole, mult); None = the origin
+        self.cols: list[tuple[int, int]] = []
+        factors = plant.factors(names)
+        owner = []
+        for fi, (split, e, is_s) in enumerate(factors):
+            if is_s:
+                self.poles.append((None, e))
+                owner.append(fi)
+                continue
+            if e != 1:
+                return
+            roots = isolate(split.at(vn, ball))
+            if roots is None or not all(r.real > 0 or r.real < 0 for r in roots):
+                return
+            coeffs = dual_coeffs(split, plant.factor_poly(fi, names))
+            for r in roots:
+                fs = _horner([(i + 1) * c.v for i, c in enumerate(coeffs[1:])], r)
+                if fs.contains(0):
+                    return
+                grads = [-_horner([c.d[i] for c in coeffs], r) / fs for i in range(k)]
+                self.poles.append((Dual(r, grads), 1))
+                owner.append(fi)
+        self.cols = [(i, j) for i, (_p, m) in enumerate(self.poles) for j in range(1, m + 1)]
+        self.qs = [None if p is None else (p * self.T).exp() for p, _m in self.poles]
+        self.res: dict[str, list[Any]] = {}
+        for name in names:
+            f = plant.summands[name]
+            num = dual_coeffs(Split.of(f.num, plant.si), f.num)
+            den = dual_coeffs(Split.of(f.den, plant.si), f.den)
+            if den[-1].v.contains(0):
+                return
+            dder = [(i + 1) * c for i, c in enumerate(den[1:])]
+            values: dict[tuple[int, int], Any] = {}
+            for i, (p, _m) in enumerate(self.poles):
+                mm = plant.multiplicity(f.den, factors[owner[i]][0])
+                if mm == 0:
+                    continue
+                if p is None:  # the origin: Laurent coefficients by series division
+                    g = den[mm:] + [Dual(acb(0), [acb(0)] * k)] * mm
+                    if g[0].v.contains(0):
+                        return
+                    h = _series_div([*num, *([Dual(acb(0), [acb(0)] * k)] * mm)][:mm], g, mm)
+                    for j in range(1, mm + 1):
+                        values[(i, j)] = h[mm - j]
+                else:
+                    if mm != 1:
+                        return
+                    dp = _horner(dder, p)
+                    if dp.v.contains(0):
+                        return
+                    values[(i, 1)] = _horner(num, p) / dp
+            self.res[name] = [values.get(c) for c in self.cols]
+        self.ok = True
+
+    @property
+    def degree(self) -> int:
+        """Degree in ``x`` of the weight: the non-origin pole multiplicities."""
+        return sum(m for p, m in self.poles if p is not None)
+
+    def sums_at(self, z: acb) -> dict[str, Any]:
+        F = zeta_numerators(max((j for _i, j in self.cols), default=1))
+        kern = []
+        for i, j in self.cols:
+            q = self.qs[i]
+            w = z if q is None else z / q
+            kern.append(_horner_q(F[j - 1], w) * (self.T / (w - 1)) ** j)
+        return {
+            name: sum((r * g for r, g in zip(res, kern, strict=True) if r is not None), acb(0))
+            for name, res in self.res.items()
+        }
+
+    def weight(self, z: acb) -> Any:
+        w: Any = arb(1)
+        for q, (_p, m) in zip(self.qs, self.poles, strict=True):
+            if q is not None:
+                d = z - q
+                w = w * ((d * d.conjugate()).real) ** m
+        return w
+
+    def values(self, z: acb, family: Sequence[Sequence[fmpq_poly]], ka: Any) -> tuple[Any, Any]:
+        """``(P̃, M̃)`` at ``z`` (Duals)."""
+        from ..sampled.alias import hermitian_entries
+
+        s = self.sums_at(z)
+        sums = {k: [v] for k, v in s.items()}
+        h = hermitian_entries(sums, z, 0, self.T)
+        zinv = 1 / z
+        vec = [_horner_q(comp[0], zinv) for comp in family]
+        w = self.weight(z)
+        power = _bilinear(h, vec).real * w
+        g = (1 - zinv) / self.T * s["Sg"]
+        na, da = ka
+        d = _horner_q(da, zinv) + _horner_q(na, zinv) * g
+        chi = (d * d.conjugate()).real * w
+        return power, chi
+
+
+def _series_div(a: Sequence[Any], b: Sequence[Any], n: int) -> list[Any]:
+    out: list[Any] = []
+    for t in range(n):
+        acc = a[t]
+        for u in range(t):
+            acc = acc - out[u] * b[t - u]
+        out.append(acc / b[0])
+    return out
+
+
+def _enclose(centre: Any, box: Any, radii: Sequence[arb]) -> arb:
+    """``v_c + Σ D_i [−r_i, r_i]`` (real parts)."""
+    v = centre.v if isinstance(centre, Dual) else centre
+    out = arb(v.real if isinstance(v, acb) else v)
+    for d, r in zip(box.d, radii, strict=True):
+        dr = d.real if isinstance(d, acb) else arb(d)
+        out += dr * (-r).union(r)
+    return out
+
+
+def local_outcome(
+    centre: LocalPower,
+    box: LocalPower,
+    radii: Sequence[arb],
+    family: Sequence[Sequence[fmpq_poly]],
+    ka: tuple[fmpq_poly, fmpq_poly],
+    degree: int,
+    prec: int,
+    *,
+    budget: int = 64,
+) -> tuple[Outcome, bool]:
+    """Sign of ``P̃`` and positivity of ``M̃`` on ``[−1, 1]`` for every plant of the box.
+
+    Returns ``(outcome of the power, M̃ > 0 proven)``: ``PASSIVE`` when ``P̃ > 0`` is
+    proven everywhere, ``NOT_PASSIVE`` when some piece has ``P̃ < 0`` proven for every
+    plant, ``UNDECIDED`` when ``budget`` pieces did not settle it.
+    """
+    n = degree
+    pi = arb.pi()
+    nodes = [pi * (2 * i + 1) / (2 * (n + 1)) for i in range(n + 1)]
+    ts = [th.cos() for th in nodes]
+    cos_table = [[(k * th).cos() for th in nodes] for k in range(n + 1)]
+    mat = interpolation_matrix(n, prec)
+    # geometric pieces towards x = ±1, where the weight's factors (x_q − x) of slow poles
+    # make the power tiny: each piece then holds values of one size
+    ends = [Fraction(1) - Fraction(1, 2**k) for k in range(1, GEOMETRIC + 1)]
+    cuts = [Fraction(-1), *(-e for e in reversed(ends)), Fraction(0), *ends, Fraction(1)]
+    stack = list(reversed(list(itertools.pairwise(cuts))))
+    pieces = 0
+    power_ok, chi_ok = True, True
+    while stack:
+        a, b = stack.pop()
+        pieces += 1
+        if pieces > budget:
+            return Outcome.UNDECIDED, False
+        c = arb(fmpq((a + b).numerator, (a + b).denominator)) / 2
+        h = arb(fmpq((b - a).numerator, (b - a).denominator)) / 2
+        pv, cv = [], []
+        for t in ts:
+            x = c + h * t
+            z = acb(0, x.acos()).exp()
+            p_c, m_c = centre.values(z, family, ka)
+            p_b, m_b = box.values(z, family, ka)
+            pv.append(_enclose(p_c, p_b, radii))
+            cv.append(_enclose(m_c, m_b, radii))
+        if any(v < 0 for v in pv):  # every plant has a negative power at that node
+            return Outcome.NOT_PASSIVE, False
+        if all(_positive(v, cos_table) or _descartes(v, mat) for v in (pv, cv)):
+            continue
+        if b - a < Fraction(1, 2**40):
+            power_ok = chi_ok = False
+            continue
+        mid = (a + b) / 2
+        stack += [(mid, b), (a, mid)]
+    if not power_ok:
+        return Outcome.UNDECIDED, False
+    return Outcome.PASSIVE, chi_ok
+
+
+def _descartes(values: Sequence[arb], mat: Any) -> bool:
+    """The interpolant (monomials in the local variable) is proven ``> 0`` by Descartes."""
+    col = mat * arb_mat([[v] for v in values])
+    poly = arb_poly([col[j, 0] for j in range(len(values))])
+    return sign_on([poly], Fraction(-1), Fraction(1), budget=40).sign is Sign.POSITIVE
+
+
+def _positive(values: Sequence[arb], cos_table: Sequence[Sequence[arb]]) -> bool:
+    """The interpolant of ``values`` at the Chebyshev nodes is ``> 0`` on ``[−1, 1]``.
+
+    ``p = Σ c_k T_k`` with ``c_k = (2/(n+1)) Σ_i v_i cos(kθ_i)`` (``c_0`` halved), exact
+    for degree ``≤ n``; ``|T_k| ≤ 1`` gives ``p ≥ c_0 − Σ_{k≥1} |c_k|``.  Well conditioned:
+    no conversion to monomials, whose radii grow like ``(1 + √2)^n``.
+    """
+    n = len(values) - 1
+    coeffs = []
+    for k, row in enumerate(cos_table):
+        acc = arb(0)
+        for v, c in zip(values, row, strict=True):
+            acc += v * c
+        coeffs.append(acc * 2 / (n + 1) / (2 if k == 0 else 1))
+    lower = coeffs[0]
+    for c in coeffs[1:]:
+        lower -= c.abs_upper()
+    return bool(lower > 0)
