@@ -56,7 +56,7 @@ import numpy as np
 from flint import fmpq_poly
 
 from ..analysis.freqresp import check_points, log_frequencies
-from ..errors import ParameterError, SeapassError
+from ..errors import ExpressionError, ParameterError, SeapassError, SymbolicLimitError
 from ..model.elements import exact_values
 from ..model.expr import exact_expression, finite_number
 from ..model.loop import SampledLoop
@@ -319,6 +319,8 @@ class ObjectiveFunction:
         self.stiffness = stiffness
         self.stiffness_box = stiffness_box
         self.boxes_exhausted = 0
+        self.bounds_run = 0
+        self._zwidths: dict[tuple[float, ...], float] = {}
         self.full_gains = self.gains + ((stiffness,) if stiffness else ())
         self._elements = sea.exact_elements()
         self._fixed = exact_values({k: v for k, v in sea.values.items() if k not in self.full_gains})
@@ -428,6 +430,9 @@ class ObjectiveFunction:
         from ..sampled.bound import sampled_passive_bound
 
         assert self.stiffness is not None and self.stiffness_box is not None and self.loop
+        key = tuple(float(v) for v in x)
+        if key in self._zwidths:  # the unconstrained search revisits the constrained one's points
+            return self._zwidths[key]
         sea = self.sea.with_values(
             **dict(zip(self.gains, (float(v) for v in x), strict=True)), **{self.stiffness: None}
         )
@@ -437,7 +442,10 @@ class ObjectiveFunction:
             max_boxes=self.spec.max_boxes,
         )  # fmt: skip
         self.boxes_exhausted += int(r.budget_exhausted)
-        return float(r.max_passive) if r.max_passive is not None else 0.0
+        self.bounds_run += 1
+        value = float(r.max_passive) if r.max_passive is not None else 0.0
+        self._zwidths[key] = value
+        return value
 
     def full(self, x: Sequence[float], value: float) -> tuple[float, ...]:
         """The candidate with the stiffness gain (Z-width: at its value ``value``)."""
@@ -456,7 +464,10 @@ class ObjectiveFunction:
 def _target(text: str, sea: SEA) -> _Rat:
     """The target as an exact rational function of ``s`` at the design's values."""
     allowed = (*sea.parameters, *(k for k in sea.values if k not in sea.parameters))
-    rf = exact_expression(text, allowed)
+    try:
+        rf = exact_expression(text, allowed)
+    except (ExpressionError, SymbolicLimitError) as exc:
+        raise ParameterError(f"target: {exc}", argument="target") from None
     names = sorted(rf.parameters())
     missing = [n for n in names if sea.values.get(n) is None]
     if missing:
