@@ -205,7 +205,7 @@ def tune_objective(
     relative = gap / abs(unc.value) if unc.value and math.isfinite(unc.value) else None
     violations, notes = _violations(con, fn, full, box, stiffness)
     result = ObjectiveTuningResult(
-        design=problem.name, objective=spec, unit=_unit(kind, full.sea, stiffness),
+        design=problem.name, objective=spec, unit=_unit(kind, design, stiffness),
         constrained=con, unconstrained=unc, passivity_cost=gap, relative_cost=relative,
         feasible=not violations, violations=tuple(violations), load_masses=masses,
         stiffness=stiffness, box=MappingProxyType(box), bounds=MappingProxyType(dict(bounds)),
@@ -367,11 +367,13 @@ def _violations(
     return violations, notes
 
 
-def _unit(kind: Interaction, sea: SEA, stiffness: str | None) -> str:
+def _unit(kind: Interaction, design: DesignLike, stiffness: str | None) -> str:
+    """``"1"``, ``"rad/s"`` or the stiffness gain's unit (a design file's ``[units]``)."""
     if kind is Interaction.RENDERING:
         return "1"
     if kind is Interaction.FORCE_BANDWIDTH:
         return "rad/s"
-    from ..model.expr import UNITS
+    from ..model.units import unit_map
 
-    return UNITS.get(stiffness or "", "")
+    declared = design.units if isinstance(design, Design) else None
+    return unit_map(declared, [stiffness or ""]).get(stiffness or "", "")
