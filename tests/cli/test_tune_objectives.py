@@ -95,7 +95,10 @@ def test_zwidth_at_the_file_rate() -> None:
 @pytest.mark.parametrize(
     ("extra", "says"),
     [
-        (["--objective", "rendering", "--target", "1000", "--band", "100:1"], "--band: need 0 < lo < hi"),
+        (
+            ["--objective", "rendering", "--target", "1000", "--band", "100:1"],
+            "--band: need 0 < lo < hi",
+        ),
         (["--objective", "rendering", "--target", "1000 +", "--band", "1:10"], "--target: "),
         (["--objective", "rendering", "--target", "1000", "--band", "1-10"], "expected LO:HI"),
         (["--objective", "rendering", "--band", "1:10"], "needs a target"),
@@ -118,5 +121,11 @@ def test_help_shows_the_objectives_and_examples() -> None:
     with contextlib.redirect_stdout(out), pytest.raises(SystemExit):
         main(["tune", "--help"])
     text = out.getvalue()
-    for piece in ("force-bandwidth", "zwidth", "--target EXPR", "--band LO:HI", "--objective rendering"):
+    for piece in (
+        "force-bandwidth",
+        "zwidth",
+        "--target EXPR",
+        "--band LO:HI",
+        "--objective rendering",
+    ):
         assert piece in text

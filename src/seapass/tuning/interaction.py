@@ -26,7 +26,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from types import MappingProxyType
 from typing import Any
 
@@ -37,28 +37,22 @@ from ..analysis.passivity import is_passive
 from ..errors import NotPassiveError, ParameterError, SeapassError, TuningWarning
 from ..files.limits import MAX_FREQUENCY_POINTS
 from ..model.design_file import Design
-from ..model.display import Shown, html_card, short_repr
-from ..model.sea import SEA
 from ..outcome import Outcome
 from ..progress import ProgressLike, as_progress
 from ..sampled.passivity import sampled_passivity
 from .cost import ConstraintChecks
+from .objective_result import ObjectiveOptimum, ObjectiveTuningResult
 from .objectives import (
     Interaction,
     InteractionObjective,
     ObjectiveFunction,
-    response_at,
     squash,
-    static_gain,
     stiffness_gain,
-    value_text,
 )
-from .objective_result import ObjectiveOptimum, ObjectiveTuningResult
 from .optimize import narrowed_box
 from .problem import (
     BoxLike,
     DesignLike,
-    ResolvedTuning,
     TuningOptions,
     TuningProblem,
     default_box,
@@ -165,7 +159,11 @@ def tune_objective(
     >>> r.passive, r.passivity_cost >= 0
     (True, True)
     """
-    spec = objective if isinstance(objective, InteractionObjective) else InteractionObjective(kind=objective)
+    spec = (
+        objective
+        if isinstance(objective, InteractionObjective)
+        else InteractionObjective(kind=objective)
+    )
     kind = Interaction(spec.kind)
     opts = (options or TuningOptions()).replace(**changes)
     stiffness: str | None = None
@@ -198,7 +196,7 @@ def tune_objective(
     unc_x, unc_cost = _search(problem, fn, checks, box, False, shown)
     con = _optimum(fn, full, con_x, con_cost)
     unc = _optimum(fn, full, unc_x, unc_cost)
-    if not unc.stable or _better(kind, con.value, unc.value) and con.stable:
+    if not unc.stable or (_better(kind, con.value, unc.value) and con.stable):
         unc = replace(con, evaluations=unc.evaluations, generations=unc.generations)
     gap = (unc.value - con.value) if kind.maximize else (con.value - unc.value)
     gap = max(gap, 0.0) if math.isfinite(gap) else math.nan
@@ -261,7 +259,9 @@ def _zwidth_problems(
         raise ParameterError(
             f"{stiffness} has no value and no range: give it a [ranges] entry", argument="tune"
         )
-    full = resolve_problem(design, {**wanted, stiffness: box}, opts, values, allow_plant=allow_plant)
+    full = resolve_problem(
+        design, {**wanted, stiffness: box}, opts, values, allow_plant=allow_plant
+    )
     others = tuple(g for g in full.gains if g != stiffness)
     searched = replace(full, gains=others, box=MappingProxyType({g: full.box[g] for g in others}))
     return full, searched, stiffness, full.box[stiffness]
@@ -293,9 +293,7 @@ def _optimum(
 ) -> ObjectiveOptimum:
     """The verified optimum at ``x``: the objective on a denser grid, exact verdicts."""
     at = None
-    dense = log_frequencies(
-        *fn.spec.frequency_band, min(4 * fn.spec.points, MAX_FREQUENCY_POINTS)
-    )
+    dense = log_frequencies(*fn.spec.frequency_band, min(4 * fn.spec.points, MAX_FREQUENCY_POINTS))
     try:
         if fn.kind is Interaction.RENDERING:
             value, at = fn.rendering_error(x, dense)

@@ -70,7 +70,9 @@ class ObjectiveOptimum:
             "value": _json_number(self.value),
             "passive": self.outcome.passive,
             "outcome": str(self.outcome),
-            "sampled_passive": None if self.sampled_outcome is None else self.sampled_outcome.passive,
+            "sampled_passive": None
+            if self.sampled_outcome is None
+            else self.sampled_outcome.passive,
             "stable": self.stable,
             "at": self.at,
             "evaluations": self.evaluations,
@@ -79,7 +81,8 @@ class ObjectiveOptimum:
 
     def __repr__(self) -> str:
         return short_repr(
-            "ObjectiveOptimum", {"gains": dict(self.gains), "value": self.value, "passive": self.passive}
+            "ObjectiveOptimum",
+            {"gains": dict(self.gains), "value": self.value, "passive": self.passive},
         )
 
 
@@ -207,16 +210,23 @@ class ObjectiveTuningResult:
         """
         from ..plot.tuning import plot_objective_response
 
-        return plot_objective_response(self.response(points), ax=ax, title=f"{self.design}: {self.kind}")
+        return plot_objective_response(
+            self.response(points), ax=ax, title=f"{self.design}: {self.kind}"
+        )
 
     def response(self, points: int = 400) -> dict[str, Any]:
         """The curves behind `plot`: ``omega`` and ``{label: magnitude}``, plus the kind."""
         fn = self.function
         assert fn is not None
-        lo, hi = self.objective.frequency_band if self.kind is not Interaction.ZWIDTH else (0.1, 1e4)
+        lo, hi = (
+            self.objective.frequency_band if self.kind is not Interaction.ZWIDTH else (0.1, 1e4)
+        )
         w = log_frequencies(lo, hi, points)
         curves: dict[str, np.ndarray] = {}
-        for label, opt in (("passive optimum", self.constrained), ("unconstrained", self.unconstrained)):
+        for label, opt in (
+            ("passive optimum", self.constrained),
+            ("unconstrained", self.unconstrained),
+        ):
             full = tuple(opt.gains[g] for g in fn.full_gains)
             if self.kind is Interaction.FORCE_BANDWIDTH:
                 g = fn.force_tf(full)

@@ -71,8 +71,8 @@ __all__ = [
     "response_at",
     "squash",
     "static_gain",
-    "value_text",
     "stiffness_gain",
+    "value_text",
 ]
 
 DEFAULT_BANDWIDTH_BAND = (1e-2, 1e5)
@@ -168,9 +168,7 @@ class InteractionObjective:
         if not 0 < finite_number(self.rtol, "rtol") <= 1e-2:
             raise ParameterError(f"rtol must be in (0, 1e-2], got {self.rtol!r}")
         if self.load_masses is not None:
-            masses = tuple(
-                finite_number(m, "load_masses", positive=True) for m in self.load_masses
-            )
+            masses = tuple(finite_number(m, "load_masses", positive=True) for m in self.load_masses)
             if not masses:
                 raise ParameterError("load_masses must not be empty")
             object.__setattr__(self, "load_masses", masses)
@@ -217,7 +215,9 @@ def stiffness_gain(sea: SEA, candidates: Sequence[str], given: str | None = None
         if name in candidates:
             return name
     if not candidates:
-        raise ParameterError("stiffness: the design has no controller gain to map", argument="stiffness")
+        raise ParameterError(
+            "stiffness: the design has no controller gain to map", argument="stiffness"
+        )
     return candidates[0]
 
 
@@ -323,7 +323,9 @@ class ObjectiveFunction:
         self._zwidths: dict[tuple[float, ...], float] = {}
         self.full_gains = self.gains + ((stiffness,) if stiffness else ())
         self._elements = sea.exact_elements()
-        self._fixed = exact_values({k: v for k, v in sea.values.items() if k not in self.full_gains})
+        self._fixed = exact_values(
+            {k: v for k, v in sea.values.items() if k not in self.full_gains}
+        )
         self._stability = [
             closed_loop_factory(sea, self.full_gains, load_mass=float(m)) for m in load_masses
         ]
@@ -383,10 +385,15 @@ class ObjectiveFunction:
             return False
         return True
 
-    def rendering_error(self, full: Sequence[float], omega: np.ndarray | None = None) -> tuple[float, float]:
+    def rendering_error(
+        self, full: Sequence[float], omega: np.ndarray | None = None
+    ) -> tuple[float, float]:
         """``(worst relative error, its frequency)`` over the band (``omega``: other grid)."""
+        if self.target_expression is None:
+            raise ParameterError("rendering_error needs a rendering objective with a target")
         w = self.omega if omega is None else omega
-        target = self._target if omega is None else response_at(self.target_expression, w)  # type: ignore[arg-type]
+        target = response_at(self.target_expression, w) if omega is not None else self._target
+        assert target is not None
         rendered = response_at(self.stiffness_tf(full), w)
         err = np.abs(rendered - target) / np.abs(target)
         if not np.all(np.isfinite(err)):
