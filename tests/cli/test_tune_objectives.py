@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 import io
 import json
+from typing import Any
 
 import control
 import numpy as np
@@ -18,7 +19,7 @@ from seapass.sampled.passivity import sampled_passivity
 BUDGET = ["--maxiter", "2", "--popsize", "3", "--no-progress"]
 CASCADED = "examples/cascaded_impedance.toml"
 PLANT = {"m": 1.0, "b": 10.0, "k1": 1000.0}
-ELEMENTS = {
+ELEMENTS: dict[str, dict[str, Any]] = {
     "LP": {"D1": "k1", "CL": "kd"},
     "APD": {"D1": "k1", "CA": "kd + bd*s"},
     "ours": {"D1": "k1 + b1*s", "CA": "kd + bd*s"},

@@ -32,19 +32,19 @@ CASCADED = "examples/cascaded_impedance.toml"
 DESIGNS = ["LP", "APD", "ours", "cascaded"]
 
 
-def _design(name: str):  # type: ignore[no-untyped-def]
+def _design(name: str):
     if name == "cascaded":
         return load_design(CASCADED)
     return load_design("examples/ours.toml") if name == "ours.toml" else name
 
 
-def _tune(name: str, spec: InteractionObjective, **kw):  # type: ignore[no-untyped-def]
+def _tune(name: str, spec: InteractionObjective, **kw):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", TuningWarning)
         return tune_objective(_design(name), spec, **{**BUDGET, **kw})
 
 
-def _cost_consistent(r) -> None:  # type: ignore[no-untyped-def]
+def _cost_consistent(r) -> None:
     c, u = r.value, r.unconstrained.value
     if r.kind.maximize:
         assert c <= u
@@ -76,7 +76,7 @@ def test_rendering_error_agrees_with_python_control(name: str) -> None:
     _cost_consistent(r)
 
 
-def _force_bandwidth(sea) -> float:  # type: ignore[no-untyped-def]
+def _force_bandwidth(sea) -> float:
     """The -3 dB frequency of D1 (CA + CL) / (m s^2 + b s + D1 + CA), by scipy on a dense grid."""
     e = {k: sea.numeric(v) for k, v in sea.elements().items()}
     g = sp.cancel(sp.together(e["D1"] * (e["CA"] + e["CL"])
