@@ -36,14 +36,29 @@ def test_a_bare_range_uses_the_files_box(tmp_path: Path) -> None:
     ("argv", "says"),
     [
         (["examples/ours.toml", "--range", "k1"], "has no [ranges] entry for k1"),
-        (["--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "b=10", "--set", "k1=1000",
-          "--range", "kd"], "takes them from a design file's [ranges]"),  # fmt: skip
+        (
+            [
+                "--D1",
+                "k1",
+                "--CL",
+                "kd",
+                "--set",
+                "m=1",
+                "--set",
+                "b=10",
+                "--set",
+                "k1=1000",
+                "--range",
+                "kd",
+            ],
+            "takes them from a design file's [ranges]",
+        ),
         (["examples/ours.toml", "--range", "kd", "--range", "kd=0:1"], "given twice"),
     ],
 )
 def test_a_bare_range_without_a_file_box_is_one_error(
     argv: list[str], says: str, tmp_path: Path
 ) -> None:
-    code, out, err = _cli(["sweep", *argv, "--sample", "5", "--no-progress",
+    code, _out, err = _cli(["sweep", *argv, "--sample", "5", "--no-progress",
                            "--out", str(tmp_path / "x.csv")])  # fmt: skip
     assert code == 2 and err.count("\n") == 1 and err.startswith("error: ") and says in err, err
