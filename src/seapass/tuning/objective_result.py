@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -134,8 +135,8 @@ class ObjectiveTuningResult:
     violations: tuple[str, ...]
     load_masses: tuple[float, ...]
     stiffness: str | None = None
-    box: Mapping[str, tuple[float, float]] = field(default_factory=dict)
-    bounds: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    box: Mapping[str, tuple[float, float]] = field(default_factory=lambda: MappingProxyType({}))
+    bounds: Mapping[str, tuple[float, float]] = field(default_factory=lambda: MappingProxyType({}))
     passivity_checks: int = 0
     sampled_checks: int = 0
     budget_exhausted: int = 0
