@@ -175,3 +175,19 @@ def test_result_displays_and_plots() -> None:
     data = r.response(50)
     assert set(data["curves"]) == {"passive optimum", "unconstrained", "target"}
     assert r.plot(points=50) is not None
+
+
+def test_lp_force_bandwidth_has_a_closed_form() -> None:
+    # LP with the load clamped: G/G(0) = k1/(m s^2 + b s + k1), whatever kd;
+    # |G/G(0)|^2 = 1/2 at w^2 = (1900 + sqrt(1900^2 + 4e6))/2 for m = 1, b = 10, k1 = 1000
+    r = _tune("LP", InteractionObjective(kind="force-bandwidth"), maxiter=1)
+    assert r.value == pytest.approx(math.sqrt((1900 + math.sqrt(1900**2 + 4e6)) / 2), rel=1e-9)
+
+
+def test_a_reachable_target_is_found() -> None:
+    # the target is LP's own rendered stiffness at kd = 600: the optimum is kd = 600, error 0
+    target = "1000*(s^2 + 10*s + 600)/(s^2 + 10*s + 1000)"
+    spec = InteractionObjective(kind="rendering", target=target, band=(0.5, 200.0))
+    r = _tune("LP", spec, maxiter=15, popsize=6)
+    assert r.gains["kd"] == pytest.approx(600.0, rel=1e-2) and r.value < 1e-2
+    assert r.passivity_cost == 0.0 and r.feasible
