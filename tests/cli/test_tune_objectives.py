@@ -36,7 +36,10 @@ def _cli(argv: list[str]) -> tuple[int, str, str]:
 def _json(argv: list[str]) -> dict:
     code, out, err = _cli([*argv, *BUDGET, "--json"])
     assert code == 0, err
-    return json.loads(out)
+    result = json.loads(out)
+    assert isinstance(result, dict)
+    result["_stderr"] = err
+    return result
 
 
 def _consistent(d: dict) -> None:
@@ -65,6 +68,7 @@ def test_rendering_on_the_cascaded_file_checks_its_rate_too() -> None:
                "--band", "1:100", "--tune", "kp", "--tune", "ba"])  # fmt: skip
     assert d["passive"] and d["sampled_passive"] and d["period"] == pytest.approx(1e-3)
     assert d["load_masses"] == [0.5, 2.0, 5.0] and d["target"] == "kv + bv*s"
+    assert "note: passivity also required at the design file's 1000 Hz" in d["_stderr"]
     _consistent(d)
 
 

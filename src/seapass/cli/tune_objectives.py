@@ -8,6 +8,7 @@ the interaction-control objectives each stay short; the library job is
 from __future__ import annotations
 
 import argparse
+import sys
 import warnings
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
@@ -84,6 +85,13 @@ def run_objective(
         print_json(result.to_dict())
     else:
         print_objective(result)
+    loop = getattr(design, "loop", None)
+    if loop is not None and opts.loop is not None and args.period is None:
+        print(
+            f"note: passivity also required at the design file's {loop.rate:g} Hz "
+            "([control]); --continuous drops it",
+            file=sys.stderr,
+        )
     return 0 if result.feasible else 1
 
 
