@@ -97,7 +97,7 @@ def run_objective(
 
 def print_objective(result: ObjectiveTuningResult) -> None:
     """The text output: the gains, what was achieved, what passivity cost."""
-    from ..tuning.objectives import value_text
+    from ..tuning.objective_result import value_text
 
     kind, unit = result.kind, result.unit
     c, u = result.constrained, result.unconstrained

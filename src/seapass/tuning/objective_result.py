@@ -22,11 +22,10 @@ from .objectives import (
     ObjectiveFunction,
     response_at,
     static_gain,
-    value_text,
 )
 from .problem import ResolvedTuning
 
-__all__ = ["ObjectiveOptimum", "ObjectiveTuningResult"]
+__all__ = ["ObjectiveOptimum", "ObjectiveTuningResult", "value_text"]
 
 
 @dataclass(frozen=True, repr=False, kw_only=True)
@@ -266,3 +265,12 @@ class ObjectiveTuningResult:
         verdict = "feasible" if self.feasible else "not feasible: " + ", ".join(self.violations)
         return html_card(f"Tuning {self.design} for {self.kind}: {verdict}", rows,
                          note=" ".join(self.warnings))  # fmt: skip
+
+
+def value_text(kind: Interaction, value: float, unit: str = "") -> str:
+    """The objective's value for people: a percent, rad/s (and Hz) or a stiffness."""
+    if kind is Interaction.RENDERING:
+        return f"{100 * value:.4g} %"
+    if kind is Interaction.FORCE_BANDWIDTH:
+        return f"{value:.6g} rad/s ({value / (2 * math.pi):.4g} Hz)"
+    return f"{value:.6g} {unit}".strip()

@@ -72,7 +72,6 @@ __all__ = [
     "squash",
     "static_gain",
     "stiffness_gain",
-    "value_text",
 ]
 
 DEFAULT_BANDWIDTH_BAND = (1e-2, 1e5)
@@ -479,20 +478,11 @@ def _target(text: str, sea: SEA) -> _Rat:
     missing = [n for n in names if sea.values.get(n) is None]
     if missing:
         raise ParameterError(
-            f"target {text!r}: {', '.join(missing)} has no value in the design; "
+            f"target: {text!r} uses {', '.join(missing)}, which has no value in the design; "
             "give numbers or parameters with values",
             argument="target",
         )
     num, den = rf.evaluate(exact_values({n: sea.values[n] for n in names}))
     if num == 0:
-        raise ParameterError(f"target {text!r} is zero", argument="target")
+        raise ParameterError(f"target: {text!r} is zero", argument="target")
     return (num, den)
-
-
-def value_text(kind: Interaction, value: float, unit: str = "") -> str:
-    """The objective's value for people: a percent, rad/s (and Hz) or a stiffness."""
-    if kind is Interaction.RENDERING:
-        return f"{100 * value:.4g} %"
-    if kind is Interaction.FORCE_BANDWIDTH:
-        return f"{value:.6g} rad/s ({value / (2 * math.pi):.4g} Hz)"
-    return f"{value:.6g} {unit}".strip()
