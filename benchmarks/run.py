@@ -37,6 +37,7 @@ import bench_robust  # noqa: E402
 import bench_sampled  # noqa: E402
 import bench_startup  # noqa: E402
 import bench_sweep  # noqa: E402
+import bench_tune  # noqa: E402
 from _util import Row, fmt_rate  # noqa: E402
 from seapass.files.atomic import atomic_write_text  # noqa: E402
 
@@ -114,6 +115,7 @@ def main(argv: list[str] | None = None) -> int:
         bench_ports,
         bench_robust,
         bench_delay,
+        bench_tune,
     ):
         print(f"running {mod.__name__} ...", file=sys.stderr, flush=True)
         r, n = mod.run(args.quick)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import pathlib
 import sys
+from typing import Any
 
 from ..errors import ParameterError, did_you_mean
 from ..files.atomic import check_writable
@@ -32,6 +33,7 @@ EXAMPLE = """examples:
       --out sweep.parquet --heatmap kd,bd --plot sweep.png
   seapass sweep --D1 k1 --CL kd --set m=1 --set b=10 --sample 100000 \\
       --range k1=100:5000 --range kd=0:5000 --seed 1 --no-metrics --out lp.csv
+  seapass sweep examples/ours.toml --sample 1000 --range kd --range bd --out ours.csv
   seapass sweep ... --out big.parquet --resume            # continue an interrupted sweep
   seapass sweep ... --out lp.csv --force    # replace an lp.csv that seapass did not write
   seapass sweep ... --out big/ --scheduler local          # one Dask worker per core
@@ -67,7 +69,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
                    help="grid axis, inclusive, repeatable, e.g. kd=0:5000:200")  # fmt: skip
     g.add_argument("--sample", type=int, metavar="N", help="number of random designs")
     g.add_argument("--range", action="append", default=[], metavar="NAME=LO:HI",
-                   help="uniform random range, repeatable, e.g. kd=0:5000")  # fmt: skip
+                   help="uniform random range, repeatable, e.g. kd=0:5000; NAME alone: the "
+                   "design file's [ranges] box")  # fmt: skip
     g.add_argument("--seed", type=int, default=0, help="random seed")
     m = p.add_argument_group("metrics")
     m.add_argument(
@@ -118,6 +121,38 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     p.set_defaults(func=run)
 
 
+def _file_ranges(args: argparse.Namespace, names: list[str], given: list[Any]) -> list[Any]:
+    """``--range NAME`` (no bounds): the box of NAME in the design file's ``[ranges]``."""
+    from ..model.design_file import load_design
+    from ..sweep import RangeAxis
+
+    if not names:
+        return []
+    path = getattr(args, "design", None)
+    if path is None:
+        raise ParameterError(
+            f"--range {names[0]}: without bounds it takes them from a design file's [ranges]; "
+            f"give a design file or --range {names[0]}=LO:HI"
+        )
+    design = load_design(path)
+    out = []
+    seen = {a.name for a in given}
+    for name in names:
+        if not name.isidentifier():
+            raise ParameterError(f"--range {name!r}: expected NAME=LO:HI or NAME, e.g. kd=0:5000")
+        if name in seen:
+            raise ParameterError(f"--range {name} is given twice; give each name once")
+        seen.add(name)
+        if name not in design.ranges:
+            listed = ", ".join(sorted(design.ranges)) or "none"
+            raise ParameterError(
+                f"--range {name}: {path} has no [ranges] entry for {name} (it has: {listed}); "
+                f"give --range {name}=LO:HI or add '{name} = [LO, HI]' to its [ranges]"
+            )
+        out.append(RangeAxis(name, *design.ranges[name]))
+    return out
+
+
 def run(args: argparse.Namespace) -> int:
     from ..model.expr import parse_value
     from ..sweep import GridAxis, RangeAxis, SweepSpec, heatmap_data, run_design_sweep
@@ -131,10 +166,12 @@ def run(args: argparse.Namespace) -> int:
             args.grid, "--grid", 3, "NAME=LO:HI:STEP, e.g. kd=0:5000:200"
         )
     ]
+    given = [r for r in args.range if "=" in r]
     ranges = [
         RangeAxis(name, *(parse_value(v, f"--range {name}") for v in parts))
-        for name, parts in parse_named(args.range, "--range", 2, "NAME=LO:HI, e.g. kd=0:5000")
+        for name, parts in parse_named(given, "--range", 2, "NAME=LO:HI, e.g. kd=0:5000")
     ]
+    ranges += _file_ranges(args, [r.strip() for r in args.range if "=" not in r], ranges)
     if bool(grid) == bool(ranges):
         raise ParameterError(
             "give grid axes (--grid NAME=LO:HI:STEP, repeatable) or random ranges "

@@ -22,6 +22,7 @@ from .common import (
 )
 from .design_options import add_unit_option, units_from_args
 from .loop_options import add_loop_options
+from .tune_objectives import add_objective_options, run_objective
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     from ..model.design_file import Design
@@ -35,6 +36,10 @@ EXAMPLE = """examples:
   seapass tune --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
       --set b1=30 --tune kd=0:5000 --tune bd=0:300 --period 0.002 --max-overshoot 5
   seapass tune ours --load-mass 10 --quick
+  seapass tune examples/cascaded_impedance.toml --objective rendering \
+      --target "kv + bv*s" --band 1:100 --quick
+  seapass tune APD --objective force-bandwidth --quick --json
+  seapass tune examples/ours.toml --objective zwidth --tune bd --max-boxes 500 --quick
 
 DESIGN is a design file (TOML, see 'seapass analyze --help') or one of the paper's
 designs LP, APD, ours (m = 1 kg, b = 10 N*s/m, k1 = 1000 N/m); or give the model
@@ -49,6 +54,9 @@ that could become the best is checked with the exact passivity test (and the
 sampled-data test with --period).  Exit code 0 when the result is feasible,
 1 when no passive gains within the limits were found, 2 on bad input.
 """
+
+
+_OBJECTIVES = ("settling", "itae", "rendering", "force-bandwidth", "zwidth")
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,unused-ignore]
@@ -71,8 +79,12 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
                    help="allow --tune to name plant parameters (k1, b1, --plant/[plant] values) "
                    "that the design file gives no [ranges] entry: redesign the hardware")  # fmt: skip
     g.add_argument("--bound", action="append", default=[], help=argparse.SUPPRESS)  # old name
-    g.add_argument("--objective", default="settling", choices=("settling", "itae"),
-                   help="settling: 2%% settling time; itae: integral of t*|error| (default: settling)")  # fmt: skip
+    g.add_argument("--objective", default="settling", choices=_OBJECTIVES,
+                   help="settling: 2%% settling time; itae: integral of t*|error|; rendering: "
+                   "worst relative error of F_L/X_L to --target over --band; force-bandwidth: "
+                   "-3 dB force bandwidth with the load clamped; zwidth: largest passive "
+                   "virtual stiffness at the loop rate (default: settling)")  # fmt: skip
+    add_objective_options(g)
     g.add_argument("--max-overshoot", type=float, metavar="PCT",
                    help="overshoot limit in percent of the step (default: none)")  # fmt: skip
     g.add_argument("--force-limit", type=float, metavar="N",
@@ -171,7 +183,7 @@ def options_from_args(args: argparse.Namespace, file: Design | None) -> TuningOp
 
     limit = {} if args.force_limit is None else {"force_limit": args.force_limit}
     opts = TuningOptions(
-        objective=args.objective,
+        objective=args.objective if args.objective in ("settling", "itae") else "settling",
         max_overshoot=None if args.max_overshoot is None else args.max_overshoot / 100.0,
         **({"force_limit": None} if args.no_force_limit else limit),
         load_mass=args.load_mass,
@@ -232,6 +244,8 @@ def run(args: argparse.Namespace) -> int:
     design, file, values = _design(args, boxes)
     opts = options_from_args(args, file)
     check_step(args.step)
+    if args.objective not in ("settling", "itae"):
+        return run_objective(args, design, boxes, values, opts)
     with warnings.catch_warnings(), choose_progress(not args.no_progress) as progress:
         warnings.simplefilter("ignore", TuningWarning)  # printed below, once, as lines
         result = tune(

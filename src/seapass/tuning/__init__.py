@@ -7,7 +7,11 @@ optimizer minimizes: the simulated objective, penalties for the force and
 overshoot limits, exact continuous and sampled passivity where it matters),
 [`search`][seapass.tuning.search] (differential evolution with a seed, its progress
 and a clean Ctrl-C) and [`optimize`][seapass.tuning.optimize] (`tune`, the
-one entry point, and its `TuningResult`).
+step-response entry point, and its `TuningResult`); the interaction-control objectives
+in [`objectives`][seapass.tuning.objectives] (rendering fidelity, force bandwidth,
+Z-width), their entry point [`interaction`][seapass.tuning.interaction]
+(`tune_objective`, constrained and unconstrained) and its result in
+[`objective_result`][seapass.tuning.objective_result].
 
 May import: [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.progress],
 [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
@@ -16,15 +20,23 @@ May import: [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.pro
 [`seapass.outcome`][seapass.outcome].
 """
 
+from .interaction import tune_objective
+from .objective_result import ObjectiveOptimum, ObjectiveTuningResult
+from .objectives import Interaction, InteractionObjective
 from .optimize import TuningResult, tune
 from .problem import QUICK_OPTIONS, Objective, TuningOptions, TuningProblem, resolve_problem
 
 __all__ = [
     "QUICK_OPTIONS",
+    "Interaction",
+    "InteractionObjective",
     "Objective",
+    "ObjectiveOptimum",
+    "ObjectiveTuningResult",
     "TuningOptions",
     "TuningProblem",
     "TuningResult",
     "resolve_problem",
     "tune",
+    "tune_objective",
 ]

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -252,8 +252,12 @@ def tuning_data(
     )  # fmt: skip
 
 
-def _gains_text(tr: TuningResult) -> str:
-    return ", ".join(f"{k} = {g:.5g}" for k, g in tr.gains.items())
+def _gains_text(tr: TuningResult, units: Mapping[str, str] | None = None) -> str:
+    """``"kd = 1708 N/m, bd = 300 N*s/m"``: each gain with its declared (or default) unit."""
+    units = units or {}
+    return ", ".join(
+        f"{k} = {g:.5g}" + (f" {units[k]}" if units.get(k) else "") for k, g in tr.gains.items()
+    )
 
 
 def tuning_figures(design: Design, data: TuningData) -> tuple[FigureData, ...]:
@@ -279,14 +283,16 @@ def tuning_section(design: Design, data: TuningData, figures: Sequence[FigureDat
             "tuning", title, text=f"Nothing to tune: {data.refused}.",
             findings=(Finding("Some gains in the box are passive", Verdict.DIFFERS, data.refused),),
         )  # fmt: skip
-    gains = _gains_text(tr)
+    units = design.unit_map()
+    gains = _gains_text(tr, units)
     table = Table(
         name="tuned_gains",
         title="Tuned gains vs the file's gains",
-        columns=("gain", "file value", "tuned", "search range", "at the edge"),
+        columns=("gain", "unit", "file value", "tuned", "search range", "at the edge"),
         rows=tuple(
             (
                 g,
+                units.get(g, "") or "-",
                 design.values.get(g),
                 tr.gains[g],
                 f"[{tr.box[g][0]:g}, {tr.box[g][1]:g}]",
