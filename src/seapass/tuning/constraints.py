@@ -265,7 +265,7 @@ def constrained_problem(
         tau = float(check_tau(problem.sea.values[name], name))
         if loop is not None:
             raise ParameterError(
-                f"a continuous delay exp(-{name}*s) and a sampled loop (options.loop) together "
+                f"a continuous delay exp(-{name}*s) and a sampled-data loop together "
                 "are not supported; give one (loop=None for the continuous delay)",
                 argument="loop",
             )
@@ -277,8 +277,8 @@ def constrained_problem(
     if box is not None:
         if loop is not None:
             raise ParameterError(
-                "box: sampled-data passivity over a box is not supported by tune; drop the "
-                "sampled loop (loop=None) or the box",
+                "sampled-data passivity over a box of uncertain plants is not supported by "
+                "tune; drop the sampled loop (loop=None) or the box",
                 argument="loop",
             )
         return problem, PassivityConstraint(

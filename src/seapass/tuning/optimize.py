@@ -142,8 +142,9 @@ class TuningResult:
 
     @property
     def robustness_cost(self) -> float | None:
-        """Objective here minus the nominal tune's (over a box; None otherwise)."""
-        return None if self.nominal is None else self.objective - self.nominal.objective
+        """Objective here minus the nominal tune's (over a box, both feasible; else None)."""
+        ok = self.nominal is not None and self.feasible and self.nominal.feasible
+        return self.objective - self.nominal.objective if ok else None  # type: ignore[union-attr]
 
     @property
     def passive(self) -> bool:
