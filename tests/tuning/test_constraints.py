@@ -23,6 +23,7 @@ from seapass.model.sea import SEA
 from seapass.outcome import Outcome
 from seapass.robust.verdict import robust_check
 from seapass.tuning.constraints import (
+    LATENCY,
     ConstraintKind,
     constrained_problem,
     delay_free,
@@ -212,3 +213,27 @@ def test_nominal_constraint_without_options() -> None:
     assert c.kind is ConstraintKind.EXACT and problem.gains == ("kd", "bd")
     assert c.passive((500.0, 25.0)) and c.to_dict()["kind"] == "exact"
     assert not c.passive((500.0, -250.0))  # negative damping: not passive
+
+
+def test_a_design_files_loop_latency_delays_both_controllers() -> None:
+    # [control] delay_time (parsed by the design file when it gives one) is the attribute
+    # constraints.LATENCY; this design stands in for a parsed file
+    from seapass.model.design_file import parse_design
+
+    doc = {
+        "name": "lat",
+        "model": {"D1": "k1 + b1*s", "CA": "kd + bd*s"},
+        "parameters": {**PLANT, "kd": 500.0, "bd": 25.0},
+    }
+    design = parse_design(doc)
+    object.__setattr__(design, LATENCY, TAU)  # as the parsed [control] delay_time = 0.01
+    problem, c = constrained_problem(design, GAINS)
+    assert c.kind is ConstraintKind.DELAY and c.delay == LATENCY and c.tau == TAU
+    assert "exp" not in str(problem.sea.CA) and "exp(-delay_time*s)" in str(c.sea.CA)
+    # the same verdict as the model written with the delay by hand
+    x = (1163.72, 294.174)
+    assert c.verdict(x).outcome is Outcome.NOT_PASSIVE
+    assert (
+        delayed_passivity(_delayed().with_values(kd=x[0], bd=x[1])).outcome is Outcome.NOT_PASSIVE
+    )
+    assert c.verdict((400.0, 100.0)).outcome is Outcome.PASSIVE

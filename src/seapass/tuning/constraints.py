@@ -19,6 +19,9 @@
   design's value of each uncertain parameter when it lies in the box, else the
   box's center (`nominal_values`).
 
+A design file's loop latency ``[control] delay_time`` (the attribute `LATENCY` of its
+`Design`, when the file gives one) is a delay ``exp(-delay_time*s)`` on both controllers.
+
 The final gains are rounded for printing (`rounded_gains`) and the rounded
 values are the ones verified, so a printed gain claimed passive is passive.
 
@@ -38,7 +41,7 @@ from typing import Any
 
 from ..analysis.passivity import PassivityResult, is_passive
 from ..delay.passivity import DelayPassivityResult, delayed_passivity
-from ..delay.structure import check_tau
+from ..delay.structure import check_tau, controller_delay
 from ..errors import ParameterError, SeapassError
 from ..model.delayatom import model_delays
 from ..model.sea import SEA
@@ -56,6 +59,7 @@ from .problem import (
 )
 
 __all__ = [
+    "LATENCY",
     "ConstraintKind",
     "PassivityConstraint",
     "constrained_problem",
@@ -66,6 +70,11 @@ __all__ = [
 ]
 
 Verdict = PassivityResult | DelayPassivityResult | RobustResult
+
+LATENCY = "delay_time"
+"""The attribute of a design file's loop latency, ``[control] delay_time`` in seconds: it
+multiplies both controllers by ``exp(-delay_time*s)``
+([`controller_delay`][seapass.delay.structure.controller_delay])."""
 
 DIGITS = (6, 8, 10, 12, 15, 17)
 """Significant digits tried, in order, for the printed (and verified) final gains."""
@@ -238,11 +247,6 @@ def constrained_problem(
     box = None
     given = dict(values or {})
     if uncertain is not None:
-        if delays:
-            raise ParameterError(
-                "box: a box of uncertain plants on a delayed design is not supported; tune "
-                "at the delay or over the box"
-            )
         box = uncertain_box(sea0, uncertain)
         tuned = set(wanted) if wanted is not None and not isinstance(wanted, str) else set(defaults)
         for name in box.names:
@@ -260,7 +264,17 @@ def constrained_problem(
         given.update(nominal_values(sea0, box.intervals, given))
     problem = resolve_problem(design, wanted, opts, given or None, allow_plant=allow_plant)
     loop = problem.options.loop
+    latency = getattr(design, LATENCY, None)  # a design file's [control] delay_time
+    if latency and not delays:  # the loop latency delays both controllers
+        delays = (LATENCY,)
+        delayed = controller_delay(problem.sea, LATENCY).with_values(**{LATENCY: latency})
+        problem = dc_replace(problem, sea=delayed)
     if delays:
+        if box is not None:
+            raise ParameterError(
+                "box: a box of uncertain plants on a delayed design is not supported; tune "
+                "at the delay or over the box"
+            )
         (name,) = delays
         tau = float(check_tau(problem.sea.values[name], name))
         if loop is not None:
