@@ -5,6 +5,9 @@ their box, the objective and the limits: `TuningOptions`, validated into a
 `TuningProblem` before any work), [`cost`][seapass.tuning.cost] (what the
 optimizer minimizes: the simulated objective, penalties for the force and
 overshoot limits, exact continuous and sampled passivity where it matters),
+[`constraints`][seapass.tuning.constraints] (the one passivity constraint of a run:
+exact, certified at a fixed continuous delay, or certified for every plant in a box),
+[`limits`][seapass.tuning.limits] (what a tuned design misses, one sentence each),
 [`search`][seapass.tuning.search] (differential evolution with a seed, its progress
 and a clean Ctrl-C) and [`optimize`][seapass.tuning.optimize] (`tune`, the
 one entry point, and its `TuningResult`).
@@ -13,18 +16,24 @@ May import: [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.pro
 [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
 [`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim],
 [`seapass.sampled`][seapass.sampled] (the sampled-data passivity constraint),
+[`seapass.delay`][seapass.delay] (the certified constraint at a delay),
+[`seapass.robust`][seapass.robust] (the certified constraint over a box),
 [`seapass.outcome`][seapass.outcome].
 """
 
+from .constraints import ConstraintKind, PassivityConstraint, constrained_problem
 from .optimize import TuningResult, tune
 from .problem import QUICK_OPTIONS, Objective, TuningOptions, TuningProblem, resolve_problem
 
 __all__ = [
     "QUICK_OPTIONS",
+    "ConstraintKind",
     "Objective",
+    "PassivityConstraint",
     "TuningOptions",
     "TuningProblem",
     "TuningResult",
+    "constrained_problem",
     "resolve_problem",
     "tune",
 ]

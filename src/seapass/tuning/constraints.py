@@ -125,12 +125,15 @@ class PassivityConstraint:
     def verdict(self, x: Sequence[float]) -> Verdict:
         """The full verdict of the constraint's test at the gains ``x``."""
         sea = self.design(x)
-        budget = {} if self.budget is None else {"budget": self.budget}
         if self.kind is ConstraintKind.DELAY:
-            return delayed_passivity(sea, **budget)
+            if self.budget is None:
+                return delayed_passivity(sea)
+            return delayed_passivity(sea, budget=self.budget)
         if self.kind is ConstraintKind.BOX:
             assert self.box is not None
-            return robust_check(sea, box=self.box, **budget)
+            if self.budget is None:
+                return robust_check(sea, box=self.box)
+            return robust_check(sea, box=self.box, budget=self.budget)
         return is_passive(sea)
 
     def passive(self, x: Sequence[float]) -> bool:

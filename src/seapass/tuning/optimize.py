@@ -382,7 +382,7 @@ def tune(
         generations=int(found.nit), constraint=constraint,
     )  # fmt: skip
     if constraint.kind is ConstraintKind.BOX:  # the nominal tune, same plant and budget
-        fixed = {n: problem.sea.values[n] for n in constraint.box.names}  # type: ignore[union-attr]
+        fixed = {n: float(problem.sea.values[n] or 0) for n in constraint.box.names}  # type: ignore[union-attr]
         with warnings.catch_warnings():  # the nominal run's own notes are not this result's
             warnings.simplefilter("ignore", TuningWarning)
             nominal = _nominal_tune(design, tune=dict(problem.box), options=opts,
