@@ -37,7 +37,7 @@ EXAMPLE = """examples:
   seapass tune --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
       --set b1=30 --tune kd=0:5000 --tune bd=0:300 --period 0.002 --max-overshoot 5
   seapass tune ours --load-mass 10 --quick
-  seapass tune --D1 "k1 + b1*s" --CA "(kd + bd*s)*exp(-tau*s)" --set m=1 --set b=10 \
+  seapass tune --D1 "k1 + b1*s" --CA "(kd + bd*s)*exp(-tau*s)" --set m=1 --set b=10 \\
       --set k1=1000 --set b1=30 --set tau=0.001 --tune kd=0:5000 --tune bd=0:300
   seapass tune ours --uncertain m=0.8:1.2 --uncertain k1=900:1100 --json
 
@@ -49,14 +49,15 @@ default: the controller gains (the parameters of CA and CL that are not plant
 parameters; LP/APD/ours: the catalog's gains).  Every other parameter stays at
 its value.  Plant parameters (m, b, k1, k2, b1, b2, those of D1/D2, [plant] or
 --plant) are the hardware: --tune names one only with a [ranges] entry in the
-design file, or with --allow-plant.  Every candidate
-that could become the best is checked with the exact passivity test (and the
-sampled-data test with --period).  A delay factor exp(-NAME*s) in the model
-(NAME given a value in seconds) makes the constraint passivity at that delay,
-certified; --uncertain NAME=LO:HI makes it passivity for every plant in the box
-(certified; the nominal tune runs too and the robustness cost is printed).
-Undecided counts as not passive.  The printed gains are the verified ones.  Exit code 0 when the result is feasible,
-1 when no passive gains within the limits were found, 2 on bad input.
+design file, or with --allow-plant.  Every candidate that could become the best
+is checked with the exact passivity test (and the sampled-data test with
+--period).  A delay factor exp(-NAME*s) in the model (NAME given a value in
+seconds) makes the constraint passivity at that delay, certified (the step
+response is the delay-free loop's); --uncertain NAME=LO:HI makes it passivity
+for every plant in the box, certified (the nominal tune runs too and the
+robustness cost is printed).  Undecided counts as not passive.  The printed
+gains are the verified ones.  Exit code 0 when the result is feasible, 1 when
+no passive gains within the limits were found, 2 on bad input.
 """
 
 

@@ -237,6 +237,7 @@ class TuningResult:
     def _repr_html_(self) -> str:
         o, m = self.options, self.metrics
         verdict = "feasible" if self.feasible else "not feasible: " + ", ".join(self.violations)
+        how = self.constraint.label if self.constraint else "exact"
         rows: list[tuple[str, Any]] = [
             (
                 name,
@@ -248,7 +249,7 @@ class TuningResult:
         rows += [
             ("verdict", verdict),
             (f"objective ({o.objective})", f"{self.objective:.6g} {Objective(o.objective).unit}"),
-            ("passive (exact)", "yes" if self.passive else "no"),
+            (f"passive ({how})", "yes" if self.passive else "no"),
         ]
         if self.sampled_passive is not None and o.loop is not None:
             rows.append(
