@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import re
 import sys
 import warnings
 from collections.abc import Iterator, Mapping, Sequence
@@ -240,13 +241,10 @@ def run(args: argparse.Namespace) -> int:
     from ..robust.box import parse_uncertain
     from ..tuning.optimize import tune
     from .progress import choose_progress
-    from .uncertain_options import box_error
 
     boxes = parse_tune([*args.tune, *args.bound])
-    try:
+    with box_words():
         uncertain = parse_uncertain(args.uncertain)
-    except ParameterError as exc:
-        raise box_error(exc) from None
     for name in sorted(set(uncertain) & set(values_from_args(args))):
         raise ParameterError(f"--set {name}: {name} is uncertain (--uncertain {name}); give one")
     if args.budget < 1:
@@ -321,14 +319,23 @@ def _print_text(result: TuningResult, units: Mapping[str, str] | None = None) ->
         )
 
 
+def box_text(text: str) -> str:
+    """A library message about ``box`` in the words of ``--uncertain`` (and ``--continuous``).
+
+    >>> box_text("box['m']: empty (loop=None)")
+    '--uncertain m: empty (--continuous)'
+    """
+    text = re.sub(r"box\['(\w+)'\]", r"--uncertain \1", text)
+    text = re.sub(r"e\.g\. box=\{'(\w+)': \([^)]*\)\}", r"e.g. --uncertain \1=LO:HI", text)
+    return text.replace("loop=None", "--continuous")
+
+
 @contextlib.contextmanager
 def box_words() -> Iterator[None]:
-    """Library errors about ``box`` / ``budget`` in the words of ``--uncertain`` / ``--budget``."""
-    from .uncertain_options import box_error
-
+    """Library errors about ``box`` and the loop in the words of the command line."""
     try:
         yield
     except ParameterError as exc:
-        if "box" in str(exc) or exc.argument in ("box", "budget", "loop"):
-            raise box_error(ParameterError(str(exc).replace("loop=None", "--continuous"))) from None
+        if "box" in str(exc) or exc.argument in ("box", "loop"):
+            raise ParameterError(box_text(str(exc))) from None
         raise

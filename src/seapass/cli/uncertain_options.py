@@ -18,13 +18,7 @@ from typing import Any
 from ..errors import ParameterError
 from .common import print_json, values_from_args, warn_unrealizable
 
-__all__ = [
-    "CLI_BUDGET",
-    "add_uncertain_options",
-    "box_error",
-    "run_robust_bound",
-    "run_robust_check",
-]
+__all__ = ["CLI_BUDGET", "add_uncertain_options", "run_robust_bound", "run_robust_check"]
 
 CLI_BUDGET = 5000  # seapass.robust.verdict.DEFAULT_BUDGET (a test keeps them equal)
 
@@ -153,8 +147,3 @@ def run_robust_bound(args: argparse.Namespace) -> int:
         outer = ", ".join(enclosure_text(a, b, digits=10) for a, b in result.outer) or "empty"
         print(f"certified: inner set above; no value outside {outer} is robustly passive")
     return 0
-
-
-def box_error(exc: ParameterError) -> ParameterError:
-    """A library error about ``box`` / ``budget`` in the words of ``--uncertain`` / ``--budget``."""
-    return _cli_text(exc)
