@@ -119,6 +119,39 @@ def test_bad_input_is_one_error_line(extra: list[str], says: str) -> None:
     assert says in err, err
 
 
+DELAYED = ["--D1", "k1 + b1*s", "--CA", "(kd + bd*s)*exp(-tau*s)", "--set", "m=1",
+           "--set", "b=10", "--set", "k1=1000", "--set", "b1=30", "--set", "tau=0.001",
+           "--tune", "kd=0:5000", "--tune", "bd=0:300"]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("argv", "says"),
+    [
+        (
+            [*DELAYED, "--objective", "rendering", "--target", "1000", "--band", "1:50"],
+            "the interaction objectives (rendering, force-bandwidth, zwidth) need a delay-free",
+        ),
+        (
+            ["APD", "--objective", "force-bandwidth", "--uncertain", "m=1:2"],
+            "--uncertain works with --objective settling or itae, not force-bandwidth",
+        ),
+    ],
+)
+def test_objectives_refuse_a_delay_or_a_box(argv: list[str], says: str) -> None:
+    code, out, err = _cli(["tune", *argv, *BUDGET])
+    assert code == 2 and out == "" and err.count("\n") == 1 and err.startswith("error: "), err
+    assert says in err, err
+
+
+def test_help_examples_are_one_command_per_line() -> None:
+    # a lone backslash at a line's end inside the help text would join two lines
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), pytest.raises(SystemExit):
+        main(["tune", "--help"])
+    lines = out.getvalue().splitlines()
+    assert any(line.strip().startswith("--target") for line in lines)
+
+
 def test_help_shows_the_objectives_and_examples() -> None:
     out = io.StringIO()
     with contextlib.redirect_stdout(out), pytest.raises(SystemExit):

@@ -19,7 +19,7 @@ EXAMPLE = """examples:
   seapass bound kd examples/lp.toml --json
   seapass bound kd --D1 "k1 + b1*s" --CL kd --set m=1 --set b=10 --set k1=1000 \\
       --set b1=20 --range kd=0:1e5 --json
-  seapass bound kd --D1 k1 --CL kd --set m=1 --set b=10 --range kd=0:2000 \
+  seapass bound kd --D1 k1 --CL kd --set m=1 --set b=10 --range kd=0:2000 \\
       --uncertain k1=800:1200 --json     # passive for every plant in the box
 
 PARAM is the free parameter: give every other parameter with --set (or in the

@@ -19,13 +19,13 @@ EXAMPLE = """examples:
       --set b1=20 --set bd=25 --set kd=5000 --json
   seapass check --Z "(s + 1)/(s + 2)"
   seapass check --Z "k*s/(s**2 + k)" --set k=1e8
-  seapass check --D1 k1 --CL kd --set b=10 --set k1=1000 --set kd=500 \
+  seapass check --D1 k1 --CL kd --set b=10 --set k1=1000 --set kd=500 \\
       --uncertain m=0.9:1.1 --uncertain b=8:12 --json     # every plant in the box
   seapass check --D1 "k1 + b1*s" --controller impedance --force-loop "kp + ki/s" \\
       --impedance "kv + bv*s" --damping-injection ba --feedforward --explain \\
       --set m=0.4 --set b=3 --set k1=2500 --set b1=2 --set kp=2 --set ki=20 \\
       --set kv=1000 --set bv=5 --set ba=20
-  seapass check --D1 "k1 + b1*s" --CA "(kd + bd*s)*exp(-tau*s)" --set m=1 --set b=10 \
+  seapass check --D1 "k1 + b1*s" --CA "(kd + bd*s)*exp(-tau*s)" --set m=1 --set b=10 \\
       --set k1=1000 --set b1=20 --set kd=500 --set bd=25 --set tau=0.001 --json
 
 A delay factor exp(-NAME*s) (NAME a parameter in seconds) is decided with certified

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
+import re
 import sys
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING
 
 from ..errors import ParameterError, TuningWarning
@@ -23,6 +25,7 @@ from .common import (
 from .design_options import add_unit_option, units_from_args
 from .loop_options import add_loop_options
 from .tune_objectives import add_objective_options, run_objective
+from .uncertain_options import add_uncertain_options
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     from ..model.design_file import Design
@@ -36,10 +39,13 @@ EXAMPLE = """examples:
   seapass tune --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
       --set b1=30 --tune kd=0:5000 --tune bd=0:300 --period 0.002 --max-overshoot 5
   seapass tune ours --load-mass 10 --quick
-  seapass tune examples/cascaded_impedance.toml --objective rendering \
+  seapass tune examples/cascaded_impedance.toml --objective rendering \\
       --target "kv + bv*s" --band 1:100 --quick
   seapass tune APD --objective force-bandwidth --quick --json
   seapass tune examples/ours.toml --objective zwidth --tune bd --max-boxes 500 --quick
+  seapass tune --D1 "k1 + b1*s" --CA "(kd + bd*s)*exp(-tau*s)" --set m=1 --set b=10 \\
+      --set k1=1000 --set b1=30 --set tau=0.001 --tune kd=0:5000 --tune bd=0:300
+  seapass tune ours --uncertain m=0.8:1.2 --uncertain k1=900:1100 --json
 
 DESIGN is a design file (TOML, see 'seapass analyze --help') or one of the paper's
 designs LP, APD, ours (m = 1 kg, b = 10 N*s/m, k1 = 1000 N/m); or give the model
@@ -49,10 +55,15 @@ default: the controller gains (the parameters of CA and CL that are not plant
 parameters; LP/APD/ours: the catalog's gains).  Every other parameter stays at
 its value.  Plant parameters (m, b, k1, k2, b1, b2, those of D1/D2, [plant] or
 --plant) are the hardware: --tune names one only with a [ranges] entry in the
-design file, or with --allow-plant.  Every candidate
-that could become the best is checked with the exact passivity test (and the
-sampled-data test with --period).  Exit code 0 when the result is feasible,
-1 when no passive gains within the limits were found, 2 on bad input.
+design file, or with --allow-plant.  Every candidate that could become the best
+is checked with the exact passivity test (and the sampled-data test with
+--period).  A delay factor exp(-NAME*s) in the model (NAME given a value in
+seconds) makes the constraint passivity at that delay, certified (the step
+response is the delay-free loop's); --uncertain NAME=LO:HI makes it passivity
+for every plant in the box, certified (the nominal tune runs too and the
+robustness cost is printed).  Undecided counts as not passive.  The printed
+gains are the verified ones.  Exit code 0 when the result is feasible, 1 when
+no passive gains within the limits were found, 2 on bad input.
 """
 
 
@@ -95,6 +106,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     lg.add_argument("--continuous", action="store_true",
                     help="ignore the design file's [control]: continuous passivity only")  # fmt: skip
     add_unit_option(p)
+    add_uncertain_options(p)
     s = p.add_argument_group("the step response (default: the file's [simulation], else the paper's experiment: 10 kg, 0.5 m, 10 s)")  # fmt: skip
     s.add_argument("--load-mass", type=float, metavar="KG", help="tuning load mass m_L [kg]")
     s.add_argument("--step", type=float, metavar="M", help="reference step [m]")
@@ -106,7 +118,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     b.add_argument("--quick", action="store_true", help="small budget (for previews and tests)")
     b.add_argument("--no-progress", action="store_true", help="no progress on stderr")
     add_json_option(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, allow_delay=True)
 
 
 # ----------------------------------------------------------------- arguments
@@ -142,7 +154,7 @@ def parse_tune(items: Sequence[str], flag: str = "--tune") -> dict[str, tuple[fl
 
 
 def _design(
-    args: argparse.Namespace, boxes: Mapping[str, object]
+    args: argparse.Namespace, boxes: Mapping[str, object], uncertain: Mapping[str, object]
 ) -> tuple[DesignLike, Design | None, dict[str, float]]:
     """The design named on the command line, its design file (if any) and the ``--set`` values.
 
@@ -171,6 +183,7 @@ def _design(
     if name is None:
         known = {*values, *plant_from_args(args)}
         free = {n: f"--tune {n}" for n in boxes if n not in known}
+        free.update({n: f"--uncertain {n}" for n in uncertain if n not in known})
         return model_from_args(args, extra_free=free), None, {}
     design = load_design_or_catalog(name)
     return design, design if isinstance(design, Design) else None, values
@@ -237,16 +250,27 @@ def _units(args: argparse.Namespace, file: Design | None, names: Sequence[str]) 
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..robust.box import parse_uncertain
     from ..tuning.optimize import tune
     from .progress import choose_progress
 
     boxes = parse_tune([*args.tune, *args.bound])
-    design, file, values = _design(args, boxes)
+    with box_words():
+        uncertain = parse_uncertain(args.uncertain)
+    for name in sorted(set(uncertain) & set(values_from_args(args))):
+        raise ParameterError(f"--set {name}: {name} is uncertain (--uncertain {name}); give one")
+    if args.budget < 1:
+        raise ParameterError(f"--budget must be a positive integer, got {args.budget}")
+    design, file, values = _design(args, boxes, uncertain)
     opts = options_from_args(args, file)
     check_step(args.step)
     if args.objective not in ("settling", "itae"):
+        if uncertain:
+            raise ParameterError(
+                f"--uncertain works with --objective settling or itae, not {args.objective}"
+            )
         return run_objective(args, design, boxes, values, opts)
-    with warnings.catch_warnings(), choose_progress(not args.no_progress) as progress:
+    with warnings.catch_warnings(), choose_progress(not args.no_progress) as progress, box_words():
         warnings.simplefilter("ignore", TuningWarning)  # printed below, once, as lines
         result = tune(
             design,
@@ -255,6 +279,8 @@ def run(args: argparse.Namespace) -> int:
             options=opts,
             progress=progress,
             allow_plant=args.allow_plant,
+            uncertain=uncertain or None,
+            budget=args.budget if uncertain else None,
         )
     for message in result.warnings:
         warn(cli_words(message))
@@ -274,17 +300,23 @@ def run(args: argparse.Namespace) -> int:
 
 def _print_text(result: TuningResult, units: Mapping[str, str] | None = None) -> None:
     from ..sim.metrics import overshoot_text
+    from ..tuning.constraints import ConstraintKind, gain_text
     from ..tuning.problem import Objective
 
     m = result.metrics
     units = units or {}
-    gains = ", ".join(
-        f"{k} = {v:.6g}" + (f" {units[k]}" if units.get(k) else "") for k, v in result.gains.items()
+    gains = ", ".join(  # the verified values, exactly (tune rounds them before verifying)
+        f"{k} = {gain_text(v)}" + (f" {units[k]}" if units.get(k) else "")
+        for k, v in result.gains.items()
     )
     print(f"{result.design}: {gains}")
     kind = Objective(result.options.objective)
     print(f"{kind.label}: {result.objective:.6g} {kind.unit} ({m.status})")
-    verdicts = f"passive: {'yes' if result.passive else 'NO'}"
+    c = result.constraint
+    how = "" if c is None or c.kind is ConstraintKind.EXACT else f" ({c.label})"
+    verdicts = f"passive{how}: {'yes' if result.passive else 'NO'}"
+    if how and result.passivity is not None:
+        verdicts += f" [{result.passivity.outcome}]"
     loop = result.options.loop
     if result.sampled_passive is not None and loop is not None:
         verdicts += (
@@ -297,3 +329,31 @@ def _print_text(result: TuningResult, units: Mapping[str, str] | None = None) ->
     )
     if result.on_bound:
         print(f"on the edge of the box: {', '.join(sorted(result.on_bound))}")
+    if result.nominal is not None and result.robustness_cost is not None:
+        print(
+            f"nominal tune: {result.nominal.objective:.6g} {kind.unit}; robust: "
+            f"{result.objective:.6g} {kind.unit}; robustness cost: "
+            f"{result.robustness_cost:.6g} {kind.unit}"
+        )
+
+
+def box_text(text: str) -> str:
+    """A library message about ``box`` in the words of ``--uncertain`` (and ``--continuous``).
+
+    >>> box_text("box['m']: empty (loop=None)")
+    '--uncertain m: empty (--continuous)'
+    """
+    text = re.sub(r"box\['(\w+)'\]", r"--uncertain \1", text)
+    text = re.sub(r"e\.g\. box=\{'(\w+)': \([^)]*\)\}", r"e.g. --uncertain \1=LO:HI", text)
+    return text.replace("loop=None", "--continuous")
+
+
+@contextlib.contextmanager
+def box_words() -> Iterator[None]:
+    """Library errors about ``box`` and the loop in the words of the command line."""
+    try:
+        yield
+    except ParameterError as exc:
+        if "box" in str(exc) or exc.argument in ("box", "loop"):
+            raise ParameterError(box_text(str(exc))) from None
+        raise

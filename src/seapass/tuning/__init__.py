@@ -5,6 +5,9 @@ their box, the objective and the limits: `TuningOptions`, validated into a
 `TuningProblem` before any work), [`cost`][seapass.tuning.cost] (what the
 optimizer minimizes: the simulated objective, penalties for the force and
 overshoot limits, exact continuous and sampled passivity where it matters),
+[`constraints`][seapass.tuning.constraints] (the one passivity constraint of a run:
+exact, certified at a fixed continuous delay, or certified for every plant in a box),
+[`limits`][seapass.tuning.limits] (what a tuned design misses, one sentence each),
 [`search`][seapass.tuning.search] (differential evolution with a seed, its progress
 and a clean Ctrl-C) and [`optimize`][seapass.tuning.optimize] (`tune`, the
 step-response entry point, and its `TuningResult`); the interaction-control objectives
@@ -17,9 +20,12 @@ May import: [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.pro
 [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
 [`seapass.analysis`][seapass.analysis], [`seapass.sim`][seapass.sim],
 [`seapass.sampled`][seapass.sampled] (the sampled-data passivity constraint),
+[`seapass.delay`][seapass.delay] (the certified constraint at a delay),
+[`seapass.robust`][seapass.robust] (the certified constraint over a box),
 [`seapass.outcome`][seapass.outcome].
 """
 
+from .constraints import ConstraintKind, PassivityConstraint, constrained_problem
 from .interaction import tune_objective
 from .objective_result import ObjectiveOptimum, ObjectiveTuningResult
 from .objectives import Interaction, InteractionObjective
@@ -28,14 +34,17 @@ from .problem import QUICK_OPTIONS, Objective, TuningOptions, TuningProblem, res
 
 __all__ = [
     "QUICK_OPTIONS",
+    "ConstraintKind",
     "Interaction",
     "InteractionObjective",
     "Objective",
     "ObjectiveOptimum",
     "ObjectiveTuningResult",
+    "PassivityConstraint",
     "TuningOptions",
     "TuningProblem",
     "TuningResult",
+    "constrained_problem",
     "resolve_problem",
     "tune",
     "tune_objective",

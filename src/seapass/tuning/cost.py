@@ -32,6 +32,7 @@ from ..sampled.passivity import sampled_passivity
 from ..sim.metrics import Settling, TrackingMetrics, tracking_metrics
 from ..sim.scenarios import Step
 from ..sim.simulate import SimulationResult, simulate_closed_loop
+from .constraints import PassivityConstraint
 from .problem import Objective, ResolvedTuning, TuningOptions, TuningProblem
 
 __all__ = [
@@ -98,13 +99,21 @@ class ConstraintChecks:
     """Exact passivity verdicts of candidates, cached; counts what it ran."""
 
     problem: TuningProblem
+    constraint: PassivityConstraint | None = None
     continuous: dict[tuple[float, ...], bool] = field(default_factory=dict)
     sampled: dict[tuple[float, ...], bool] = field(default_factory=dict)
 
     def passive(self, x: tuple[float, ...]) -> bool:
-        """Exact continuous passivity, then sampled passivity when a loop is set."""
+        """The continuous constraint (exact; or certified at a delay or over a box, see
+        [`PassivityConstraint`][seapass.tuning.constraints.PassivityConstraint]), then
+        sampled passivity when a loop is set."""
         if x not in self.continuous:
-            self.continuous[x] = _decide(lambda: is_passive(self.problem.candidate(x)).passive)
+            c = self.constraint
+            self.continuous[x] = (
+                c.passive(x)
+                if c is not None
+                else _decide(lambda: is_passive(self.problem.candidate(x)).passive)
+            )
         if not self.continuous[x]:
             return False
         loop = self.problem.options.loop

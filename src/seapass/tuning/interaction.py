@@ -37,8 +37,9 @@ import numpy as np
 
 from ..analysis.freqresp import log_frequencies
 from ..analysis.passivity import is_passive
-from ..errors import NotPassiveError, ParameterError, SeapassError, TuningWarning
+from ..errors import DelayError, NotPassiveError, ParameterError, SeapassError, TuningWarning
 from ..files.limits import MAX_FREQUENCY_POINTS
+from ..model.delayatom import model_delays
 from ..model.design_file import Design
 from ..outcome import Outcome
 from ..progress import ProgressLike, as_progress
@@ -183,6 +184,13 @@ def tune_objective(
         )
     else:
         full = problem = resolve_problem(design, tune, opts, values, allow_plant=allow_plant)
+    delays = model_delays(full.sea)
+    if delays:  # the objectives evaluate exact rational responses: a delay would be dropped
+        raise DelayError(
+            f"a delay exp(-{delays[0]}*s) in the model: the interaction objectives (rendering, "
+            "force-bandwidth, zwidth) need a delay-free design; tune a delayed design with "
+            "the settling or itae objective"
+        )
     masses = spec.load_masses or (
         design.load_masses if isinstance(design, Design) else (problem.options.load_mass,)
     )

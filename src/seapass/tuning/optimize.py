@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 from typing import Any
 
@@ -43,16 +43,16 @@ from ..sampled.passivity import SampledPassivityResult, sampled_passivity
 from ..sim.metrics import TrackingMetrics, overshoot_text, tracking_metrics
 from ..sim.scenarios import Step
 from ..sim.simulate import SimulationResult, simulate
-from .cost import CandidateCost, ConstraintChecks, objective_value
-from .problem import (
-    BoxLike,
-    DesignLike,
-    Objective,
-    ResolvedTuning,
-    TuningOptions,
-    TuningProblem,
-    resolve_problem,
+from .constraints import (
+    ConstraintKind,
+    PassivityConstraint,
+    Verdict,
+    constrained_problem,
+    rounded_gains,
 )
+from .cost import CandidateCost, ConstraintChecks, objective_value
+from .limits import edge_note, limit_violations
+from .problem import BoxLike, DesignLike, Objective, ResolvedTuning, TuningOptions, TuningProblem
 from .search import differential_search, snap_to_edges
 
 __all__ = [
@@ -106,9 +106,14 @@ class TuningResult:
     options : ResolvedTuning
         With the load mass, step, horizon and digital-controller settings resolved.
     passivity, sampled : PassivityResult, SampledPassivityResult or None
-        The verdicts in full.
+        The verdicts in full (``passivity``: the constraint's test, certified at a delay
+        or over a box, see `constraint`).
     warnings : tuple of str
         One sentence per gain on a bound and per violated limit.
+    constraint : PassivityConstraint or None
+        The passivity constraint imposed (exact, at a delay, over a box).
+    nominal : TuningResult or None
+        Over a box: the nominal tune with the same budget (`robustness_cost`).
     """
 
     design: str
@@ -129,9 +134,17 @@ class TuningResult:
     generations: int = 0
     sea: SEA = field(repr=False)
     options: ResolvedTuning = field(repr=False)
-    passivity: PassivityResult | None = field(default=None, repr=False)
+    passivity: PassivityResult | Verdict | None = field(default=None, repr=False)
     sampled: SampledPassivityResult | None = field(default=None, repr=False)
     warnings: tuple[str, ...] = ()
+    constraint: PassivityConstraint | None = field(default=None, repr=False)
+    nominal: TuningResult | None = field(default=None, repr=False)
+
+    @property
+    def robustness_cost(self) -> float | None:
+        """Objective here minus the nominal tune's (over a box, both feasible; else None)."""
+        ok = self.nominal is not None and self.feasible and self.nominal.feasible
+        return self.objective - self.nominal.objective if ok else None  # type: ignore[union-attr]
 
     @property
     def passive(self) -> bool:
@@ -173,6 +186,11 @@ class TuningResult:
             "velocity_filter": None if o.loop is None else o.loop.velocity_filter,
             "seed": o.seed,
             "warnings": list(self.warnings),
+            "constraint": None if self.constraint is None else self.constraint.to_dict(),
+            "certified": None if self.passivity is None else str(self.passivity.outcome),
+            "nominal": None if self.nominal is None else self.nominal.objective,
+            "robust": None if self.nominal is None else self.objective,
+            "robustness_cost": self.robustness_cost,
             **self.metrics.to_dict(),
         }
 
@@ -219,6 +237,7 @@ class TuningResult:
     def _repr_html_(self) -> str:
         o, m = self.options, self.metrics
         verdict = "feasible" if self.feasible else "not feasible: " + ", ".join(self.violations)
+        how = self.constraint.label if self.constraint else "exact"
         rows: list[tuple[str, Any]] = [
             (
                 name,
@@ -230,7 +249,7 @@ class TuningResult:
         rows += [
             ("verdict", verdict),
             (f"objective ({o.objective})", f"{self.objective:.6g} {Objective(o.objective).unit}"),
-            ("passive (exact)", "yes" if self.passive else "no"),
+            (f"passive ({how})", "yes" if self.passive else "no"),
         ]
         if self.sampled_passive is not None and o.loop is not None:
             rows.append(
@@ -259,6 +278,8 @@ def tune(
     callback: Callable[[int, float], None] | None = None,
     throw: bool = False,
     allow_plant: bool = False,
+    uncertain: Mapping[str, Any] | None = None,
+    budget: int | None = None,
     **changes: Any,
 ) -> TuningResult:
     """Tune the gains of ``design`` for the best passive step response.
@@ -295,6 +316,14 @@ def tune(
     allow_plant : bool, default False
         Allow ``tune`` to name plant parameters (``k1``, a ``[plant]`` value) that the
         design does not offer for tuning; see `resolve_problem`.
+    uncertain : mapping of str to (lo, hi), optional
+        Uncertain plant parameters: the gains must be passive for every plant in the box
+        ([`robust_check`][seapass.robust.verdict.robust_check]); the nominal tune runs
+        too (``nominal``, ``robustness_cost``).  A design with a delay ``exp(-NAME*s)``
+        is tuned passive at its delay (certified); see
+        [`constrained_problem`][seapass.tuning.constraints.constrained_problem].
+    budget : int, optional
+        Budget of the certified delay or box test (undecided counts as not passive).
     **changes
         Any field of `TuningOptions`, replacing the one in ``options``, e.g.
         ``objective="itae"``, ``loop=SampledLoop(period=0.002)``, ``seed=3``.
@@ -323,11 +352,13 @@ def tune(
     (True, ['bd', 'kd'])
     """
     opts = (options or TuningOptions()).replace(**changes)
-    problem = resolve_problem(design, tune, opts, values, allow_plant=allow_plant)
-    bounds = narrowed_box(problem)
+    problem, constraint = constrained_problem(
+        design, tune, opts, values, allow_plant=allow_plant, uncertain=uncertain, budget=budget
+    )
+    bounds = narrowed_box(problem) if constraint.kind is ConstraintKind.EXACT else dict(problem.box)
     if problem.options.loop is not None:  # fail now on what the sampled analysis refuses
         _sampled_verdict(problem, problem.candidate(sum(bounds[g]) / 2 for g in problem.gains))
-    checks = ConstraintChecks(problem)
+    checks = ConstraintChecks(problem, constraint)
     cost = CandidateCost(problem, checks)
     shown = as_progress(progress, where="tune")
     if callback is not None:
@@ -346,15 +377,29 @@ def tune(
         callback=callback,
     )
     x, best = snap_to_edges(problem, bounds, [float(v) for v in found.x], float(found.fun), cost)
+    x = rounded_gains(x, [bounds[g] for g in problem.gains], checks.passive)  # printed = verified
     result = verify(
         problem, x, bounds=bounds, checks=checks, cost=best, evaluations=cost.evaluations,
-        generations=int(found.nit),
+        generations=int(found.nit), constraint=constraint,
     )  # fmt: skip
+    if constraint.kind is ConstraintKind.BOX:  # the nominal tune, same plant and budget
+        fixed = {n: float(problem.sea.values[n] or 0) for n in constraint.box.names}  # type: ignore[union-attr]
+        with warnings.catch_warnings():  # the nominal run's own notes are not this result's
+            warnings.simplefilter("ignore", TuningWarning)
+            nominal = _nominal_tune(design, tune=dict(problem.box), options=opts,
+                                    values={**(values or {}), **fixed}, allow_plant=allow_plant)  # fmt: skip
+        if result.feasible and (not nominal.feasible or result.objective < nominal.objective):
+            alt = verify(problem, x, bounds=bounds, cost=best, generations=nominal.generations)
+            nominal = alt if alt.feasible else nominal  # the robust gains are nominal ones too
+        result = replace(result, nominal=nominal)
     for message in result.warnings:
         warnings.warn(message, TuningWarning, stacklevel=2)
     if throw and not result.feasible:
         raise NotPassiveError(f"tuning {problem.name}: {'; '.join(result.warnings)}")
     return result
+
+
+_nominal_tune = tune  # the function itself (inside it, ``tune`` is the argument)
 
 
 def narrowed_box(problem: TuningProblem) -> dict[str, tuple[float, float]]:
@@ -391,21 +436,23 @@ def verify(
     cost: float = float("nan"),
     evaluations: int = 0,
     generations: int = 0,
+    constraint: PassivityConstraint | None = None,
 ) -> TuningResult:
     """Everything about the gains ``x``: exact verdicts, metrics at ``dt_verify``, limits.
 
     ``cost``, ``evaluations`` and ``generations`` are the search's best cost, simulation
-    count and generations, when ``x`` comes from a search.
+    count and generations, when ``x`` comes from a search.  ``constraint``: the passivity
+    test (default: exact, at ``problem.sea``; the step response is always ``problem.sea``'s).
     """
     opts = problem.options
     gains = dict(zip(problem.gains, x, strict=True))
     sea = problem.candidate(x)
-    pr = is_passive(sea)
+    pr = is_passive(sea) if constraint is None else constraint.verdict(x)
     sampled = None if opts.loop is None else _sampled_verdict(problem, sea)
     res, met = step_run(sea, opts, opts.load_mass)
-    violations, notes = _limits(problem, pr, sampled, met)
+    violations, notes = limit_violations(problem, pr, sampled, met)
     on_bound = problem.on_bound(gains)
-    notes += [_edge_note(problem, name, gains[name], edge) for name, edge in on_bound.items()]
+    notes += [edge_note(problem, name, gains[name], edge) for name, edge in on_bound.items()]
     return TuningResult(
         design=problem.name,
         gains=MappingProxyType(gains),
@@ -423,11 +470,12 @@ def verify(
         passivity_checks=len(checks.continuous) if checks else 0,
         sampled_checks=len(checks.sampled) if checks else 0,
         generations=generations,
-        sea=sea,
+        sea=sea if constraint is None else constraint.design(x),
         options=opts,
         passivity=pr,
         sampled=sampled,
         warnings=tuple(notes),
+        constraint=constraint,
     )
 
 
@@ -441,54 +489,8 @@ def step_run(
     return res, tracking_metrics(res, tolerance=opts.tolerance)
 
 
-def _edge_note(problem: TuningProblem, name: str, value: float, edge: str) -> str:
-    lo, hi = problem.box[name]
-    where = f"{name} = {value:.6g} is at the {edge} edge of its box [{lo:g}, {hi:g}]"
-    if edge == "lower" and lo == 0:
-        return f"{where}: the best design wants little or none of it"
-    return (
-        f"{where}: the optimum may lie beyond it; widen the box if the physics allows "
-        f"(tune={{{name!r}: (lo, hi)}})"
-    )
-
-
 def _sampled_verdict(problem: TuningProblem, sea: SEA) -> SampledPassivityResult:
     opts = problem.options
     if opts.loop is None:
         raise ParameterError("no sampled-data verdict without a sampled loop (options.loop)")
     return sampled_passivity(sea, loop=opts.loop)
-
-
-def _limits(
-    problem: TuningProblem,
-    pr: PassivityResult,
-    sampled: SampledPassivityResult | None,
-    met: TrackingMetrics,
-) -> tuple[list[str], list[str]]:
-    """Violated constraints and one sentence for each."""
-    opts = problem.options
-    violations, notes = [], []
-    if not pr.passive:
-        violations.append("passivity")
-        notes.append(f"no passive gains found in the box: the best is not passive ({pr.detail})")
-    if sampled is not None and not sampled.passive:
-        violations.append("sampled passivity")
-        notes.append(
-            f"the best gains are not passive under sampled-data control at T = {sampled.period:g} s "
-            f"({sampled.detail or sampled.reason})"
-        )
-    if opts.force_limit is not None and met.peak_force > opts.force_limit * (1 + 1e-9):
-        violations.append("force limit")
-        notes.append(f"peak force {met.peak_force:.4g} N exceeds the limit {opts.force_limit:g} N")
-    if met.settling_time is None:
-        notes.append(
-            f"the best gains do not settle within the {opts.horizon:g} s horizon ({met.status}): "
-            "widen the boxes, relax the limits or lengthen the horizon"
-        )
-    overshoot = met.overshoot or 0.0
-    if opts.max_overshoot is not None and overshoot > opts.max_overshoot * (1 + 1e-9):
-        violations.append("overshoot")
-        notes.append(
-            f"overshoot {overshoot_text(overshoot)} exceeds the limit {100 * opts.max_overshoot:g} %"
-        )
-    return violations, notes
