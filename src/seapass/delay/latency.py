@@ -34,6 +34,7 @@ from fractions import Fraction
 from typing import Any
 
 from ..errors import ParameterError
+from ..exact.rounding import decimal_down, decimal_up, enclosure_text
 from ..model.display import html_card, short_repr
 from ..model.latency import LATENCY_PARAMETER, check_delay_time
 from ..model.sea import SEA
@@ -116,8 +117,7 @@ class LatencyCheck:
     def _repr_html_(self) -> str:
         rows: list[tuple[str, Any]] = [
             ("latency", "none stated" if self.latency is None else f"{self.latency:g} s"),
-            ("τ*", "none" if self.tau_star is None else f"[{self.tau_star[0]:.6g}, "
-             f"{self.tau_star[1]:.6g}] s"),
+            ("τ*", "none" if self.tau_star is None else f"{enclosure_text(*self.tau_star, digits=6)} s"),
             ("every delay independent", self.margin.delay_independent),
             ("verdict", self.outcome.label),
             ("detail", self.detail),
@@ -201,7 +201,7 @@ def _verdict(
     if at is not None and at.outcome is Outcome.NOT_PASSIVE:
         return Outcome.NOT_PASSIVE, f"not passive at the latency {latency:g} s: {at.detail}"
     if m.tau_star is None or m.outcome is Outcome.UNDECIDED:
-        lo_hi = "" if m.tau_star is None else f" (tau* <= {m.tau_star[1]:.6g} s)"
+        lo_hi = "" if m.tau_star is None else f" (tau* <= {decimal_up(m.tau_star[1], 6)} s)"
         if m.tau_star is not None and not _at_most(latency, m.tau_star[1]):
             return Outcome.NOT_PASSIVE, f"the latency {latency:g} s exceeds tau*{lo_hi}"
         return Outcome.UNDECIDED, f"tau* is undecided{lo_hi}: {m.detail}"
@@ -210,15 +210,17 @@ def _verdict(
         return (
             Outcome.PASSIVE,
             f"every delay up to the latency {latency:g} s is certified passive "
-            f"(tau* >= {lo:.6g} s)",
+            f"(tau* >= {decimal_down(lo, 6)} s)",
         )
     if _at_most(latency, hi):  # at hi itself the loss may be the exact limit: undecided
         return (
             Outcome.UNDECIDED,
-            f"the latency {latency:g} s lies inside the enclosure of tau* [{lo:.6g}, {hi:.6g}] s",
+            f"the latency {latency:g} s lies inside the enclosure of tau* "
+            f"{enclosure_text(lo, hi, digits=6)} s",
         )
     return (
         Outcome.NOT_PASSIVE,
-        f"the latency {latency:g} s exceeds tau* <= {hi:.6g} s: passivity is lost at a "
+        f"the latency {latency:g} s exceeds tau* <= {decimal_up(hi, 6)} s: passivity is lost "
+        "at a "
         "smaller delay",
     )

@@ -20,6 +20,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from ...delay.latency import LatencyCheck, latency_check
+from ...exact.rounding import decimal_down, decimal_up, enclosure_text
 from ...model.delayatom import model_delays
 from ...model.design_file import Design
 from ...outcome import Outcome
@@ -107,9 +108,16 @@ def _star_text(c: LatencyCheck) -> str:
     }.get(str(m.loss or ""), "")
     head = "τ* lies in" if m.outcome is Outcome.PASSIVE else "τ* is undecided, at most"
     return (
-        f"{head} **[{lo:.6g}, {hi:.6g}] s**: passive for every loop latency up to "
-        f"{lo:.6g} s (certified); passivity is lost {where} ({m.loss})."
+        f"{head} **{enclosure_text(lo, hi, digits=6)} s**: passive for every loop latency up "
+        f"to {decimal_down(lo, 6)} s (certified); passivity is lost {where} ({m.loss})."
     )
+
+
+def _end(star: tuple[float, float] | None, i: int) -> str:
+    """An end of ``τ*`` as text rounded outward (the lower end down, the upper up)."""
+    if star is None:
+        return "none"
+    return decimal_down(star[0], 12) if i == 0 else decimal_up(star[1], 12)
 
 
 def delay_section(design: Design, data: DelayData, figures: Sequence[FigureData]) -> Section:
@@ -132,8 +140,8 @@ def delay_section(design: Design, data: DelayData, figures: Sequence[FigureData]
         text += " No latency is stated (`[control] delay_time`)."
     star = m.tau_star
     rows: list[tuple[str, object]] = [
-        ("τ* lower end (certified) [s]", "none" if star is None else star[0]),
-        ("τ* upper end [s]", "none" if star is None else star[1]),
+        ("τ* lower end (certified, rounded down) [s]", _end(star, 0)),
+        ("τ* upper end (rounded up) [s]", _end(star, 1)),
         ("frequency of the loss [rad/s]", "none" if m.frequency is None else m.frequency),
         ("kind of loss", str(m.loss or "none")),
         ("delay-independent", "yes" if m.delay_independent else "no"),
