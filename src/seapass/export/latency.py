@@ -69,6 +69,8 @@ def latency_banner(check: LatencyCheck | None) -> list[str]:
     m = check.margin
     if m.delay_independent:
         star = "passive for every delay (delay-independent)"
+    elif m.tau_star is not None and m.tau_star[1] == 0:
+        star = f"tau* = 0 (exact): every delay > 0 breaks passivity ({m.loss})"
     elif m.tau_star is not None:
         lo, hi = m.tau_star
         where = f" at w = {m.frequency:.6g} rad/s" if m.frequency is not None else ""

@@ -357,6 +357,7 @@
       if (d.outcome !== "passive" || d.shown === null) {
         setVerdict($("#verdict-delay"), "off", "undecided", (d.shown ? `τ* ≤ ${d.shown[1]} s; ` : "") + d.detail); return;
       }
+      if (d.tau_star[1] === 0) { setVerdict($("#verdict-delay"), "notpassive", "0", "τ* = 0 (exact): every delay > 0 breaks passivity (" + d.loss + ")"); return; }
       const where = d.loss === "interior" ? `at ω = ${fmt(d.frequency, 5)} rad/s` : d.loss === "low_frequency" ? "as ω → 0" : "at arbitrarily high frequencies";
       setVerdict($("#verdict-delay"), "passive", `${d.shown[0]} s`, `τ* ∈ [${d.shown[0]}, ${d.shown[1]}] s; lost ${where} (${d.loss})`);
     },

@@ -101,6 +101,8 @@ def _star_text(c: LatencyCheck) -> str:
     if m.tau_star is None:
         return f"τ* is **undecided**: {m.detail}"
     lo, hi = m.tau_star
+    if hi == 0:
+        return f"**τ* = 0** (exact): every delay > 0 breaks passivity ({m.loss}): {m.detail}."
     where = {
         "interior": f"at ω = {m.frequency:.6g} rad/s" if m.frequency else "inside the band",
         "low_frequency": "in the limit ω → 0",
