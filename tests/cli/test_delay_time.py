@@ -49,7 +49,12 @@ def test_check_file_gives_the_certified_delayed_verdict(tmp_path):
     path = design(tmp_path, 0.01)
     code, out, err = run(["check", path, "--json"])
     d = json.loads(out)
-    assert code == 0 and err == "" and d["passive"] and d["delay"] == {"name": "delay_time", "tau": 0.01}
+    assert (
+        code == 0
+        and err == ""
+        and d["passive"]
+        and d["delay"] == {"name": "delay_time", "tau": 0.01}
+    )
     lib = seapass.is_passive(load_design(path).delayed_sea())
     assert d["status"] == lib.status == "passive"
     # tau* of this design is 0.04126 s: at 0.05 s the verdict flips, with a proven witness

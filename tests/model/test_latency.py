@@ -116,7 +116,7 @@ def test_latency_refused_without_a_controller_and_for_a_taken_name():
         parse_design(no_controller)
     taken = doc({"delay_time": 0.001}, D1="k1 + b1*s", CA="kd + bd*delay_time*s")
     taken["parameters"]["delay_time"] = 1.0
-    with pytest.raises(FileFormatError, match="parameters.delay_time: the name is taken"):
+    with pytest.raises(FileFormatError, match=r"parameters\.delay_time: the name is taken"):
         parse_design(taken)
 
 
