@@ -139,9 +139,11 @@ def _system(design: Any) -> tuple[Any, str, float | None]:
     return design, LATENCY_PARAMETER, getattr(design, "delay_time", None)
 
 
-def _at_most(latency: float, bound: float) -> bool:
-    """``latency <= bound`` exactly (the latency as the decimal it was written as)."""
-    return Fraction(repr(float(latency))) <= Fraction(bound)
+def _at_most(latency: float, bound: Any) -> bool:
+    """``latency <= bound`` exactly (the latency as the decimal it was written as, as the
+    delay's own checks read it; ``bound`` a float or an exact ``fmpq``)."""
+    exact = Fraction(int(bound.p), int(bound.q)) if hasattr(bound, "q") else Fraction(bound)
+    return Fraction(repr(float(latency))) <= exact
 
 
 def latency_check(
@@ -206,7 +208,7 @@ def _verdict(
             return Outcome.NOT_PASSIVE, f"the latency {latency:g} s exceeds tau*{lo_hi}"
         return Outcome.UNDECIDED, f"tau* is undecided{lo_hi}: {m.detail}"
     lo, hi = m.tau_star
-    if _at_most(latency, lo):
+    if _at_most(latency, m.exact[0] if m.exact is not None else lo):  # lo certified exactly
         return (
             Outcome.PASSIVE,
             f"every delay up to the latency {latency:g} s is certified passive "
