@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 import seapass
-from seapass.delay.latency import LatencyCheck, latency_check
+from seapass.delay.latency import latency_check
 from seapass.errors import ParameterError
 from seapass.model.design_file import parse_design
 from seapass.model.sea import SEA
