@@ -152,7 +152,7 @@ def delay_section(design: Design, data: DelayData, figures: Sequence[FigureData]
         ("stated latency [s]", "none" if c.latency is None else c.latency),
         ("verdict up to the latency", c.outcome.label if c.latency is not None else "none"),
     ]
-    findings = ()
+    findings: tuple[Finding, ...] = ()
     if c.latency is not None:
         verdict = {
             Outcome.PASSIVE: Verdict.AGREES,
