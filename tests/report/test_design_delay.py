@@ -147,3 +147,25 @@ def test_analyze_cli_writes_the_delay_stage(tmp_path: Path, capsys) -> None:
         main(["analyze", "--help"])
     assert info.value.code == 0
     assert "  delay      the certified delay margin tau*" in capsys.readouterr().out
+
+
+def test_analyze_delay_time_flag_replaces_the_file_latency(tmp_path: Path, capsys) -> None:
+    out = tmp_path / "r"
+    argv = ["analyze", str(EXAMPLES / "ours.toml"), "--stages", "delay", "--out", str(out),
+            "--delay-time", "0.003", "--no-progress", "--json"]  # fmt: skip
+    assert main(argv) == 0
+    capsys.readouterr()
+    data = json.loads((out / "data/delay_margin.json").read_text())
+    assert data["latency"] == 0.003 and data["outcome"] == "passive"
+    bad = [
+        "analyze",
+        str(EXAMPLES / "ours.toml"),
+        "--out",
+        str(tmp_path / "r2"),
+        "--delay-time",
+        "-2",
+    ]
+    assert main(bad) == 2
+    err = capsys.readouterr().err
+    assert err == "error: --delay-time: must be a number of seconds in [0, 1000], got -2.0\n"
+    assert not (tmp_path / "r2").exists()
