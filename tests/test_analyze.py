@@ -108,8 +108,8 @@ def test_no_control_rate_skips_sampled() -> None:
     assert report.sections[0].status == "skipped"
     assert "[control] rate" in report.sections[0].text
     assert ANALYSIS_STAGES == (
-        "passivity", "witness", "stiffness", "frequency", "ranges", "twoport", "response",
-        "tuning", "sampled", "zwidth", "rig",
+        "passivity", "witness", "stiffness", "frequency", "ranges", "twoport", "delay",
+        "response", "tuning", "sampled", "zwidth", "rig",
     )  # fmt: skip
     rig = analyze(design, stages=["rig"]).sections[0]
     assert rig.status == "skipped" and "[rig]" in rig.text

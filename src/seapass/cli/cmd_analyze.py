@@ -15,6 +15,7 @@ from .common import (
     interrupted_code,
     print_json,
 )
+from .design_options import add_delay_time_option
 from .report_output import announce_report, print_section_problems, report_summary
 
 EXAMPLE = """examples:
@@ -85,6 +86,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         "e.g. --budget sampled=500",
     )
     add_jobs_argument(p)
+    add_delay_time_option(p)
     p.add_argument(
         "--no-progress",
         action="store_true",
@@ -119,6 +121,13 @@ def run(args: argparse.Namespace) -> int:
     from .progress import choose_progress
 
     design = load_design(args.design)
+    if args.delay_time is not None:  # the loop latency of the delay stage, replacing the file's
+        import dataclasses
+
+        from ..model.latency import check_delay_time
+
+        check_delay_time(args.delay_time, argument="--delay-time")
+        design = dataclasses.replace(design, delay_time=args.delay_time)
     if design.rig_file not in (None, "paper"):
         from ..rig.rigfile import load_rig
 

@@ -14,10 +14,17 @@ EXAMPLE = """examples:
   seapass export c examples/ours.toml --out firmware/ --hardware-delay 1 --verify
   seapass export c design.toml --out firmware/ --force-limit 120 --set-gains --tunable kd
   seapass export c design.toml --out firmware/ --force   # replace files seapass did not write
+  seapass export c examples/ours.toml --out firmware/ --latency 0.002   # tau* must cover it
+
+With a loop latency ([control] delay_time or --latency), the design's passivity delay
+margin tau* (C_A and C_L delayed) must cover it: every delay up to the latency certified
+passive, else nothing is written (or, with --allow-nonpassive, the files say NOT
+CERTIFIED); the header records tau* and the latency.
 
 exit status: 0 written (and verified); 1 --verify found the compiled C and the Python
-controller more than 1e-12 apart; 2 bad input, a design that is not passive, or no
-working C compiler for --verify (nothing is written then).
+controller more than 1e-12 apart; 2 bad input, a design that is not passive (at its rate,
+or within its loop latency), or no working C compiler for --verify (nothing is written
+then).
 """
 
 # the Python API's errors name its arguments; say the options here instead
@@ -27,6 +34,7 @@ _OPTIONS = {
     "set_gains=True": "--set-gains",
     "tunable=[...]": "--tunable G1,G2",
     "hardware_delay": "--hardware-delay",
+    "latency: must be": "--latency: must be",
     "see sampled_passive_bound": "see 'seapass sampled bound'",
 }
 
@@ -67,6 +75,14 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         metavar="SAMPLES",
         help="delay the platform adds by itself; the code's delay line supplies the rest of "
         "the design's [control] delay (default: 0)",
+    )
+    c.add_argument(
+        "--latency",
+        type=float,
+        metavar="SECONDS",
+        help="continuous loop latency: C_A and C_L act SECONDS late; the design's delay "
+        "margin tau* must cover it (default: the design file's [control] delay_time, else "
+        "no latency check)",
     )
     c.add_argument(
         "--set-gains",
@@ -133,6 +149,7 @@ def run_c(args: argparse.Namespace) -> int:
                 rtol=args.rtol,
                 progress=progress,
                 force=args.force,
+                latency=args.latency,
             )
     except SeapassError as exc:
         text = str(exc)
@@ -148,6 +165,8 @@ def run_c(args: argparse.Namespace) -> int:
             "files": [str(res.header), str(res.source)],
             "deployment": res.deployment.to_dict(),
         }
+        if res.latency is not None:
+            out["latency"] = res.latency.to_dict()
         if ver is not None:
             out["verify"] = ver.to_dict()
         print_json(out)
@@ -179,6 +198,11 @@ def _print_summary(res: Any, ver: Any, ok: bool) -> None:
             print(f"  {g.name} = {g.nominal:g}")
     for note in dep.notes:
         print(f"  note: {note}")
+    if res.latency is not None:
+        from ..export.latency import latency_banner
+
+        for line in latency_banner(res.latency)[1:]:
+            print(f"  {line}")
     if ver is not None:
         how = "identical to" if ver.identical else f"within {ver.max_rel:.3g} (relative) of"
         verdict = "ok" if ok else f"FAILED (more than {ver.rtol:g} apart)"

@@ -33,12 +33,14 @@ from .common import (
 )
 
 __all__ = [
+    "add_delay_time_option",
     "add_design_argument",
     "add_range_options",
     "add_unit_option",
     "declared",
     "deprecated_flag",
     "design_from_args",
+    "latency_message",
     "points_from_args",
     "ranges_from_args",
     "system_from_design_args",
@@ -51,7 +53,7 @@ _ELEMENTS = ("D1", "D2", "CA", "CL")
 
 
 def add_design_argument(p: argparse.ArgumentParser) -> None:
-    """The optional positional ``DESIGN.toml`` and ``--unit NAME=UNIT``."""
+    """The optional positional ``DESIGN.toml``, ``--unit NAME=UNIT`` and ``--delay-time``."""
     p.add_argument(
         "design",
         nargs="?",
@@ -59,6 +61,19 @@ def add_design_argument(p: argparse.ArgumentParser) -> None:
         help="design file (TOML, see 'seapass analyze --help'); the model flags override it",
     )
     add_unit_option(p)
+    add_delay_time_option(p)
+
+
+def add_delay_time_option(p: Any) -> None:
+    """``--delay-time SECONDS``: the loop latency, replacing ``[control] delay_time``."""
+    p.add_argument(
+        "--delay-time",
+        type=float,
+        metavar="SECONDS",
+        help="loop latency: C_A and C_L act SECONDS late (times exp(-delay_time*s)); "
+        "replaces the design file's [control] delay_time, 0 for none (default: the file's, "
+        "else none)",
+    )
 
 
 def add_unit_option(p: argparse.ArgumentParser) -> None:
@@ -211,16 +226,33 @@ def design_from_args(
             step=getattr(args, "step", None),
             horizon=getattr(args, "horizon", None),
             plant=tuple(plant),
+            delay_time=getattr(args, "delay_time", None),
         )
     except ParameterError as exc:
+        if exc.argument == "delay_time":
+            raise ParameterError(latency_message(str(exc))) from None
         where = {f"values[{n!r}]": label for n, label in labels.items()}
         where.update({f"values[{n!r}]": f"--plant {n}" for n in plant})
         if exc.argument in where:  # a free (or --plant) name the model does not use
             msg = str(exc)[len(exc.argument) + 2 :]
             raise ParameterError(f"{where[exc.argument]}: {msg}") from None
         raise
+    if resolved.delay_time and not getattr(args, "allow_delay", False):
+        raise ParameterError(
+            f"the loop latency delay_time = {resolved.delay_time:g} s (the design file's "
+            "[control] delay_time or --delay-time) puts exp(-delay_time*s) on C_A and C_L; "
+            "this command does not handle a delay yet: give --delay-time 0 to run it without "
+            "the latency ('seapass check' and 'seapass delay-margin' decide the delayed design)"
+        )
     refuse_delay_unless_allowed(args, resolved.sea)
     return resolved
+
+
+def latency_message(text: str) -> str:
+    """A library message about ``delay_time`` in the CLI's words (``--delay-time``)."""
+    if text.startswith("delay_time: "):
+        return "--delay-time" + text[len("delay_time") :]
+    return text
 
 
 def system_from_design_args(args: argparse.Namespace) -> tuple[Any, Any]:

@@ -7,7 +7,8 @@ at ``ω → 0`` (`lowfreq`) and ``ω → ∞`` (`highfreq`) and a certified sign
 with arb balls (`sign`); the characteristic quasi-polynomial ``P(s) + Q(s) e^{-sτ}``
 and its right-half-plane roots (`stability`); the verdict at a given delay
 (`passivity`), delay-independent passivity (`independent`), the passivity delay margin
-``τ*`` (`margin`) and passive sets of a gain at a fixed delay (`gain`).
+``τ*`` (`margin`), passive sets of a gain at a fixed delay (`gain`) and a design against
+its stated loop latency ``[control] delay_time`` (`latency`).
 
 Every verdict is a [`seapass.outcome.Outcome`][seapass.outcome.Outcome]; what the
 balls cannot decide at their budget is ``undecided``, never passive.  No Padé

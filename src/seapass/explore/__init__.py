@@ -2,7 +2,8 @@
 
 What lives here: [`state`][seapass.explore.state] (the view the browser sends, validated
 field by field), [`sliders`][seapass.explore.sliders] (which parameters are gains, their
-default ranges and scales), [`panels`][seapass.explore.panels] (one pure function per panel, cached),
+default ranges and scales), [`panels`][seapass.explore.panels] (one pure function per panel, cached;
+the delay margin's in [`delay_panel`][seapass.explore.delay_panel]),
 [`pool`][seapass.explore.pool] (killable worker processes that compute the panels),
 [`presets`][seapass.explore.presets] (the catalog's designs as views),
 [`reports`][seapass.explore.reports] ("Export report": ``seapass analyze`` in a child
@@ -11,7 +12,7 @@ process) and [`server`][seapass.explore.server] (the Starlette app on 127.0.0.1,
 
 May import: [`seapass.errors`][seapass.errors], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact],
 [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis],
-[`seapass.ports`][seapass.ports], [`seapass.sim`][seapass.sim], [`seapass.batch`][seapass.batch],
+[`seapass.ports`][seapass.ports], [`seapass.delay`][seapass.delay], [`seapass.sim`][seapass.sim], [`seapass.batch`][seapass.batch],
 [`seapass.sampled`][seapass.sampled]; starlette and uvicorn in `server` only.
 """
 

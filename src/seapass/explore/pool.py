@@ -36,6 +36,7 @@ AFFINITY: Mapping[str, int] = {
     "region": 1,
     "region-fine": 2,
     "sampled": 3,
+    "delay": 3,
     "witness": 4,
 }
 SLOTS = 5

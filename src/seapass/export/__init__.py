@@ -4,7 +4,8 @@ What lives here: [`realization`][seapass.export.realization] (the deployed
 controller as exact difference equations), [`envelope`][seapass.export.envelope]
 (the sampled-data verdict and the certified interval of each tunable gain),
 [`deployment`][seapass.export.deployment] (the two together with saturation and
-the delay line: everything decided before a file is written),
+the delay line: everything decided before a file is written), [`latency`][seapass.export.latency]
+(the guard that the delay margin τ* covers the loop latency ``[control] delay_time``),
 [`c_code`][seapass.export.c_code] (``seapass_ctrl.h`` / ``seapass_ctrl.c`` from
 Jinja2 templates shipped in ``export/templates``), [`ctext`][seapass.export.ctext]
 (the one escaping of user text into C: comments, strings, identifiers) and

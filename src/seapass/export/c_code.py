@@ -20,6 +20,7 @@ from typing import Any
 
 import jinja2
 
+from ..delay.latency import LatencyCheck
 from ..errors import ParameterError
 from ..files.owned import check_replaceable, write_output_text
 from ..model.design_file import Design, load_design
@@ -27,6 +28,7 @@ from ..progress import ProgressLike, as_progress
 from ..version import __version__
 from .ctext import C_KEYWORDS, c_code, c_comment, c_identifier, c_number, c_string, finalize
 from .deployment import Deployment, plan_deployment
+from .latency import latency_banner, latency_guard
 from .realization import FilterSpec
 
 __all__ = [
@@ -95,11 +97,15 @@ class ExportResult:
         ``seapass_ctrl.h`` and ``seapass_ctrl.c``.
     deployment : Deployment
         The controller and envelope they implement.
+    latency : LatencyCheck or None
+        ``τ*`` against the loop latency ([`latency_guard`][seapass.export.latency.latency_guard]);
+        None without a stated latency.
     """
 
     header: Path
     source: Path
     deployment: Deployment
+    latency: LatencyCheck | None = None
 
 
 def _environment() -> jinja2.Environment:
@@ -234,8 +240,8 @@ def check_c_names(design: Design) -> None:
         c_identifier(g, "gain name")
 
 
-def render_c(dep: Deployment) -> dict[str, str]:
-    """The two files for ``dep`` as ``{file name: text}``."""
+def render_c(dep: Deployment, latency: LatencyCheck | None = None) -> dict[str, str]:
+    """The two files for ``dep`` as ``{file name: text}`` (``latency``: `latency_guard`'s)."""
     check_c_names(dep.design)
     filters = _filters(dep)
     used = {sig for f in dep.filters for sig in f.inputs}
@@ -250,7 +256,7 @@ def render_c(dep: Deployment) -> dict[str, str]:
     ctx = {
         "name": dep.design.name,
         "version": __version__,
-        "banner": _banner(dep),
+        "banner": _banner(dep) + latency_banner(latency),
         "period": c_literal(dep.period),
         "rate": c_literal(1 / dep.period),
         "delay": dep.delay,
@@ -295,6 +301,7 @@ def export_c(
     rtol: float = 1e-6,
     progress: ProgressLike = None,
     force: bool = False,
+    latency: float | None = None,
 ) -> ExportResult:
     """Write ``seapass_ctrl.h`` and ``seapass_ctrl.c`` for the deployed controller of ``design``.
 
@@ -317,6 +324,9 @@ def export_c(
         See [`plan_deployment`][seapass.export.deployment.plan_deployment].
     force : bool
         Replace existing files of these names even if seapass did not write them.
+    latency : float, optional
+        The loop latency [s], replacing ``[control] delay_time``: ``τ*`` must cover it
+        ([`latency_guard`][seapass.export.latency.latency_guard]); the header records both.
 
     Returns
     -------
@@ -329,7 +339,8 @@ def export_c(
     OutputPathError
         When ``out`` holds a file of these names that seapass did not write.
     NotPassiveError
-        When the design is not passive at its sampled rate (unless ``allow_nonpassive``).
+        When the design is not passive at its sampled rate, or ``τ*`` does not cover the
+        loop latency (unless ``allow_nonpassive``).
     """
     if not isinstance(design, Design):
         design = load_design(design)
@@ -340,6 +351,7 @@ def export_c(
     check_c_names(design)
     for t in targets:  # before the (slow) certification
         check_replaceable(t, force=force)
+    lag = latency_guard(design, latency, allow_nonpassive=allow_nonpassive)
     dep = plan_deployment(
         design,
         force_limit=force_limit,
@@ -350,9 +362,9 @@ def export_c(
         rtol=rtol,
         progress=as_progress(progress, where="export_c"),
     )
-    files = render_c(dep)
+    files = render_c(dep, lag)
     for t in targets:
         check_replaceable(t, force=force)
     for t in targets:
         write_output_text(t, files[t.name], force=force)
-    return ExportResult(header=targets[0], source=targets[1], deployment=dep)
+    return ExportResult(header=targets[0], source=targets[1], deployment=dep, latency=lag)

@@ -22,9 +22,9 @@ The optional tables: ``[ranges]`` (search ranges ``kd = [0.0, 5000.0]``),
 median load mass), ``[environment]`` (``mass``, ``damping``, ``stiffness`` ranges of the
 witness search; default a human limb), ``[control]`` (the digital controller: ``rate`` Hz or
 ``period`` s, ``delay`` samples, ``velocity_filter`` Hz, ``method`` ``"tustin"``, ``"zoh"`` or
-``"backward"``), ``[rig]`` (``file`` relative to the design file, or ``preset = "paper"``),
-``[units]`` (``ki = "1/s"``: SI symbols, prefixes, ``*``, ``/``, ``^N``, checked by
-[`seapass.model.units`][seapass.model.units]); ``docs/index.md`` shows a whole file.
+``"backward"``; ``delay_time`` s, a loop latency: [`seapass.model.latency`][seapass.model.latency]),
+``[rig]`` (``file`` relative to the design file, or ``preset = "paper"``), ``[units]``
+(``ki = "1/s"``, [`seapass.model.units`][seapass.model.units]); ``docs/index.md`` shows a file.
 
 Instead of ``CA`` and ``CL``, a ``[controller]`` table (``kind = "impedance"``,
 ``force = "kp + ki/s"``, ``impedance = "kv + bv*s"``, ...; its keys are
@@ -33,16 +33,14 @@ controller as blocks, compiled exactly into ``CA`` and ``CL``.  A ``[plant]`` ta
 gives hardware parameters besides ``m b k1 k2 b1 b2`` (which may stay in
 ``[parameters]``): fixed, substituted where a controller uses them, never gains.
 
-Validation is strict: an unknown key, a wrong type, a missing field or a
-value out of range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the
-key (e.g. ``parameters.kd``), so a typo never falls back to a default.  Sizes are
-capped at load time (file size, nesting, list lengths, text lengths, delay and
-horizon: see [`seapass.files.limits`][seapass.files.limits]); the sampling rate
-is 1 Hz to 1 MHz and the velocity filter stays below the Nyquist frequency (the
-``[control]`` table is read by
-[`SampledLoop.from_table`][seapass.model.loop.SampledLoop.from_table], the same
-spelling as a rig file's).  What ``[simulation]`` leaves out comes from the paper's
-experiment, [`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT].
+Validation is strict: an unknown key, a wrong type, a missing field or a value out of
+range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the key (e.g.
+``parameters.kd``), so a typo never falls back to a default.  Sizes are capped at load
+time (file size, nesting, list lengths, text lengths, delays and horizon: see
+[`seapass.files.limits`][seapass.files.limits]); the sampling rate is 1 Hz to 1 MHz and
+the velocity filter stays below the Nyquist frequency (``[control]`` is read by
+[`SampledLoop.from_table`][seapass.model.loop.SampledLoop.from_table], as a rig file's).
+What ``[simulation]`` leaves out is [`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT]'s.
 Expressions go through the safe parser of [`seapass.model.expr`][seapass.model.expr].
 """
 
@@ -71,6 +69,7 @@ from .catalog import design as catalog_design
 from .controller import CONTROLLER_FIELDS, Controller, ControllerDerivation, derive_controller
 from .display import html_card, short_repr
 from .experiment import PAPER_EXPERIMENT
+from .latency import check_latency, latency_sea
 from .loop import METHODS, LoopAttributes, SampledLoop
 from .sea import SEA
 from .units import MAX_UNIT_CHARS, unit_map
@@ -120,9 +119,10 @@ class Design(LoopAttributes):
         Declared units (``[units]``) of parameters or of ``m_L``, checked by
         [`parse_unit`][seapass.model.units.parse_unit]; see `unit_map`.
     environment : mapping of str to (float, float)
-        Bounds of the environments the witness may use (``mass``, ``damping``,
-        ``stiffness``); those not given keep the human-limb default of
-        [`seapass.analysis.environment_box.HUMAN_LIMB`][seapass.analysis.environment_box.HUMAN_LIMB].
+        Bounds of the environments the witness may use (``mass``, ``damping``, ``stiffness``);
+        else the default [`HUMAN_LIMB`][seapass.analysis.environment_box.HUMAN_LIMB].
+    delay_time : float or None
+        Loop latency [s] (``[control] delay_time``; None: not stated): see `delayed_sea`.
     """
 
     name: str
@@ -143,6 +143,7 @@ class Design(LoopAttributes):
     units: Mapping[str, str] = field(default_factory=dict)
     controller: Controller | None = None
     plant: tuple[str, ...] = ()
+    delay_time: float | None = None
 
     def __post_init__(self) -> None:
         if not _NAME.match(self.name):
@@ -207,6 +208,7 @@ class Design(LoopAttributes):
         except SeapassError as exc:
             raise FileFormatError(re.sub(r"^units\['(\w+)'\]", r"units.\1", str(exc))) from None
         object.__setattr__(self, "units", MappingProxyType(units))
+        object.__setattr__(self, "delay_time", check_latency(self.delay_time, sea))  # latency
 
     def __repr__(self) -> str:
         elements = {
@@ -226,15 +228,12 @@ class Design(LoopAttributes):
 
     def sea(self) -> SEA:
         """The [`SEA`][seapass.model.sea.SEA] with every value of the file."""
-        return SEA(
-            D1=self.D1,
-            D2=self.D2,
-            CA=self.CA,
-            CL=self.CL,
-            values=dict(self.values),
-            name=self.name,
-            plant=self.plant,
-        )
+        elements = {k: getattr(self, k) for k in _MODEL}
+        return SEA(**elements, values=dict(self.values), name=self.name, plant=self.plant)
+
+    def delayed_sea(self) -> SEA:
+        """`sea` with C_A, C_L times ``exp(-delay_time*s)`` ([`seapass.model.latency`][seapass.model.latency])."""
+        return latency_sea(self)
 
     def derivation(self) -> ControllerDerivation | None:
         """How ``CA`` and ``CL`` follow from the ``[controller]`` blocks (None without one)."""
@@ -307,6 +306,7 @@ class Design(LoopAttributes):
                 "rate": self.control_rate,
                 "delay": self.control_delay,
                 "velocity_filter": self.velocity_filter,
+                **({} if self.delay_time is None else {"delay_time": self.delay_time}),
             },
             "environment": {k: list(v) for k, v in self.environment.items()},
             "rig": self.rig_file,
@@ -366,6 +366,7 @@ DESIGN_FIELDS: dict[str, Field] = {
             "delay": Field(int, required=False),
             "velocity_filter": Field(float, required=False),
             "method": Field(str, choices=METHODS, required=False),
+            "delay_time": Field(float, required=False),  # seconds, see model.latency
         },
     ),
     "units": Field(
@@ -431,7 +432,8 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
         )
     kw["values"] = values
     kw.update(doc.get("simulation", {}))
-    if "control" in doc:
+    kw["delay_time"] = doc.get("control", {}).get("delay_time")
+    if set(doc.get("control", {})) - {"delay_time"}:  # only delay_time: no sampled loop
         kw["loop"] = SampledLoop.from_table(doc["control"])
     if "rig" in doc:
         kw["rig_file"] = _rig_file(doc["rig"], Path(base_dir))

@@ -16,6 +16,9 @@ command's default (for the loop) or the paper's experiment
   ``[0, max(10·value, 1000)]`` around the file's value, else `DEFAULT_RANGE`).
 * units: ``units`` given, else ``[units]``, else the defaults
   ([`unit_map`][seapass.model.units.unit_map]).
+* loop latency: ``delay_time`` given, else ``[control] delay_time``; when ``> 0`` the
+  model's ``C_A`` and ``C_L`` are times ``exp(-delay_time*s)`` with ``delay_time = τ``
+  ([`seapass.model.latency`][seapass.model.latency]), so ``sea`` is a delayed design.
 
 Examples
 --------
@@ -34,11 +37,12 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
-from ..errors import ParameterError
+from ..errors import FileFormatError, ParameterError
 from .design_file import Design
 from .display import html_card, short_repr
 from .experiment import PAPER_EXPERIMENT, Experiment
 from .expr import STANDARD_SYMBOLS, parse_expression
+from .latency import check_latency, latency_elements, latency_values
 from .loop import SampledLoop
 from .sea import SEA
 from .units import unit_map
@@ -102,6 +106,9 @@ class ResolvedDesign:
         The file's ``[environment]`` bounds (empty: the default).
     design : Design or None
         The design file, if any.
+    delay_time : float or None
+        The loop latency [s] (given, else the file's; None: none stated); when ``> 0``,
+        ``sea`` holds it as ``exp(-delay_time*s)`` on ``C_A`` and ``C_L``.
     """
 
     sea: SEA
@@ -115,6 +122,7 @@ class ResolvedDesign:
     units: Mapping[str, str] = field(default_factory=_empty)
     environment: Mapping[str, tuple[float, float]] = field(default_factory=_empty)
     design: Design | None = None
+    delay_time: float | None = None
 
     def __post_init__(self) -> None:
         for name in ("ranges", "values", "units", "environment"):
@@ -151,6 +159,7 @@ class ResolvedDesign:
             "step": self.step,
             "horizon": self.horizon,
             "units": dict(self.units),
+            **({} if self.delay_time is None else {"delay_time": self.delay_time}),
         }
 
     def __repr__(self) -> str:
@@ -173,6 +182,7 @@ def resolve_design(
     step: float | None = None,
     horizon: float | None = None,
     plant: Iterable[str] = (),
+    delay_time: float | None = None,
 ) -> ResolvedDesign:
     """Merge a design file with the caller's model, values, loop, experiment and units.
 
@@ -197,6 +207,8 @@ def resolve_design(
         The step response's, replacing the file's.
     plant : iterable of str
         Hardware parameters besides the file's ``[plant]`` (never gains).
+    delay_time : float, optional
+        The loop latency [s] replacing the file's ``[control] delay_time`` (0: none).
 
     Returns
     -------
@@ -206,7 +218,7 @@ def resolve_design(
     ------
     ParameterError
         For an unknown element, a value the model does not use (``values['x']``), a
-        unit that is not one (``units['x']``) or a bad loop.
+        unit that is not one (``units['x']``), a bad loop or a bad ``delay_time``.
     """
     given_elements = {k: v for k, v in (elements or {}).items() if v is not None}
     unknown = sorted(set(given_elements) - set(ELEMENTS))
@@ -235,6 +247,16 @@ def resolve_design(
         name=design.name if design is not None else "",
         plant=tuple(dict.fromkeys(hardware)),
     )
+    latency = delay_time if delay_time is not None else _file(design, "delay_time")
+    if latency is not None:
+        latency = _latency(latency, sea, given=delay_time is not None)
+    if latency:  # the loop latency on C_A and C_L
+        sea = SEA(
+            **latency_elements(base, latency),
+            values=latency_values(model_values, latency),
+            name=sea.name,
+            plant=sea.plant,
+        )
     names = (*sea.parameters, "m_L")
     declared = dict(design.units) if design is not None else {}
     for name in units or {}:
@@ -256,7 +278,19 @@ def resolve_design(
         units=unit_map(declared, names),
         environment=dict(design.environment) if design is not None else {},
         design=design,
+        delay_time=latency,
     )
+
+
+def _latency(value: float, sea: SEA, *, given: bool) -> float:
+    """The latency checked against the (merged) model: `ParameterError` naming ``delay_time``."""
+    key = "delay_time" if given else "control.delay_time"
+    try:
+        tau = check_latency(value, sea, key=key)
+    except FileFormatError as exc:
+        raise ParameterError(str(exc), argument="delay_time") from None
+    assert tau is not None
+    return tau
 
 
 def _file(design: Design | None, name: str) -> Any:

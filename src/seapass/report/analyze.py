@@ -29,6 +29,9 @@ with what each computes and its work budget (``seapass analyze --help`` shows it
     pair of passive terminations, the exact absolutely-stable set of every gain
     and the friction certificate
     ([`seapass.ports`][seapass.ports]; the stage is ``report.stages.design_twoport``).
+``delay``
+    The certified delay margin ``τ*`` with ``C_A``, ``C_L`` delayed and, with ``[control]
+    delay_time``, the verdict up to that latency (``report.stages.design_delay``).
 ``response``
     Step response at every load mass, with 2 % settling time and final error.
 ``tuning``
@@ -86,6 +89,7 @@ from .document import (
 from .output import check_output_dir, write_report
 from .pipeline import Stage, StageContext, run_stages, select_stages
 from .stages import (
+    design_delay,
     design_dynamics,
     design_frequency,
     design_hardware,
@@ -181,6 +185,13 @@ ANALYSIS: tuple[AnalysisStage, ...] = (
         key="twoport", title="Two-port: any passive person, any passive virtual environment",
         computes="absolute stability with eta, two-port passivity, gain sets, friction",
         run=design_twoport.stage_twoport, budget=None, cost=1.2,
+    ),
+    AnalysisStage(
+        key="delay", title="Delay margin and loop latency",
+        computes="the certified delay margin tau* and the verdict at [control] delay_time",
+        run=design_delay.stage_delay, cost=1.0,
+        budget=StageBudget(unit="pieces per certified search", full=design_delay.FULL_BUDGET,
+                           quick=design_delay.QUICK_BUDGET, minimum=100, maximum=10**7),
     ),
     AnalysisStage(
         key="response", title="Step response",
@@ -447,7 +458,7 @@ def design_file_section(design: Design) -> Section:
     for k, v in d["simulation"].items():
         shown = ", ".join(f"{x:g}" for x in v) if isinstance(v, list) else v
         rows.append((f"simulation.{k}", shown, sim_units.get(k, "")))
-    control_units = {"rate": "Hz", "delay": "samples", "velocity_filter": "Hz"}
+    control_units = {"rate": "Hz", "delay": "samples", "velocity_filter": "Hz", "delay_time": "s"}
     for k, v in d["control"].items():
         rows.append((f"control.{k}", "none" if v is None else v, control_units.get(k, "")))
     rows.append(("rig", d["rig"] or "none", ""))

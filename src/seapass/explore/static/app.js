@@ -281,8 +281,8 @@
   function panelError(kind, r) {
     const el = document.querySelector(`[data-panel-err="${kind}"]`);
     if (el) el.textContent = r.ok ? "" : r.error;
-    const panel = { verdict: "verdict", sampled: "verdict", interval: "interval", region: "region", frequency: "frequency", step: "step", witness: "witness", twoport: "twoport" }[kind];
-    $("#panel-" + panel).classList.toggle("stale", !r.ok && kind !== "sampled");
+    const panel = { verdict: "verdict", sampled: "verdict", interval: "interval", region: "region", frequency: "frequency", step: "step", witness: "witness", twoport: "twoport", delay: "verdict" }[kind];
+    $("#panel-" + panel).classList.toggle("stale", !r.ok && kind !== "sampled" && kind !== "delay");
   }
 
   function setVerdict(el, cls, v, why) {
@@ -349,6 +349,18 @@
       $("#witness-text").innerHTML = `The passive environment <b>m_e = ${fmt(e.mass, 4)} kg, b_e = ${fmt(e.damping, 4)} N·s/m, k_e = ${fmt(e.stiffness, 4)} N/m</b> makes the coupled system unstable: a pole at Re s = <b>${fmt(d.growth_rate, 4)} 1/s</b> (verified exactly${d.omega ? `; tuned at ω0 = ${fmt(d.omega, 4)} rad/s` : ""}).` +
         (d.simulation ? ` The response grows ×${fmt(d.simulation.growth_factor, 3)} from the first to the last quarter.` : "");
     },
+    delay(d) {
+      // tau* from the server, ends rounded outward (d.shown): every delay up to the lower end is certified passive
+      if (!d.analysed) { setVerdict($("#verdict-delay"), "off", "not analysed", d.detail); return; }
+      if (!d.passive_at_zero) { setVerdict($("#verdict-delay"), "notpassive", "none", "not passive even without delay"); return; }
+      if (d.delay_independent) { setVerdict($("#verdict-delay"), "passive", "∞", "passive for every delay (exact)"); return; }
+      if (d.outcome !== "passive" || d.shown === null) {
+        setVerdict($("#verdict-delay"), "off", "undecided", (d.shown ? `τ* ≤ ${d.shown[1]} s; ` : "") + d.detail); return;
+      }
+      if (d.tau_star[1] === 0) { setVerdict($("#verdict-delay"), "notpassive", "0", "τ* = 0 (exact): every delay > 0 breaks passivity (" + d.loss + ")"); return; }
+      const where = d.loss === "interior" ? `at ω = ${fmt(d.frequency, 5)} rad/s` : d.loss === "low_frequency" ? "as ω → 0" : "at arbitrarily high frequencies";
+      setVerdict($("#verdict-delay"), "passive", `${d.shown[0]} s`, `τ* ∈ [${d.shown[0]}, ${d.shown[1]}] s; lost ${where} (${d.loss})`);
+    },
     twoport(d) {
       const words = { passive: ["passive", "absolutely stable"], not_passive: ["notpassive", "not absolutely stable"], undecided: ["off", "undecided"] }[d.outcome];
       setVerdict($("#verdict-absolute"), words[0], words[1],
@@ -374,6 +386,7 @@
     if (!r.ok) {
       if (kind === "sampled") setVerdict($("#verdict-sampled"), "off", "not analysed", r.error);
       if (kind === "verdict") setVerdict($("#verdict-continuous"), "off", "no verdict", r.error);
+      if (kind === "delay") setVerdict($("#verdict-delay"), "off", "undecided", r.error);
       return;
     }
     RENDER[kind](r.data, st);
