@@ -38,7 +38,7 @@ from flint import fmpq
 
 from ..errors import ParameterError, did_you_mean
 from ..exact import poly as ep
-from ..exact.rounding import inward_text
+from ..exact.rounding import enclosure_text, inward_text
 from ..files.limits import MAX_DELAY_GAINS
 from ..model.display import html_card, short_repr
 from ..model.sea import SEA, Impedance
@@ -132,10 +132,10 @@ class DelayGainIntervals:
         for (a, b), (le, he) in zip(self.intervals, self.edges, strict=True):
             a_text, b_text = inward_text(a, b, 10)
             line = f"passive for {a_text} <= {self.gain} <= {b_text}"
-            ends = [f"{w} end in [{e[0]:.10g}, {e[1]:.10g}]" for w, e in (("lower", le), ("upper", he))
+            ends = [f"{w} end in {enclosure_text(*e, digits=10)}" for w, e in (("lower", le), ("upper", he))
                     if e is not None and e[0] != e[1]]  # fmt: skip
             out.append(line + (f" ({'; '.join(ends)})" if ends else ""))
-        out += [f"undecided for {a:.10g} < {self.gain} < {b:.10g}" for a, b in self.undecided]
+        out += [f"undecided for {self.gain} in {enclosure_text(a, b, digits=10)}" for a, b in self.undecided]
         if not self.intervals:
             out.insert(0, f"no {self.gain} in [{self.lo:g}, {self.hi:g}] certified passive "
                           f"({len(self.not_passive)} gains proven not passive)")  # fmt: skip
