@@ -326,9 +326,9 @@ def passive_gain_intervals(
     grid = sorted({_double(ep.rational(Fraction(float(k)))) for k in np.linspace(lo, hi, points)})
     for k in grid:
         search.verdict(k)
-    pieces: list[tuple[fmpq, fmpq]] = [(k, k) for k in grid if search.verdicts[k] is Outcome.PASSIVE]
+    pieces: list[tuple[fmpq, fmpq]] = [(k, k) for k in grid if search.verdicts.get(k) is Outcome.PASSIVE]
     for a, b in zip(grid, grid[1:], strict=False):
-        if search.verdicts[a] is Outcome.PASSIVE and search.verdicts[b] is Outcome.PASSIVE:
+        if search.verdicts.get(a) is Outcome.PASSIVE and search.verdicts.get(b) is Outcome.PASSIVE:
             pieces += search.cover(a, b, SPLIT_DEPTH)
     merged_pieces = _merge(pieces)
     tol = ep.rational(rtol)
@@ -353,6 +353,7 @@ def passive_gain_intervals(
         edges.append((pair[0], pair[1]))
     if not intervals:
         undecided = [(_f(k), _f(k)) for k in grid if search.verdicts.get(k) is Outcome.UNDECIDED]
+    undecided = sorted(set(undecided))
     bad = tuple(sorted(_f(k) for k, v in search.verdicts.items() if v is Outcome.NOT_PASSIVE))
     if intervals and not undecided:
         outcome = Outcome.PASSIVE
