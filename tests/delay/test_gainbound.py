@@ -88,7 +88,7 @@ def test_a_starved_search_never_widens(monkeypatch, steps):
         assert r.undecided[-1] == (r.intervals[-1][1], 8000.0)
         assert r.intervals == ((0.0, 0.0), (2000.0, 2000.0), (4000.0, 4000.0))
     else:  # 6000 is proven not passive: a wide but certified enclosure
-        assert upper is not None and upper[0] == b <= 5000 <= upper[1]
+        assert upper is not None and upper[0] == r.intervals[-1][1] <= 5000 <= upper[1]
 
 
 def test_family_certificate_fails_across_the_boundary():
