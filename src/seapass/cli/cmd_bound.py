@@ -49,8 +49,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     add_model_options(p)
     add_range_options(p)
     add_uncertain_options(p)
-    p.add_argument("--points", type=int, default=17,
-                   help="with a delay: gains decided first, evenly spaced in the range")  # fmt: skip
+    p.add_argument("--points", type=int, default=None,
+                   help="with a delay only: gains decided first, evenly spaced (default 17)")  # fmt: skip
     add_json_option(p)
     p.set_defaults(func=run, allow_delay=True)
 
@@ -71,11 +71,16 @@ def run(args: argparse.Namespace) -> int:
     if has_model_delay(sea):  # certified at the delay's value: seapass.delay.gainbound
         from ..delay.gainbound import passive_gain_intervals
 
-        res = passive_gain_intervals(sea, args.param, lo, hi, points=args.points)
-        print_json({**res.to_dict(), **units_json(args, resolved)}) if args.json else print(
-            "\n".join(res.lines())
-        )
+        res = passive_gain_intervals(sea, args.param, lo, hi, points=args.points or 17)
+        if args.json:
+            print_json({**res.to_dict(), **units_json(args, resolved)})
+        else:
+            print("\n".join(res.lines()))
         return 0
+    if args.points is not None:
+        from ..errors import ParameterError
+
+        raise ParameterError("--points applies to a design with a delay exp(-NAME*s) only")
     warn_unrealizable(sea)
     result = passive_intervals(sea, args.param, lo, hi)
     unit = unit_suffix(args, resolved, args.param)
