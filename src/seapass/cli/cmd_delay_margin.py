@@ -138,7 +138,9 @@ def _run_region(args: argparse.Namespace, figure: Path | None) -> int:
     try:
         system = _system(args)
     except ParameterError as exc:
-        if getattr(exc, "argument", None) != f"values[{gain!r}]" and f"--set {gain}" not in str(exc):
+        if getattr(exc, "argument", None) != f"values[{gain!r}]" and f"--set {gain}" not in str(
+            exc
+        ):
             raise
         raise ParameterError(f"--range {gain}: not a parameter of the design") from None
     if not isinstance(system, SEA):

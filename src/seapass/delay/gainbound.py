@@ -135,7 +135,10 @@ class DelayGainIntervals:
             ends = [f"{w} end in {enclosure_text(*e, digits=10)}" for w, e in (("lower", le), ("upper", he))
                     if e is not None and e[0] != e[1]]  # fmt: skip
             out.append(line + (f" ({'; '.join(ends)})" if ends else ""))
-        out += [f"undecided for {self.gain} in {enclosure_text(a, b, digits=10)}" for a, b in self.undecided]
+        out += [
+            f"undecided for {self.gain} in {enclosure_text(a, b, digits=10)}"
+            for a, b in self.undecided
+        ]
         if not self.intervals:
             out.insert(0, f"no {self.gain} in [{self.lo:g}, {self.hi:g}] certified passive "
                           f"({len(self.not_passive)} gains proven not passive)")  # fmt: skip
@@ -326,7 +329,9 @@ def passive_gain_intervals(
     grid = sorted({_double(ep.rational(Fraction(float(k)))) for k in np.linspace(lo, hi, points)})
     for k in grid:
         search.verdict(k)
-    pieces: list[tuple[fmpq, fmpq]] = [(k, k) for k in grid if search.verdicts.get(k) is Outcome.PASSIVE]
+    pieces: list[tuple[fmpq, fmpq]] = [
+        (k, k) for k in grid if search.verdicts.get(k) is Outcome.PASSIVE
+    ]
     for a, b in zip(grid, grid[1:], strict=False):
         if search.verdicts.get(a) is Outcome.PASSIVE and search.verdicts.get(b) is Outcome.PASSIVE:
             pieces += search.cover(a, b, SPLIT_DEPTH)

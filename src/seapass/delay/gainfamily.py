@@ -170,8 +170,7 @@ def _bernstein(coeffs: list[Any], a: fmpq, b: fmpq, zero: Any) -> list[Any]:
     g = _shift(coeffs, a, b - a, zero)
     d = len(g) - 1
     return [
-        sum((g[r] * fmpq(comb(j, r), comb(d, r)) for r in range(j + 1)), zero)
-        for j in range(d + 1)
+        sum((g[r] * fmpq(comb(j, r), comb(d, r)) for r in range(j + 1)), zero) for j in range(d + 1)
     ]
 
 
@@ -391,8 +390,12 @@ def _growth_ok(fam: GainFamily, a: fmpq, b: fmpq) -> str:
     if dn > dd + 1:
         return "Z may grow faster than s"
     width = max(len(row) for row in (*fam.num, *fam.den))
-    n_top = [_in_k(fam.num, m, lambda q: q[dn] if q.degree() >= dn else fmpq(0)) for m in range(width)]
-    d_top = [_in_k(fam.den, m, lambda q: q[dd] if q.degree() >= dd else fmpq(0)) for m in range(width)]
+    n_top = [
+        _in_k(fam.num, m, lambda q: q[dn] if q.degree() >= dn else fmpq(0)) for m in range(width)
+    ]
+    d_top = [
+        _in_k(fam.den, m, lambda q: q[dd] if q.degree() >= dd else fmpq(0)) for m in range(width)
+    ]
     if any(n_top[m] * d_top[0] != n_top[0] * d_top[m] for m in range(width)):
         return "the leading terms are not a multiple of s for every gain"
     if not _no_root(n_top[0], a, b):
@@ -400,7 +403,9 @@ def _growth_ok(fam: GainFamily, a: fmpq, b: fmpq) -> str:
     return ""
 
 
-def family_certificate(fam: GainFamily, a: fmpq, b: fmpq, *, budget: int = 200_000) -> FamilyCertificate:
+def family_certificate(
+    fam: GainFamily, a: fmpq, b: fmpq, *, budget: int = 200_000
+) -> FamilyCertificate:
     """Prove that passive at ``k = a`` implies passive for every ``k ∈ [a, b]`` (module
     docstring); ``ok=False`` names the first condition not proven."""
     if not a < b:

@@ -140,8 +140,14 @@ def delay_passive_map(
     lo, hi = (float(v) for v in y_range)
     columns = tuple(
         passive_gain_intervals(
-            system, param_y, lo, hi, tau=tau, values={**(values or {}), param_x: x},
-            points=points, rtol=rtol,
+            system,
+            param_y,
+            lo,
+            hi,
+            tau=tau,
+            values={**(values or {}), param_x: x},
+            points=points,
+            rtol=rtol,
         )  # fmt: skip
         for x in xs
     )
