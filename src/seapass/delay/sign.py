@@ -211,13 +211,10 @@ def _scan(
                     )  # fmt: skip
                 c = (a + b) / 2
                 fc = form.value(arb_of(c), t)
-                if fc < 0:
-                    if not collect:
-                        return SignCertificate(
-                            Outcome.NOT_PASSIVE, witness=c, evaluations=count, precision=bits
-                        )
-                    negative.append((a, b))
-                    continue
+                if fc < 0 and not collect:
+                    return SignCertificate(
+                        Outcome.NOT_PASSIVE, witness=c, evaluations=count, precision=bits
+                    )
                 slope = form.d_omega(ball(a, b), t)
                 low = fc - abs(slope) * arb((b - a) / 2)
                 if low > 0:
@@ -225,7 +222,9 @@ def _scan(
                 if collect and (fc + abs(slope) * arb((b - a) / 2)) < 0:
                     negative.append((a, b))
                     continue
-                if b - a <= max(c, fmpq(1)) / fmpq(2) ** (bits - 24):
+                # collecting (pictures): a piece across a root of F stays undecided once
+                # it is 2^-40 narrow; deciding (one sign): split down to the precision
+                if b - a <= max(c, fmpq(1)) / fmpq(2) ** (40 if collect else bits - 24):
                     harder.append((a, b))  # this precision cannot split it further
                     continue
                 todo.append((c, b))
