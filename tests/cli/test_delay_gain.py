@@ -96,7 +96,7 @@ def test_plot_real_with_a_delay_shows_certified_bands(tmp_path):
     w = delayed_passivity(SEA(D1="k1 + b1*s", CA="(kd + bd*s)*exp(-tau*s)",
                               values=dict(m=1, b=10, k1=1000, b1=20, kd=3500, bd=25, tau=0.01))).omega  # fmt: skip
     assert any(a <= w <= b for a, b in d["negative_bands"])  # the witness lies in a band
-    for (a, b) in d["negative_bands"]:  # the sampled curve agrees inside the proven bands
+    for a, b in d["negative_bands"]:  # the sampled curve agrees inside the proven bands
         inside = [r for x, r in zip(d["omega"], d["real"], strict=True) if a < x < b]
         assert all(r < 0 for r in inside)
     assert fig.stat().st_size > 0
@@ -119,7 +119,7 @@ def test_plot_real_with_a_delay_shows_certified_bands(tmp_path):
     ],
 )  # fmt: skip
 def test_bad_input_is_one_error_line(argv, words):
-    code, out, err = run(argv)
+    code, _out, err = run(argv)
     lines = err.strip().splitlines()
     assert code == 2 and len(lines) == 1 and lines[0].startswith("error:"), err
     assert words in lines[0], lines[0]

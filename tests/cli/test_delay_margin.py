@@ -188,7 +188,7 @@ def test_design_file_gets_the_delay_on_its_controllers(tmp_path):
 
 @pytest.mark.parametrize(
     "command",
-    [["bound", "kd", "--range", "0:1000"], ["witness"], ["response"], ["simulate", "--load-mass", "1"],
+    [["witness"], ["response"], ["simulate", "--load-mass", "1"],
      ["sampled", "check", "--period", "0.002"], ["tune", "--tune", "kd=0:1000"]],
 )  # fmt: skip
 def test_commands_without_delay_support_refuse_clearly(command):

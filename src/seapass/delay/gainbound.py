@@ -27,6 +27,7 @@ The rigid wall behind a spring, ``kd`` behind ``Ï„ = 2 ms``: passive up to ``b/Ï
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -246,9 +247,9 @@ def _check(system: Any, gain: str, lo: float, hi: float, points: int, rtol: floa
     if not isinstance(system, SEA | Impedance):
         raise ParameterError(f"system: expected an SEA or an Impedance, got {type(system).__name__}")  # fmt: skip
     if gain not in system.parameters:
+        hint = did_you_mean(gain, list(system.parameters))
         raise ParameterError(
-            f"gain: {gain!r} is not a parameter of the design{did_you_mean(gain, list(system.parameters))}",  # fmt: skip
-            argument="gain",
+            f"gain: {gain!r} is not a parameter of the design{hint}", argument="gain"
         )
     if not all(isinstance(x, int | float) and math.isfinite(x) for x in (lo, hi)) or not lo < hi:
         raise ParameterError(f"the gain range must be finite with lo < hi, got [{lo!r}, {hi!r}]")
@@ -332,7 +333,7 @@ def passive_gain_intervals(
     pieces: list[tuple[fmpq, fmpq]] = [
         (k, k) for k in grid if search.verdicts.get(k) is Outcome.PASSIVE
     ]
-    for a, b in zip(grid, grid[1:], strict=False):
+    for a, b in itertools.pairwise(grid):
         if search.verdicts.get(a) is Outcome.PASSIVE and search.verdicts.get(b) is Outcome.PASSIVE:
             pieces += search.cover(a, b, SPLIT_DEPTH)
     merged_pieces = _merge(pieces)

@@ -148,7 +148,7 @@ def delay_passive_map(
             values={**(values or {}), param_x: x},
             points=points,
             rtol=rtol,
-        )  # fmt: skip
+        )
         for x in xs
     )
     return DelayPassiveMap(param_x=param_x, param_y=param_y, x=xs, y=(lo, hi), columns=columns)
