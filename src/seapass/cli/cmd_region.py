@@ -96,7 +96,8 @@ def run(args: argparse.Namespace) -> int:
     if has_model_delay(sea):  # certified per column at the delay: seapass.delay.gainmap
         from ..delay.gainmap import delay_passive_map
 
-        dmap = delay_passive_map(sea, args.x, np.linspace(x_lo, x_hi, nx), args.y, y_range)
+        xs = [float(v) for v in np.linspace(x_lo, x_hi, nx)]
+        dmap = delay_passive_map(sea, args.x, xs, args.y, y_range)
         if figure is not None:
             save_plot(lambda: dmap.plot(), figure, force=args.force, flag="--plot")
         if args.json:
