@@ -243,6 +243,42 @@ def _merge(pieces: list[tuple[fmpq, fmpq]]) -> list[tuple[fmpq, fmpq]]:
     return out
 
 
+Edge = tuple[float, float] | None
+
+
+def _join(
+    intervals: list[tuple[float, float]], edges: list[tuple[Edge, Edge]]
+) -> tuple[list[tuple[float, float]], list[tuple[Edge, Edge]]]:
+    """Join intervals that overlap after their ends were pushed (each is certified whole)."""
+    out: list[tuple[float, float]] = []
+    out_edges: list[tuple[Edge, Edge]] = []
+    for (a, b), (le, he) in sorted(zip(intervals, edges, strict=True), key=lambda t: t[0]):
+        if out and a <= out[-1][1]:
+            if b > out[-1][1]:
+                out[-1] = (out[-1][0], b)
+                out_edges[-1] = (out_edges[-1][0], he)
+            continue
+        out.append((a, b))
+        out_edges.append((le, he))
+    return out, out_edges
+
+
+def _outside(
+    gaps: list[tuple[float, float]], intervals: list[tuple[float, float]]
+) -> list[tuple[float, float]]:
+    """The parts of undecided gaps outside the certified intervals."""
+    out = []
+    for x, y in gaps:
+        for a, b in intervals:
+            if a <= x <= b:
+                x = max(x, b)
+            if a <= y <= b:
+                y = min(y, a)
+        if x < y and not any(a <= x and y <= b for a, b in intervals):
+            out.append((x, y))
+    return out
+
+
 def _check(system: Any, gain: str, lo: float, hi: float, points: int, rtol: float) -> None:
     if not isinstance(system, SEA | Impedance):
         raise ParameterError(f"system: expected an SEA or an Impedance, got {type(system).__name__}")  # fmt: skip
@@ -357,6 +393,8 @@ def passive_gain_intervals(
                 undecided.append((lo_e, hi_e))
         intervals.append((_f(new[0]), _f(new[1])))
         edges.append((pair[0], pair[1]))
+    intervals, edges = _join(intervals, edges)
+    undecided = _outside(undecided, intervals)
     if not intervals:
         undecided = [(_f(k), _f(k)) for k in grid if search.verdicts.get(k) is Outcome.UNDECIDED]
     undecided = sorted(set(undecided))
