@@ -7,7 +7,9 @@ at ``ω → 0`` (`lowfreq`) and ``ω → ∞`` (`highfreq`) and a certified sign
 with arb balls (`sign`); the characteristic quasi-polynomial ``P(s) + Q(s) e^{-sτ}``
 and its right-half-plane roots (`stability`); the verdict at a given delay
 (`passivity`), delay-independent passivity (`independent`), the passivity delay margin
-``τ*`` (`margin`) and passive sets of a gain at a fixed delay (`gain`).
+``τ*`` (`margin`), the (gain, delay) region (`gain`) and the certified passive set of a
+gain at a fixed delay (`gainfamily`: the family certificate in the gain, `gainbound`:
+``bound``, `gainmap`: ``region``).
 
 Every verdict is a [`seapass.outcome.Outcome`][seapass.outcome.Outcome]; what the
 balls cannot decide at their budget is ``undecided``, never passive.  No Padé
@@ -17,3 +19,46 @@ May import: [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outc
 [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact],
 [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis].  ``sim`` and everything above may import it.
 """
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+_LAZY: dict[str, str] = {
+    "DelayGainEdges": "gain",
+    "DelayRegion": "gain",
+    "delay_gain_edges": "gain",
+    "delay_region": "gain",
+    "DelayGainIntervals": "gainbound",
+    "passive_gain_intervals": "gainbound",
+    "DelayPassiveMap": "gainmap",
+    "delay_passive_map": "gainmap",
+    "DelayMarginResult": "margin",
+    "delay_margin": "margin",
+    "DelayPassivityResult": "passivity",
+    "delayed_passivity": "passivity",
+}
+"""Public name -> the module that defines it (loaded on first use)."""
+
+__all__ = sorted(_LAZY)
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        value = getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_LAZY})
+
+
+if TYPE_CHECKING:  # what type checkers and IDEs see
+    from .gain import DelayGainEdges, DelayRegion, delay_gain_edges, delay_region
+    from .gainbound import DelayGainIntervals, passive_gain_intervals
+    from .gainmap import DelayPassiveMap, delay_passive_map
+    from .margin import DelayMarginResult, delay_margin
+    from .passivity import DelayPassivityResult, delayed_passivity
