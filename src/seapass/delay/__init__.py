@@ -41,7 +41,20 @@ _LAZY: dict[str, str] = {
 }
 """Public name -> the module that defines it (loaded on first use)."""
 
-__all__ = sorted(_LAZY)
+__all__ = [
+    "DelayGainEdges",
+    "DelayGainIntervals",
+    "DelayMarginResult",
+    "DelayPassiveMap",
+    "DelayPassivityResult",
+    "DelayRegion",
+    "delay_gain_edges",
+    "delay_margin",
+    "delay_passive_map",
+    "delay_region",
+    "delayed_passivity",
+    "passive_gain_intervals",
+]
 
 
 def __getattr__(name: str) -> Any:
