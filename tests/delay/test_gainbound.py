@@ -19,7 +19,7 @@ from seapass.delay.gainbound import passive_gain_intervals
 from seapass.delay.gainfamily import family_certificate, gain_family
 from seapass.delay.passivity import delayed_passivity
 from seapass.errors import DelayError, ParameterError
-from seapass.model.sea import SEA
+from seapass.model.sea import SEA, Impedance
 from seapass.outcome import Outcome
 
 from .reference import min_real_part, sea_impedance
@@ -54,7 +54,7 @@ def test_ours_against_a_dense_sweep_inside_and_outside():
     ((a, b),) = r.intervals
     ((_, (end, outer)),) = r.edges
     assert a == 0.0 and end == b and outer > b and outer - b <= 1e-6 * outer * 1.01
-    for k in (*np.linspace(a, b, 6)[1:], b * (1 - 1e-4)):
+    for k in (*np.linspace(a, b, 4)[1:], b * (1 - 1e-4)):
         assert _min_re(OURS.with_values(kd=float(k)), 0.01) >= -1e-9, k
     assert _min_re(OURS.with_values(kd=outer * (1 + 1e-4)), 0.01) < 0
     assert _min_re(OURS.with_values(kd=1.1 * outer), 0.01) < 0
@@ -112,3 +112,14 @@ def test_family_certificate_fails_across_the_boundary():
 def test_bad_input(system, kwargs, error, words):
     with pytest.raises(error, match=words):
         passive_gain_intervals(system, lo=0, hi=8000, **kwargs)
+
+
+def test_a_root_from_infinity_at_an_end_is_not_certified():
+    # D = 2 - g s + e^{-s tau}: passive at g = 0, a root comes in from +infinity for g > 0
+    z = Impedance(expr="1/(2 - g*s + exp(-tau*s))", values=dict(g=None, tau=0.01))
+    fam = gain_family(z, "g", tau=fmpq(1, 100))
+    assert delayed_passivity(z, values=dict(g=0)).outcome is Outcome.PASSIVE
+    assert delayed_passivity(z, values=dict(g=0.5)).outcome is Outcome.NOT_PASSIVE
+    assert not family_certificate(fam, fmpq(0), fmpq(1)).ok
+    r = passive_gain_intervals(z, "g", 0, 1, points=3)
+    assert r.intervals == ((0.0, 0.0),) and r.edges[0][1] is not None

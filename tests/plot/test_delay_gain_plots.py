@@ -52,7 +52,9 @@ def test_map_bars_are_the_columns():
     ax = m.plot()
     bars = sorted((p.get_x() + p.get_width() / 2, p.get_y(), p.get_y() + p.get_height())
                   for p in ax.patches)  # fmt: skip
-    want = sorted((x, a, b) for x, col in zip(m.x, m.columns, strict=True) for a, b in col.intervals)
+    want = sorted(
+        (x, a, b) for x, col in zip(m.x, m.columns, strict=True) for a, b in col.intervals
+    )
     assert np.allclose(bars, want)
     assert "DelayPassiveMap(" in repr(m) and "<table>" in m._repr_html_()
     plt.close("all")

@@ -203,10 +203,11 @@ class _Search:
             return [(a, a), (b, b)]
         return self.cover(a, mid, depth - 1) + self.cover(mid, b, depth - 1)
 
-    def push(self, end: fmpq, toward: fmpq, rtol: fmpq) -> tuple[fmpq, fmpq, bool]:
-        """Move a certified ``end`` toward ``toward``: ``(new end, outer point, proven)``."""
+    def push(self, end: fmpq, toward: fmpq, rtol: fmpq, floor: fmpq) -> tuple[fmpq, fmpq, bool]:
+        """Move a certified ``end`` toward ``toward``: ``(new end, outer point, proven)``;
+        stop at ``rtol`` relative or ``floor`` absolute width."""
         outer = toward
-        while abs(outer - end) > rtol * max(abs(end), abs(outer), fmpq(1, 10**9)):
+        while abs(outer - end) > max(rtol * max(abs(end), abs(outer)), floor):
             moved = False
             for frac in (fmpq(1, 2), fmpq(1, 8), fmpq(1, 64)):
                 mid = _double(end + (outer - end) * frac)
@@ -327,7 +328,8 @@ def passive_gain_intervals(
     points : int, default 17
         Gains decided first, evenly spaced (2 to `MAX_DELAY_GAINS`).
     rtol : float, default 1e-6
-        Relative width at which the enclosure of an end stops being refined.
+        Relative width at which the enclosure of an end stops being refined (absolute
+        ``rtol·(hi - lo)/1000`` near 0).
 
     Returns
     -------
@@ -374,6 +376,7 @@ def passive_gain_intervals(
             pieces += search.cover(a, b, SPLIT_DEPTH)
     merged_pieces = _merge(pieces)
     tol = ep.rational(rtol)
+    floor = tol * (grid[-1] - grid[0]) / 1000  # an end at 0: absolute, 1e-3 rtol of the range
     intervals, edges, undecided = [], [], []
     for i, (a, b) in enumerate(merged_pieces):
         left = merged_pieces[i - 1][1] if i > 0 else grid[0]
@@ -385,7 +388,7 @@ def passive_gain_intervals(
                 new.append(end)
                 pair.append((_f(end), _f(end)))
                 continue
-            end, outer, proven = search.push(end, toward, tol)
+            end, outer, proven = search.push(end, toward, tol, floor)
             new.append(end)
             lo_e, hi_e = sorted((_f(outer), _f(end)))
             pair.append((lo_e, hi_e) if proven else None)

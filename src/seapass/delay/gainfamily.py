@@ -13,8 +13,9 @@ derivation keeps ``k`` a variable, `gain_family`).  On ``k = a + t (b - a)``,
    ``D̃ = P + Q E``.  No root crosses the imaginary axis for ``k ∈ [a, b]``:
    ``D̃(0; k) ≠ 0`` exactly, ``|P|² - |Q|²`` (a polynomial in ``ω²`` and ``k``) has Bernstein
    coefficients of one strict sign outside compact ``ω``-ranges, and on those ranges a
-   complex ball of ``D̃(jω; [a, b])`` excludes 0.  ``|P|² > |Q|²`` at high frequency keeps the
-   roots of this retarded (or ``|q_n/p_n| < 1`` neutral) loop bounded, so the number of
+   complex ball of ``D̃(jω; [a, b])`` excludes 0.  ``|P|² > |Q|²`` at high frequency with
+   the leading degree the same at both ends (so on all of ``[a, b]``) keeps the roots of this
+   retarded (or ``|q_n/p_n| < 1`` neutral) loop in ``Re s ≥ 0`` bounded, so the number of
    right-half-plane roots is that at ``k = a``.
 3. **The pole at 0 and growth at infinity.**  The residue ``N(0, 1; k)/D̃(0; k)`` does not
    change sign on ``(a, b)``; the leading ``s``-degrees do not drop and a ``c s`` growth keeps
@@ -285,6 +286,9 @@ def _bad_ranges(polys: list[fmpq_poly]) -> list[tuple[fmpq, fmpq]] | None:
     live = [p for p in polys if not p.is_zero()]
     if not live or any(p.leading_coefficient() <= 0 for p in live) or len(live) < len(polys):
         return None
+    top = max(p.degree() for p in live)
+    if polys[0].degree() != top or polys[-1].degree() != top:
+        return None  # the degree of the loop may drop at an end: a root from infinity
     ivs = sorted(iv for p in live for iv in ep.isolate_real_roots(p, fmpq(-1), None))
     merged: list[list[fmpq]] = []
     for a, b in ivs:
