@@ -58,3 +58,18 @@ def test_map_bars_are_the_columns():
     assert np.allclose(bars, want)
     assert "DelayPassiveMap(" in repr(m) and "<table>" in m._repr_html_()
     plt.close("all")
+
+
+def test_gain_delay_region_picture_holds_the_certified_cells():
+    from seapass.delay.gain import delay_region
+
+    wall = WALL.with_values(tau=None)
+    r = delay_region(wall, "kd", 1000, 4000, points=4, taus=[0.001, 0.003, 0.02])
+    ax = r.plot()
+    (mesh,) = ax.collections
+    codes = np.asarray(mesh.get_array()).reshape(len(r.taus), len(r.gains))
+    assert np.array_equal(codes, np.asarray(r.codes).T)
+    (curve,) = [line for line in ax.lines if "margin" in str(line.get_label())]
+    assert np.allclose(curve.get_ydata(), r.margins) and np.allclose(curve.get_xdata(), r.gains)
+    assert np.allclose(r.margins, [10 / k for k in r.gains], rtol=1e-3)  # tau* = b/kd
+    plt.close("all")
