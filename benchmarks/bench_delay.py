@@ -15,6 +15,7 @@ import math
 import numpy as np
 
 from _util import Row, timed
+from seapass.delay.gainbound import passive_gain_intervals
 from seapass.delay.margin import MarginLoss, delay_margin
 from seapass.delay.passivity import delayed_passivity
 from seapass.exact.rounding import enclosure_text
@@ -61,6 +62,36 @@ def grid_margin(sea: SEA, hi: float = 1.0) -> float:
     return lo
 
 
+def grid_gain_bound(sea: SEA, gain: str, tau: float, lo: float, hi: float) -> float:
+    """The largest gain the dense grid calls passive at ``tau`` (bisection, 40 steps)."""
+    for _ in range(40):
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if grid_passive(sea.with_values(**{gain: mid}), tau) else (lo, mid)
+    return lo
+
+
+def _bound_row(ours: SEA, rows: list[Row], notes: list[str]) -> None:
+    sea = ours.with_values(tau=0.01)
+    t = timed(lambda: passive_gain_intervals(sea, "kd", 0, 1e4))
+    t_grid = timed(lambda: grid_gain_bound(ours, "kd", 0.01, 0.0, 1e4))
+    rows.append(Row("bound kd at tau = 10 ms, Ours (0 to 1e4)", "certified set (family in kd)",
+                    1 / t.seconds, "dense grid + bisection on kd", 1 / t_grid.seconds,
+                    f"{t.seconds:.2f} s CPU, {t.result.steps} steps"))  # fmt: skip
+    r, g = t.result, t_grid.result
+    ((_, upper),) = r.edges
+    if upper is not None:
+        side = (
+            "above the certified end: it calls non-passive gains passive"
+            if g > upper[1]
+            else ("inside the certified enclosure" if g >= upper[0] else "below the certified end")
+        )
+        notes.append(
+            f"bound kd of Ours at tau = 10 ms: passive for kd in [0, {r.intervals[0][1]:.10g}] "
+            f"(every gain, certified), true end in {enclosure_text(*upper, digits=10)}; the dense "
+            f"grid's end {g:.10g} ({side})."
+        )
+
+
 def run(quick: bool) -> tuple[list[Row], list[str]]:
     rows: list[Row] = []
     notes: list[str] = []
@@ -105,6 +136,7 @@ def run(quick: bool) -> tuple[list[Row], list[str]]:
             f"k1 = 1000): tau* in {enclosure_text(*r.exact, digits=9) if r.exact else [lo, hi]} s, loss {r.loss}{where}, certified in "
             f"{1000 * t.seconds:.0f} ms CPU; the dense grid says {g:.6g} s ({verdict})."
         )
+    _bound_row(ours, rows, notes)
     r = delay_margin(ours, "tau")
     g = grid_margin(ours)
     if r.tau_star is not None and g > r.tau_star[1]:

@@ -58,13 +58,6 @@ INPUTS = {
     "seapass.report.document.FigureData", "seapass.report.document.Finding",
     "seapass.report.document.Section", "seapass.report.document.Summary",
     "seapass.report.document.Report",
-    # delay's certified intermediate structures, built positionally inside seapass.delay
-    # (not yet kw_only: listed here until they are; the public results are kw_only)
-    "seapass.delay.bands.BandPolynomials", "seapass.delay.highfreq.HighFrequency",
-    "seapass.delay.lowfreq.LowFrequency", "seapass.delay.response.DelayResponse",
-    "seapass.delay.sign.SignCertificate", "seapass.delay.stability.Characteristic",
-    "seapass.delay.stability.Crossing", "seapass.delay.stability.Stability",
-    "seapass.delay.trig.TrigRealPart",
 }  # fmt: skip
 #: Dataclasses that are mutable on purpose (state, caches, handles), never results.
 MUTABLE = {

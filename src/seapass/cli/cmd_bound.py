@@ -22,6 +22,14 @@ EXAMPLE = """examples:
   seapass bound kd --D1 k1 --CL kd --set m=1 --set b=10 --range kd=0:2000 \\
       --uncertain k1=800:1200 --json     # passive for every plant in the box
 
+  seapass bound kd --D1 "k1 + b1*s" --CA "(kd + bd*s)*exp(-tau*s)" --set m=1 \\
+      --set b=10 --set k1=1000 --set b1=20 --set bd=25 --set tau=0.01 --range kd=0:1e4
+
+A design with a delay exp(-NAME*s) (NAME given with --set, in seconds) is decided at
+that delay: the intervals are certified whole (every gain in them), their printed ends
+are passive, 'edges' enclose the true ends, and a gap that cannot be certified is
+reported 'undecided' (never widened).  --points sets the gains decided first.
+
 PARAM is the free parameter: give every other parameter with --set (or in the
 design file), and not PARAM itself with --set (a value is never ignored; the
 file's value of PARAM only sets its default range).
@@ -41,8 +49,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     add_model_options(p)
     add_range_options(p)
     add_uncertain_options(p)
+    p.add_argument("--points", type=int, default=None,
+                   help="with a delay only: gains decided first, evenly spaced (default 17)")  # fmt: skip
     add_json_option(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, allow_delay=True)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -56,6 +66,21 @@ def run(args: argparse.Namespace) -> int:
         args.param, ranges_from_args(args, [args.param], strict=False)[args.param]
     )
     sea = resolved.sea
+    from ..delay.structure import has_model_delay
+
+    if has_model_delay(sea):  # certified at the delay's value: seapass.delay.gainbound
+        from ..delay.gainbound import passive_gain_intervals
+
+        res = passive_gain_intervals(sea, args.param, lo, hi, points=args.points or 17)
+        if args.json:
+            print_json({**res.to_dict(), **units_json(args, resolved)})
+        else:
+            print("\n".join(res.lines()))
+        return 0
+    if args.points is not None:
+        from ..errors import ParameterError
+
+        raise ParameterError("--points applies to a design with a delay exp(-NAME*s) only")
     warn_unrealizable(sea)
     result = passive_intervals(sea, args.param, lo, hi)
     unit = unit_suffix(args, resolved, args.param)

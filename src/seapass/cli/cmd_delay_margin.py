@@ -25,6 +25,9 @@ EXAMPLE = """examples:
       --set b=10 --set k1=1000 --set b1=20 --set kd=500 --set bd=25
   seapass delay-margin tau --Z "m*s + b + K*exp(-tau*s)/s" --set m=1 --set b=2 --set K=50
 
+  seapass delay-margin tau ours --set bd=25 --set b1=20 --range kd=100:3000 --points 9 \\
+      --plot region.png     # the passive region in (kd, tau): tau*(kd), certified per gain
+
 NAME is the delay parameter (seconds); it is free here, so do not give it with --set.
 Give DESIGN right after NAME.
 DESIGN is LP, APD or ours (the paper's plant m = 1, b = 10, k1 = 1000; give the gains
@@ -62,7 +65,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         default=1e-6,
         help="relative width of the enclosure of tau*",
     )
-    add_plot_option(p, "the first failing delay per frequency with the enclosure of tau*")
+    p.add_argument("--range", metavar="GAIN=LO:HI",
+                   help="the passive region in (GAIN, NAME): tau* at --points gains in "
+                   "[LO, HI] (do not give GAIN with --set)")  # fmt: skip
+    p.add_argument("--points", type=int, metavar="N",
+                   help="with --range: number of gains, 2 to 200 (default: 9)")  # fmt: skip
+    add_plot_option(p, "the first failing delay per frequency with the enclosure of tau* "
+                    "(with --range: the passive region in (GAIN, NAME))")  # fmt: skip
     add_force_option(p)
     add_json_option(p)
     p.set_defaults(func=run, allow_delay=True)
@@ -115,12 +124,53 @@ def _system(args: argparse.Namespace) -> object:
     return controller_delay(load_design(path), args.name, values)
 
 
+def _run_region(args: argparse.Namespace, figure: Path | None) -> int:
+    """``--range GAIN=LO:HI``: tau* per gain, certified (`seapass.delay.gain.delay_region`)."""
+    from ..delay.gain import delay_region
+    from ..model.sea import SEA
+    from .common import parse_named, parse_range
+
+    ((gain, parts),) = parse_named([args.range], "--range", 2, "GAIN=LO:HI, e.g. kd=100:3000")
+    lo, hi = parse_range(":".join(parts), "--range", strict=True)
+    if gain in values_from_args(args):
+        raise ParameterError(f"--set {gain}: {gain} is the --range gain; do not give it a value")
+    args.set = [*args.set, f"{gain}={lo!r}"]  # a value to build the design; the range sets it
+    try:
+        system = _system(args)
+    except ParameterError as exc:
+        if getattr(exc, "argument", None) != f"values[{gain!r}]" and f"--set {gain}" not in str(
+            exc
+        ):
+            raise
+        raise ParameterError(f"--range {gain}: not a parameter of the design") from None
+    if not isinstance(system, SEA):
+        raise ParameterError("--range needs a design (DESIGN or the model --D1 ...), not --Z")
+    region = delay_region(system, gain, lo, hi, delay=args.name, points=args.points or 9,
+                          rtol=args.rtol)  # fmt: skip
+    if figure is not None:
+        write_figure(lambda: region.plot(), figure, force=args.force)
+    if args.json:
+        print_json(region.to_dict())
+        return 0
+    from ..exact.rounding import enclosure_text
+
+    for k, r in zip(region.gains, region.results, strict=True):
+        star = (f"tau* in {enclosure_text(*r.tau_star, digits=6)} s" if r.tau_star is not None
+                else "passive for every delay" if r.delay_independent else r.outcome.label)  # fmt: skip
+        print(f"{gain} = {k:.8g}: {star}")
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
     from ..delay.margin import delay_margin
     from ..outcome import Outcome
 
     check_rtol(args.rtol)
     figure = plot_path(args.plot, force=args.force)  # checked before the work starts
+    if args.range is not None:
+        return _run_region(args, figure)
+    if args.points is not None:
+        raise ParameterError("--points needs --range GAIN=LO:HI (the gains of the region)")
     result = delay_margin(_system(args), args.name, rtol=args.rtol)
     if figure is not None:
         write_figure(lambda: result.plot(), figure, force=args.force)

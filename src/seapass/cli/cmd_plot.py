@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING, Any
 
+from ..errors import ParameterError
 from .common import (
     add_force_option,
     add_model_options,
@@ -33,6 +34,12 @@ EXAMPLE = """examples:
   seapass plot nyquist --Z "(s - 1)/(s + 2)" --plot nyquist.svg
   seapass plot bode --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1005 \\
       --set b1=30 --set kd=1000 --set bd=25 --omega 1:1e4 --plot bode.pdf
+  seapass plot real --D1 "k1 + b1*s" --CA "(kd + bd*s)*exp(-tau*s)" --set m=1 --set b=10 \\
+      --set k1=1000 --set b1=20 --set kd=3500 --set bd=25 --set tau=0.01 --plot real.png
+
+With a delay exp(-NAME*s) (NAME given with --set, seconds): real and nyquist at that
+delay; the shaded bands are proven Re Z < 0 by ball arithmetic (undecided ones grey),
+never read off the curve.
 """
 
 KINDS = {
@@ -72,7 +79,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     )
     p.add_argument("--json", action="store_true", help="print the curve and the bands as JSON")
     add_force_option(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, allow_delay=True)
 
 
 def _frequencies(text: str | None, points: int) -> np.ndarray | None:
@@ -92,6 +99,10 @@ def run(args: argparse.Namespace) -> int:
     plot_path(args.plot, force=args.force)  # before the work
     system, _ = system_from_design_args(args)
     grid = _frequencies(args.omega, args.points)
+    from ..delay.structure import has_model_delay
+
+    if has_model_delay(system):  # certified bands at the delay: seapass.delay.response
+        return _run_delayed(args, system, grid)
     label = "Z" if args.Z is not None else "Z_L"
     resp = impedance_response(system, grid, points=args.points)
     if args.kind == "bode":
@@ -114,6 +125,26 @@ def run(args: argparse.Namespace) -> int:
         print_json(resp.to_dict())
     else:
         _print_bands(resp, label)
+    return 0
+
+
+def _run_delayed(args: argparse.Namespace, system: Any, grid: Any) -> int:
+    from ..delay.passivity import delayed_passivity
+
+    if args.kind == "bode":
+        raise ParameterError("plot bode: not for a design with a delay; use real or nyquist")
+    resp = delayed_passivity(system).response(grid)
+    if args.plot:
+        write_figure(lambda: resp.plot(args.kind, title=args.title), args.plot, force=args.force)
+    if args.json:
+        print_json(resp.to_dict())
+        return 0
+    text = ", ".join(f"({a:.6g}, {b:.6g})" for a, b in resp.negative_bands)
+    print(f"Re Z(jw) < 0 for w in {text} rad/s (proven)" if text else
+          "no band with Re Z(jw) < 0 proven on the curve's range")  # fmt: skip
+    for a, b in resp.undecided_bands:  # a band end is known to 2^-40 (relative) or better
+        if b - a > 1e-9 * b:
+            print(f"undecided for w in ({a:.6g}, {b:.6g}) rad/s")
     return 0
 
 

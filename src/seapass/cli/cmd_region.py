@@ -40,7 +40,9 @@ EXAMPLE = """examples:
       --plot robust.png                  # robust region (every k1 in the box) over the nominal
 
 A range not given is the design file's [ranges], else [0, max(10*value, 1000)]
-around the file's value, else 0:1e5 (--x-range, --y-range and --nx are the old
+around the file's value, else 0:1e5.  A design with a delay exp(-NAME*s) (NAME given
+with --set) is decided at that delay: each column's set of Y is certified whole
+(printed ends passive), gaps that cannot be certified are 'undecided' (--x-range, --y-range and --nx are the old
 spellings of --range X=..., --range Y=... and --points).
 """
 
@@ -73,7 +75,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     add_force_option(p)
     p.add_argument("--out", help=argparse.SUPPRESS)  # before 0.3: the figure; now --plot
     add_json_option(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, allow_delay=True)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -103,6 +105,21 @@ def run(args: argparse.Namespace) -> int:
         units = (resolved.units.get(args.x), resolved.units.get(args.y))
         return run_robust_region(args, np.linspace(x_lo, x_hi, nx), y_range, figure, units)
     sea = resolved.sea
+    from ..delay.structure import has_model_delay
+
+    if has_model_delay(sea):  # certified per column at the delay: seapass.delay.gainmap
+        from ..delay.gainmap import delay_passive_map
+
+        xs = [float(v) for v in np.linspace(x_lo, x_hi, nx)]
+        dmap = delay_passive_map(sea, args.x, xs, args.y, y_range)
+        if figure is not None:
+            save_plot(lambda: dmap.plot(), figure, force=args.force, flag="--plot")
+        if args.json:
+            print_json({**dmap.to_dict(), **units_json(args, resolved)})
+        else:
+            for xv, col in zip(dmap.x, dmap.columns, strict=True):
+                print(f"{args.x} = {exact_text(xv)}: " + "; ".join(col.lines()))
+        return 0
     warn_unrealizable(sea)
     pmap = passive_map(sea, args.x, np.linspace(x_lo, x_hi, nx), args.y, y_range)
     if figure is not None:

@@ -40,7 +40,7 @@ Band = tuple[fmpq, fmpq]
 """Rational ``(lo, hi)`` enclosing one open band in ``ω`` (``lo`` may be 0)."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BandPolynomials:
     """``A``, and ``gap = A² - B² - C²``, as polynomials in ``x = ω²``."""
 
@@ -56,7 +56,7 @@ def band_polynomials(f: TrigRealPart) -> BandPolynomials:
     a1 = a_rest[0] if a_rest else fmpq_poly([])
     c1 = b_rest[0] if b_rest else fmpq_poly([])
     x = fmpq_poly([0, 1])
-    return BandPolynomials(a0, a0 * a0 - a1 * a1 - x * c1 * c1)
+    return BandPolynomials(a=a0, gap=a0 * a0 - a1 * a1 - x * c1 * c1)
 
 
 def _region_sign(p: fmpq_poly, lo: fmpq, hi: fmpq | None) -> int:

@@ -76,7 +76,7 @@ def _chebyshev_u(coeffs: list[fmpq]) -> fmpq_poly:
     return out
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class HighFrequency:
     """What ``ω → ∞`` says, for every delay ``τ > 0`` at once.
 
@@ -134,7 +134,7 @@ def high_frequency(f: TrigRealPart) -> HighFrequency:
     """Classify ``ω → ∞`` (see the module docstring)."""
     d = f.degree
     if d < 0:
-        return HighFrequency("zero")
+        return HighFrequency(kind="zero")
     a = [p[d] if p.degree() >= d else fmpq(0) for p in f.cos]
     b = [p[d] if p.degree() >= d else fmpq(0) for p in f.sin]
     if d % 2 == 1:
@@ -142,17 +142,17 @@ def high_frequency(f: TrigRealPart) -> HighFrequency:
         # u is nonzero of degree < len(b): one of len(b) + 1 distinct points is not a root
         c = next(x for x in (fmpq(k, len(b) + 1) for k in range(len(b) + 1)) if u(x) != 0)
         # sin θ U(cos θ) < 0: θ in (0, π) where U < 0, or in (π, 2π) where U > 0
-        return HighFrequency("unbounded", d, cos_theta=c, upper_half=u(c) < 0)
+        return HighFrequency(kind="unbounded", degree=d, cos_theta=c, upper_half=u(c) < 0)
     h = chebyshev(a)
     neg = _negative_point(h)
     if neg is not None:
-        return HighFrequency("unbounded", d, cos_theta=neg, upper_half=True)
+        return HighFrequency(kind="unbounded", degree=d, cos_theta=neg, upper_half=True)
     if ep.count_real_roots(h, -1, 1) > 0 or h(fmpq(-1)) == 0:
-        return HighFrequency("tangent", d)
+        return HighFrequency(kind="tangent", degree=d)
     h_min = lower_bound_on(h, fmpq(-1), fmpq(1))
     if h_min <= 0:  # pragma: no cover - h > 0 on a compact set: refinement always ends
-        return HighFrequency("tangent", d)
-    return HighFrequency("positive", d, omega1=_omega1(f, d, h_min), h_min=h_min)
+        return HighFrequency(kind="tangent", degree=d)
+    return HighFrequency(kind="positive", degree=d, omega1=_omega1(f, d, h_min), h_min=h_min)
 
 
 def _last_root(p: fmpq_poly) -> fmpq:

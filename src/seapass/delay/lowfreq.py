@@ -117,7 +117,7 @@ def bounds(f: TrigRealPart, tau: fmpq, q: int) -> tuple[fmpq_poly, fmpq_poly]:
     return qpoly - r, qpoly + r
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LowFrequency:
     """What ``ω → 0`` says at a fixed delay.
 
@@ -161,13 +161,15 @@ def at_fixed_delay(f: TrigRealPart, tau: fmpq) -> LowFrequency:
             if coeffs[first] > 0:
                 core = lo // shift  # lo has no terms below ω^first (they are f_i = 0)
                 core = fmpq_poly([dyadic_down(c) for c in core.coeffs()])  # still <= F
-                return LowFrequency(1, first, _first_root_below(core))
+                return LowFrequency(sign=1, order=first, cutoff=_first_root_below(core))
             core = -(hi // shift)
             core = fmpq_poly([dyadic_down(c) for c in core.coeffs()])  # -core still >= F
             cut = _first_root_below(core)
-            return LowFrequency(-1, first, witness=(cut / 2) if cut is not None else fmpq(1))
+            return LowFrequency(
+                sign=-1, order=first, witness=(cut / 2) if cut is not None else fmpq(1)
+            )
         q *= 2
-    return LowFrequency(0)
+    return LowFrequency(sign=0)
 
 
 def limit_polynomial(f: TrigRealPart) -> tuple[int, _TauPoly]:

@@ -9,7 +9,9 @@ off the grid; the dangerous band (where *some* delay makes ``Re Z < 0``) is exac
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -74,7 +76,7 @@ class DelayResponse:
     undecided_bands: tuple[Band, ...] = ()
     dangerous_bands: tuple[Band, ...] = ()
     label: str = ""
-    extra: dict[str, Any] = field(default_factory=dict)
+    extra: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
 
     @property
     def real(self) -> np.ndarray:

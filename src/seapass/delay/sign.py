@@ -70,7 +70,7 @@ LOSSLESS = "lossless"
 """The ``reason`` of a certificate whose real part vanishes identically."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SignCertificate:
     """Outcome of `certify`.
 
@@ -98,12 +98,12 @@ class SignCertificate:
 def _zero_delay(f: TrigRealPart) -> SignCertificate:
     px = even_to_x(f.at_zero_delay())
     if px.is_zero():
-        return SignCertificate(Outcome.PASSIVE, reason=LOSSLESS)
+        return SignCertificate(outcome=Outcome.PASSIVE, reason=LOSSLESS)
     odd = ep.positive_roots_odd_multiplicity(px)
     if ep.count_real_roots(odd, 0) == 0 and px.leading_coefficient() > 0:
-        return SignCertificate(Outcome.PASSIVE)
+        return SignCertificate(outcome=Outcome.PASSIVE)
     w = negative_point(px)
-    return SignCertificate(Outcome.NOT_PASSIVE, witness=ep.rational(w))
+    return SignCertificate(outcome=Outcome.NOT_PASSIVE, witness=ep.rational(w))
 
 
 def high_witness(f: TrigRealPart, high: HighFrequency, tau: fmpq) -> fmpq | None:
@@ -206,18 +206,15 @@ def _scan(
                 count += 1
                 if count > budget:
                     return SignCertificate(
-                        Outcome.UNDECIDED, reason="budget", evaluations=count, precision=bits,
+                        outcome=Outcome.UNDECIDED, reason="budget", evaluations=count, precision=bits,
                         undecided=((a, b),),
                     )  # fmt: skip
                 c = (a + b) / 2
                 fc = form.value(arb_of(c), t)
-                if fc < 0:
-                    if not collect:
-                        return SignCertificate(
-                            Outcome.NOT_PASSIVE, witness=c, evaluations=count, precision=bits
-                        )
-                    negative.append((a, b))
-                    continue
+                if fc < 0 and not collect:
+                    return SignCertificate(
+                        outcome=Outcome.NOT_PASSIVE, witness=c, evaluations=count, precision=bits
+                    )
                 slope = form.d_omega(ball(a, b), t)
                 low = fc - abs(slope) * arb((b - a) / 2)
                 if low > 0:
@@ -225,7 +222,9 @@ def _scan(
                 if collect and (fc + abs(slope) * arb((b - a) / 2)) < 0:
                     negative.append((a, b))
                     continue
-                if b - a <= max(c, fmpq(1)) / fmpq(2) ** (bits - 24):
+                # collecting (pictures): a piece across a root of F stays undecided once
+                # it is 2^-40 narrow; deciding (one sign): split down to the precision
+                if b - a <= max(c, fmpq(1)) / fmpq(2) ** (40 if collect else bits - 24):
                     harder.append((a, b))  # this precision cannot split it further
                     continue
                 todo.append((c, b))
@@ -234,7 +233,7 @@ def _scan(
             break
         if level == len(ladder) - 1:
             return SignCertificate(
-                Outcome.UNDECIDED if not negative else Outcome.NOT_PASSIVE,
+                outcome=Outcome.UNDECIDED if not negative else Outcome.NOT_PASSIVE,
                 witness=negative[0][0] if negative else None,
                 reason="precision", evaluations=count, precision=bits,
                 negative=tuple(negative), undecided=tuple(harder),
@@ -243,10 +242,10 @@ def _scan(
     if negative:
         w = _point_in(f, tau, negative)
         return SignCertificate(
-            Outcome.NOT_PASSIVE, witness=w, evaluations=count, precision=used,
+            outcome=Outcome.NOT_PASSIVE, witness=w, evaluations=count, precision=used,
             negative=tuple(negative),
         )  # fmt: skip
-    return SignCertificate(Outcome.PASSIVE, evaluations=count, precision=used)
+    return SignCertificate(outcome=Outcome.PASSIVE, evaluations=count, precision=used)
 
 
 def _point_in(f: TrigRealPart, tau: fmpq, negative: list[tuple[fmpq, fmpq]]) -> fmpq | None:
@@ -273,24 +272,26 @@ def certify(
     returns the sub-intervals proven negative (for plots).
     """
     if f.is_zero:
-        return SignCertificate(Outcome.PASSIVE, reason=LOSSLESS)
+        return SignCertificate(outcome=Outcome.PASSIVE, reason=LOSSLESS)
     if tau == 0 or f.order == 0:
         return _zero_delay(f)
     high = high_frequency(f)
     if high.kind == "unbounded":
         w = high_witness(f, high, tau)
         if w is not None:
-            return SignCertificate(Outcome.NOT_PASSIVE, witness=w, reason="unbounded_band")
-        return SignCertificate(Outcome.UNDECIDED, reason="unbounded_band")
+            return SignCertificate(outcome=Outcome.NOT_PASSIVE, witness=w, reason="unbounded_band")
+        return SignCertificate(outcome=Outcome.UNDECIDED, reason="unbounded_band")
     if high.kind == "tangent":
-        return SignCertificate(Outcome.UNDECIDED, reason="high_frequency_tangency")
+        return SignCertificate(outcome=Outcome.UNDECIDED, reason="high_frequency_tangency")
     low = at_fixed_delay(f, tau)
     if low.sign < 0:
-        return SignCertificate(Outcome.NOT_PASSIVE, witness=low.witness, reason="low_frequency")
+        return SignCertificate(
+            outcome=Outcome.NOT_PASSIVE, witness=low.witness, reason="low_frequency"
+        )
     if low.sign == 0:
-        return SignCertificate(Outcome.UNDECIDED, reason="low_frequency_degenerate")
+        return SignCertificate(outcome=Outcome.UNDECIDED, reason="low_frequency_degenerate")
     if low.everywhere:
-        return SignCertificate(Outcome.PASSIVE)
+        return SignCertificate(outcome=Outcome.PASSIVE)
     assert low.cutoff is not None and high.omega1 is not None
     w0, w1 = low.cutoff, high.omega1
     if f.order == 1:
@@ -300,18 +301,19 @@ def certify(
         if not collect:
             w = witness_in_bands(f, tau, bands)
             if w is not None:
-                return SignCertificate(Outcome.NOT_PASSIVE, witness=w, omega0=w0, omega1=w1)
+                return SignCertificate(outcome=Outcome.NOT_PASSIVE, witness=w, omega0=w0, omega1=w1)
     else:
         segments = [(w0, w1)] if w0 < w1 else []
     if not segments:
-        return SignCertificate(Outcome.PASSIVE, omega0=w0, omega1=w1)
+        return SignCertificate(outcome=Outcome.PASSIVE, omega0=w0, omega1=w1)
     res = _scan(
         f, tau, scan_pieces(segments, tau), budget=budget, max_precision=max_precision,
         collect=collect,
     )  # fmt: skip
     return SignCertificate(
-        res.outcome, res.witness, res.reason, res.evaluations, res.precision, w0, w1,
-        res.negative, res.undecided,
+        outcome=res.outcome, witness=res.witness, reason=res.reason, evaluations=res.evaluations,
+        precision=res.precision, omega0=w0, omega1=w1, negative=res.negative,
+        undecided=res.undecided,
     )  # fmt: skip
 
 

@@ -169,7 +169,7 @@ class LoopKind(StrEnum):
     """``E²`` or higher in ``D``."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Characteristic:
     """``D(s, E) = s^k · common(s) · (p(s) + q(s) E)``; ``kind`` as in the module docstring
     (``"unsupported"``: ``E²`` or higher in ``D``)."""
@@ -199,14 +199,18 @@ def characteristic(den: tuple[fmpq_poly, ...]) -> Characteristic:
     while len(parts) > 1 and parts[-1].is_zero():
         parts.pop()
     if len(parts) > 2:
-        return Characteristic(parts[0], fmpq_poly([]), 0, fmpq_poly([1]), LoopKind.UNSUPPORTED)
+        return Characteristic(
+            p=parts[0], q=fmpq_poly([]), s_power=0, common=fmpq_poly([1]), kind=LoopKind.UNSUPPORTED
+        )
     big_p = parts[0]
     big_q = parts[1] if len(parts) > 1 else fmpq_poly([])
     k = min(_s_order(big_p), _s_order(big_q) if not big_q.is_zero() else _s_order(big_p))
     shift = fmpq_poly([0, 1]) ** k
     big_p, big_q = big_p // shift, big_q // shift
     if big_q.is_zero():
-        return Characteristic(big_p, big_q, k, fmpq_poly([1]), LoopKind.RATIONAL)
+        return Characteristic(
+            p=big_p, q=big_q, s_power=k, common=fmpq_poly([1]), kind=LoopKind.RATIONAL
+        )
     g = big_p.gcd(big_q)
     p, q = big_p // g, big_q // g
     if q.degree() > p.degree():
@@ -215,10 +219,10 @@ def characteristic(den: tuple[fmpq_poly, ...]) -> Characteristic:
         kind = LoopKind.NEUTRAL
     else:
         kind = LoopKind.RETARDED
-    return Characteristic(p, q, k, g, kind)
+    return Characteristic(p=p, q=q, s_power=k, common=g, kind=kind)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Crossing:
     """Where roots cross the imaginary axis as ``τ`` grows.
 
@@ -265,8 +269,22 @@ def _crossing_at(ch: Characteristic, w_poly: fmpq_poly, iv: tuple[fmpq, fmpq]) -
             elif not phase > 0:
                 continue  # straddles the branch cut: refine and retry
             if phase.rad() < phase.mid().abs_lower() * arb(2) ** -40 or bits == PRECISIONS[-1]:
-                return Crossing((a, b), w, phase, phase / w, direction, bits)
-    return Crossing((a, b), w, phase, phase / w, direction, PRECISIONS[-1])
+                return Crossing(
+                    x=(a, b),
+                    omega=w,
+                    phase=phase,
+                    delay=phase / w,
+                    direction=direction,
+                    precision=bits,
+                )
+    return Crossing(
+        x=(a, b),
+        omega=w,
+        phase=phase,
+        delay=phase / w,
+        direction=direction,
+        precision=PRECISIONS[-1],
+    )
 
 
 def crossings(ch: Characteristic) -> list[Crossing]:
@@ -287,7 +305,7 @@ def first_crossing(ch: Characteristic) -> Crossing | None:
     return min(cands, key=lambda c: float(c.delay.mid()))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Stability:
     """``stable``: True / False / None (undecided); ``detail`` says why."""
 
@@ -301,9 +319,15 @@ def _common_ok(ch: Characteristic) -> Stability | None:
         return None
     n = rhp_count(ch.common)
     if n is None:
-        return Stability(None, "a root on the imaginary axis for every delay (common factor)")
+        return Stability(
+            stable=None, detail="a root on the imaginary axis for every delay (common factor)"
+        )
     if n > 0:
-        return Stability(False, "a right-half-plane root for every delay (common factor)", n)
+        return Stability(
+            stable=False,
+            detail="a right-half-plane root for every delay (common factor)",
+            rhp_roots=n,
+        )
     return None
 
 
@@ -313,33 +337,47 @@ def stability_at(ch: Characteristic, tau: fmpq) -> Stability:
     if bad is not None:
         return bad
     if ch.kind is LoopKind.UNSUPPORTED:
-        return Stability(None, "the characteristic equation has e^{-2s tau} or higher: unsupported")
+        return Stability(
+            stable=None, detail="the characteristic equation has e^{-2s tau} or higher: unsupported"
+        )
     if ch.kind is LoopKind.RATIONAL or tau == 0:
         n = rhp_count(ch.p + ch.q)
         if n is None:
-            return Stability(None, "a root on the imaginary axis")
-        return Stability(n == 0, "" if n == 0 else f"{n} right-half-plane roots", n)
+            return Stability(stable=None, detail="a root on the imaginary axis")
+        return Stability(
+            stable=n == 0, detail="" if n == 0 else f"{n} right-half-plane roots", rhp_roots=n
+        )
     if ch.kind is LoopKind.ADVANCED:
-        return Stability(False, "advanced type (deg Q > deg P): infinitely many unstable roots")
+        return Stability(
+            stable=False, detail="advanced type (deg Q > deg P): infinitely many unstable roots"
+        )
     ratio = ch.neutral_ratio
     if ratio is not None and ratio > 1:
-        return Stability(False, "neutral type with |q_n/p_n| > 1: infinitely many unstable roots")
+        return Stability(
+            stable=False, detail="neutral type with |q_n/p_n| > 1: infinitely many unstable roots"
+        )
     if ratio is not None and ratio == 1:
-        return Stability(None, "neutral type with |q_n/p_n| = 1: root chains approach the axis")
+        return Stability(
+            stable=None, detail="neutral type with |q_n/p_n| = 1: root chains approach the axis"
+        )
     n0 = rhp_count(ch.p + ch.q)
     if n0 is None:
-        return Stability(None, "a root on the imaginary axis at zero delay")
+        return Stability(stable=None, detail="a root on the imaginary axis at zero delay")
     n = n0
     for c in crossings(ch):
         k = c.count_below(tau)
         if k is None:
-            return Stability(None, f"the delay is within rounding of a crossing delay at w = {float(c.omega.mid()):.6g} rad/s")  # fmt: skip
+            return Stability(stable=None, detail=f"the delay is within rounding of a crossing delay at w = {float(c.omega.mid()):.6g} rad/s")  # fmt: skip
         if k and c.direction == 0:
-            return Stability(None, "a root touches the imaginary axis (W has a multiple root)")
+            return Stability(
+                stable=None, detail="a root touches the imaginary axis (W has a multiple root)"
+            )
         n += 2 * c.direction * k
     if n < 0:
         raise ArithmeticError("negative number of right-half-plane roots")
-    return Stability(n == 0, "" if n == 0 else f"{n} right-half-plane roots", n)
+    return Stability(
+        stable=n == 0, detail="" if n == 0 else f"{n} right-half-plane roots", rhp_roots=n
+    )
 
 
 def delay_independent_stability(ch: Characteristic) -> bool | None:

@@ -35,7 +35,7 @@ from .structure import DelayedImpedance
 __all__ = ["TrigRealPart", "real_part"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class TrigRealPart:
     """``F(ω) = Σ_m A_m(ω) cos(mωτ) + B_m(ω) sin(mωτ)``; ``cos[m] = A_m``, ``sin[m] = B_m``.
 

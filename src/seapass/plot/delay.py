@@ -1,5 +1,6 @@
 """Continuous delay in pictures: ``Re Z(jω)`` at a delay with its failing bands, the first
-failing delay per frequency (the delay margin), the passive region in (gain, delay).
+failing delay per frequency (the delay margin), the passive region in (gain, delay), the
+certified passive set of a gain at a delay and the 2-D map of two gains at a delay.
 
 Plot functions only consume results of [`seapass.delay`][seapass.delay]; the shaded
 bands are the certified ones the results hold (proven by ball arithmetic, or exact),
@@ -15,7 +16,13 @@ import numpy as np
 
 from .style import axes_grid
 
-__all__ = ["plot_delay_margin", "plot_delay_region", "plot_delay_response"]
+__all__ = [
+    "plot_delay_map",
+    "plot_delay_margin",
+    "plot_delay_region",
+    "plot_delay_response",
+    "plot_gain_intervals",
+]
 
 _FAIL = "tab:red"
 
@@ -139,4 +146,56 @@ def plot_delay_region(region: Any, *, ax: Any = None, title: str = "") -> Any:
         "\ncertified at each computed gain",
         fontsize=9,
     )
+    return ax
+
+
+_PASS = "#9fd79f"
+_UNDECIDED = "0.75"
+
+
+def plot_gain_intervals(result: Any, *, ax: Any = None, title: str = "") -> Any:
+    """The certified passive set of a gain at a fixed delay, as a bar; returns the Axes.
+
+    ``result`` is a [`DelayGainIntervals`][seapass.delay.gainbound.DelayGainIntervals]:
+    green intervals are certified passive in full, grey gaps undecided, red ticks the
+    gains proven not passive; nothing else is drawn (no grid verdict).
+    """
+    ax = axes_grid(ax, 1, 1, figsize=(6.0, 1.9))[0, 0]
+    for i, (a, b) in enumerate(result.intervals):
+        ax.axvspan(a, b, color=_PASS, label="passive (certified)" if i == 0 else None)
+    for i, (a, b) in enumerate(result.undecided):
+        ax.axvspan(a, b, color=_UNDECIDED, label="undecided" if i == 0 else None)
+    bad = [k for k in result.not_passive if result.lo <= k <= result.hi]
+    if bad:
+        ax.plot(bad, [0.5] * len(bad), "|", color=_FAIL, ms=14, label="not passive (proven)")
+    ax.set_xlim(result.lo, result.hi)
+    ax.set_ylim(0, 1)
+    ax.set_yticks([])
+    ax.set_xlabel(result.gain)
+    ax.set_title(title or f"{result.gain} at {result.delay} = {result.tau:g} s", fontsize=10)
+    ax.legend(loc="upper right", ncol=3, fontsize=8)
+    return ax
+
+
+def plot_delay_map(pmap: Any, *, ax: Any = None, title: str = "") -> Any:
+    """Certified passive sets of ``param_y`` per column of ``param_x`` at a fixed delay.
+
+    ``pmap`` is a [`DelayPassiveMap`][seapass.delay.gainmap.DelayPassiveMap]; each column
+    is a vertical bar (green certified passive, grey undecided), nothing between columns.
+    """
+    ax = axes_grid(ax, 1, 1, figsize=(5.5, 4.2))[0, 0]
+    x = np.asarray(pmap.x, dtype=float)
+    width = float(np.min(np.diff(x))) * 0.8 if x.size > 1 else 1.0
+    for i, (xv, col) in enumerate(zip(x, pmap.columns, strict=True)):
+        for j, (a, b) in enumerate(col.intervals):
+            ax.bar(xv, b - a, bottom=a, width=width, color=_PASS, lw=0,
+                   label="passive (certified)" if i == j == 0 else None)  # fmt: skip
+        for a, b in col.undecided:
+            ax.bar(xv, b - a, bottom=a, width=width, color=_UNDECIDED, lw=0)
+    ax.set_ylim(*pmap.y)
+    ax.set_xlabel(pmap.param_x)
+    ax.set_ylabel(pmap.param_y)
+    ax.set_title(title or f"passive region at {pmap.delay} = {pmap.tau:g} s", fontsize=10)
+    if any(c.intervals for c in pmap.columns):
+        ax.legend(loc="best", fontsize=8)
     return ax
