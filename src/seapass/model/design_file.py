@@ -24,7 +24,8 @@ witness search; default a human limb), ``[control]`` (the digital controller: ``
 ``period`` s, ``delay`` samples, ``velocity_filter`` Hz, ``method`` ``"tustin"``, ``"zoh"`` or
 ``"backward"``), ``[rig]`` (``file`` relative to the design file, or ``preset = "paper"``),
 ``[units]`` (``ki = "1/s"``: SI symbols, prefixes, ``*``, ``/``, ``^N``, checked by
-[`seapass.model.units`][seapass.model.units]); ``docs/index.md`` shows a whole file.
+[`seapass.model.units`][seapass.model.units]), ``[uncertainty]`` (``m = [0.9, 1.1]``: a robust
+verdict's box, [`seapass.model.uncertainty`][seapass.model.uncertainty]); see ``docs/index.md``.
 
 Instead of ``CA`` and ``CL``, a ``[controller]`` table (``kind = "impedance"``,
 ``force = "kp + ki/s"``, ``impedance = "kv + bv*s"``, ...; its keys are
@@ -33,16 +34,14 @@ controller as blocks, compiled exactly into ``CA`` and ``CL``.  A ``[plant]`` ta
 gives hardware parameters besides ``m b k1 k2 b1 b2`` (which may stay in
 ``[parameters]``): fixed, substituted where a controller uses them, never gains.
 
-Validation is strict: an unknown key, a wrong type, a missing field or a
-value out of range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the
-key (e.g. ``parameters.kd``), so a typo never falls back to a default.  Sizes are
-capped at load time (file size, nesting, list lengths, text lengths, delay and
-horizon: see [`seapass.files.limits`][seapass.files.limits]); the sampling rate
-is 1 Hz to 1 MHz and the velocity filter stays below the Nyquist frequency (the
-``[control]`` table is read by
-[`SampledLoop.from_table`][seapass.model.loop.SampledLoop.from_table], the same
-spelling as a rig file's).  What ``[simulation]`` leaves out comes from the paper's
-experiment, [`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT].
+Validation is strict: an unknown key, a wrong type, a missing field or a value out of
+range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the key (e.g.
+``parameters.kd``), so a typo never falls back to a default.  Sizes are capped at load
+time ([`seapass.files.limits`][seapass.files.limits]); the sampling rate is 1 Hz to 1 MHz
+and the velocity filter stays below the Nyquist frequency (``[control]`` is read by
+[`SampledLoop.from_table`][seapass.model.loop.SampledLoop.from_table], as a rig file's).
+What ``[simulation]`` leaves out comes from the paper's experiment,
+[`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT].
 Expressions go through the safe parser of [`seapass.model.expr`][seapass.model.expr].
 """
 
@@ -73,6 +72,7 @@ from .display import html_card, short_repr
 from .experiment import PAPER_EXPERIMENT
 from .loop import METHODS, LoopAttributes, SampledLoop
 from .sea import SEA
+from .uncertainty import check_uncertainty
 from .units import MAX_UNIT_CHARS, unit_map
 
 __all__ = ["DESIGN_FIELDS", "Design", "load_design", "load_design_or_catalog", "parse_design"]
@@ -83,6 +83,7 @@ _NAME = re.compile(rf"^[A-Za-z0-9_.-]{{1,{MAX_NAME_CHARS}}}$")
 _PARAM = r"(?!(?:s|w|I|E|pi|oo)$)[A-Za-z][A-Za-z0-9_]{0,31}"  # s, w, I, E, pi, oo are taken
 _MAX_MASS = 1e6  # kg
 _MAX_STEP = 100.0  # m
+_COPIED = ("name", "title", "ranges", "environment", "units", "uncertainty")
 
 
 @dataclass(frozen=True, repr=False)
@@ -143,6 +144,7 @@ class Design(LoopAttributes):
     units: Mapping[str, str] = field(default_factory=dict)
     controller: Controller | None = None
     plant: tuple[str, ...] = ()
+    uncertainty: Mapping[str, tuple[float, float]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if not _NAME.match(self.name):
@@ -154,15 +156,13 @@ class Design(LoopAttributes):
         object.__setattr__(
             self, "ranges", MappingProxyType({k: tuple(v) for k, v in self.ranges.items()})
         )
-        object.__setattr__(
-            self, "environment",
-            MappingProxyType({k: tuple(v) for k, v in self.environment.items()}),
-        )  # fmt: skip
+        for key in ("environment", "uncertainty"):
+            table = {k: tuple(v) for k, v in getattr(self, key).items()}
+            object.__setattr__(self, key, MappingProxyType(table))
         if self.loop is not None and not isinstance(self.loop, SampledLoop):
             raise FileFormatError(f"loop: expected a SampledLoop, got {type(self.loop).__name__}")
-        for key in ("m", "b"):
-            if key not in self.values:
-                raise FileFormatError(f"missing parameters.{key} (actuator mass / damping)")
+        for key in [k for k in ("m", "b") if k not in self.values]:
+            raise FileFormatError(f"missing parameters.{key} (actuator mass / damping)")
         object.__setattr__(self, "plant", tuple(sorted(set(self.plant))))
         if self.controller is not None:
             if not isinstance(self.controller, Controller):
@@ -207,6 +207,8 @@ class Design(LoopAttributes):
         except SeapassError as exc:
             raise FileFormatError(re.sub(r"^units\['(\w+)'\]", r"units.\1", str(exc))) from None
         object.__setattr__(self, "units", MappingProxyType(units))
+        box = check_uncertainty(self.uncertainty, sea.parameters, self.values)
+        object.__setattr__(self, "uncertainty", MappingProxyType(box))  # sorted, checked
 
     def __repr__(self) -> str:
         elements = {
@@ -313,6 +315,7 @@ class Design(LoopAttributes):
             "units": dict(self.units),
             "controller": None if self.controller is None else self.controller.to_table(),
             "plant": list(self.plant_parameters),
+            "uncertainty": {k: list(v) for k, v in self.uncertainty.items()},
         }
 
 
@@ -343,6 +346,7 @@ DESIGN_FIELDS: dict[str, Field] = {
     # the controller's own checks (Controller, derive_controller) give the rules between keys
     "controller": Field(dict, required=False, fields=CONTROLLER_FIELDS),
     "ranges": Field(dict, keys=_PARAM, item=_PAIR, required=False),
+    "uncertainty": Field(dict, keys=_PARAM, item=_PAIR, required=False),
     "simulation": Field(
         dict,
         required=False,
@@ -402,9 +406,7 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
     model = doc["model"]
     if "D1" not in model and "D2" not in model:
         raise FileFormatError('missing model.D1 (the transmission, e.g. "k1 + b1*s")')
-    kw: dict[str, Any] = {
-        k: doc[k] for k in ("name", "title", "ranges", "environment", "units") if k in doc
-    }
+    kw: dict[str, Any] = {k: doc[k] for k in _COPIED if k in doc}
     for key in _MODEL:
         text = model.get(key, "0")
         if not text.strip():
