@@ -30,6 +30,7 @@ from .design_options import (
     units_json,
 )
 from .loop_options import add_loop_options
+from .uncertain_options import add_robust_options, requested_box
 
 ROWS = 25
 
@@ -112,6 +113,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     add_design_argument(c)
     add_model_options(c)
     _loop_options(c)
+    add_robust_options(c.add_argument_group("robust (every plant in a box)"))
     c.set_defaults(func=run_check)
     b = ss.add_parser(
         "bound",
@@ -131,6 +133,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     _budget_options(b, "the branch and bound")
     add_model_options(b)
     _loop_options(b)
+    add_robust_options(b.add_argument_group("robust (every plant in a box)"))
     b.set_defaults(func=run_bound)
     r = ss.add_parser(
         "region",
@@ -186,7 +189,8 @@ def run_check(args: argparse.Namespace) -> int:
     resolved = design_from_args(args, default_loop=_default_loop())
     sea, loop = resolved.sea, resolved.loop
     warn_unrealizable(sea)
-    res = sampled_passivity(sea, loop=loop, max_precision=args.max_precision)
+    box = requested_box(args, sea, resolved.design)  # --robust: one call, box= passed on
+    res = sampled_passivity(sea, loop=loop, max_precision=args.max_precision, box=box)
     if d is not None:
         from ..plot.sampled import plot_power_curve
 
@@ -231,10 +235,11 @@ def run_bound(args: argparse.Namespace) -> int:
     sea, loop = resolved.sea, resolved.loop
     lo, hi = resolved.range_of(args.param, given)
     warn_unrealizable(sea)
+    box = requested_box(args, sea, resolved.design, free=[args.param])  # --robust: passed on
     with choose_progress(not args.no_progress) as progress:
         res = sampled_passive_bound(
             sea, args.param, loop=loop, lo=lo, hi=hi, rtol=args.rtol,
-            max_precision=args.max_precision, progress=progress, **_max_boxes(args),
+            max_precision=args.max_precision, progress=progress, box=box, **_max_boxes(args),
         )  # fmt: skip
     out = {**res.to_dict(), **units_json(args, resolved)}
     if d is not None:

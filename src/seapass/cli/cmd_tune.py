@@ -22,6 +22,7 @@ from .common import (
 )
 from .design_options import add_unit_option, units_from_args
 from .loop_options import add_loop_options
+from .uncertain_options import add_robust_options, requested_box
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     from ..model.design_file import Design
@@ -93,6 +94,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     b.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
     b.add_argument("--quick", action="store_true", help="small budget (for previews and tests)")
     b.add_argument("--no-progress", action="store_true", help="no progress on stderr")
+    add_robust_options(p.add_argument_group("robust (every plant in a box)"))
     add_json_option(p)
     p.set_defaults(func=run)
 
@@ -232,6 +234,9 @@ def run(args: argparse.Namespace) -> int:
     design, file, values = _design(args, boxes)
     opts = options_from_args(args, file)
     check_step(args.step)
+    from ..model.sea import SEA
+
+    box = requested_box(args, design if isinstance(design, SEA) else design.sea(), file)
     with warnings.catch_warnings(), choose_progress(not args.no_progress) as progress:
         warnings.simplefilter("ignore", TuningWarning)  # printed below, once, as lines
         result = tune(
@@ -241,6 +246,7 @@ def run(args: argparse.Namespace) -> int:
             options=opts,
             progress=progress,
             allow_plant=args.allow_plant,
+            box=box,
         )
     for message in result.warnings:
         warn(cli_words(message))

@@ -28,6 +28,8 @@ __all__ = [
     "add_uncertain_options",
     "box_from_args",
     "box_text",
+    "requested_box",
+    "robust_design",
     "wants_box",
     "run_robust_bound",
     "run_robust_check",
@@ -93,7 +95,7 @@ def box_from_args(
     confidence = getattr(args, "confidence", None)
     if confidence is not None and not robust:
         raise ParameterError("--confidence LEVEL applies to --robust RIGFILE; give the rig file")
-    fixed = set(values_from_args(args)) - set(raw)
+    fixed = (set(values_from_args(args)) if hasattr(args, "set") else set()) - set(raw)
     try:
         box = robust_box(
             system, design=design, rig=robust or None, confidence=confidence, uncertain=raw,
@@ -108,6 +110,30 @@ def box_from_args(
             "[intervals]); it cannot also be the free parameter"
         )
     return box
+
+
+def requested_box(
+    args: argparse.Namespace, system: Any, design: Any = None, *, free: Any = ()
+) -> Any:
+    """The box when the command line asks for one (``--robust``, ``--uncertain``), else None.
+
+    For commands whose robust verdict is opt-in (``sampled``, ``tune``): the design
+    file's ``[uncertainty]`` applies only with ``--robust``.
+    """
+    if getattr(args, "robust", None) is None and not getattr(args, "uncertain", None):
+        if getattr(args, "confidence", None) is not None:
+            raise ParameterError("--confidence LEVEL applies to --robust RIGFILE; give the rig file")
+        return None
+    return box_from_args(args, system, design, free=free)
+
+
+def robust_design(args: argparse.Namespace, design: Any) -> Any:
+    """``analyze``'s design with the box of ``--robust`` as its ``uncertainty`` (unchanged
+    without ``--robust``: the robust stage reads the file's ``[uncertainty]``)."""
+    import dataclasses
+
+    box = requested_box(args, design.sea(), design)
+    return design if box is None else dataclasses.replace(design, uncertainty=box.intervals)
 
 
 def wants_box(args: argparse.Namespace) -> bool:

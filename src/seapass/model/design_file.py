@@ -207,7 +207,7 @@ class Design(LoopAttributes):
         except SeapassError as exc:
             raise FileFormatError(re.sub(r"^units\['(\w+)'\]", r"units.\1", str(exc))) from None
         object.__setattr__(self, "units", MappingProxyType(units))
-        box = check_uncertainty(self.uncertainty, sea.parameters, self.values)
+        box = check_uncertainty(self.uncertainty, sea.parameters, self.values, nominal=False)
         object.__setattr__(self, "uncertainty", MappingProxyType(box))  # sorted, checked
 
     def __repr__(self) -> str:
@@ -428,16 +428,16 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
     values.update(plant)
     kw["plant"] = tuple(plant)
     if "m" in values and values["m"] <= 0:
-        raise FileFormatError(
-            f"parameters.m: the actuator mass must be positive, got {values['m']}"
-        )
+        raise FileFormatError(f"parameters.m: the actuator mass must be positive, got {values['m']}")
     kw["values"] = values
     kw.update(doc.get("simulation", {}))
     if "control" in doc:
         kw["loop"] = SampledLoop.from_table(doc["control"])
     if "rig" in doc:
         kw["rig_file"] = _rig_file(doc["rig"], Path(base_dir))
-    return Design(**kw)
+    design = Design(**kw)  # a file's nominal values lie in its [uncertainty]:
+    check_uncertainty(design.uncertainty, tuple(design.uncertainty), design.values)
+    return design
 
 
 def _rig_file(rig: Mapping[str, str], base_dir: Path) -> str:

@@ -41,6 +41,8 @@ def check_uncertainty(
     table: Mapping[str, tuple[float, float]],
     parameters: Sequence[str],
     values: Mapping[str, float],
+    *,
+    nominal: bool = True,
 ) -> dict[str, tuple[float, float]]:
     """The checked ``[uncertainty]`` table, sorted by name.
 
@@ -52,6 +54,9 @@ def check_uncertainty(
         The model's parameters.
     values : mapping of str to float
         The file's nominal values.
+    nominal : bool, default True
+        Also require each nominal value in its interval (a design file; a box
+        from elsewhere, e.g. a fitted rig's, may leave the nominal plant).
 
     Raises
     ------
@@ -100,10 +105,10 @@ def check_uncertainty(
                 f"{key}: {span} spans more than {math.log10(MAX_UNCERTAIN_RATIO):g} decades, too "
                 "large for a bounded certified verdict; narrow it"
             )
-        nominal = values.get(name)
-        if nominal is not None and not lo <= nominal <= hi:
+        value = values.get(name)
+        if nominal and value is not None and not lo <= value <= hi:
             raise FileFormatError(
-                f"{key}: {span} does not contain the file's value {name} = {nominal:g}; the "
+                f"{key}: {span} does not contain the file's value {name} = {value:g}; the "
                 "nominal value must lie in its interval"
             )
         out[name] = (float(lo), float(hi))

@@ -29,6 +29,9 @@ with what each computes and its work budget (``seapass analyze --help`` shows it
     pair of passive terminations, the exact absolutely-stable set of every gain
     and the friction certificate
     ([`seapass.ports`][seapass.ports]; the stage is ``report.stages.design_twoport``).
+``robust``
+    With ``[uncertainty]``: the verdict for every plant in the box and the robust gain
+    ranges ([`seapass.report.stages.robust`][seapass.report.stages.robust]).
 ``response``
     Step response at every load mass, with 2 % settling time and final error.
 ``tuning``
@@ -91,6 +94,7 @@ from .stages import (
     design_hardware,
     design_passivity,
     design_twoport,
+    robust,
     zwidth,
 )
 from .stages.design_passivity import values_text
@@ -181,6 +185,11 @@ ANALYSIS: tuple[AnalysisStage, ...] = (
         key="twoport", title="Two-port: any passive person, any passive virtual environment",
         computes="absolute stability with eta, two-port passivity, gain sets, friction",
         run=design_twoport.stage_twoport, budget=None, cost=1.2,
+    ),
+    AnalysisStage(
+        key="robust", title=robust.TITLE, computes=robust.COMPUTES, run=robust.stage_robust,
+        budget=StageBudget(unit="boxes per certified verdict", full=robust.BUDGET_FULL,
+                           quick=robust.BUDGET_QUICK, maximum=10**6), cost=1.2,
     ),
     AnalysisStage(
         key="response", title="Step response",
