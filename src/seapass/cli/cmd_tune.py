@@ -6,7 +6,7 @@ import argparse
 import sys
 import warnings
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from ..errors import ParameterError, TuningWarning
 from .common import (
@@ -208,6 +208,13 @@ def _loop(args: argparse.Namespace, file: Design | None) -> SampledLoop | None:
     return resolve_loop(None if file is None else file.loop, None, changes)
 
 
+def _system(design: DesignLike) -> Any:
+    """The SEA of a design, catalog design or model (a box is checked against it)."""
+    from ..model.sea import SEA
+
+    return design if isinstance(design, SEA) or isinstance(design, str) else design.sea()
+
+
 def _units(args: argparse.Namespace, file: Design | None, names: Sequence[str]) -> dict[str, str]:
     """Units of ``names`` when a design file or ``--unit`` is given, else ``{}``."""
     from ..model.units import unit_map
@@ -234,9 +241,7 @@ def run(args: argparse.Namespace) -> int:
     design, file, values = _design(args, boxes)
     opts = options_from_args(args, file)
     check_step(args.step)
-    from ..model.sea import SEA
-
-    box = requested_box(args, design if isinstance(design, SEA) else design.sea(), file)
+    box = requested_box(args, _system(design), file)  # --robust: passed on to tune(box=)
     with warnings.catch_warnings(), choose_progress(not args.no_progress) as progress:
         warnings.simplefilter("ignore", TuningWarning)  # printed below, once, as lines
         result = tune(

@@ -30,9 +30,9 @@ __all__ = [
     "box_text",
     "requested_box",
     "robust_design",
-    "wants_box",
     "run_robust_bound",
     "run_robust_check",
+    "wants_box",
 ]
 
 CLI_BUDGET = 5000  # seapass.robust.verdict.DEFAULT_BUDGET (a test keeps them equal)
@@ -122,7 +122,9 @@ def requested_box(
     """
     if getattr(args, "robust", None) is None and not getattr(args, "uncertain", None):
         if getattr(args, "confidence", None) is not None:
-            raise ParameterError("--confidence LEVEL applies to --robust RIGFILE; give the rig file")
+            raise ParameterError(
+                "--confidence LEVEL applies to --robust RIGFILE; give the rig file"
+            )
         return None
     return box_from_args(args, system, design, free=free)
 
@@ -208,10 +210,11 @@ def _box_and_model(args: argparse.Namespace, extra_free: dict[str, str]) -> tupl
 
 
 def box_text(box: Any) -> str:
-    """``m in [0.9, 1.1], ...``: ends rounded inward (the printed box lies in the decided one)."""
-    from ..exact.rounding import interval_text
+    """``m in [0.9, 1.1], ...``: each end the shortest text that reads back as its double."""
+    from ..exact.rounding import exact_text
 
-    return ", ".join(f"{k} in {interval_text(a, b)}" for k, (a, b) in box.intervals.items())
+    items = box.intervals.items()
+    return ", ".join(f"{k} in [{exact_text(a)}, {exact_text(b)}]" for k, (a, b) in items)
 
 
 def run_robust_check(args: argparse.Namespace) -> int | None:

@@ -157,8 +157,8 @@ class Design(LoopAttributes):
             self, "ranges", MappingProxyType({k: tuple(v) for k, v in self.ranges.items()})
         )
         for key in ("environment", "uncertainty"):
-            table = {k: tuple(v) for k, v in getattr(self, key).items()}
-            object.__setattr__(self, key, MappingProxyType(table))
+            pairs = {k: tuple(v) for k, v in getattr(self, key).items()}
+            object.__setattr__(self, key, MappingProxyType(pairs))
         if self.loop is not None and not isinstance(self.loop, SampledLoop):
             raise FileFormatError(f"loop: expected a SampledLoop, got {type(self.loop).__name__}")
         for key in [k for k in ("m", "b") if k not in self.values]:
@@ -428,7 +428,7 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
     values.update(plant)
     kw["plant"] = tuple(plant)
     if "m" in values and values["m"] <= 0:
-        raise FileFormatError(f"parameters.m: the actuator mass must be positive, got {values['m']}")
+        raise FileFormatError(f"parameters.m: must be positive (actuator mass), got {values['m']}")
     kw["values"] = values
     kw.update(doc.get("simulation", {}))
     if "control" in doc:

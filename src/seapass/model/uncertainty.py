@@ -81,9 +81,7 @@ def check_uncertainty(
     for name, (lo, hi) in sorted(table.items()):
         key, span = f"uncertainty.{name}", f"[{lo:g}, {hi:g}]"
         if name not in parameters:
-            raise FileFormatError(
-                f"{key}: not a parameter of the model ({', '.join(parameters)})"
-            )
+            raise FileFormatError(f"{key}: not a parameter of the model ({', '.join(parameters)})")
         if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
             raise FileFormatError(f"{key}: {span} is empty or not finite; give LO <= HI")
         if max(abs(lo), abs(hi)) > MAX_UNCERTAIN_MAGNITUDE:

@@ -164,7 +164,9 @@ class FitIntervals:
         """Check a rig file's ``[intervals]`` table (a `FileFormatError` names the key)."""
         doc = check_table(table, INTERVAL_FIELDS, where="intervals")
         if doc["confidence"] >= 1:
-            raise FileFormatError(f"intervals.confidence must lie in (0, 1), got {doc['confidence']}")
+            raise FileFormatError(
+                f"intervals.confidence must lie in (0, 1), got {doc['confidence']}"
+            )
         given = {n: tuple(doc[n]) for n in MODEL_PARAMETERS if n in doc}
         if not given:
             raise FileFormatError("[intervals] gives no interval: add m = [LO, HI] (or b, b1)")

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from ...exact.rounding import enclosure_text, interval_text
+from ...exact.rounding import enclosure_text, exact_text, interval_text
 from ...model.design_file import Design
 from ...robust.box import uncertain_box
 from ...robust.intervals import robust_passive_intervals
@@ -71,7 +71,9 @@ def stage_robust(design: Design, context: StageContext) -> Section:
     budget = context.budget_or(BUDGET_QUICK if context.quick else BUDGET_FULL)
     data = robust_data(design, budget=budget)
     v = data["verdict"]
-    span = ", ".join(f"`{k}` ∈ {interval_text(a, b)}" for k, (a, b) in data["box"].items())
+    span = ", ".join(
+        f"`{k}` ∈ [{exact_text(a)}, {exact_text(b)}]" for k, (a, b) in data["box"].items()
+    )
     rows = []
     for r in data["ranges"]:
         inner = ", ".join(interval_text(a, b, digits=8) for a, b in r["intervals"]) or "none"
