@@ -45,6 +45,7 @@ from ..sampled import sampled_passivity
 from ..sim.metrics import tracking_metrics
 from ..sim.scenarios import Step
 from ..sim.simulate import simulate
+from .robustview import robust_key, robust_panel
 from .state import ExploreState, slider_scale
 
 __all__ = [
@@ -346,6 +347,7 @@ _PANELS: dict[str, tuple[Callable[..., dict[str, Any]], Callable[[ExploreState],
     "step": (_step, lambda s: s.key(extra=("load_mass", "step", "horizon"))),
     "witness": (_witness, lambda s: s.key()),
     "twoport": (_twoport, lambda s: s.key()),
+    "robust": (robust_panel, robust_key),  # the box verdict (seapass.explore.robustview)
 }
 KINDS: tuple[str, ...] = tuple(_PANELS)
 _cache: OrderedDict[str, dict[str, Any]] = OrderedDict()

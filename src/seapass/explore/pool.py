@@ -37,6 +37,7 @@ AFFINITY: Mapping[str, int] = {
     "region-fine": 2,
     "sampled": 3,
     "witness": 4,
+    "robust": 3,
 }
 SLOTS = 5
 
