@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import math
 import os
+import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -332,6 +333,8 @@ def rig_text(before: Rig, after: Rig, text: str | None = None) -> str:
     """
     if text is not None:
         old, new = before.to_dict(), after.to_dict()
+        present = tomllib.loads(text)  # a table the text has but ``before`` lacks: updated
+        old.update({k: v for k, v in present.items() if k not in old and isinstance(v, dict)})
         added = {sec: body for sec, body in new.items() if sec not in old}  # [intervals]
         changes = {
             (f"{sec}.{k}" if isinstance(body, dict) else sec): v
@@ -340,7 +343,12 @@ def rig_text(before: Rig, after: Rig, text: str | None = None) -> str:
             for k, v in (body.items() if isinstance(body, dict) else [(sec, body)])
             if (old[sec].get(k) if isinstance(body, dict) else old[sec]) != v
         }
-        edited = update_toml_text(text, changes)
+        dropped = any(
+            set(body) - set(new[sec])
+            for sec, body in old.items()
+            if isinstance(body, dict) and sec in new
+        )  # a key the new rig lacks (a stale standard error) cannot stay: write the whole file
+        edited = None if dropped else update_toml_text(text, changes)
         if edited is not None:
             notes = {"intervals": "written by seapass rig fit; read by --robust"}
             tail = "\n" + dump_toml(added, comments=notes) if added else ""
