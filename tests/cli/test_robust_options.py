@@ -13,8 +13,8 @@ from seapass.cli import main
 from seapass.model.design_file import load_design
 from seapass.rig import chirp_command, twin_log
 from seapass.rig.rigfile import paper_rig
-from seapass.robust.intervals import robust_passive_intervals
 from seapass.robust.box import uncertain_box
+from seapass.robust.intervals import robust_passive_intervals
 
 BOXED = """
 name = "lpbox"
@@ -104,7 +104,9 @@ def test_bound_file_gives_the_robust_set_of_the_library(files: dict[str, Path]) 
     d = json.loads(out)
     design = load_design(files["boxed"])
     sea = design.sea().with_values(kd=None)
-    lib = robust_passive_intervals(sea, "kd", 0, 2000, box=uncertain_box(sea, dict(design.uncertainty)))
+    lib = robust_passive_intervals(
+        sea, "kd", 0, 2000, box=uncertain_box(sea, dict(design.uncertainty))
+    )
     assert d["intervals"] == [list(iv) for iv in lib.intervals] and d["box"] == lib.box.to_dict()
 
 
@@ -137,7 +139,10 @@ def test_bad_input_is_one_error_line(files: dict[str, Path], tmp_path: Path) -> 
     for level in ("1.5", "0", "-0.1", "1"):
         _error(["check", str(files["ours"]), "--robust", str(files["fitted"]), "--confidence", level],
                "--confidence must lie in (0, 1)")  # fmt: skip
-    _error(["check", str(files["boxed"]), "--confidence", "0.9"], "--confidence LEVEL applies to --robust RIGFILE")
+    _error(
+        ["check", str(files["boxed"]), "--confidence", "0.9"],
+        "--confidence LEVEL applies to --robust RIGFILE",
+    )
     _error(["check", str(files["ours"]), "--robust"], "the design has no [uncertainty] table")
     _error(["bound", "m", str(files["boxed"])], "m is uncertain")
     _error(["check", str(files["boxed"]), "--set", "m=1", "--uncertain", "m=0.9:1.1"], "--set m")
@@ -154,11 +159,20 @@ def test_bad_input_is_one_error_line(files: dict[str, Path], tmp_path: Path) -> 
 def test_sampled_and_tune_pass_the_box_on_and_refuse_it(
     files: dict[str, Path], argv: list[str], needle: str
 ) -> None:
-    *cmd, = argv
+    (*cmd,) = argv
     where = 2 if argv[0] == "sampled" else 1
     full = [*cmd[:where], str(files["ours"]), *cmd[where:], "--robust", str(files["fitted"])]
     if argv[0] == "sampled" and argv[1] == "bound":
-        full = ["sampled", "bound", "kd", str(files["ours"]), "--range", "kd=0:2000", "--robust", str(files["fitted"])]
+        full = [
+            "sampled",
+            "bound",
+            "kd",
+            str(files["ours"]),
+            "--range",
+            "kd=0:2000",
+            "--robust",
+            str(files["fitted"]),
+        ]
     _error(full, needle)
     # without --robust the file's [uncertainty] does not switch them to a robust run
     boxed_ours = files["ours"].parent / "ours_boxed.toml"
@@ -174,3 +188,15 @@ def test_the_robust_options_are_in_the_help() -> None:
         with contextlib.redirect_stdout(out), pytest.raises(SystemExit):
             main([*argv, "--help"])
         assert "--robust [RIGFILE]" in out.getvalue() and "--confidence LEVEL" in out.getvalue()
+
+
+def test_analyze_robust_takes_the_box_of_a_fitted_rig(
+    files: dict[str, Path], tmp_path: Path
+) -> None:
+    code, _out, err = _cli(["analyze", str(files["ours"]), "--out", str(tmp_path / "r"), "--stages",
+                            "robust", "--quick", "--no-progress", "--robust", str(files["fitted"])])  # fmt: skip
+    assert code == 0, err
+    data = json.loads((tmp_path / "r" / "data" / "robust.json").read_text())
+    assert set(data["box"]) == {"m", "b", "b1"} and data["verdict"]["status"] == "passive"
+    twin_mass = paper_rig().actuator_mass  # the fitted box holds the twin's own plant
+    assert data["box"]["m"][0] <= twin_mass <= data["box"]["m"][1]

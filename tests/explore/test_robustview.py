@@ -56,11 +56,16 @@ def test_the_sliders_move_the_verdict_and_the_worst_plant_is_verified() -> None:
 
 def test_without_a_box_the_panel_says_so_and_a_bad_box_names_the_field() -> None:
     d = compute("robust", check_state({"model": {"D1": "k1", "CL": "kd"}}).state)
-    assert d == {"analysed": False, "detail": "no box: open a design file with an [uncertainty] table"}
+    assert d == {
+        "analysed": False,
+        "detail": "no box: open a design file with an [uncertainty] table",
+    }
     bad = check_state({**design_state(DESIGN), "uncertainty": {"m": [1.1, 0.9]}})
     assert bad.state is None and "uncertainty.m" in bad.errors
     unphysical = _state(uncertainty={"m": [-1.0, 1.0]})
     d = compute("robust", unphysical)
     assert d["analysed"] is False and "non-physical" in d["detail"]
     # a name the edited model no longer has leaves the box
-    assert dict(_state(uncertainty={"m": [0.9, 1.1], "b9": [1, 2]}).uncertainty) == {"m": (0.9, 1.1)}
+    assert dict(_state(uncertainty={"m": [0.9, 1.1], "b9": [1, 2]}).uncertainty) == {
+        "m": (0.9, 1.1)
+    }

@@ -61,17 +61,23 @@ def test_the_guard_envelope_equals_the_robust_intervals_rounded_inward(design_fi
     box = uncertain_box(sea, dict(design.uncertainty))
     for env, plain in zip(robust.gains, nominal.gains, strict=True):
         lo, hi = design.analysis_ranges()[env.name]
-        res = robust_passive_intervals(sea.with_values(**{env.name: None}), env.name, lo, hi, box=box)
-        (a, b), = [iv for iv in res.intervals if iv[0] <= env.nominal <= iv[1]]
+        res = robust_passive_intervals(
+            sea.with_values(**{env.name: None}), env.name, lo, hi, box=box
+        )
+        ((a, b),) = [iv for iv in res.intervals if iv[0] <= env.nominal <= iv[1]]
         assert plain.low <= a and b <= plain.high  # the robust set lies in the sampled one here
         assert (env.low, env.high) == inward_interval(a, b)
         for end in (env.low, env.high):  # each end the guard allows: passive on the whole box
             assert robust_check(sea.with_values(**{env.name: end}), box=box).passive
     assert any(e.low > p.low for e, p in zip(robust.gains, nominal.gains, strict=True))
-    assert any("robust for every plant with b1 in [20, 40], m in [0.9, 1.1]" in n for n in robust.notes)
+    assert any(
+        "robust for every plant with b1 in [20, 40], m in [0.9, 1.1]" in n for n in robust.notes
+    )
 
 
-def test_the_cli_bakes_the_robust_envelope_into_the_guards(design_file: Path, tmp_path: Path) -> None:
+def test_the_cli_bakes_the_robust_envelope_into_the_guards(
+    design_file: Path, tmp_path: Path
+) -> None:
     out = io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(io.StringIO()):
         code = main(["export", "c", str(design_file), "--out", str(tmp_path), "--set-gains",
@@ -85,7 +91,9 @@ def test_the_cli_bakes_the_robust_envelope_into_the_guards(design_file: Path, tm
         assert gains[env.name]["interval"] == [env.low, env.high]
 
 
-def test_a_design_not_robustly_passive_or_without_a_box_is_refused(design_file: Path, tmp_path: Path) -> None:
+def test_a_design_not_robustly_passive_or_without_a_box_is_refused(
+    design_file: Path, tmp_path: Path
+) -> None:
     plain = tmp_path / "plain.toml"
     plain.write_text(DESIGN.split("[uncertainty]")[0])
     with pytest.raises(ParameterError, match="no \\[uncertainty\\] table"):

@@ -66,7 +66,9 @@ def test_too_many_entries_are_refused_before_any_work() -> None:
     text = BASE.replace("[model]", "[model]").replace('CL = "kd"', 'CL = "kd + a1 + a2 + a3 + a4"')
     text = text.replace("kd = 500.0", "kd = 500.0\na1 = 1.0\na2 = 1.0\na3 = 1.0\na4 = 1.0")
     table = "".join(f"{n} = [0.5, 2.0]\n" for n in ("m", "b", "k1", "a1", "a2", "a3", "a4"))
-    table = table.replace("m = [0.5, 2.0]", "m = [0.5, 1.5]").replace("b = [0.5, 2.0]", "b = [5, 20]")
+    table = table.replace("m = [0.5, 2.0]", "m = [0.5, 1.5]").replace(
+        "b = [0.5, 2.0]", "b = [5, 20]"
+    )
     table = table.replace("k1 = [0.5, 2.0]", "k1 = [500, 2000]")
     with pytest.raises(FileFormatError, match=r"\[uncertainty\]: 7 entries exceed the limit of 6"):
         parse_design(tomllib.loads(text + "[uncertainty]\n" + table))

@@ -29,7 +29,9 @@ def test_the_stage_is_listed_with_its_budget() -> None:
 def test_the_ranges_are_robust_passive_intervals_of_the_library() -> None:
     data = robust_data(BOXED)
     sea = BOXED.sea().with_values(kd=None)
-    lib = robust_passive_intervals(sea, "kd", 0.0, 2000.0, box=uncertain_box(sea, {"k1": (800, 1200)}))
+    lib = robust_passive_intervals(
+        sea, "kd", 0.0, 2000.0, box=uncertain_box(sea, {"k1": (800, 1200)})
+    )
     (kd,) = data["ranges"]
     assert kd["intervals"] == [list(iv) for iv in lib.intervals] == [[0.0, 800.0]]
     assert kd["method"] == "exact" and kd["nominal"] == 500.0
@@ -51,7 +53,9 @@ def test_a_worst_plant_is_reported(tmp_path: Path) -> None:
     assert "not passive" in sec.text and "Worst plant" in sec.text
 
 
-def test_analyze_runs_the_stage_from_the_file_and_refuses_robust_without_a_box(tmp_path: Path) -> None:
+def test_analyze_runs_the_stage_from_the_file_and_refuses_robust_without_a_box(
+    tmp_path: Path,
+) -> None:
     report = analyze(BOXED, stages=["robust"], quick=True)
     assert [s.key for s in report.sections] == ["robust", "design-file"]
     assert report.sections[0].status == SectionStatus.OK

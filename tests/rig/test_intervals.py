@@ -52,7 +52,9 @@ def test_a_level_is_recomputed_from_the_standard_errors_with_students_t(fit) -> 
     for name in ("m", "b", "b1"):
         p = fit[name]
         q = stats.t.ppf(0.995, dof)
-        assert at99.intervals[name] == pytest.approx((p.value - q * p.stderr, p.value + q * p.stderr), rel=1e-12)
+        assert at99.intervals[name] == pytest.approx(
+            (p.value - q * p.stderr, p.value + q * p.stderr), rel=1e-12
+        )
     lo95, hi95 = iv.intervals["m"]
     lo99, hi99 = at99.intervals["m"]
     assert lo99 < lo95 and hi95 < hi99

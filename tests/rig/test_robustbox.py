@@ -24,10 +24,18 @@ FITTED = paper_rig().replace(
 
 def test_the_sources_stack_design_then_rig_then_caller() -> None:
     assert robust_box(SEA1) is None
-    assert dict(robust_box(SEA1, design=DESIGN).intervals) == {"k1": (900.0, 1100.0), "m": (0.9, 1.1)}
+    assert dict(robust_box(SEA1, design=DESIGN).intervals) == {
+        "k1": (900.0, 1100.0),
+        "m": (0.9, 1.1),
+    }
     box = robust_box(SEA1, design=DESIGN, rig=FITTED)
     # the rig overrides m, adds b (cut at 0: a damping is not negative) and b1; k1 stays
-    assert dict(box.intervals) == {"b": (0.0, 0.3), "b1": (19.0, 21.0), "k1": (900.0, 1100.0), "m": (1.0, 1.04)}
+    assert dict(box.intervals) == {
+        "b": (0.0, 0.3),
+        "b1": (19.0, 21.0),
+        "k1": (900.0, 1100.0),
+        "m": (1.0, 1.04),
+    }
     box = robust_box(SEA1, design=DESIGN, rig=FITTED, uncertain={"m": (0.95, 1.05)})
     assert box.intervals["m"] == (0.95, 1.05)
 
