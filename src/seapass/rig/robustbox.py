@@ -67,8 +67,8 @@ def rig_box(
     where = "the rig" if isinstance(rig, Rig) else f"rig file {os.fspath(rig)}"
     if loaded.intervals is None:
         raise ParameterError(
-            f"{where} has no [intervals] table: write one with 'seapass rig fit LOG --rig "
-            "RIG.toml --rig-out FITTED.toml', or give the box with [uncertainty]"
+            f"{where} has no [intervals] table: fit a log to it (seapass rig fit) and use "
+            "the rig file the fit writes, or give the box with [uncertainty]"
         )
     fitted = loaded.intervals if confidence is None else loaded.intervals.at(confidence)
     return fitted.box(None if parameters is None else tuple(parameters))

@@ -318,7 +318,7 @@ def sampled_passivity(
     if box is not None:  # the hook of robust sampled passivity (issue 26), not in this release
         raise ParameterError(
             "robust sampled passivity (every plant in a box) is not available yet; decide the "
-            "box in continuous time (seapass.robust.robust_check, 'seapass check --robust')"
+            "box in continuous time (seapass.robust.robust_check)"
         )
     loop = loop_argument(loop, old, where="sampled_passivity")
     max_precision = check_precision(max_precision)

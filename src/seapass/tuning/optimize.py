@@ -327,7 +327,7 @@ def tune(
     """
     if box is not None:  # the hook of robust tuning (issue 26), not in this release
         msg = "robust tuning (passive for every plant in a box) is not available yet"
-        raise ParameterError(f"{msg}; tune, then decide the box with 'seapass check --robust'")
+        raise ParameterError(f"{msg}; tune, then decide the box with seapass.robust.robust_check")
     opts = (options or TuningOptions()).replace(**changes)
     problem = resolve_problem(design, tune, opts, values, allow_plant=allow_plant)
     bounds = narrowed_box(problem)
