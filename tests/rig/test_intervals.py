@@ -7,6 +7,8 @@ from importlib import resources
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from scipy import stats
 
 from seapass.errors import FileFormatError, ParameterError
@@ -116,3 +118,12 @@ def test_the_frequency_response_fit_writes_intervals_too() -> None:
     assert rig.intervals is not None and rig.intervals.dof == 2 * f.size - 3
     lo, hi = rig.intervals.intervals["m"]
     assert lo <= 1.02 + 1e-9 and hi >= 1.02 - 1e-9
+
+
+@given(st.floats(0.05, 0.999), st.floats(0.05, 0.999))
+def test_a_higher_level_gives_a_wider_interval_about_the_same_estimate(a: float, b: float) -> None:
+    iv = FitIntervals(confidence=0.95, intervals={"m": (0.9, 1.1)}, stderr={"m": 0.05}, dof=40)
+    low, high = sorted((a, b))
+    inner, outer = iv.at(low).intervals["m"], iv.at(high).intervals["m"]
+    assert outer[0] <= inner[0] and inner[1] <= outer[1]
+    assert (inner[0] + inner[1]) / 2 == pytest.approx(1.0) == (outer[0] + outer[1]) / 2
