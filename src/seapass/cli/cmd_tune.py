@@ -241,7 +241,8 @@ def run(args: argparse.Namespace) -> int:
     design, file, values = _design(args, boxes)
     opts = options_from_args(args, file)
     check_step(args.step)
-    box = requested_box(args, _system(design), file)  # --robust: passed on to tune(box=)
+    system = _system(design) if args.robust is not None else None  # only for a box
+    box = requested_box(args, system, file)  # --robust: passed on to tune(box=)
     with warnings.catch_warnings(), choose_progress(not args.no_progress) as progress:
         warnings.simplefilter("ignore", TuningWarning)  # printed below, once, as lines
         result = tune(
