@@ -200,3 +200,16 @@ def test_analyze_robust_takes_the_box_of_a_fitted_rig(
     assert set(data["box"]) == {"m", "b", "b1"} and data["verdict"]["status"] == "passive"
     twin_mass = paper_rig().actuator_mass  # the fitted box holds the twin's own plant
     assert data["box"]["m"][0] <= twin_mass <= data["box"]["m"][1]
+
+
+def test_the_robust_options_register_once() -> None:
+    import argparse
+
+    from seapass.cli.uncertain_options import add_robust_options, add_uncertain_options
+
+    p = argparse.ArgumentParser()
+    add_uncertain_options(p)  # brings --robust and --confidence
+    add_robust_options(p.add_argument_group("again"))  # a command adding them too: no clash
+    args = p.parse_args(["--robust", "fitted.toml", "--confidence", "0.9"])
+    assert args.robust == "fitted.toml" and args.confidence == 0.9
+    assert p.parse_args(["--robust"]).robust == "" and p.parse_args([]).robust is None

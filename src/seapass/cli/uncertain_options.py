@@ -61,7 +61,9 @@ def add_uncertain_options(p: argparse.ArgumentParser) -> None:
 
 
 def add_robust_options(p: Any) -> None:
-    """``--robust [RIGFILE]`` and ``--confidence LEVEL``."""
+    """``--robust [RIGFILE]`` and ``--confidence LEVEL`` (once: a second call adds nothing)."""
+    if any("--robust" in a.option_strings for a in p._actions):
+        return  # a command registers --uncertain (which brings them) and --robust itself
     p.add_argument(
         "--robust",
         nargs="?",
