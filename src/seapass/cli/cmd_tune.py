@@ -242,7 +242,7 @@ def run(args: argparse.Namespace) -> int:
     opts = options_from_args(args, file)
     check_step(args.step)
     system = _system(design) if args.robust is not None else None  # only for a box
-    box = requested_box(args, system, file)  # --robust: passed on to tune(box=)
+    box = requested_box(args, system, file)  # --robust: passed on to tune(uncertain=)
     with warnings.catch_warnings(), choose_progress(not args.no_progress) as progress:
         warnings.simplefilter("ignore", TuningWarning)  # printed below, once, as lines
         result = tune(
@@ -252,7 +252,7 @@ def run(args: argparse.Namespace) -> int:
             options=opts,
             progress=progress,
             allow_plant=args.allow_plant,
-            box=box,
+            uncertain=None if box is None else dict(box.intervals),
         )
     for message in result.warnings:
         warn(cli_words(message))

@@ -259,7 +259,7 @@ def tune(
     callback: Callable[[int, float], None] | None = None,
     throw: bool = False,
     allow_plant: bool = False,
-    box: Any = None,
+    uncertain: Any = None,
     **changes: Any,
 ) -> TuningResult:
     """Tune the gains of ``design`` for the best passive step response.
@@ -290,7 +290,7 @@ def tune(
     callback : callable, optional
         Deprecated (one release): ``callback(generation, best_cost)`` after each
         generation; use ``progress``.
-    box : mapping, optional
+    uncertain : mapping, optional
         A box of uncertain plants: robust tuning, not available yet (refused).
     throw : bool, default False
         Raise [`NotPassiveError`][seapass.errors.NotPassiveError] when the result is
@@ -325,7 +325,7 @@ def tune(
     >>> r.passive, sorted(r.gains)
     (True, ['bd', 'kd'])
     """
-    if box is not None:  # the hook of robust tuning (issue 26), not in this release
+    if uncertain is not None:  # the hook of robust tuning (issue 26), not in this release
         msg = "robust tuning (passive for every plant in a box) is not available yet"
         raise ParameterError(f"{msg}; tune, then decide the box with seapass.robust.robust_check")
     opts = (options or TuningOptions()).replace(**changes)
