@@ -73,8 +73,9 @@ def test_every_stage_on_a_hard_design_delivers_a_complete_report(
     status = {s["key"]: s["status"] for s in summary["sections"]}
     assert list(status) == [*(s.key for s in ANALYSIS), "design-file"]  # every stage, in order
     stopped = {"tuning", "sampled"}
-    # one gain: no witness needed (passive), no Z-width map (two gains), no [rig]
-    skipped = {"witness", "zwidth", "rig"}
+    # one gain: no witness needed (passive), no Z-width map (two gains), no [rig],
+    # no [uncertainty] (the robust stage)
+    skipped = {"witness", "zwidth", "rig", "robust"}
     assert {k for k, v in status.items() if v == "stopped_at_budget"} == stopped
     assert {k for k, v in status.items() if v == "skipped"} == skipped
     assert set(status.values()) == {"ok", "stopped_at_budget", "skipped"}

@@ -133,7 +133,7 @@ DELAYED = ["--D1", "k1 + b1*s", "--CA", "(kd + bd*s)*exp(-tau*s)", "--set", "m=1
         ),
         (
             ["APD", "--objective", "force-bandwidth", "--uncertain", "m=1:2"],
-            "--uncertain works with --objective settling or itae, not force-bandwidth",
+            "--uncertain and --robust work with --objective settling or itae, not force-bandwidth",
         ),
     ],
 )

@@ -98,7 +98,7 @@ def test_cli_fit_frf_json_text_and_rig_out(tmp_path: Path) -> None:
     fitted = parse_rig(tomllib.loads(text))
     assert fitted.damper.b1 == pytest.approx(TRUE["b1"], rel=1e-6)
     assert fitted.actuator_mass == pytest.approx(TRUE["m"], rel=1e-6)
-    assert text.count("#") == rig_template().count("#")  # the comments are kept
+    assert text.count("#") == rig_template().count("#") + 1  # comments kept; [intervals] noted
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
         assert main(argv) == 0

@@ -42,6 +42,7 @@ def test_rig_out_keeps_comments_and_names_the_log_relatively(
     text = out.read_text()
     # every comment of the template is still there, in order
     comments = [ln[ln.index("#") :] for ln in template.splitlines() if "#" in ln]
+    comments.append("# written by seapass rig fit; read by --robust")  # the fit's [intervals]
     assert [ln[ln.index("#") :] for ln in text.splitlines() if "#" in ln] == comments
     fitted = parse_rig(tomllib.loads(text))
     assert fitted.damper.b1 == fit["b1"]["value"]

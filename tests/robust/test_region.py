@@ -163,3 +163,22 @@ def test_cli_bad_boxes_give_one_error_line(
     assert main([*ARGV, "--points", "2", *extra]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("error: ") and message in err[0]
+
+
+def test_cli_region_uses_the_design_files_uncertainty_table(
+    capsys: pytest.CaptureFixture[str], tmp_path
+) -> None:
+    design = tmp_path / "boxed.toml"
+    design.write_text(
+        'name = "boxed"\n[model]\nD1 = "k1 + b1*s"\nCL = "kd + bd*s"\n'
+        "[parameters]\nm = 1.0\nb = 10.0\nb1 = 5.0\nk1 = 1000.0\nkd = 100.0\nbd = 1.0\n"
+        "[uncertainty]\nk1 = [800.0, 1200.0]\n"
+    )
+    argv = ["region", "bd", "kd", str(design), "--range", "bd=0:4", "--range", "kd=0:2000"]
+    assert main([*argv, "--points", "2", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["robust"] is True and d["box"] == {"k1": [800.0, 1200.0]}
+    assert d["intervals"][0][0][1] == pytest.approx(744.733, rel=1e-5)
+    # --set fixes the name: the plain exact region runs
+    assert main([*argv, "--points", "2", "--set", "k1=1000", "--json"]) == 0
+    assert "robust" not in json.loads(capsys.readouterr().out)

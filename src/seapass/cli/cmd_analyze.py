@@ -17,12 +17,14 @@ from .common import (
 )
 from .design_options import add_delay_time_option
 from .report_output import announce_report, print_section_problems, report_summary
+from .uncertain_options import add_robust_options, robust_design
 
 EXAMPLE = """examples:
   seapass analyze examples/ours.toml --out results/ours
   seapass analyze examples/load_pd_not_passive.toml --out /tmp/lpd --quick
   seapass analyze my_design.toml --out /tmp/core --stages core   # verdict, stiffness, ranges
   seapass analyze my_design.toml --out /tmp/r --budget sampled=200 --budget zwidth=100
+  seapass analyze my_design.toml --out /tmp/r --stages robust --robust fitted_rig.toml
 
 The design file is TOML with [model] (D1, D2, CA, CL), [parameters] (a value for
 every symbol, m and b included) and optional [ranges], [simulation], [control]
@@ -63,7 +65,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="passivity, passive gain ranges, tuning, step response and sampled limits of a design file",
         description="Analyse a design given as a TOML file and write a self-contained HTML "
         "report, a Markdown report and all data (stages: passivity, witness, stiffness, "
-        "frequency, ranges, twoport, response, tuning, sampled, zwidth, rig; listed with "
+        "frequency, ranges, twoport, robust, response, tuning, sampled, zwidth, rig; listed with "
         "their budgets below).",
         epilog=EXAMPLE,
         add_help=False,
@@ -85,6 +87,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="work budget of a stage in its counted unit (repeatable; see the stage list), "
         "e.g. --budget sampled=500",
     )
+    add_robust_options(p.add_argument_group("robust (the robust stage's box)"))
     add_jobs_argument(p)
     add_delay_time_option(p)
     p.add_argument(
@@ -120,7 +123,7 @@ def run(args: argparse.Namespace) -> int:
     from .cmd_reproduce import parse_stages
     from .progress import choose_progress
 
-    design = load_design(args.design)
+    design = robust_design(args, load_design(args.design))  # --robust RIGFILE: the fit's box
     if args.delay_time is not None:  # the loop latency of the delay stage, replacing the file's
         import dataclasses
 

@@ -13,7 +13,7 @@ from .design_options import (
     unit_suffix,
     units_json,
 )
-from .uncertain_options import add_uncertain_options, run_robust_bound
+from .uncertain_options import add_uncertain_options, run_robust_bound, wants_box
 
 EXAMPLE = """examples:
   seapass bound kd examples/lp.toml --json
@@ -59,8 +59,8 @@ def run(args: argparse.Namespace) -> int:
     from ..analysis.region import passive_intervals
     from ..exact.rounding import inward_text
 
-    if args.uncertain:
-        return run_robust_bound(args)
+    if wants_box(args) and (code := run_robust_bound(args)) is not None:
+        return code  # a box: --uncertain, --robust, the file's [uncertainty]
     resolved = design_from_args(args, {args.param: f"bound {args.param}"})
     lo, hi = resolved.range_of(
         args.param, ranges_from_args(args, [args.param], strict=False)[args.param]

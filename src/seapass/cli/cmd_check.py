@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any
 
 from .common import add_json_option, add_model_options, print_json, warn_unrealizable
 from .design_options import add_design_argument, system_from_design_args, units_json
-from .uncertain_options import add_uncertain_options, run_robust_check
+from .uncertain_options import add_uncertain_options, run_robust_check, wants_box
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     from ..analysis.indices import PassivityIndices
@@ -64,8 +64,8 @@ def run(args: argparse.Namespace) -> int:
     from ..analysis.indices import passivity_indices
     from ..delay.passivity import DelayPassivityResult, is_passive
 
-    if args.uncertain:
-        return run_robust_check(args)
+    if wants_box(args) and (code := run_robust_check(args)) is not None:
+        return code  # a box: --uncertain, --robust, the file's [uncertainty]
     system, resolved = system_from_design_args(args)
     realizable = warn_unrealizable(system)
     result = is_passive(system)

@@ -8,6 +8,7 @@ from typing import Any
 from ..errors import CompilerError, ParameterError, SeapassError
 from ..files.limits import MAX_RTOL, MIN_RTOL, check_rtol
 from .common import add_force_option, add_json_option, announce, check_out_dir, print_json
+from .uncertain_options import add_robust_options, robust_design
 
 EXAMPLE = """examples:
   seapass export c examples/ours.toml --out firmware/
@@ -112,6 +113,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="compile the files with the system C compiler and compare them with the Python "
         "controller on 10,000 steps",
     )
+    add_robust_options(c.add_argument_group("robust (the guards hold for every plant in a box)"))
     add_force_option(c)
     c.add_argument(
         "--no-progress",
@@ -125,6 +127,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 def run_c(args: argparse.Namespace) -> int:
     from ..export.c_code import HEADER, SOURCE, export_c
     from ..export.compiled import find_c_compiler, verify_c
+    from ..model.design_file import load_design
     from .progress import choose_progress
 
     tunable = None
@@ -133,13 +136,16 @@ def run_c(args: argparse.Namespace) -> int:
         if not tunable:
             raise ParameterError("--tunable needs gain names, e.g. --tunable kd,bd")
     check_rtol(args.rtol)
+    robust = args.robust is not None  # --robust [RIGFILE]: the box's gain envelope in the guards
+    if args.confidence is not None and not args.robust:
+        raise ParameterError("--confidence LEVEL applies to --robust RIGFILE; give the rig file")
     check_out_dir(args.out, files=(HEADER, SOURCE), force=args.force)
     if args.verify and find_c_compiler() is None:  # before anything is written
         raise CompilerError("--verify needs a C compiler: none found (set CC or install gcc)")
     try:
         with choose_progress(not args.no_progress) as progress:
             res = export_c(
-                args.design,
+                robust_design(args, load_design(args.design)) if robust else args.design,
                 args.out,
                 force_limit=args.force_limit,
                 hardware_delay=args.hardware_delay,
@@ -150,6 +156,7 @@ def run_c(args: argparse.Namespace) -> int:
                 progress=progress,
                 force=args.force,
                 latency=args.latency,
+                robust=robust,
             )
     except SeapassError as exc:
         text = str(exc)

@@ -26,7 +26,7 @@ from .design_options import (
     unit_suffix,
     units_json,
 )
-from .uncertain_options import add_uncertain_options
+from .uncertain_options import add_uncertain_options, wants_box
 
 POINTS = 41
 ROBUST_POINTS = 11  # each robust column costs a one-parameter robust bound
@@ -65,7 +65,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         p,
         points=POINTS,
         points_help=f"number of X values, 2 to {MAX_REGION_COLUMNS} "
-        f"({ROBUST_POINTS} with --uncertain)",
+        f"({ROBUST_POINTS} over a box)",
     )
     p.add_argument("--x-range", help=argparse.SUPPRESS)  # before 0.4: --range X=LO:HI
     p.add_argument("--y-range", help=argparse.SUPPRESS)  # before 0.4: --range Y=LO:HI
@@ -86,7 +86,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.x == args.y:
         raise ParameterError("X and Y must be different parameters")
-    nx = points_from_args(args, "nx", ROBUST_POINTS if args.uncertain else POINTS)
+    boxed = wants_box(args)  # --uncertain, --robust or the file's [uncertainty]
+    nx = points_from_args(args, "nx", ROBUST_POINTS if boxed else POINTS)
     if not 2 <= nx <= MAX_REGION_COLUMNS:
         raise ParameterError(f"--points {nx}: use between 2 and {MAX_REGION_COLUMNS} columns")
     given = ranges_from_args(
@@ -99,11 +100,13 @@ def run(args: argparse.Namespace) -> int:
     resolved = design_from_args(args, {args.x: f"region X {args.x}", args.y: f"region Y {args.y}"})
     x_lo, x_hi = resolved.range_of(args.x, given[args.x])
     y_range = resolved.range_of(args.y, given[args.y])
-    if args.uncertain:
+    if boxed:
         from .uncertain_options import run_robust_region
 
         units = (resolved.units.get(args.x), resolved.units.get(args.y))
-        return run_robust_region(args, np.linspace(x_lo, x_hi, nx), y_range, figure, units)
+        code = run_robust_region(args, np.linspace(x_lo, x_hi, nx), y_range, figure, units)
+        if code is not None:
+            return code
     sea = resolved.sea
     from ..delay.structure import has_model_delay
 

@@ -30,7 +30,12 @@ from .design_options import (
     units_json,
 )
 from .loop_options import add_loop_options
-from .uncertain_options import add_sampled_uncertain_options, run_robust_sampled_check
+from .uncertain_options import (
+    add_robust_options,
+    add_sampled_uncertain_options,
+    requested_box,
+    run_robust_sampled_check,
+)
 
 ROWS = 25
 
@@ -133,6 +138,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     _budget_options(b, "the branch and bound")
     add_model_options(b)
     _loop_options(b)
+    add_robust_options(b.add_argument_group("robust (every plant in a box)"))
     b.set_defaults(func=run_bound)
     r = ss.add_parser(
         "region",
@@ -183,9 +189,9 @@ def run_check(args: argparse.Namespace) -> int:
         sampled_power_curve,
     )
 
-    if args.uncertain:  # every plant of a box (seapass.robust.sampled_verdict)
+    if args.uncertain or args.robust is not None:  # every plant of a box (robust.sampled_verdict)
         if args.out is not None:
-            raise ParameterError("--out is not available with --uncertain; use --json")
+            raise ParameterError("--out is not available with --uncertain or --robust; use --json")
         return run_robust_sampled_check(args, _default_loop())
     names = ("sampled_check.json", "sampled_power.csv", "sampled_power.png")
     d = check_out_dir(args.out, files=names, force=args.force)
@@ -237,10 +243,11 @@ def run_bound(args: argparse.Namespace) -> int:
     sea, loop = resolved.sea, resolved.loop
     lo, hi = resolved.range_of(args.param, given)
     warn_unrealizable(sea)
+    box = requested_box(args, sea, resolved.design, free=[args.param])  # --robust: passed on
     with choose_progress(not args.no_progress) as progress:
         res = sampled_passive_bound(
             sea, args.param, loop=loop, lo=lo, hi=hi, rtol=args.rtol,
-            max_precision=args.max_precision, progress=progress, **_max_boxes(args),
+            max_precision=args.max_precision, progress=progress, box=box, **_max_boxes(args),
         )  # fmt: skip
     out = {**res.to_dict(), **units_json(args, resolved)}
     if d is not None:

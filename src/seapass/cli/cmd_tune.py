@@ -8,7 +8,7 @@ import re
 import sys
 import warnings
 from collections.abc import Iterator, Mapping, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from ..errors import ParameterError, TuningWarning
 from .common import (
@@ -25,7 +25,7 @@ from .common import (
 from .design_options import add_unit_option, units_from_args
 from .loop_options import add_loop_options
 from .tune_objectives import add_objective_options, run_objective
-from .uncertain_options import add_uncertain_options
+from .uncertain_options import add_uncertain_options, requested_box
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
     from ..model.design_file import Design
@@ -231,6 +231,13 @@ def _loop(args: argparse.Namespace, file: Design | None) -> SampledLoop | None:
     return resolve_loop(None if file is None else file.loop, None, changes)
 
 
+def _system(design: DesignLike) -> Any:
+    """The SEA of a design, catalog design or model (a box is checked against it)."""
+    from ..model.sea import SEA
+
+    return design if isinstance(design, SEA) or isinstance(design, str) else design.sea()
+
+
 def _units(args: argparse.Namespace, file: Design | None, names: Sequence[str]) -> dict[str, str]:
     """Units of ``names`` when a design file or ``--unit`` is given, else ``{}``."""
     from ..model.units import unit_map
@@ -264,10 +271,15 @@ def run(args: argparse.Namespace) -> int:
     design, file, values = _design(args, boxes, uncertain)
     opts = options_from_args(args, file)
     check_step(args.step)
+    if args.robust is not None:  # the file's [uncertainty] or a fitted rig's, the flags over it
+        box = requested_box(args, _system(design), file)
+        if box is not None:
+            uncertain = dict(box.intervals)
     if args.objective not in ("settling", "itae"):
         if uncertain:
             raise ParameterError(
-                f"--uncertain works with --objective settling or itae, not {args.objective}"
+                f"--uncertain and --robust work with --objective settling or itae, "
+                f"not {args.objective}"
             )
         return run_objective(args, design, boxes, values, opts)
     with warnings.catch_warnings(), choose_progress(not args.no_progress) as progress, box_words():

@@ -1,6 +1,10 @@
-"""``--uncertain NAME=LO:HI`` on ``check``, ``bound``, ``region`` and ``sampled check``.
+"""``--uncertain NAME=LO:HI`` and ``--robust [RIGFILE]``: robust verdicts over a box of plants.
 
-`add_uncertain_options` registers ``--uncertain`` (repeatable) and ``--budget``;
+`add_uncertain_options` registers ``--uncertain`` (repeatable), ``--budget`` and
+`add_robust_options` (``--robust [RIGFILE]``, ``--confidence LEVEL``); `box_from_args`
+is the box of a command line, resolved by the library's
+[`robust_box`][seapass.rig.robustbox.robust_box] (the design file's ``[uncertainty]``,
+a fitted rig's ``[intervals]``, the flags over both).
 `run_robust_check`, `run_robust_bound` and `run_robust_region` are the robust forms
 of ``check``, ``bound`` and ``region`` (`run_robust_sampled_check` that of ``sampled
 check``, with `add_sampled_uncertain_options`): they parse, call one library function
@@ -23,12 +27,18 @@ from .common import print_json, values_from_args, warn_unrealizable
 
 __all__ = [
     "CLI_BUDGET",
+    "add_robust_options",
     "add_sampled_uncertain_options",
     "add_uncertain_options",
+    "box_from_args",
+    "box_text",
+    "requested_box",
+    "robust_design",
     "run_robust_bound",
     "run_robust_check",
     "run_robust_region",
     "run_robust_sampled_check",
+    "wants_box",
 ]
 
 CLI_BUDGET = 5000  # seapass.robust.verdict.DEFAULT_BUDGET (a test keeps them equal)
@@ -53,6 +63,111 @@ def add_uncertain_options(p: argparse.ArgumentParser) -> None:
         help="boxes the certified branch and bound may examine (several --uncertain); "
         "when they run out the verdict is undecided, never passive",
     )
+    add_robust_options(g)
+
+
+def add_robust_options(p: Any) -> None:
+    """``--robust [RIGFILE]`` and ``--confidence LEVEL`` (once: a second call adds nothing)."""
+    if any("--robust" in a.option_strings for a in p._actions):
+        return  # a command registers --uncertain (which brings them) and --robust itself
+    p.add_argument(
+        "--robust",
+        nargs="?",
+        const="",
+        default=None,
+        metavar="RIGFILE",
+        help="robust over a box of plants: the 95 %% intervals a fit stored in RIGFILE "
+        "('rig fit --rig-out'), or with no RIGFILE the design file's [uncertainty] "
+        "(give DESIGN.toml before --robust)",
+    )
+    p.add_argument(
+        "--confidence",
+        type=float,
+        metavar="LEVEL",
+        help="level of RIGFILE's intervals in (0, 1), recomputed from the fit's standard "
+        "errors (default: the stored level)",
+    )
+
+
+def box_from_args(
+    args: argparse.Namespace, system: Any, design: Any = None, *, free: Any = ()
+) -> Any:
+    """The checked box of the command line (None: no source gives one), via `robust_box`.
+
+    ``free``: names that are not plant values here (the bounded parameter).
+    """
+    from ..rig.robustbox import robust_box
+
+    raw = _raw(args)
+    robust = getattr(args, "robust", None)
+    confidence = getattr(args, "confidence", None)
+    if confidence is not None and not robust:
+        raise ParameterError("--confidence LEVEL applies to --robust RIGFILE; give the rig file")
+    fixed = (set(values_from_args(args)) if hasattr(args, "set") else set()) - set(raw)
+    try:
+        box = robust_box(
+            system, design=design, rig=robust or None, confidence=confidence, uncertain=raw,
+            fixed=fixed, required=robust is not None,
+        )  # fmt: skip
+    except ParameterError as exc:
+        raise _cli_text(exc) from None
+    clash = sorted(set(free) & set(box.names if box is not None else ()))
+    if clash:
+        raise ParameterError(
+            f"{clash[0]} is uncertain (the design file's [uncertainty] or the rig's "
+            "[intervals]); it cannot also be the free parameter"
+        )
+    return box
+
+
+def requested_box(
+    args: argparse.Namespace, system: Any, design: Any = None, *, free: Any = ()
+) -> Any:
+    """The box when the command line asks for one (``--robust``, ``--uncertain``), else None.
+
+    For commands whose robust verdict is opt-in (``sampled``, ``tune``): the design
+    file's ``[uncertainty]`` applies only with ``--robust``.
+    """
+    if getattr(args, "robust", None) is None and not getattr(args, "uncertain", None):
+        if getattr(args, "confidence", None) is not None:
+            raise ParameterError(
+                "--confidence LEVEL applies to --robust RIGFILE; give the rig file"
+            )
+        return None
+    return box_from_args(args, system, design, free=free)
+
+
+def robust_design(args: argparse.Namespace, design: Any) -> Any:
+    """``analyze``'s design with the box of ``--robust`` as its ``uncertainty`` (unchanged
+    without ``--robust``: the robust stage reads the file's ``[uncertainty]``)."""
+    import dataclasses
+
+    box = requested_box(args, design.sea(), design)
+    return design if box is None else dataclasses.replace(design, uncertainty=box.intervals)
+
+
+def wants_box(args: argparse.Namespace) -> bool:
+    """True when a box may apply: ``--uncertain``, ``--robust`` or a design file with
+    ``[uncertainty]`` (read once more; a bad file is reported by the command itself)."""
+    if getattr(args, "uncertain", None) or getattr(args, "robust", None) is not None:
+        return True
+    if getattr(args, "confidence", None) is not None:
+        raise ParameterError("--confidence LEVEL applies to --robust RIGFILE; give the rig file")
+    path = getattr(args, "design", None)
+    if path is None:
+        return False
+    from ..model.design_file import load_design
+
+    return bool(load_design(path).uncertainty)
+
+
+def _raw(args: argparse.Namespace) -> dict[str, tuple[float, float]]:
+    from ..robust.box import parse_uncertain
+
+    try:
+        return parse_uncertain(getattr(args, "uncertain", []) or [])
+    except ParameterError as exc:
+        raise _cli_text(exc) from None
 
 
 def _cli_text(exc: ParameterError) -> ParameterError:
@@ -60,17 +175,14 @@ def _cli_text(exc: ParameterError) -> ParameterError:
     msg = re.sub(r"box\['(\w+)'\]", r"--uncertain \1", str(exc))
     msg = re.sub(r"e\.g\. box=\{'(\w+)': \([^)]*\)\}", r"e.g. --uncertain \1=LO:HI", msg)
     msg = re.sub(r"^budget ", "--budget ", msg)
-    return ParameterError(msg)
+    msg = re.sub(r"^confidence ", "--confidence ", msg)
+    return ParameterError(msg.replace("drop the confidence", "drop --confidence"))
 
 
 def _box_and_model(args: argparse.Namespace, extra_free: dict[str, str]) -> tuple[Any, Any]:
     from ..model.sea import Impedance
-    from ..robust.box import parse_uncertain, uncertain_box
 
-    try:
-        raw = parse_uncertain(args.uncertain)
-    except ParameterError as exc:
-        raise _cli_text(exc) from None
+    raw = _raw(args)
     if args.budget < 1:
         raise ParameterError(f"--budget must be a positive integer, got {args.budget}")
     labels = {name: f"--uncertain {name}" for name in raw}
@@ -96,23 +208,34 @@ def _box_and_model(args: argparse.Namespace, extra_free: dict[str, str]) -> tupl
                     "also give it a value"
                 )
         system: Any = Impedance(expr=args.Z, values=values)
+        design = None
     else:
         from .design_options import design_from_args
 
-        system = design_from_args(args, {**extra_free, **labels}).sea
+        resolved = design_from_args(args, {**extra_free, **labels})
+        system, design = resolved.sea, resolved.design
         warn_unrealizable(system)
-    try:
-        box = uncertain_box(system, raw)
-    except ParameterError as exc:
-        raise _cli_text(exc) from None
-    return system, box
+    return system, box_from_args(args, system, design, free=extra_free)
 
 
-def run_robust_check(args: argparse.Namespace) -> int:
-    """``check --uncertain ...``: exit 0 passive for every plant, 1 not passive or undecided."""
+def box_text(box: Any) -> str:
+    """``m in [0.9, 1.1], ...``: each end the shortest text that reads back as its double."""
+    from ..exact.rounding import exact_text
+
+    items = box.intervals.items()
+    return ", ".join(f"{k} in [{exact_text(a)}, {exact_text(b)}]" for k, (a, b) in items)
+
+
+def run_robust_check(args: argparse.Namespace) -> int | None:
+    """``check --uncertain ...``: exit 0 passive for every plant, 1 not passive or undecided.
+
+    None when no source gives a box (the plain check runs).
+    """
     from ..robust.verdict import robust_check
 
     system, box = _box_and_model(args, {})
+    if box is None:
+        return None
     try:
         result = robust_check(system, box=box, budget=args.budget)
     except ParameterError as exc:
@@ -120,7 +243,7 @@ def run_robust_check(args: argparse.Namespace) -> int:
     if args.json:
         print_json(result.to_dict())
     else:
-        span = ", ".join(f"{k} in [{lo:g}, {hi:g}]" for k, (lo, hi) in box.intervals.items())
+        span = box_text(box)
         print(
             f"{result.outcome.label} for every plant with {span} ({result.method}): {result.detail}"
         )
@@ -131,8 +254,8 @@ def run_robust_check(args: argparse.Namespace) -> int:
     return 0 if result.passive else 1
 
 
-def run_robust_bound(args: argparse.Namespace) -> int:
-    """``bound PARAM --uncertain ...``: the robust passive set of PARAM (inner and outer)."""
+def run_robust_bound(args: argparse.Namespace) -> int | None:
+    """``bound PARAM --uncertain ...``: the robust passive set of PARAM (None: no box)."""
     from ..exact.rounding import enclosure_text, interval_text
     from ..robust.intervals import robust_passive_intervals
     from ..robust.verdict import Method
@@ -141,6 +264,8 @@ def run_robust_bound(args: argparse.Namespace) -> int:
     given = ranges_from_args(args, [args.param], strict=False)[args.param]
     lo, hi = design_from_args(args, {args.param: f"bound {args.param}"}).range_of(args.param, given)
     system, box = _box_and_model(args, {args.param: f"bound {args.param}"})
+    if box is None:
+        return None
     try:
         result = robust_passive_intervals(system, args.param, lo, hi, box=box, budget=args.budget)
     except ParameterError as exc:
@@ -148,7 +273,7 @@ def run_robust_bound(args: argparse.Namespace) -> int:
     if args.json:
         print_json(result.to_dict())
         return 0
-    span = ", ".join(f"{k} in [{a:g}, {b:g}]" for k, (a, b) in box.intervals.items())
+    span = box_text(box)
     if not result.intervals:
         print(f"not passive for every plant ({span}) for any {args.param} in [{lo:g}, {hi:g}]")
     for a, b in result.intervals:  # rounded inward: the printed ends are robustly passive
@@ -167,8 +292,11 @@ def run_robust_region(
     y_range: tuple[float, float],
     figure: Any,
     units: tuple[str | None, str | None],
-) -> int:
-    """``region X Y --uncertain ...``: per column, the robust passive set of Y beside the nominal."""
+) -> int | None:
+    """``region X Y --uncertain ...``: per column, the robust passive set of Y beside the nominal.
+
+    None when no source gives a box (the plain region runs).
+    """
     from ..exact.rounding import enclosure_text, exact_text, interval_text
     from ..robust.region import robust_passive_map
     from ..robust.verdict import Method
@@ -176,6 +304,8 @@ def run_robust_region(
 
     labels = {args.x: f"region X {args.x}", args.y: f"region Y {args.y}"}
     system, box = _box_and_model(args, labels)
+    if box is None:
+        return None
     try:
         result = robust_passive_map(
             system, args.x, x_values, args.y, y_range, box=box, budget=args.budget
@@ -227,11 +357,12 @@ def add_sampled_uncertain_options(p: argparse.ArgumentParser) -> None:
         help="sub-boxes the certified branch and bound may examine (--uncertain); when they "
         "run out the verdict is undecided, never passive",
     )
+    add_robust_options(g)
 
 
 def run_robust_sampled_check(args: argparse.Namespace, default_loop: Any) -> int:
     """``sampled check --uncertain ...``: exit 0 passive for every plant, 1 otherwise."""
-    from ..robust.box import parse_uncertain, uncertain_box
+    from ..robust.box import parse_uncertain
     from ..robust.sampled_verdict import robust_sampled_check
     from .design_options import design_from_args
 
@@ -241,7 +372,10 @@ def run_robust_sampled_check(args: argparse.Namespace, default_loop: Any) -> int
             args, {n: f"--uncertain {n}" for n in raw}, default_loop=default_loop
         )
         warn_unrealizable(resolved.sea)
-        box = uncertain_box(resolved.sea, raw)
+        # the box of the flags, the file's [uncertainty] and a fitted rig (--robust)
+        box = requested_box(args, resolved.sea, resolved.design)
+        if box is None:
+            raise ParameterError("--robust: no box given (the design file has no [uncertainty])")
         result = robust_sampled_check(resolved.sea, loop=resolved.loop, box=box, budget=args.budget)
     except ParameterError as exc:
         raise _cli_text(exc) from None

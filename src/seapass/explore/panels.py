@@ -46,6 +46,7 @@ from ..sim.metrics import tracking_metrics
 from ..sim.scenarios import Step
 from ..sim.simulate import simulate
 from .delay_panel import delay_panel
+from .robustview import robust_key, robust_panel
 from .state import ExploreState, slider_scale
 
 __all__ = [
@@ -348,6 +349,7 @@ _PANELS: dict[str, tuple[Callable[..., dict[str, Any]], Callable[[ExploreState],
     "witness": (_witness, lambda s: s.key()),
     "twoport": (_twoport, lambda s: s.key()),
     "delay": (delay_panel, lambda s: s.key()),  # tau*: explore.delay_panel
+    "robust": (robust_panel, robust_key),  # the box verdict (seapass.explore.robustview)
 }
 KINDS: tuple[str, ...] = tuple(_PANELS)
 _cache: OrderedDict[str, dict[str, Any]] = OrderedDict()

@@ -38,6 +38,7 @@ AFFINITY: Mapping[str, int] = {
     "sampled": 3,
     "delay": 3,
     "witness": 4,
+    "robust": 3,
 }
 SLOTS = 5
 

@@ -34,6 +34,7 @@ def design_state(design: Design) -> dict[str, Any]:
         "delay": design.control_delay,
         "velocity_filter": design.velocity_filter,
         "plant": list(design.plant),
+        "uncertainty": {k: list(v) for k, v in design.uncertainty.items()},
     }
     if "kd" in design.values:
         state["gain"] = "kd"

@@ -89,6 +89,9 @@ class ExploreState:
         Parameters declared part of the hardware (a design file's ``[plant]``)
         besides ``m b k1 k2 b1 b2`` and those of ``D1``, ``D2``: plant parameters
         get the slider range of a fixed value and are never the default gain.
+    uncertainty : mapping of str to (float, float)
+        A box of uncertain parameters (a design file's ``[uncertainty]``): the
+        ``robust`` panel's verdict ([`seapass.explore.robustview`][seapass.explore.robustview]).
     """
 
     name: str
@@ -106,6 +109,7 @@ class ExploreState:
     velocity_filter: float | None = None
     new_parameters: tuple[str, ...] = field(default=(), compare=False)
     plant: tuple[str, ...] = ()
+    uncertainty: Mapping[str, tuple[float, float]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:  # every panel looks these names up
         if len(set(self.region)) != 2 or not {self.gain, *self.region} <= {*self.ranges}:
@@ -160,6 +164,7 @@ class ExploreState:
             "velocity_filter": self.velocity_filter,
             "new_parameters": list(self.new_parameters),
             "plant": list(self.plant),
+            "uncertainty": {k: list(v) for k, v in self.uncertainty.items()},
         }
 
     def design(self) -> Design:

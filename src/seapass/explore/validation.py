@@ -18,6 +18,7 @@ from typing import Any
 from ..errors import SeapassError
 from ..model.catalog import REFERENCE_VALUES
 from ..model.expr import STANDARD_SYMBOLS, parse_expression
+from .robustview import parse_box
 from .sliders import default_range, names_in, slider_gains
 from .state import (
     ELEMENTS,
@@ -224,6 +225,7 @@ def check_state(data: Any) -> StateCheck:
         None if _optional(vf_raw) else _bounded(vf_raw, "velocity_filter", errors, "Hz")
     )
 
+    uncertainty = parse_box(data.get("uncertainty"), list(values), errors)  # the box panel
     if errors:
         return StateCheck(state=None, errors=MappingProxyType(errors))
     name = (
@@ -259,6 +261,7 @@ def check_state(data: Any) -> StateCheck:
             region=(str(region[0]), str(region[1])),
             new_parameters=tuple(new),
             plant=plant,
+            uncertainty=MappingProxyType(uncertainty),
             **conditions,
         )
         state.sea()

@@ -302,6 +302,7 @@ def export_c(
     progress: ProgressLike = None,
     force: bool = False,
     latency: float | None = None,
+    robust: bool = False,
 ) -> ExportResult:
     """Write ``seapass_ctrl.h`` and ``seapass_ctrl.c`` for the deployed controller of ``design``.
 
@@ -320,7 +321,7 @@ def export_c(
         Directory to write into (created if missing).  Existing files of these
         names are replaced only if seapass wrote them and they are unchanged
         ([`seapass.files.owned`][seapass.files.owned]), or with ``force``.
-    force_limit, hardware_delay, set_gains, tunable, allow_nonpassive, rtol, progress
+    force_limit, hardware_delay, set_gains, tunable, allow_nonpassive, rtol, progress, robust
         See [`plan_deployment`][seapass.export.deployment.plan_deployment].
     force : bool
         Replace existing files of these names even if seapass did not write them.
@@ -361,6 +362,7 @@ def export_c(
         allow_nonpassive=allow_nonpassive,
         rtol=rtol,
         progress=as_progress(progress, where="export_c"),
+        robust=robust,
     )
     files = render_c(dep, lag)
     for t in targets:

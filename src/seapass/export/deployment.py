@@ -26,6 +26,7 @@ from ..progress import ProgressLike, as_progress
 from ..sampled.controllers import DiscreteController, filter_pole
 from .envelope import GainEnvelope, certify_gains, sampled_verdict
 from .realization import FilterSpec, realize
+from .robust_envelope import robust_envelopes
 
 __all__ = ["Deployment", "plan_deployment"]
 
@@ -143,6 +144,7 @@ def plan_deployment(
     allow_nonpassive: bool = False,
     rtol: float = 1e-6,
     progress: ProgressLike = None,
+    robust: bool = False,
 ) -> Deployment:
     """Decide the deployed controller of ``design`` and certify its envelope.
 
@@ -170,6 +172,9 @@ def plan_deployment(
         Where the certification reports: one task with a step per tunable gain, each
         gain's certified bound a task inside it (default: none; ``True``/``False``
         still work for one release).
+    robust : bool, default False
+        Narrow the envelope to the design's ``uncertainty`` box
+        ([`robust_envelopes`][seapass.export.robust_envelope.robust_envelopes]).
 
     Raises
     ------
@@ -221,6 +226,9 @@ def plan_deployment(
         )
     shown = as_progress(progress, where="plan_deployment")
     envelopes, notes = certify_gains(design, names, rtol=rtol, progress=shown)
+    if robust:  # every plant of the box: the robust gain envelope in the guards
+        envelopes, more = robust_envelopes(design, envelopes)
+        notes = (*notes, *more)
     return Deployment(
         design=design,
         loop=loop,

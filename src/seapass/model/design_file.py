@@ -24,7 +24,9 @@ witness search; default a human limb), ``[control]`` (the digital controller: ``
 ``period`` s, ``delay`` samples, ``velocity_filter`` Hz, ``method`` ``"tustin"``, ``"zoh"`` or
 ``"backward"``; ``delay_time`` s, a loop latency: [`seapass.model.latency`][seapass.model.latency]),
 ``[rig]`` (``file`` relative to the design file, or ``preset = "paper"``), ``[units]``
-(``ki = "1/s"``, [`seapass.model.units`][seapass.model.units]); ``docs/index.md`` shows a file.
+(``ki = "1/s"``, [`seapass.model.units`][seapass.model.units]), ``[uncertainty]``
+(``m = [0.9, 1.1]``: a robust verdict's box, [`seapass.model.uncertainty`][seapass.model.uncertainty]);
+``docs/index.md`` shows a file.
 
 Instead of ``CA`` and ``CL``, a ``[controller]`` table (``kind = "impedance"``,
 ``force = "kp + ki/s"``, ``impedance = "kv + bv*s"``, ...; its keys are
@@ -35,12 +37,9 @@ gives hardware parameters besides ``m b k1 k2 b1 b2`` (which may stay in
 
 Validation is strict: an unknown key, a wrong type, a missing field or a value out of
 range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the key (e.g.
-``parameters.kd``), so a typo never falls back to a default.  Sizes are capped at load
-time (file size, nesting, list lengths, text lengths, delays and horizon: see
-[`seapass.files.limits`][seapass.files.limits]); the sampling rate is 1 Hz to 1 MHz and
-the velocity filter stays below the Nyquist frequency (``[control]`` is read by
-[`SampledLoop.from_table`][seapass.model.loop.SampledLoop.from_table], as a rig file's).
-What ``[simulation]`` leaves out is [`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT]'s.
+``parameters.kd``).  Sizes are capped at load ([`seapass.files.limits`][seapass.files.limits]);
+``[control]`` is read by [`SampledLoop.from_table`][seapass.model.loop.SampledLoop.from_table];
+what ``[simulation]`` leaves out is [`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT]'s.
 Expressions go through the safe parser of [`seapass.model.expr`][seapass.model.expr].
 """
 
@@ -72,6 +71,7 @@ from .experiment import PAPER_EXPERIMENT
 from .latency import check_latency, latency_sea
 from .loop import METHODS, LoopAttributes, SampledLoop
 from .sea import SEA
+from .uncertainty import check_uncertainty
 from .units import MAX_UNIT_CHARS, unit_map
 
 __all__ = ["DESIGN_FIELDS", "Design", "load_design", "load_design_or_catalog", "parse_design"]
@@ -82,6 +82,7 @@ _NAME = re.compile(rf"^[A-Za-z0-9_.-]{{1,{MAX_NAME_CHARS}}}$")
 _PARAM = r"(?!(?:s|w|I|E|pi|oo)$)[A-Za-z][A-Za-z0-9_]{0,31}"  # s, w, I, E, pi, oo are taken
 _MAX_MASS = 1e6  # kg
 _MAX_STEP = 100.0  # m
+_COPIED = ("name", "title", "ranges", "environment", "units", "uncertainty")
 
 
 @dataclass(frozen=True, repr=False)
@@ -105,22 +106,20 @@ class Design(LoopAttributes):
     ranges : mapping of str to (float, float)
         Search ranges of the passive sets; parameters of ``CA``/``CL`` without
         an explicit range get a default (see `analysis_ranges`).
-    load_masses : tuple of float
-        Load masses (kg) for the step responses.
-    step, horizon : float
-        Reference step (m) and simulated time (s).
-    tune_mass : float or None
-        Load mass (kg) the gains are tuned at; None means the median load mass.
+    load_masses, step, horizon, tune_mass
+        Step responses: load masses (kg), reference step (m), simulated time (s), the
+        load mass the gains are tuned at (None: the median load mass).
     loop : SampledLoop or None
         The digital controller's loop (``[control]``); None: continuous only.
     rig_file : str or None
         Rig TOML path (resolved against the design file) or ``"paper"``.
+    uncertainty : mapping of str to (float, float)
+        ``[uncertainty]``: the box of a robust verdict (checked, sorted by name).
     units : mapping of str to str
         Declared units (``[units]``) of parameters or of ``m_L``, checked by
         [`parse_unit`][seapass.model.units.parse_unit]; see `unit_map`.
     environment : mapping of str to (float, float)
-        Bounds of the environments the witness may use (``mass``, ``damping``, ``stiffness``);
-        else the default [`HUMAN_LIMB`][seapass.analysis.environment_box.HUMAN_LIMB].
+        Witness environments' bounds (``mass``, ``damping``, ``stiffness``; default ``HUMAN_LIMB``).
     delay_time : float or None
         Loop latency [s] (``[control] delay_time``; None: not stated): see `delayed_sea`.
     """
@@ -144,6 +143,7 @@ class Design(LoopAttributes):
     controller: Controller | None = None
     plant: tuple[str, ...] = ()
     delay_time: float | None = None
+    uncertainty: Mapping[str, tuple[float, float]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if not _NAME.match(self.name):
@@ -155,15 +155,13 @@ class Design(LoopAttributes):
         object.__setattr__(
             self, "ranges", MappingProxyType({k: tuple(v) for k, v in self.ranges.items()})
         )
-        object.__setattr__(
-            self, "environment",
-            MappingProxyType({k: tuple(v) for k, v in self.environment.items()}),
-        )  # fmt: skip
+        for key in ("environment", "uncertainty"):
+            pairs = {k: tuple(v) for k, v in getattr(self, key).items()}
+            object.__setattr__(self, key, MappingProxyType(pairs))
         if self.loop is not None and not isinstance(self.loop, SampledLoop):
             raise FileFormatError(f"loop: expected a SampledLoop, got {type(self.loop).__name__}")
-        for key in ("m", "b"):
-            if key not in self.values:
-                raise FileFormatError(f"missing parameters.{key} (actuator mass / damping)")
+        for key in [k for k in ("m", "b") if k not in self.values]:
+            raise FileFormatError(f"missing parameters.{key} (actuator mass / damping)")
         object.__setattr__(self, "plant", tuple(sorted(set(self.plant))))
         if self.controller is not None:
             if not isinstance(self.controller, Controller):
@@ -209,6 +207,8 @@ class Design(LoopAttributes):
             raise FileFormatError(re.sub(r"^units\['(\w+)'\]", r"units.\1", str(exc))) from None
         object.__setattr__(self, "units", MappingProxyType(units))
         object.__setattr__(self, "delay_time", check_latency(self.delay_time, sea))  # latency
+        box = check_uncertainty(self.uncertainty, sea.parameters, self.values, nominal=False)
+        object.__setattr__(self, "uncertainty", MappingProxyType(box))  # sorted, checked
 
     def __repr__(self) -> str:
         elements = {
@@ -313,6 +313,7 @@ class Design(LoopAttributes):
             "units": dict(self.units),
             "controller": None if self.controller is None else self.controller.to_table(),
             "plant": list(self.plant_parameters),
+            "uncertainty": {k: list(v) for k, v in self.uncertainty.items()},
         }
 
 
@@ -343,6 +344,7 @@ DESIGN_FIELDS: dict[str, Field] = {
     # the controller's own checks (Controller, derive_controller) give the rules between keys
     "controller": Field(dict, required=False, fields=CONTROLLER_FIELDS),
     "ranges": Field(dict, keys=_PARAM, item=_PAIR, required=False),
+    "uncertainty": Field(dict, keys=_PARAM, item=_PAIR, required=False),
     "simulation": Field(
         dict,
         required=False,
@@ -403,9 +405,7 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
     model = doc["model"]
     if "D1" not in model and "D2" not in model:
         raise FileFormatError('missing model.D1 (the transmission, e.g. "k1 + b1*s")')
-    kw: dict[str, Any] = {
-        k: doc[k] for k in ("name", "title", "ranges", "environment", "units") if k in doc
-    }
+    kw: dict[str, Any] = {k: doc[k] for k in _COPIED if k in doc}
     for key in _MODEL:
         text = model.get(key, "0")
         if not text.strip():
@@ -427,9 +427,7 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
     values.update(plant)
     kw["plant"] = tuple(plant)
     if "m" in values and values["m"] <= 0:
-        raise FileFormatError(
-            f"parameters.m: the actuator mass must be positive, got {values['m']}"
-        )
+        raise FileFormatError(f"parameters.m: must be positive (actuator mass), got {values['m']}")
     kw["values"] = values
     kw.update(doc.get("simulation", {}))
     kw["delay_time"] = doc.get("control", {}).get("delay_time")
@@ -437,7 +435,9 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
         kw["loop"] = SampledLoop.from_table(doc["control"])
     if "rig" in doc:
         kw["rig_file"] = _rig_file(doc["rig"], Path(base_dir))
-    return Design(**kw)
+    design = Design(**kw)  # a file's nominal values lie in its [uncertainty]:
+    check_uncertainty(design.uncertainty, tuple(design.uncertainty), design.values)
+    return design
 
 
 def _rig_file(rig: Mapping[str, str], base_dir: Path) -> str:

@@ -9,29 +9,25 @@ with what each computes and its work budget (``seapass analyze --help`` shows it
     frequency when not passive), the derived stiffness ``F_L/X_L`` and the
     exact symbolic passivity condition.
 ``witness``
-    For a design that is not passive: a passive mass-spring-damper environment
-    that destabilizes it, verified exactly, with the growing response
-    ([`seapass.analysis.witness.find_destabilizing_environment`][seapass.analysis.witness.find_destabilizing_environment]).
+    For a design that is not passive: a passive environment that destabilizes it
+    ([`find_destabilizing_environment`][seapass.analysis.witness.find_destabilizing_environment]).
 ``stiffness``
     Rendered-stiffness frequency response.
 ``frequency``
-    Passivity in the frequency domain: Bode of ``F_L/X_L`` with phase,
-    ``Re Z_L(jω)`` with the exact bands where it is negative shaded, and the
-    Nyquist plot of ``Z_L``.
+    Bode of ``F_L/X_L``, ``Re Z_L(jω)`` with its exact negative bands, and the Nyquist plot.
 ``ranges``
     The exact passive set of every controller gain (and of every parameter with
     a ``[ranges]`` entry), the others held at their values
     ([`seapass.analysis.region.passive_intervals`][seapass.analysis.region.passive_intervals]).
 ``twoport``
-    The SEA as a two-port between the person and the virtual environment it
-    renders: absolute stability (Llewellyn) with the exact failing bands and
-    the infimum of η, two-port passivity, reciprocity, a verified destabilizing
-    pair of passive terminations, the exact absolutely-stable set of every gain
-    and the friction certificate
-    ([`seapass.ports`][seapass.ports]; the stage is ``report.stages.design_twoport``).
+    The SEA as a two-port between the person and the rendered environment: absolute
+    stability, two-port passivity, a destabilizing pair, friction ([`seapass.ports`][seapass.ports]).
 ``delay``
     The certified delay margin ``τ*`` with ``C_A``, ``C_L`` delayed and, with ``[control]
     delay_time``, the verdict up to that latency (``report.stages.design_delay``).
+``robust``
+    With ``[uncertainty]``: the verdict for every plant in the box and the robust gain
+    ranges ([`seapass.report.stages.robust`][seapass.report.stages.robust]).
 ``response``
     Step response at every load mass, with 2 % settling time and final error.
 ``tuning``
@@ -42,12 +38,10 @@ with what each computes and its work budget (``seapass analyze --help`` shows it
     Passivity under the digital controller and the certified passive set of every gain,
     when ``[control] rate`` is given ([`seapass.sampled.passivity`][seapass.sampled.passivity]).
 ``zwidth``
-    The Z-width map: the certified passive set of the first gain on rows of the second,
-    at the control rate, for the ideal hold, the delay, and the delay with a velocity
-    filter ([`seapass.sampled.region.sampled_region`][seapass.sampled.region.sampled_region]).
+    The Z-width map at the control rate: hold, delay, velocity filter
+    ([`sampled_region`][seapass.sampled.region.sampled_region]).
 ``rig``
-    A ``kd`` sweep on the digital twin of the ``[rig]`` (load-side P or
-    actuator-side PD designs; [`seapass.rig.experiment.run_rig_sweep`][seapass.rig.experiment.run_rig_sweep]).
+    A gain sweep on the digital twin of the ``[rig]`` ([`seapass.rig`][seapass.rig]).
 
 Every stage but ``passivity`` and ``twoport`` (exact decisions, bounded by the design
 file's size limits and, for the two-port's witness, a fixed number of pairs) has a **work budget** in counted steps, never in seconds (`StageBudget`): the
@@ -95,6 +89,7 @@ from .stages import (
     design_hardware,
     design_passivity,
     design_twoport,
+    robust,
     zwidth,
 )
 from .stages.design_passivity import values_text
@@ -192,6 +187,11 @@ ANALYSIS: tuple[AnalysisStage, ...] = (
         run=design_delay.stage_delay, cost=1.0,
         budget=StageBudget(unit="pieces per certified search", full=design_delay.FULL_BUDGET,
                            quick=design_delay.QUICK_BUDGET, minimum=100, maximum=10**7),
+    ),
+    AnalysisStage(
+        key="robust", title=robust.TITLE, computes=robust.COMPUTES, run=robust.stage_robust,
+        budget=StageBudget(unit="boxes per certified verdict", full=robust.BUDGET_FULL,
+                           quick=robust.BUDGET_QUICK, maximum=10**6), cost=1.2,
     ),
     AnalysisStage(
         key="response", title="Step response",

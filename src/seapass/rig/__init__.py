@@ -12,13 +12,16 @@ nonlinear plant: friction, saturation, encoders), [`twin`][seapass.rig.twin]
 [`chirp`][seapass.rig.chirp] (the command to play on a bench to log such a run),
 [`moments`][seapass.rig.moments] and [`identify`][seapass.rig.identify] (fitting
 ``m, b, b1`` and Coulomb friction to a log, with confidence intervals),
-[`frf`][seapass.rig.frf] (``m, b, b1`` from a measured frequency response) and
+[`frf`][seapass.rig.frf] (``m, b, b1`` from a measured frequency response),
+[`intervals`][seapass.rig.intervals] (a fit's intervals in the rig file, ``[intervals]``),
+[`robustbox`][seapass.rig.robustbox] (the box of a robust verdict: design file, fitted
+rig, caller) and
 [`mujoco_model`][seapass.rig.mujoco_model] (an optional MuJoCo cross-check; needs
 the ``mujoco`` extra).
 
 May import: [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.progress], [`seapass.files`][seapass.files], [`seapass.model`][seapass.model],
 [`seapass.sim`][seapass.sim], [`seapass.sampled`][seapass.sampled] (the discrete controllers the twin
-runs).
+runs), [`seapass.robust`][seapass.robust] (`robustbox` checks a box).
 """
 
 from .chirp import ChirpPlan, chirp_plan

@@ -37,6 +37,7 @@ from ..files.limits import MAX_FREQUENCY_POINTS, MAX_TEXT_FILE_BYTES
 from ..files.textfile import read_text_file
 from ..model.display import html_card, short_repr
 from .identify import FitParameter
+from .intervals import fit_intervals
 from .rigfile import Rig
 
 __all__ = ["FRF_COLUMNS", "FrequencyResponseFit", "MeasuredResponse", "fit_frf", "load_frf"]
@@ -131,6 +132,8 @@ class FrequencyResponseFit:
     rig : Rig
         The rig file's rig (``k1``, rate and delay were taken from it).
     source : str
+    dof : int or None
+        Degrees of freedom of the Student-t intervals.
     """
 
     parameters: tuple[FitParameter, ...]
@@ -138,6 +141,7 @@ class FrequencyResponseFit:
     confidence: float
     rig: Rig
     source: str = ""
+    dof: int | None = None
 
     def __getitem__(self, name: str) -> FitParameter:
         for p in self.parameters:
@@ -159,7 +163,11 @@ class FrequencyResponseFit:
             transmission={"carriage_mass": carriage, "viscous": self["b"].value},
             damper={"b1": self["b1"].value},
             description=f"{rig.description} ({note.strip()})" if rig.description else note,
-        )
+            intervals=fit_intervals(
+                self.parameters, confidence=self.confidence, dof=self.dof,
+                source=Path(self.source).name,
+            ).to_table(),
+        )  # fmt: skip
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -265,4 +273,5 @@ def fit_frf(
         confidence=confidence,
         rig=rig,
         source=response.source,
+        dof=dof,
     )

@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import math
 import os
+import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -49,8 +50,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ParameterError
-from ..files.toml import update_toml_text
+from ..files.toml import dump_toml, update_toml_text
 from ..model.display import html_card, short_repr
+from .intervals import FitIntervals, fit_intervals
 from .log import RigLog
 from .moments import log_moments
 from .rigfile import Rig
@@ -243,7 +245,16 @@ class RigFit:
             },
             damper={"b1": self["b1"].value, "coulomb": self["damper_coulomb"].value},
             description=f"{rig.description} ({note})" if rig.description else note,
+            intervals=self.intervals(relative_to).to_table(),
         )
+
+    def intervals(self, relative_to: str | os.PathLike[str] | None = None) -> FitIntervals:
+        """The intervals of ``m, b, b1`` as a rig file keeps them (``[intervals]``)."""
+        dof = self.windows_used - len(self.parameters)
+        return fit_intervals(
+            self.parameters, confidence=self.confidence, dof=dof if dof > 0 else None,
+            source=self.log_name(relative_to),
+        )  # fmt: skip
 
     def log_name(self, relative_to: str | os.PathLike[str] | None = None) -> str:
         """The log's path (`source`), relative to the directory of ``relative_to`` if given.
@@ -322,15 +333,26 @@ def rig_text(before: Rig, after: Rig, text: str | None = None) -> str:
     """
     if text is not None:
         old, new = before.to_dict(), after.to_dict()
+        present = tomllib.loads(text)  # a table the text has but ``before`` lacks: updated
+        old.update({k: v for k, v in present.items() if k not in old and isinstance(v, dict)})
+        added = {sec: body for sec, body in new.items() if sec not in old}  # [intervals]
         changes = {
             (f"{sec}.{k}" if isinstance(body, dict) else sec): v
             for sec, body in new.items()
+            if sec in old
             for k, v in (body.items() if isinstance(body, dict) else [(sec, body)])
             if (old[sec].get(k) if isinstance(body, dict) else old[sec]) != v
         }
-        edited = update_toml_text(text, changes)
+        dropped = any(
+            set(body) - set(new[sec])
+            for sec, body in old.items()
+            if isinstance(body, dict) and sec in new
+        )  # a key the new rig lacks (a stale standard error) cannot stay: write the whole file
+        edited = None if dropped else update_toml_text(text, changes)
         if edited is not None:
-            return edited
+            notes = {"intervals": "written by seapass rig fit; read by --robust"}
+            tail = "\n" + dump_toml(added, comments=notes) if added else ""
+            return edited + tail
     return after.to_toml()
 
 

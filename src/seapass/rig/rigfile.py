@@ -32,6 +32,7 @@ from ..files import limits
 from ..files.schema import check_table
 from ..files.toml import dump_toml, load_toml_file
 from ..model.loop import SampledLoop, rename_rig_control_keys
+from .intervals import FitIntervals
 from .schema import (
     SCHEMA,
     ControlSpec,
@@ -85,6 +86,9 @@ class Rig:
         Control period ``1/rate`` (s).
     loop : SampledLoop
         The bench's sampled loop: ``[control]`` rate, delay and velocity filter.
+    intervals : FitIntervals or None
+        ``[intervals]``: the confidence intervals of a fit (``rig fit --rig-out``),
+        read by ``--robust``; see [`seapass.rig.intervals`][seapass.rig.intervals].
     """
 
     motor: MotorSpec
@@ -97,6 +101,7 @@ class Rig:
     impacts: ImpactSpec
     name: str = "rig"
     description: str = ""
+    intervals: FitIntervals | None = None
 
     def __post_init__(self) -> None:
         if self.motor.peak_torque < self.motor.continuous_torque:
@@ -214,6 +219,8 @@ class Rig:
             out[sec] = {
                 k: (list(v) if isinstance(v, tuple) else v) for k, v in d.items() if v is not None
             }
+        if self.intervals is not None:
+            out["intervals"] = self.intervals.to_table()
         return out
 
     def to_toml(self) -> str:
@@ -248,7 +255,12 @@ def parse_rig(data: dict[str, Any]) -> Rig:
     """
     if isinstance(data.get("control"), dict):  # the loop's one spelling; old rig files still load
         data = {**data, "control": rename_rig_control_keys(data["control"])}
+    fitted = data.get("intervals") if isinstance(data, dict) else None
+    if fitted is not None:  # a fit's intervals (rig fit --rig-out), checked on their own
+        data = {k: v for k, v in data.items() if k != "intervals"}
     kwargs = check_table(data, rig_fields(), what="a rig")
+    if fitted is not None:
+        kwargs["intervals"] = FitIntervals.from_table(fitted)
     for section, (cls, _fields) in SCHEMA.items():
         kwargs[section] = cls(**kwargs[section])
     return Rig(**kwargs)

@@ -275,6 +275,7 @@ def sampled_passive_bound(
     max_precision: int = PRECISIONS[-1],
     max_boxes: int = MAX_BOXES,
     progress: ProgressLike = None,
+    box: Any = None,
     **old: Any,
 ) -> SampledBoundResult:
     """Certified passive values of the controller parameter ``param`` in ``[lo, hi]``.
@@ -307,6 +308,8 @@ def sampled_passive_bound(
     progress : Progress, optional
         Where the branch and bound reports: one task of 100 steps, the percent of the
         range decided (default: none; ``True``/``False`` still work for one release).
+    box : mapping, optional
+        A box of uncertain plants: robust sampled passivity, not available yet (refused).
     **old
         ``period=, delay=, velocity_filter=, method=``: the loop's old spelling, still
         accepted for one release with a
@@ -323,6 +326,11 @@ def sampled_passive_bound(
     >>> [round(x) for x in r.intervals[0]]
     [0, 10033]
     """
+    if box is not None:  # the hook of robust sampled passivity (issue 26), not in this release
+        raise ParameterError(
+            "robust sampled passivity (every plant in a box) is not available yet; decide the "
+            "box in continuous time (seapass.robust.robust_check)"
+        )
     loop = loop_argument(loop, old, where="sampled_passive_bound")
     shown = as_progress(progress, where="sampled_passive_bound")
     max_precision = check_precision(max_precision)

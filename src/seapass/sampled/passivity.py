@@ -268,6 +268,7 @@ def sampled_passivity(
     continuous_gate: bool = True,
     max_precision: int = PRECISIONS[-1],
     throw: bool = False,
+    box: Any = None,
     **old: Any,
 ) -> SampledPassivityResult:
     """Decide passivity of the load port of ``sea`` under sampled-data control (certified).
@@ -293,6 +294,9 @@ def sampled_passivity(
         Cap (bits) of the working precision; beyond it the verdict is ``UNDECIDED``.
     throw : bool, default False
         Raise [`NotPassiveError`][seapass.errors.NotPassiveError] unless the verdict is passive.
+    box : mapping, optional
+        Refused: the verdict for every plant of a box is
+        [`robust_sampled_check`][seapass.robust.sampled_verdict.robust_sampled_check].
     **old
         ``period=, delay=, velocity_filter=, method=``: the loop's old spelling, still
         accepted for one release with a
@@ -312,6 +316,12 @@ def sampled_passivity(
     >>> print(r.outcome, r.reason)
     not_passive low_frequency
     """
+    if box is not None:  # one plant here; every plant of a box is seapass.robust's job
+        raise ParameterError(
+            "sampled_passivity decides one plant; for every plant in a box use "
+            "seapass.robust.robust_sampled_check(sea, loop=..., box=...)",
+            argument="box",
+        )
     loop = loop_argument(loop, old, where="sampled_passivity")
     max_precision = check_precision(max_precision)
     if values:

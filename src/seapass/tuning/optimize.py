@@ -310,6 +310,8 @@ def tune(
     callback : callable, optional
         Deprecated (one release): ``callback(generation, best_cost)`` after each
         generation; use ``progress``.
+    uncertain : mapping, optional
+        A box of uncertain plants: robust tuning, not available yet (refused).
     throw : bool, default False
         Raise [`NotPassiveError`][seapass.errors.NotPassiveError] when the result is
         not feasible (not passive, or a limit is violated).

@@ -281,8 +281,8 @@
   function panelError(kind, r) {
     const el = document.querySelector(`[data-panel-err="${kind}"]`);
     if (el) el.textContent = r.ok ? "" : r.error;
-    const panel = { verdict: "verdict", sampled: "verdict", interval: "interval", region: "region", frequency: "frequency", step: "step", witness: "witness", twoport: "twoport", delay: "verdict" }[kind];
-    $("#panel-" + panel).classList.toggle("stale", !r.ok && kind !== "sampled" && kind !== "delay");
+    const panel = { verdict: "verdict", sampled: "verdict", robust: "verdict", interval: "interval", region: "region", frequency: "frequency", step: "step", witness: "witness", twoport: "twoport", delay: "verdict" }[kind];
+    $("#panel-" + panel).classList.toggle("stale", !r.ok && kind !== "sampled" && kind !== "delay" && kind !== "robust");
   }
 
   function setVerdict(el, cls, v, why) {
@@ -297,6 +297,13 @@
     sampled(d) {
       if (!d.analysed) { setVerdict($("#verdict-sampled"), "off", "not analysed", d.detail); return; }
       setVerdict($("#verdict-sampled"), d.passive ? "passive" : "notpassive", d.status, d.passive ? "passive at this sampling period" : d.detail);
+    },
+    robust(d) {  // the box verdict: passive for the whole box, a worst plant, or undecided
+      if (!d.analysed) { setVerdict($("#verdict-robust"), "off", "no box", d.detail); return; }
+      const box = Object.entries(d.box).map(([k, [lo, hi]]) => `${k} ∈ [${lo}, ${hi}]`).join(", ");
+      const worst = d.worst ? "worst plant: " + Object.entries(d.worst.values).map(([k, v]) => `${k} = ${fmt(v, 6)}`).join(", ") + (d.worst.frequency ? ` (Re Z < 0 at ω = ${fmt(d.worst.frequency, 4)} rad/s)` : "") : "";
+      setVerdict($("#verdict-robust"), d.passive ? "passive" : (d.status === "undecided" ? "off" : "notpassive"), d.status,
+        d.passive ? `passive for the whole box ${box}` : (worst || d.detail));
     },
     interval(d) {
       data.interval = d;
@@ -385,6 +392,7 @@
     panelError(kind, r);
     if (!r.ok) {
       if (kind === "sampled") setVerdict($("#verdict-sampled"), "off", "not analysed", r.error);
+      if (kind === "robust") setVerdict($("#verdict-robust"), "off", "not analysed", r.error);
       if (kind === "verdict") setVerdict($("#verdict-continuous"), "off", "no verdict", r.error);
       if (kind === "delay") setVerdict($("#verdict-delay"), "off", "undecided", r.error);
       return;
