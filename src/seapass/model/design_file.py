@@ -29,20 +29,17 @@ witness search; default a human limb), ``[control]`` (the digital controller: ``
 Instead of ``CA`` and ``CL``, a ``[controller]`` table (``kind = "impedance"``,
 ``force = "kp + ki/s"``, ``impedance = "kv + bv*s"``, ...; its keys are
 [`CONTROLLER_FIELDS`][seapass.model.controller.CONTROLLER_FIELDS]) gives the
-controller as blocks, compiled exactly into ``CA`` and ``CL``.  A ``[plant]`` table
-gives hardware parameters besides ``m b k1 k2 b1 b2`` (which may stay in
-``[parameters]``): fixed, substituted where a controller uses them, never gains.
+controller as blocks, compiled exactly into ``CA`` and ``CL``; a ``[discrete]`` table
+(``rate``, ``CA``, ``CL`` in ``z``) gives it in z, run as is
+([`ZController`][seapass.model.zcontroller.ZController]).  A ``[plant]`` table gives
+hardware parameters besides ``m b k1 k2 b1 b2``: fixed, never gains.
 
-Validation is strict: an unknown key, a wrong type, a missing field or a
-value out of range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the
-key (e.g. ``parameters.kd``), so a typo never falls back to a default.  Sizes are
-capped at load time (file size, nesting, list lengths, text lengths, delay and
-horizon: see [`seapass.files.limits`][seapass.files.limits]); the sampling rate
-is 1 Hz to 1 MHz and the velocity filter stays below the Nyquist frequency (the
-``[control]`` table is read by
-[`SampledLoop.from_table`][seapass.model.loop.SampledLoop.from_table], the same
-spelling as a rig file's).  What ``[simulation]`` leaves out comes from the paper's
-experiment, [`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT].
+Validation is strict: an unknown key, a wrong type, a missing field or a value out of
+range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the key (e.g.
+``parameters.kd``).  Sizes are capped at load time ([`seapass.files.limits`][seapass.files.limits]);
+``[control]`` is read by [`SampledLoop.from_table`][seapass.model.loop.SampledLoop.from_table]
+(as a rig file's).  What ``[simulation]`` leaves out comes from the paper's experiment,
+[`PAPER_EXPERIMENT`][seapass.model.experiment.PAPER_EXPERIMENT].
 Expressions go through the safe parser of [`seapass.model.expr`][seapass.model.expr].
 """
 
@@ -74,6 +71,7 @@ from .experiment import PAPER_EXPERIMENT
 from .loop import METHODS, LoopAttributes, SampledLoop
 from .sea import SEA
 from .units import MAX_UNIT_CHARS, unit_map
+from .zcontroller import Z_FIELDS, ZController, discrete_from_file, discrete_loop
 
 __all__ = ["DESIGN_FIELDS", "Design", "load_design", "load_design_or_catalog", "parse_design"]
 
@@ -143,6 +141,7 @@ class Design(LoopAttributes):
     units: Mapping[str, str] = field(default_factory=dict)
     controller: Controller | None = None
     plant: tuple[str, ...] = ()
+    discrete: ZController | None = None
 
     def __post_init__(self) -> None:
         if not _NAME.match(self.name):
@@ -171,6 +170,8 @@ class Design(LoopAttributes):
                 if getattr(self, key) not in ("0", text):
                     raise FileFormatError(f"give either [controller] or model.{key}, not both")
                 object.__setattr__(self, key, text)
+        if self.discrete is not None:  # [discrete]: the loop runs at the controller's rate
+            object.__setattr__(self, "loop", discrete_loop(self.discrete, self.loop, file=True))
         try:
             sea = self.sea()
         except SeapassError as exc:
@@ -234,6 +235,7 @@ class Design(LoopAttributes):
             values=dict(self.values),
             name=self.name,
             plant=self.plant,
+            discrete=self.discrete,
         )
 
     def derivation(self) -> ControllerDerivation | None:
@@ -313,6 +315,7 @@ class Design(LoopAttributes):
             "units": dict(self.units),
             "controller": None if self.controller is None else self.controller.to_table(),
             "plant": list(self.plant_parameters),
+            "discrete": None if self.discrete is None else self.discrete.to_table(),
         }
 
 
@@ -342,6 +345,11 @@ DESIGN_FIELDS: dict[str, Field] = {
     "plant": Field(dict, keys=_PARAM, item=Field(float), required=False),
     # the controller's own checks (Controller, derive_controller) give the rules between keys
     "controller": Field(dict, required=False, fields=CONTROLLER_FIELDS),
+    "discrete": Field(
+        dict,
+        required=False,
+        fields={k: Field(str if k[0] == "C" else float, required=False) for k in Z_FIELDS},
+    ),  # fmt: skip
     "ranges": Field(dict, keys=_PARAM, item=_PAIR, required=False),
     "simulation": Field(
         dict,
@@ -361,13 +369,11 @@ DESIGN_FIELDS: dict[str, Field] = {
         dict,
         required=False,
         fields={
-            "rate": Field(float, required=False),
-            "period": Field(float, required=False),
+            **{k: Field(float, required=False) for k in ("rate", "period", "velocity_filter")},
             "delay": Field(int, required=False),
-            "velocity_filter": Field(float, required=False),
             "method": Field(str, choices=METHODS, required=False),
         },
-    ),
+    ),  # fmt: skip
     "units": Field(
         dict, keys=_PARAM, item=Field(str, hi=MAX_UNIT_CHARS, line=True), required=False
     ),
@@ -431,6 +437,8 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
         )
     kw["values"] = values
     kw.update(doc.get("simulation", {}))
+    if "discrete" in doc:
+        kw["discrete"] = discrete_from_file(doc)
     if "control" in doc:
         kw["loop"] = SampledLoop.from_table(doc["control"])
     if "rig" in doc:
