@@ -171,7 +171,12 @@ def design_from_args(
     """
     from ..model.design_file import load_design
     from ..model.resolve import resolve_design
-    from .controller_options import controller_given, elements_from_args, plant_from_args
+    from .controller_options import (
+        controller_given,
+        discrete_from_args,
+        elements_from_args,
+        plant_from_args,
+    )
 
     labels = dict(free or {})
     values = values_from_args(args)
@@ -211,6 +216,7 @@ def design_from_args(
             step=getattr(args, "step", None),
             horizon=getattr(args, "horizon", None),
             plant=tuple(plant),
+            discrete=discrete_from_args(args, design),
         )
     except ParameterError as exc:
         where = {f"values[{n!r}]": label for n, label in labels.items()}
