@@ -69,6 +69,7 @@ __all__ = [
     "continuous_only",
     "discrete_from_file",
     "discrete_loop",
+    "z_coefficients",
 ]
 
 ZCoefficients = tuple[tuple[Fraction, ...], tuple[Fraction, ...]]
@@ -127,23 +128,43 @@ def _coefficients(text: str, side: str, values: tuple[tuple[str, Fraction], ...]
     expr = _sympy(text, side).xreplace(
         {symbol(k): sp.Rational(v.numerator, v.denominator) for k, v in values}
     )
+    return z_coefficients(expr, f"{side}_z", text)
+
+
+def z_coefficients(expr: sp.Expr, what: str, text: str = "") -> ZCoefficients:
+    """``(num, den)`` ascending in ``z⁻¹`` (``den[0] = 1``) of a sympy rational function of
+    the symbol ``z`` with numeric coefficients, checked causal and of bounded order.
+
+    Raises
+    ------
+    ParameterError
+        A symbol other than ``z`` left (naming ``values['x']``).
+    UnrealizableError, ModelError
+        Not causal; a zero denominator or an order above the limit.
+    """
+    import sympy as sp
+
+    from .symbolic import symbol
+
+    text = text or str(expr)
+    side = what
     z = symbol("z")
     left = sorted(str(x) for x in expr.free_symbols - {z})
     if left:
         raise ParameterError(
-            f"{side}_z: no value for {', '.join(left)}; give it, e.g. values={{{left[0]!r}: 1.0}}",
+            f"{side}: no value for {', '.join(left)}; give it, e.g. values={{{left[0]!r}: 1.0}}",
             argument=f"values[{left[0]!r}]",
         )
     num, den = sp.fraction(sp.cancel(sp.together(expr)))
     if den == 0 or sp.Poly(den, z).is_zero:
-        raise ModelError(f"{side}_z: {text!r} has a zero denominator for these values")
+        raise ModelError(f"{side}: {text!r} has a zero denominator for these values")
     pn, pd = sp.Poly(num, z), sp.Poly(den, z)
     if not pn.is_zero and pn.degree() > pd.degree():
-        raise UnrealizableError(f"{side}_z: not causal (more zeros than poles in z): {text}")
+        raise UnrealizableError(f"{side}: not causal (more zeros than poles in z): {text}")
     n = pd.degree()
     if n > MAX_Z_ORDER:
         raise ModelError(
-            f"{side}_z: order {n} in z exceeds the limit of {MAX_Z_ORDER}; use a lower-order "
+            f"{side}: order {n} in z exceeds the limit of {MAX_Z_ORDER}; use a lower-order "
             "controller"
         )
     if pn.is_zero:
