@@ -47,6 +47,7 @@ from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
 from ..errors import (
+    ContinuousOnlyError,
     ExpressionError,
     FileFormatError,
     ModelError,
@@ -178,6 +179,8 @@ def z_coefficients(expr: sp.Expr, what: str, text: str = "") -> ZCoefficients:
         return c
 
     bn, an = ascending(pn), ascending(pd)
+    while len(bn) > 1 and bn[-1] == 0:  # 4z/(2z - 1) is 2/(1 - z^-1/2): no trailing zeros
+        bn.pop()
     lead = an[0]
     return tuple(x / lead for x in bn), tuple(x / lead for x in an)
 
@@ -290,7 +293,7 @@ class ZController:
         """From a design file's ``[discrete]`` table (``rate`` Hz or ``period`` s, ``CA``, ``CL``)."""
         if ("rate" in table) == ("period" in table):
             raise ParameterError(
-                "discrete: give the controller's rate (rate = 1000.0, Hz) or its period "
+                "rate: give the controller's rate (rate = 1000.0, Hz) or its period "
                 "(period = 0.001, s), not both",
                 argument="rate",
             )
@@ -327,12 +330,12 @@ def continuous_only(system: Any, what: str) -> None:
 
     Raises
     ------
-    ModelError
+    ContinuousOnlyError
         Saying that ``what`` needs ``C_A(s)``, ``C_L(s)`` and what runs a z-controller.
     """
     zc = getattr(system, "discrete", None)
     if zc is not None:
-        raise ModelError(
+        raise ContinuousOnlyError(
             f"{what} needs a continuous controller (CA, CL in s); this design's controller "
             f"is given in z at {zc.rate:g} Hz: use the sampled analyses (sampled check|bound|"
             "region), simulate, the rig twin or export c, which run it as is"
@@ -377,9 +380,14 @@ def discrete_from_file(doc: dict[str, Any]) -> ZController:
     )
     if given:
         raise FileFormatError(f"give either [discrete] or {given[0]}, not both")
+    values = {**doc["parameters"], **doc.get("plant", {})}
     try:
         zc = ZController.from_table(doc["discrete"])
+        zc.coefficients(values)  # causal, bounded, every name with a value: said in file terms
     except SeapassError as exc:
+        exc = type(exc)(
+            re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"add \1 to [parameters]", str(exc))
+        )
         raise FileFormatError(
             re.sub(r"^(?:discrete\.)?(\w+?)(?:_z)?: ", r"discrete.\1: ", str(exc))
         ) from None
