@@ -62,9 +62,9 @@ class CoupledCheck:
 
 
 def _kb(expr: sp.Expr, what: str) -> tuple[float, float]:
-    poly = sp.Poly(sp.expand(expr), S)
-    if sp.denom(sp.together(expr)).free_symbols or poly.degree() > 1:
+    if sp.denom(sp.together(expr)).free_symbols or sp.Poly(sp.expand(expr), S).degree() > 1:
         raise ModelError(f"coupled simulation supports {what} = k + b*s only, got {expr}")
+    poly = sp.Poly(sp.expand(expr), S)
     c = [*poly.all_coeffs()[::-1], 0, 0]
     return float(c[0]), float(c[1])
 
