@@ -117,7 +117,7 @@ def test_sea_with_a_controller_in_z() -> None:
 
 def test_continuous_analyses_refuse_and_sampled_ones_run_it_as_is() -> None:
     sea = SEA(D1="k1 + b1*s", values={**PLANT, "kd": 2000, "bd": 25}, discrete=z_pd())
-    with pytest.raises(ModelError, match="needs a continuous controller.*500 Hz"):
+    with pytest.raises(ModelError, match=r"needs a continuous controller.*500 Hz"):
         is_passive(sea)
     with pytest.raises(ModelError, match="needs a continuous controller"):
         DiscreteController.from_sea(sea, 0.002)
@@ -160,9 +160,10 @@ def test_zoh_integrator_written_in_z_equals_seapass_zoh() -> None:
     assert got.den == want.den and np.allclose(
         [float(c) for c in got.num], [float(c) for c in want.num], rtol=1e-13, atol=0
     )
-    assert sampled_passivity(disc, loop=loop).outcome == sampled_passivity(
-        cont, loop=loop, continuous_gate=False
-    ).outcome
+    assert (
+        sampled_passivity(disc, loop=loop).outcome
+        == sampled_passivity(cont, loop=loop, continuous_gate=False).outcome
+    )
     b, a, _dt = cont2discrete(([40.0], [1.0, 0.0]), 0.002, method="zoh")
     assert np.allclose(np.ravel(b), [0.0, 0.08]) and np.allclose(a, [1.0, -1.0])
 

@@ -170,8 +170,7 @@ class Design(LoopAttributes):
                 if getattr(self, key) not in ("0", text):
                     raise FileFormatError(f"give either [controller] or model.{key}, not both")
                 object.__setattr__(self, key, text)
-        if self.discrete is not None:  # [discrete]: the loop runs at the controller's rate
-            object.__setattr__(self, "loop", discrete_loop(self.discrete, self.loop, file=True))
+        object.__setattr__(self, "loop", discrete_loop(self.discrete, self.loop, file=True))
         try:
             sea = self.sea()
         except SeapassError as exc:
@@ -345,11 +344,7 @@ DESIGN_FIELDS: dict[str, Field] = {
     "plant": Field(dict, keys=_PARAM, item=Field(float), required=False),
     # the controller's own checks (Controller, derive_controller) give the rules between keys
     "controller": Field(dict, required=False, fields=CONTROLLER_FIELDS),
-    "discrete": Field(
-        dict,
-        required=False,
-        fields={k: Field(str if k[0] == "C" else float, required=False) for k in Z_FIELDS},
-    ),  # fmt: skip
+    "discrete": Field(dict, required=False, fields=Z_FIELDS),
     "ranges": Field(dict, keys=_PARAM, item=_PAIR, required=False),
     "simulation": Field(
         dict,
@@ -373,7 +368,7 @@ DESIGN_FIELDS: dict[str, Field] = {
             "delay": Field(int, required=False),
             "method": Field(str, choices=METHODS, required=False),
         },
-    ),  # fmt: skip
+    ),
     "units": Field(
         dict, keys=_PARAM, item=Field(str, hi=MAX_UNIT_CHARS, line=True), required=False
     ),
@@ -437,8 +432,7 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
         )
     kw["values"] = values
     kw.update(doc.get("simulation", {}))
-    if "discrete" in doc:
-        kw["discrete"] = discrete_from_file(doc)
+    kw["discrete"] = discrete_from_file(doc) if "discrete" in doc else None
     if "control" in doc:
         kw["loop"] = SampledLoop.from_table(doc["control"])
     if "rig" in doc:

@@ -44,6 +44,7 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from fractions import Fraction
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 from ..errors import (
@@ -56,6 +57,7 @@ from ..errors import (
     UnrealizableError,
 )
 from ..files.limits import MAX_Z_ORDER
+from ..files.schema import Field
 from .display import html_card, short_repr
 from .expr import parse_tree, to_fraction
 from .values import RESERVED
@@ -80,8 +82,13 @@ _RATE_RANGE = (1.0, 1e6)  # Hz, as SampledLoop accepts them
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _SIDES = ("CA", "CL")
 
-Z_FIELDS = ("rate", "period", "CA", "CL")
-"""The keys of a design file's ``[discrete]`` table."""
+Z_FIELDS: Mapping[str, Field] = MappingProxyType(
+    {
+        k: Field(str if k[0] == "C" else float, required=False)
+        for k in ("rate", "period", "CA", "CL")
+    }
+)
+"""The keys of a design file's ``[discrete]`` table (``rate`` Hz or ``period`` s, ``CA``, ``CL``)."""
 
 
 def _names(text: str) -> frozenset[str]:
@@ -342,10 +349,11 @@ def continuous_only(system: Any, what: str) -> None:
         )
 
 
-def discrete_loop(zc: ZController, loop: Any, *, file: bool = False) -> Any:
+def discrete_loop(zc: ZController | None, loop: Any, *, file: bool = False) -> Any:
     """The sampled loop of a design whose controller is given in z: ``loop`` (a
     [`SampledLoop`][seapass.model.loop.SampledLoop]) if it runs at the controller's rate,
-    else the controller's rate alone when ``loop`` is None.
+    else the controller's rate alone when ``loop`` is None.  Without a controller in z
+    (``zc`` None): ``loop``.
 
     Raises
     ------
@@ -355,6 +363,8 @@ def discrete_loop(zc: ZController, loop: Any, *, file: bool = False) -> Any:
     """
     from .loop import SampledLoop
 
+    if zc is None:
+        return loop
     if loop is None:
         return SampledLoop(rate=zc.rate)
     try:

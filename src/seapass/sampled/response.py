@@ -202,7 +202,7 @@ def sampled_response(
     horizon = PAPER_EXPERIMENT.horizon if horizon is None else horizon
     horizon = finite_number(horizon, "horizon", positive=True)
     T = loop.period
-    n = int(math.ceil(horizon / T - 1e-9))
+    n = math.ceil(horizon / T - 1e-9)
     if n > MAX_SIM_STEPS:
         raise ParameterError(
             f"horizon {horizon:g} s is {n} periods of {T:g} s; the limit is {MAX_SIM_STEPS}"
