@@ -173,3 +173,12 @@ def test_file_at_another_rate_than_its_control(tmp_path: Path) -> None:
     code, out, err = cli(["sampled", "check", str(p)])
     assert code == 2 and out == ""
     assert err.count("\n") == 1 and "runs at 500 Hz but the sampled loop at 1000 Hz" in err
+
+
+def test_sweep_refuses_a_z_design(zfile: Path, tmp_path: Path) -> None:
+    code, out, err = cli(["sweep", str(zfile), "--grid", "kd=0:4000:5", "--out",
+                          str(tmp_path / "sw")])  # fmt: skip
+    assert (
+        code == 2 and "error: the batch sweep (continuous-time kernels) needs a continuous" in err
+    )
+    assert err.count("error:") == 1

@@ -14,6 +14,8 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.signal import cont2discrete
 
 from seapass.analysis.passivity import is_passive
@@ -260,3 +262,22 @@ def test_resolve_design_rules() -> None:
         default_loop=SampledLoop(period=0.002 / 4),
     )  # fmt: skip
     assert r4.loop == SampledLoop(rate=500.0)
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    b0=st.fractions(-50, 50, max_denominator=64),
+    b1=st.fractions(-50, 50, max_denominator=64),
+    a1=st.fractions(F(-63, 64), F(63, 64), max_denominator=64),
+    theta=st.floats(0.01, 3.1),
+)
+def test_running_controller_is_the_text_evaluated(
+    b0: Fraction, b1: Fraction, a1: Fraction, theta: float
+) -> None:
+    """Independent: the text evaluated at ``z = e^{jθ}`` by complex arithmetic."""
+    zc = ZController(CA="(b0 + b1*z^-1)/(1 + a1*z^-1)", rate=100.0)
+    sea = SEA(D1="k1", values={"k1": 1.0, "b0": b0, "b1": b1, "a1": a1}, discrete=zc)
+    ka, _kl = DiscreteController.for_loop(sea, SampledLoop(rate=100.0)).transfer_functions()
+    z = complex(np.cos(theta), np.sin(theta))
+    want = (float(b0) + float(b1) / z) / (1 + float(a1) / z)
+    assert abs(ka(z) - want) <= 1e-9 * max(1.0, abs(want))
