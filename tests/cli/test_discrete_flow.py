@@ -176,7 +176,7 @@ def test_file_at_another_rate_than_its_control(tmp_path: Path) -> None:
 
 
 def test_sweep_refuses_a_z_design(zfile: Path, tmp_path: Path) -> None:
-    code, out, err = cli(["sweep", str(zfile), "--grid", "kd=0:4000:5", "--out",
+    code, _out, err = cli(["sweep", str(zfile), "--grid", "kd=0:4000:5", "--out",
                           str(tmp_path / "sw")])  # fmt: skip
     assert (
         code == 2 and "error: the batch sweep (continuous-time kernels) needs a continuous" in err
