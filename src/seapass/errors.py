@@ -11,6 +11,7 @@ from collections.abc import Iterable
 
 __all__ = [
     "CompilerError",
+    "ContinuousOnlyError",
     "DegenerateModelError",
     "DelayError",
     "ExpressionError",
@@ -74,6 +75,10 @@ class DelayError(ModelError):
 
 class UnrealizableError(ModelError):
     """A transfer function that cannot be realized (improper where it must be proper)."""
+
+
+class ContinuousOnlyError(ModelError):
+    """A continuous-time analysis asked of a design whose controller is given in ``z``."""
 
 
 class FileFormatError(SeapassError, ValueError):

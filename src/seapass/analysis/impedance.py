@@ -24,6 +24,7 @@ from ..model.expr import to_fraction
 from ..model.freebody import exact_impedance
 from ..model.rational import S_NAME, univariate
 from ..model.sea import SEA, Impedance, exact_values
+from ..model.zcontroller import continuous_only
 
 if TYPE_CHECKING:
     import sympy as sp
@@ -103,6 +104,7 @@ def compiled_impedance(system: SEA | Impedance) -> tuple[fmpq_mpoly, fmpq_mpoly,
     Cached on the parsed elements, so repeated tests of one configuration cost only the
     exact evaluation at the values.
     """
+    continuous_only(system, "the continuous-time passivity analysis")
     key = ("sea", system.sources()) if isinstance(system, SEA) else ("z", system.sources())
     with _LOCK:
         found = _CACHE.get(key)

@@ -57,7 +57,11 @@ def broadcast_values(
 
 def check_batch_params(sea: SEA, params: Sequence[str]) -> tuple[str, ...]:
     """``params`` as a tuple, checked: each appears in ``sea`` and together they cover
-    every free parameter of ``sea``."""
+    every free parameter of ``sea``; a controller given in z is refused (the batch kernels
+    are continuous-time)."""
+    from ..model.zcontroller import continuous_only
+
+    continuous_only(sea, "the batch sweep (continuous-time kernels)")
     params = tuple(params)
     unknown = [p for p in params if p not in sea.parameters]
     if unknown:

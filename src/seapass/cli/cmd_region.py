@@ -64,8 +64,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     add_range_options(
         p,
         points=POINTS,
-        points_help=f"number of X values, 2 to {MAX_REGION_COLUMNS} "
-        f"({ROBUST_POINTS} over a box)",
+        points_help=f"number of X values, 2 to {MAX_REGION_COLUMNS} ({ROBUST_POINTS} over a box)",
     )
     p.add_argument("--x-range", help=argparse.SUPPRESS)  # before 0.4: --range X=LO:HI
     p.add_argument("--y-range", help=argparse.SUPPRESS)  # before 0.4: --range Y=LO:HI

@@ -235,6 +235,7 @@ def cli_words(text: str, argument: str | None = None) -> str:
         msg = re.sub(rf"(?<![\w.'\[-]){argument}(=| )", lambda m: f"{flag} ", msg)
     msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"e.g. --set \1=VALUE", msg)
     msg = re.sub(r"tune=\{'(\w+)': \([^)]*\)\}", r"--tune \1=LO:HI", msg)
+    msg = re.sub(r"^(CA|CL)_z: ", r"--\1-z: ", msg)  # a controller in z (ZController)
     msg = re.sub(
         r"(values|tune|units|budgets)\['(\w+)'\]",
         lambda m: f"{_KEYED[m.group(1)]} {m.group(2)}",
@@ -383,7 +384,7 @@ def model_from_args(
     appear in the model and must not also be given with ``--set``.
     """
     from ..model.sea import SEA
-    from .controller_options import elements_from_args, plant_from_args
+    from .controller_options import discrete_from_args, elements_from_args, plant_from_args
 
     labels = dict(extra_free) if isinstance(extra_free, Mapping) else {n: n for n in extra_free}
     values: dict[str, float | None] = dict(values_from_args(args))
@@ -410,6 +411,7 @@ def model_from_args(
                 CL=CL or "0",
                 values=values,
                 plant=tuple(plant),
+                discrete=discrete_from_args(args),
             ),
         )
     except ParameterError as exc:

@@ -7,6 +7,15 @@ instead (the ``[controller]`` table of a design file), compiled exactly into
     --controller impedance --force-loop "kp + ki/s" --impedance "kv + bv*s" \\
         --damping-injection ba --feedforward
 
+A controller that already runs on a microcontroller is given in ``z`` instead (the
+``[discrete]`` table of a design file, run as is; see
+[`ZController`][seapass.model.zcontroller.ZController])::
+
+    --CA-z "(b0 + b1*z^-1)/(1 + a1*z^-1)" --CL-z "kl" --rate 1000
+
+``--rate`` is the controller's rate in Hz (default: ``--period``'s, else the design
+file's ``[control]``/``[discrete]`` rate).
+
 ``--plant NAME=VALUE`` gives a hardware parameter (fixed, never a default tuning
 gain), like ``--set`` otherwise.  The flags ``--force-loop``, ``--velocity-loop``
 and ``--damping-injection`` are the file's ``force``, ``velocity`` and ``damping``
@@ -27,6 +36,7 @@ __all__ = [
     "controller_from_args",
     "controller_given",
     "derivation_from_args",
+    "discrete_from_args",
     "elements_from_args",
     "flag_words",
     "model_given",
@@ -92,6 +102,16 @@ def add_controller_options(p: argparse.ArgumentParser) -> None:
         help="measured force per unit deflection x_A - x_L (default: k1; a load "
         "cell: the transmission, e.g. 'k1 + b1*s')",
     )
+    z = p.add_argument_group("controller in z (instead of --CA/--CL; run as is at its rate)")
+    z.add_argument(
+        "--CA-z",
+        metavar="EXPR",
+        help="actuator-side controller K_A(z), e.g. "
+        "'(b0 + b1*z^-1)/(1 + a1*z^-1)' (causal; z^-1 is one sample of delay)",
+    )
+    z.add_argument("--CL-z", metavar="EXPR", help="load-side controller K_L(z), e.g. 'kl'")
+    z.add_argument("--rate", type=float, metavar="HZ", help="the z-controller's rate in Hz "
+                   "(default: from --period, else the design file's)")  # fmt: skip
     g.add_argument(
         "--plant",
         action="append",
@@ -113,7 +133,48 @@ def controller_given(args: argparse.Namespace) -> bool:
 def model_given(args: argparse.Namespace) -> bool:
     """Whether a model was given on the command line (elements, controller blocks, plant)."""
     elements = any(getattr(args, e) not in (None, "0") for e in ("D1", "D2", "CA", "CL"))
-    return elements or controller_given(args) or bool(getattr(args, "plant", []))
+    zflags = any(getattr(args, e, None) is not None for e in ("CA_z", "CL_z"))
+    return elements or controller_given(args) or zflags or bool(getattr(args, "plant", []))
+
+
+def discrete_from_args(args: argparse.Namespace, design: Any = None) -> Any:
+    """The [`ZController`][seapass.model.zcontroller.ZController] of ``--CA-z --CL-z
+    --rate``, or None without ``--CA-z``/``--CL-z``.
+
+    The rate: ``--rate``, else ``1/--period``, else ``design``'s controller in z or loop.
+
+    Raises
+    ------
+    ParameterError
+        ``--rate`` alone, a z-controller with ``--CA``/``--CL`` or controller blocks,
+        no rate anywhere, or what the controller refuses, naming the flag.
+    """
+    from ..model.zcontroller import ZController
+
+    ca, cl = getattr(args, "CA_z", None), getattr(args, "CL_z", None)
+    rate = getattr(args, "rate", None)
+    if ca is None and cl is None:
+        if rate is not None:
+            raise ParameterError("--rate is the rate of a controller in z: give --CA-z/--CL-z")
+        return None
+    if controller_given(args) or any(getattr(args, e) not in (None, "0") for e in ("CA", "CL")):
+        raise ParameterError(
+            "give the controller either in s (--CA/--CL or --controller) or in z "
+            "(--CA-z/--CL-z), not both"
+        )
+    if rate is None and getattr(args, "period", None) is not None:
+        rate = 1.0 / float(args.period)
+    if rate is None and design is not None:
+        rate = design.discrete.rate if design.discrete is not None else design.control_rate
+    if rate is None:
+        raise ParameterError("a controller in z needs its rate: give --rate HZ (e.g. --rate 1000)")
+    try:
+        return ZController(CA=ca or "0", CL=cl or "0", rate=rate)
+    except SeapassError as exc:
+        msg = str(exc)
+        for side in ("CA", "CL"):
+            msg = msg.replace(f"{side}_z: ", f"--{side}-z: ")
+        raise ParameterError(msg.replace("rate: ", "--rate: ", 1)) from None
 
 
 def controller_from_args(args: argparse.Namespace) -> Any:

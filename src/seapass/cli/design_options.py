@@ -186,7 +186,12 @@ def design_from_args(
     """
     from ..model.design_file import load_design
     from ..model.resolve import resolve_design
-    from .controller_options import controller_given, elements_from_args, plant_from_args
+    from .controller_options import (
+        controller_given,
+        discrete_from_args,
+        elements_from_args,
+        plant_from_args,
+    )
 
     labels = dict(free or {})
     values = values_from_args(args)
@@ -227,6 +232,7 @@ def design_from_args(
             horizon=getattr(args, "horizon", None),
             plant=tuple(plant),
             delay_time=getattr(args, "delay_time", None),
+            discrete=discrete_from_args(args, design),
         )
     except ParameterError as exc:
         if exc.argument == "delay_time":

@@ -340,6 +340,9 @@ def controller_delay(
             "something else, e.g. 'tau'",
             argument="delay",
         )
+    from ..model.zcontroller import continuous_only
+
+    continuous_only(sea, "the delay margin")
     exact = sea.exact_elements()
     if exact["CA"].is_zero and exact["CL"].is_zero:
         raise DelayError("the design has no controller to delay; write the delay into an element, e.g. --CA 'kd*exp(-tau*s)'")  # fmt: skip

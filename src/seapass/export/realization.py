@@ -30,6 +30,7 @@ from ..errors import ParameterError
 from ..model.design_file import Design
 from ..model.expr import symbol
 from ..model.loop import SampledLoop
+from ..model.zcontroller import z_coefficients
 from ..sampled.controllers import DiscreteController, DiscreteTF, discretize
 from ..sampled.joint import JointRealization, poly_add, poly_mul, q_reduce
 
@@ -109,9 +110,17 @@ def _tunable_filters(design: Design, tunable: Sequence[str], loop: SampledLoop) 
     sea = design.sea()
     fixed = {k: v for k, v in design.values.items() if k not in tunable}
     groups: dict[str | None, dict[str, DiscreteTF]] = {}
+    zc = sea.discrete
     for side, expr in (("A", sea.CA), ("L", sea.CL)):
+        if zc is not None:  # a controller in z: its own coefficients, split over the gains
+            expr = zc.symbolic(f"C{side}")
         for gain, part in _affine_parts(sp.sympify(expr), tunable, side):
             if part == 0:
+                continue
+            if zc is not None:
+                num, den = z_coefficients(part.xreplace(_subs(fixed)), f"C{side}_z")
+                tf = DiscreteTF(num, den, loop.exact_period)
+                groups.setdefault(gain, {})[f"error_{side}"] = tf
                 continue
             paths = discretize(
                 part, loop.period, method=loop.method, velocity_filter=loop.velocity_filter,
@@ -128,6 +137,10 @@ def _tunable_filters(design: Design, tunable: Sequence[str], loop: SampledLoop) 
         period = next(iter(tfs.values())).period
         out.append(FilterSpec(JointRealization.of(entries, names, period), gain))
     return out
+
+
+def _subs(values: Mapping[str, float]) -> dict[Any, Any]:
+    return {symbol(k): sp.Rational(Fraction(v)) for k, v in values.items()}
 
 
 def _check_realization(

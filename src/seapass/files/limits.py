@@ -57,6 +57,7 @@ __all__ = [
     "MAX_UNCERTAIN",
     "MAX_UNCERTAIN_MAGNITUDE",
     "MAX_UNCERTAIN_RATIO",
+    "MAX_Z_ORDER",
     "MIN_RTOL",
     "SYMBOLIC_TIME_LIMIT",
     "check_count",
@@ -141,6 +142,11 @@ report, 10⁶ steps)."""
 MAX_DELAY_SAMPLES = 100
 """Computational delay of a sampled controller, in samples (design files, ``--delay``);
 each sample adds 2 to the degree of the sampled passivity polynomial."""
+
+MAX_Z_ORDER = 24
+"""Order (poles in ``z``) of each transfer function of a controller given in ``z``
+([`ZController`][seapass.model.zcontroller.ZController]): bounds its realization and the
+degree of the sampled passivity polynomial."""
 
 MAX_UNCERTAIN = 6
 """Uncertain parameters of one robust verdict (``--uncertain``, ``box=``): the certified

@@ -31,9 +31,10 @@ witness search; default a human limb), ``[control]`` (the digital controller: ``
 Instead of ``CA`` and ``CL``, a ``[controller]`` table (``kind = "impedance"``,
 ``force = "kp + ki/s"``, ``impedance = "kv + bv*s"``, ...; its keys are
 [`CONTROLLER_FIELDS`][seapass.model.controller.CONTROLLER_FIELDS]) gives the
-controller as blocks, compiled exactly into ``CA`` and ``CL``.  A ``[plant]`` table
-gives hardware parameters besides ``m b k1 k2 b1 b2`` (which may stay in
-``[parameters]``): fixed, substituted where a controller uses them, never gains.
+controller as blocks, compiled exactly into ``CA`` and ``CL``; a ``[discrete]`` table
+(``rate``, ``CA``, ``CL`` in ``z``) gives it in z, run as is
+([`ZController`][seapass.model.zcontroller.ZController]).  A ``[plant]`` table gives
+hardware parameters besides ``m b k1 k2 b1 b2``: fixed, never gains.
 
 Validation is strict: an unknown key, a wrong type, a missing field or a value out of
 range raises [`FileFormatError`][seapass.errors.FileFormatError] naming the key (e.g.
@@ -57,11 +58,9 @@ from ..errors import FileFormatError, ParameterError, SeapassError
 from ..files.limits import (
     MAX_HORIZON,
     MAX_NAME_CHARS,
-    MAX_TEXT_FILE_BYTES,
     MAX_TITLE_CHARS,
 )
 from ..files.schema import Field, check_table, check_value
-from ..files.textfile import check_input_file
 from ..files.toml import load_toml_file
 from .catalog import CATALOG, CatalogDesign
 from .catalog import design as catalog_design
@@ -70,9 +69,11 @@ from .display import html_card, short_repr
 from .experiment import PAPER_EXPERIMENT
 from .latency import check_latency, latency_sea
 from .loop import METHODS, LoopAttributes, SampledLoop
+from .rigpath import rig_file_path
 from .sea import SEA
 from .uncertainty import check_uncertainty
 from .units import MAX_UNIT_CHARS, unit_map
+from .zcontroller import Z_FIELDS, ZController, discrete_from_file, discrete_loop
 
 __all__ = ["DESIGN_FIELDS", "Design", "load_design", "load_design_or_catalog", "parse_design"]
 
@@ -144,6 +145,7 @@ class Design(LoopAttributes):
     plant: tuple[str, ...] = ()
     delay_time: float | None = None
     uncertainty: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    discrete: ZController | None = None
 
     def __post_init__(self) -> None:
         if not _NAME.match(self.name):
@@ -170,6 +172,7 @@ class Design(LoopAttributes):
                 if getattr(self, key) not in ("0", text):
                     raise FileFormatError(f"give either [controller] or model.{key}, not both")
                 object.__setattr__(self, key, text)
+        object.__setattr__(self, "loop", discrete_loop(self.discrete, self.loop, file=True))
         try:
             sea = self.sea()
         except SeapassError as exc:
@@ -229,7 +232,10 @@ class Design(LoopAttributes):
     def sea(self) -> SEA:
         """The [`SEA`][seapass.model.sea.SEA] with every value of the file."""
         elements = {k: getattr(self, k) for k in _MODEL}
-        return SEA(**elements, values=dict(self.values), name=self.name, plant=self.plant)
+        return SEA(
+            **elements, values=dict(self.values), name=self.name, plant=self.plant,
+            discrete=self.discrete,
+        )  # fmt: skip
 
     def delayed_sea(self) -> SEA:
         """`sea` with C_A, C_L times ``exp(-delay_time*s)`` ([`seapass.model.latency`][seapass.model.latency])."""
@@ -314,6 +320,7 @@ class Design(LoopAttributes):
             "controller": None if self.controller is None else self.controller.to_table(),
             "plant": list(self.plant_parameters),
             "uncertainty": {k: list(v) for k, v in self.uncertainty.items()},
+            "discrete": None if self.discrete is None else self.discrete.to_table(),
         }
 
 
@@ -343,6 +350,7 @@ DESIGN_FIELDS: dict[str, Field] = {
     "plant": Field(dict, keys=_PARAM, item=Field(float), required=False),
     # the controller's own checks (Controller, derive_controller) give the rules between keys
     "controller": Field(dict, required=False, fields=CONTROLLER_FIELDS),
+    "discrete": Field(dict, required=False, fields=Z_FIELDS),
     "ranges": Field(dict, keys=_PARAM, item=_PAIR, required=False),
     "uncertainty": Field(dict, keys=_PARAM, item=_PAIR, required=False),
     "simulation": Field(
@@ -363,10 +371,8 @@ DESIGN_FIELDS: dict[str, Field] = {
         dict,
         required=False,
         fields={
-            "rate": Field(float, required=False),
-            "period": Field(float, required=False),
+            **{k: Field(float, required=False) for k in ("rate", "period", "velocity_filter")},
             "delay": Field(int, required=False),
-            "velocity_filter": Field(float, required=False),
             "method": Field(str, choices=METHODS, required=False),
             "delay_time": Field(float, required=False),  # seconds, see model.latency
         },
@@ -431,30 +437,14 @@ def parse_design(data: Mapping[str, Any], *, base_dir: str | os.PathLike[str] = 
     kw["values"] = values
     kw.update(doc.get("simulation", {}))
     kw["delay_time"] = doc.get("control", {}).get("delay_time")
+    kw["discrete"] = discrete_from_file(doc) if "discrete" in doc else None
     if set(doc.get("control", {})) - {"delay_time"}:  # only delay_time: no sampled loop
         kw["loop"] = SampledLoop.from_table(doc["control"])
     if "rig" in doc:
-        kw["rig_file"] = _rig_file(doc["rig"], Path(base_dir))
+        kw["rig_file"] = rig_file_path(doc["rig"], Path(base_dir))
     design = Design(**kw)  # a file's nominal values lie in its [uncertainty]:
     check_uncertainty(design.uncertainty, tuple(design.uncertainty), design.values)
     return design
-
-
-def _rig_file(rig: Mapping[str, str], base_dir: Path) -> str:
-    """``"paper"`` or the checked path of a rig file (read later)."""
-    if ("file" in rig) == ("preset" in rig):
-        raise FileFormatError("rig: give exactly one of rig.file and rig.preset")
-    if "preset" in rig:
-        return "paper"
-    path = Path(rig["file"])
-    full = path if path.is_absolute() else base_dir / path
-    try:  # a rig file is read later: refuse a device, a FIFO or a huge file now
-        check_input_file(full, max_bytes=MAX_TEXT_FILE_BYTES, what="rig file")
-    except OSError as exc:
-        raise FileFormatError(f"rig.file: {full}: {exc.strerror}") from None
-    except FileFormatError as exc:
-        raise FileFormatError(f"rig.file: {exc}") from None
-    return str(full)
 
 
 def load_design(path: str | os.PathLike[str]) -> Design:

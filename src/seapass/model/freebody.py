@@ -129,6 +129,9 @@ def derive(sea: SEA) -> FreeBody:
     >>> print(num, "/", den)
     s^2*k1*m + s*b*k1 + k1*kd / s^2*m + s*b + k1
     """
+    from .zcontroller import continuous_only
+
+    continuous_only(sea, "the continuous-time analysis")
     key = sea.sources()
     with _LOCK:
         found = _CACHE.get(key)

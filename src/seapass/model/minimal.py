@@ -426,6 +426,9 @@ def controller_realization(
     UnrealizableError
         For an element that needs more than one derivative (``kd*s**2``).
     """
+    from .zcontroller import continuous_only
+
+    continuous_only(sea, "the continuous controller realization")
     ca, cl = numeric_controllers(sea, values)
     names: tuple[str, ...] = ("CA", "CL")
     if any(n.degree() - d.degree() > 1 for n, d in (ca, cl)):  # the message shows them

@@ -20,6 +20,7 @@ from .display import html_card, short_repr
 from .expr import S, finite_number, symbol
 from .minimal import ControllerRealization, controller_realization, observable_arrays
 from .sea import SEA, unrealizable_controllers
+from .zcontroller import continuous_only
 
 __all__ = [
     "INPUTS",
@@ -301,6 +302,7 @@ def closed_loop(
     UnrealizableError
         For an element needing accelerations (polynomial part of degree ≥ 2).
     """
+    continuous_only(sea, "the continuous closed loop")
     load_mass = finite_number(load_mass, "load mass m_L", positive=True)
     subs, m, b = _plant_values(sea, values)
     if m <= 0:
@@ -386,6 +388,7 @@ def closed_loop_factory(
     no exact cancellation is done per call, so a common factor appearing at
     special values leaves a (harmless, cancelled) mode.
     """
+    continuous_only(sea, "the continuous closed loop")
     load_mass = finite_number(load_mass, "load mass m_L", positive=True)
     syms = [symbol(p) for p in params]
     fixed = {k: v for k, v in sea.substitutions().items() if str(k) not in params}

@@ -46,6 +46,7 @@ from .latency import check_latency, latency_elements, latency_values
 from .loop import SampledLoop
 from .sea import SEA
 from .units import unit_map
+from .zcontroller import ZController, discrete_loop
 
 __all__ = [
     "DEFAULT_RANGE",
@@ -183,6 +184,7 @@ def resolve_design(
     horizon: float | None = None,
     plant: Iterable[str] = (),
     delay_time: float | None = None,
+    discrete: ZController | None = None,
 ) -> ResolvedDesign:
     """Merge a design file with the caller's model, values, loop, experiment and units.
 
@@ -209,6 +211,10 @@ def resolve_design(
         Hardware parameters besides the file's ``[plant]`` (never gains).
     delay_time : float, optional
         The loop latency [s] replacing the file's ``[control] delay_time`` (0: none).
+    discrete : ZController, optional
+        A controller given in ``z``, replacing the file's controller (its ``CA``/``CL``
+        or ``[discrete]``); the file's ``CA``/``CL`` given here replace its ``[discrete]``.
+        With a controller in z the loop runs at its rate (another rate is an error).
 
     Returns
     -------
@@ -227,16 +233,24 @@ def resolve_design(
     free = tuple(free)
     base: dict[str, str] = {k: "0" for k in ELEMENTS}
     file_values: dict[str, float] = {}
+    zc = design.discrete if design is not None else None
     if design is not None:
         base = {k: getattr(design, k) for k in ELEMENTS}
         file_values = dict(design.values)
+    if discrete is not None or given_elements.keys() & {"CA", "CL"}:
+        zc = discrete  # the caller's controller replaces the file's, in s or in z
+        if discrete is not None:
+            base.update(CA="0", CL="0")
     base.update(given_elements)
     kept = file_values
-    if given_elements and design is not None:  # the file's values of the parameters still used
+    if (
+        given_elements or discrete is not None
+    ) and design is not None:  # the file's values of the parameters still used
         allowed = {*STANDARD_SYMBOLS, *file_values, *(values or {}), *free}
         used = {"m", "b"}
         for text in base.values():
             used |= {str(x) for x in parse_expression(text, allowed).free_symbols} - {"s"}
+        used |= set(zc.names) if zc is not None else set()
         kept = {k: v for k, v in file_values.items() if k in used}
     known: dict[str, float] = {**kept, **dict(values or {})}
     model_values: dict[str, float | None] = {**known, **dict.fromkeys(free)}
@@ -246,10 +260,17 @@ def resolve_design(
         values=model_values,
         name=design.name if design is not None else "",
         plant=tuple(dict.fromkeys(hardware)),
+        discrete=zc,
     )
     latency = delay_time if delay_time is not None else _file(design, "delay_time")
     if latency is not None:
         latency = _latency(latency, sea, given=delay_time is not None)
+    if latency and zc is not None:
+        raise ParameterError(
+            "delay_time: a continuous loop latency needs a continuous controller; a controller "
+            "given in z states its delay itself (z^-1 factors)",
+            argument="delay_time",
+        )
     if latency:  # the loop latency on C_A and C_L
         sea = SEA(
             **latency_elements(base, latency),
@@ -266,9 +287,15 @@ def resolve_design(
                 argument=f"units['{name}']",
             )
     declared.update(units or {})
+    file_loop = design.loop if design is not None else None
+    if zc is not None:  # the controller's rate, not a command's default period
+        file_loop = discrete_loop(zc, file_loop)
+    resolved_loop = resolve_loop(file_loop, default_loop, loop or {})
+    if zc is not None and resolved_loop is not None:
+        zc.check_loop(resolved_loop.period)
     return ResolvedDesign(
         sea=sea,
-        loop=resolve_loop(design.loop if design is not None else None, default_loop, loop or {}),
+        loop=resolved_loop,
         load_mass=load_mass if load_mass is not None else _file(design, "tuning_mass"),
         step=step if step is not None else _file(design, "step"),
         horizon=horizon if horizon is not None else _file(design, "horizon"),

@@ -106,9 +106,13 @@ def _model_facts(sources: tuple[Source, ...], allowed: frozenset[str]) -> _Facts
 
 
 def _rebuild(
-    given: dict[str, Any], values: dict[str, float | None], name: str, plant: tuple[str, ...] = ()
+    given: dict[str, Any],
+    values: dict[str, float | None],
+    name: str,
+    plant: tuple[str, ...] = (),
+    discrete: Any = None,
 ) -> SEA:
-    return SEA(**given, values=values, name=name, plant=plant)
+    return SEA(**given, values=values, name=name, plant=plant, discrete=discrete)
 
 
 @dataclass(frozen=True, repr=False)
@@ -146,6 +150,11 @@ class SEA:
         Parameters that belong to the hardware besides `PLANT_SYMBOLS` and those
         of ``D1``, ``D2``, ``m``, ``b`` (a sensor gain, a gear ratio); see
         `plant_parameters` and `gains`.
+    discrete : ZController, optional
+        The controller given in ``z`` at its rate
+        ([`ZController`][seapass.model.zcontroller.ZController]) instead of ``CA``/``CL``
+        (which stay 0): the sampled analyses, the twin and the export run it as is; the
+        continuous analyses refuse it.
 
     Raises
     ------
@@ -169,6 +178,7 @@ class SEA:
     values: Mapping[str, float | None] = field(default_factory=dict)
     name: str = ""
     plant: tuple[str, ...] = ()
+    discrete: Any = None
 
     def __post_init__(self) -> None:
         if isinstance(self.plant, str) or not all(isinstance(p, str) for p in self.plant):
@@ -191,13 +201,15 @@ class SEA:
                 "degenerate model: D1 = D2 = 0 leaves the load port connected to nothing; "
                 "give a transmission, e.g. --D1 'k1'"
             )
-        check_used(vals, facts.parameters)
+        if self.discrete is not None:
+            self._check_discrete(facts, allowed)
+        check_used(vals, self.parameters)
         for name in self.plant:
-            if name not in facts.parameters:
+            if name not in self.parameters:
                 raise ParameterError(
                     f"plant: {name!r} is not a parameter of the model"
-                    f"{did_you_mean(name, facts.parameters)}; "
-                    f"it uses {', '.join(facts.parameters)}",
+                    f"{did_you_mean(name, self.parameters)}; "
+                    f"it uses {', '.join(self.parameters)}",
                     argument="plant",
                 )
         known = exact_values(vals)
@@ -210,10 +222,33 @@ class SEA:
             if names <= set(known) and univariate(den, known).is_zero():
                 raise DegenerateModelError(f"{attr} has a denominator that is identically zero")
 
+    def _check_discrete(self, facts: _Facts, allowed: frozenset[str]) -> None:
+        """A controller in z: CA, CL absent, its names known, causal at known values."""
+        from .zcontroller import ZController
+
+        if not isinstance(self.discrete, ZController):
+            raise ParameterError(
+                f"discrete: expected a ZController, got {self.discrete!r}", argument="discrete"
+            )
+        exact = self.exact_elements()
+        if not (exact["CA"].is_zero and exact["CL"].is_zero):
+            raise ParameterError(
+                "give the controller either in s (CA, CL) or in z (discrete), not both",
+                argument="discrete",
+            )
+        for name in self.discrete.names:
+            if name not in allowed or name == "z":
+                raise ExpressionError(
+                    f"unknown symbol {name!r} in the controller in z{did_you_mean(name, allowed)}"
+                    f"; a new parameter needs a value, e.g. values={{{name!r}: 1.0}}"
+                )
+        if set(self.discrete.names) <= {k for k, v in self.values.items() if v is not None}:
+            self.discrete.coefficients(self.values)  # causal, bounded order, nonzero denominator
+
     def __reduce__(self) -> tuple[Any, ...]:
         """Pickle the elements as given (caches are rebuilt on the other side)."""
         given = {a: self.__dict__[f"_given_{a}"] for a in _ATTRS}
-        return (_rebuild, (given, dict(self.values), self.name, self.plant))
+        return (_rebuild, (given, dict(self.values), self.name, self.plant, self.discrete))
 
     def sources(self) -> tuple[Source, ...]:
         """The six elements ``D1 D2 CA CL m b`` as parsed, in a hashable form (cache keys)."""
@@ -242,8 +277,11 @@ class SEA:
 
     @property
     def parameters(self) -> tuple[str, ...]:
-        """Names of all parameters the model uses, sorted."""
-        return _model_facts(self.sources(), self.__dict__["_allowed"]).parameters
+        """Names of all parameters the model uses, sorted (a controller in z's included)."""
+        names = _model_facts(self.sources(), self.__dict__["_allowed"]).parameters
+        if self.discrete is None:
+            return names
+        return tuple(sorted({*names, *self.discrete.names}))
 
     @property
     def free_parameters(self) -> tuple[str, ...]:
@@ -276,7 +314,8 @@ class SEA:
         ('ba', 'ki', 'kp')
         """
         plant = set(self.plant_parameters)
-        return tuple(sorted((self._names_of("CA") | self._names_of("CL")) - plant))
+        zc = set(self.discrete.names) if self.discrete is not None else set()
+        return tuple(sorted((self._names_of("CA") | self._names_of("CL") | zc) - plant))
 
     def _names_of(self, attr: str) -> frozenset[str]:
         """The parameters element ``attr`` uses as written (no sympy)."""
@@ -310,7 +349,7 @@ class SEA:
         merged = dict(self.values)
         merged.update(values)
         given = {a: self.__dict__[f"_given_{a}"] for a in _ATTRS}
-        return SEA(**given, values=merged, name=self.name, plant=self.plant)
+        return SEA(**given, values=merged, name=self.name, plant=self.plant, discrete=self.discrete)
 
     def describe(self) -> dict[str, str]:
         """Element expressions as strings (``0`` for absent elements)."""
@@ -348,6 +387,8 @@ class SEA:
                 fields[attr] = str(getattr(self, attr))
         fields["values"] = dict(self.values) if self.values else None
         fields["plant"] = self.plant or None
+        if self.discrete is not None:
+            fields["discrete"] = self.discrete.to_table()
         return short_repr("SEA", fields)
 
     def _repr_html_(self) -> str:

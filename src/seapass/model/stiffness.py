@@ -75,6 +75,9 @@ def derive_stiffness(sea: SEA) -> StiffnessDerivation:
     -------
     StiffnessDerivation
     """
+    from .zcontroller import continuous_only
+
+    continuous_only(sea, "the continuous-time derivation")
     e = sea.elements()
     return _derive(tuple(e[k] for k in ("D1", "D2", "CA", "CL", "m", "b")))
 

@@ -24,6 +24,7 @@ __all__ = [
     "plot_bound_table",
     "plot_power_curve",
     "plot_sampled_limits",
+    "plot_sampled_response",
     "plot_zwidth",
 ]
 
@@ -173,4 +174,17 @@ def plot_sampled_limits(rows: Sequence[tuple[Any, ...]], *, period: float, ax: A
     ax.set_title(f"Passive kd, continuous vs sampled (T = {period * 1e3:g} ms)")
     ax.legend(fontsize=9, loc="upper left")
     ax.grid(True, axis="y", alpha=0.3)
+    return ax
+
+
+def plot_sampled_response(result: Any, ax: Any = None) -> Any:
+    """``x_A`` and ``x_L`` of a [`SampledResponse`][seapass.sampled.response.SampledResponse]
+    at the sampling instants (held between them), with the target.  Returns the Axes."""
+    ax = axes_grid(ax, 1, 1, figsize=(7, 3.2))[0, 0]
+    ax.step(result.time, result.x_A, where="post", label="x_A")
+    ax.step(result.time, result.x_L, where="post", label="x_L")
+    ax.axhline(result.target, color="0.6", lw=0.8, ls="--", label="target")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("position [m]")
+    ax.legend(loc="best")
     return ax

@@ -25,6 +25,7 @@ from ..errors import ModelError, ParameterError
 from ..model.display import html_card, short_repr
 from ..model.expr import STANDARD_SYMBOLS, S, to_fraction
 from ..model.sea import SEA, check_used
+from ..model.zcontroller import continuous_only
 from .derive import derive_two_port
 from .entries import freeze_values, no_values, parse_entry, square_entries
 from .forms import Form, convert_entries, form_of, reciprocity_sign
@@ -260,6 +261,7 @@ def two_port(sea: SEA, *, values: Mapping[str, float | None] | None = None) -> T
             "matrix of expressions)",
             argument="sea",
         )
+    continuous_only(sea, "the two-port analysis")
     if values:
         sea = sea.with_values(**values)
     derived = derive_two_port(sea)

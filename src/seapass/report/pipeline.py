@@ -28,7 +28,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..errors import MissingExtraError, ParameterError, SeapassError
+from ..errors import ContinuousOnlyError, MissingExtraError, ParameterError, SeapassError
 from ..plot.style import bare_figures, figure_style
 from ..progress import NoProgress, Progress, ProgressLike, as_progress, task
 from .document import Section, SectionStatus
@@ -103,6 +103,9 @@ def _run_one(stage: Stage, context: StageContext) -> tuple[Section, float]:
             sec = stage.run(context)
     except MissingExtraError as exc:
         sec = Section(stage.key, stage.title, status=SectionStatus.SKIPPED, text=f"Skipped: {exc}")
+    except ContinuousOnlyError as exc:  # a controller given in z: the stage does not apply
+        sec = Section(stage.key, stage.title, status=SectionStatus.SKIPPED,
+                      text=f"Not applicable: {exc}")  # fmt: skip
     except ImportError as exc:  # a broken install or a bug: never skipped
         sec = _failed(stage, exc)
     except (SeapassError, ArithmeticError, ValueError, RuntimeError, TypeError) as exc:

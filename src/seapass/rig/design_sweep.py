@@ -214,8 +214,8 @@ def run_design_sweeps(
         rows = slice(j * grid.size, (j + 1) * grid.size)
 
         def limit(sampled: bool, mass: float = mass) -> float | None:
-            if not predictions:
-                return None
+            if not predictions or (not sampled and design.discrete is not None):
+                return None  # a controller in z has no continuous prediction
             return _critical(rig, design, name, mass, grid, sampled)
 
         out.append(

@@ -13,11 +13,13 @@ numeric controllers); the certified sampled-data passivity analysis:
 functions of one parameter, branch and bound), [`bound`][seapass.sampled.bound] (certified
 passive sets of one parameter), [`region`][seapass.sampled.region] (Z-width maps);
 [`coupling`][seapass.sampled.coupling] (the digital loop coupled to passive environments,
-a simulation check) and [`runtime`][seapass.sampled.runtime] (a fixed-rate control loop
+a simulation check), [`response`][seapass.sampled.response] (the sampled loop's time
+response, for controllers given in z) and [`runtime`][seapass.sampled.runtime] (a fixed-rate control loop
 with safety, for hardware or the twin).
 
 May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.progress], ``seapass.outcome``, [`seapass.files`][seapass.files],
-[`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis].
+[`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis],
+[`seapass.sim`][seapass.sim] (its scenarios).
 """
 
 from __future__ import annotations
@@ -39,6 +41,8 @@ _LAZY: dict[str, str] = {
     "SampledReason": "passivity",
     "SampledStatus": "passivity",
     "sampled_passivity": "passivity",
+    "SampledResponse": "response",
+    "sampled_response": "response",
     "ZWidthMap": "region",
     "sampled_region": "region",
     "ControlLoop": "runtime",
@@ -59,6 +63,7 @@ __all__ = [
     "SampledBoundResult",
     "SampledPassivityResult",
     "SampledReason",
+    "SampledResponse",
     "SampledStatus",
     "SimulatedHardware",
     "ZWidthMap",
@@ -66,6 +71,7 @@ __all__ = [
     "sampled_passive_bound",
     "sampled_passivity",
     "sampled_region",
+    "sampled_response",
 ]
 
 
@@ -89,4 +95,5 @@ if TYPE_CHECKING:  # what type checkers and IDEs see
         sampled_passivity,
     )
     from .region import ZWidthMap, sampled_region
+    from .response import SampledResponse, sampled_response
     from .runtime import ControlLoop, HardwareInterface, SimulatedHardware

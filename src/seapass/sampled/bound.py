@@ -468,7 +468,8 @@ def _assemble(
     if design_value is not None:
         design_passive = any(a <= design_value <= b for a, b in intervals)
     low = None
-    if any(e.kind is EdgeKind.LOW_FREQUENCY for e in edges) and loop.method != "zoh":
+    closed = loop.method != "zoh" and sea.discrete is None  # R_lf in closed form: C(s) only
+    if any(e.kind is EdgeKind.LOW_FREQUENCY for e in edges) and closed:
         low = low_frequency_limit(sea, param, delay=loop.delay, period=loop.period, lo=lo, hi=hi)
     partition: list[tuple[float, float, Outcome]] = []
     for a, b, outcome, _r in merged:  # proven boxes rounded inward, undecided ones outward

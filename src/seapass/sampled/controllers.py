@@ -34,6 +34,7 @@ from ..errors import ParameterError
 from ..model.loop import METHODS, Method, SampledLoop
 from ..model.minimal import numeric_controllers, split_proper
 from ..model.sea import SEA
+from ..model.zcontroller import continuous_only
 from .emulation import (
     Rational,
     as_discrete_tf,
@@ -149,6 +150,7 @@ class DiscreteController:
         """
         if method not in METHODS:
             raise ParameterError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+        continuous_only(sea, "discretizing CA and CL")
         T = check_period(period)
         rows = numeric_controllers(sea, values)
         propers: list[Rational | None] = [None, None]
@@ -167,7 +169,13 @@ class DiscreteController:
     def for_loop(
         cls, sea: SEA, loop: SampledLoop, *, values: Mapping[str, float] | None = None
     ) -> DiscreteController:
-        """`from_sea` at the period, discretization and velocity filter of ``loop``."""
+        """`from_sea` at the period, discretization and velocity filter of ``loop``.
+
+        A controller given in ``z`` (``sea.discrete``) is used as is, at the loop's period,
+        which must be its own (`from_z`; the method and velocity filter do not apply).
+        """
+        if sea.discrete is not None:
+            return cls.of_z(sea, loop.period, values=values)
         return cls.from_sea(
             sea,
             loop.period,
@@ -175,6 +183,26 @@ class DiscreteController:
             velocity_filter=loop.velocity_filter,
             values=values,
         )
+
+    @classmethod
+    def of_z(
+        cls, sea: SEA, period: float, *, values: Mapping[str, float] | None = None
+    ) -> DiscreteController:
+        """The controller in ``z`` of ``sea`` (``sea.discrete``), run as is at ``period``.
+
+        Raises
+        ------
+        ParameterError
+            Without a controller in z, or when ``period`` is not its rate's (naming both).
+        """
+        zc = sea.discrete
+        if zc is None:
+            raise ParameterError("the model has no controller in z (discrete)")
+        zc.check_loop(period)
+        T = check_period(period)
+        merged = {**{k: v for k, v in sea.values.items() if v is not None}, **dict(values or {})}
+        (na, da), (nl, dl) = zc.coefficients(merged)
+        return cls.from_z(DiscreteTF(na, da, T), DiscreteTF(nl, dl, T), name=sea.name)
 
     @classmethod
     def from_z(cls, KA: DiscreteTF, KL: DiscreteTF, *, name: str = "") -> DiscreteController:

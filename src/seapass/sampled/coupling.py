@@ -20,7 +20,13 @@ from ..model.loop import SampledLoop
 from ..model.sea import SEA
 from .controllers import DiscreteController, controller_state_space
 
-__all__ = ["CoupledCheck", "coupled_check", "coupled_closed_loop", "worst_sampled_environment"]
+__all__ = [
+    "CoupledCheck",
+    "coupled_check",
+    "coupled_closed_loop",
+    "coupled_plant",
+    "worst_sampled_environment",
+]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -56,14 +62,15 @@ class CoupledCheck:
 
 
 def _kb(expr: sp.Expr, what: str) -> tuple[float, float]:
-    poly = sp.Poly(sp.expand(expr), S)
-    if sp.denom(sp.together(expr)).free_symbols or poly.degree() > 1:
+    if sp.denom(sp.together(expr)).free_symbols or sp.Poly(sp.expand(expr), S).degree() > 1:
         raise ModelError(f"coupled simulation supports {what} = k + b*s only, got {expr}")
+    poly = sp.Poly(sp.expand(expr), S)
     c = [*poly.all_coeffs()[::-1], 0, 0]
     return float(c[0]), float(c[1])
 
 
-def _coupled_plant(sea: SEA) -> tuple[float, ...]:
+def coupled_plant(sea: SEA) -> tuple[float, ...]:
+    """``(m, b, k1, b1, k2, b2)`` of ``D1 = k1 + b1 s``, ``D2 = k2 + b2 s`` (else `ModelError`)."""
     e = {k: sea.numeric(v) for k, v in sea.elements().items()}
     return (float(e["m"]), float(e["b"]), *_kb(e["D1"], "D1"), *_kb(e["D2"], "D2"))
 
@@ -88,7 +95,7 @@ def coupled_closed_loop(
 
     if not env_mass > 0:
         raise ParameterError(f"env_mass must be positive, got {env_mass!r}")
-    m, b, k1, b1, k2, b2 = _plant or _coupled_plant(sea)
+    m, b, k1, b1, k2, b2 = _plant or coupled_plant(sea)
     me, ke, be = float(env_mass), float(env_stiffness), float(env_damping)
     A = np.array(
         [
@@ -161,7 +168,7 @@ def worst_sampled_environment(
     ms = np.logspace(-3, 1, 13) if masses is None else np.atleast_1d(masses)
     ks = np.r_[0.0, np.logspace(1, 5, 13)] if stiffnesses is None else np.atleast_1d(stiffnesses)
     ctrl = DiscreteController.for_loop(sea, loop)
-    params = _coupled_plant(sea)
+    params = coupled_plant(sea)
     best: CoupledCheck | None = None
     for me in ms:
         for ke in ks:

@@ -206,6 +206,8 @@ def _rational_roots(exprs: list[sp.Expr], lam: sp.Symbol) -> set[Fraction]:
 def controller_family(sea: SEA, param: str, loop: SampledLoop) -> ControllerFamily:
     """``K_A``, ``K_L`` of ``sea`` in ``loop`` with ``param`` free (every other value substituted)."""
     lam = symbol(param)
+    if sea.discrete is not None:
+        return _z_family(sea, param, loop)
     T = loop.exact_period
     vals = {k: v for k, v in sea.values.items() if v is not None and k != param}
     subs = {symbol(k): sp.Rational(to_fraction(v, k)) for k, v in vals.items()}
@@ -222,5 +224,42 @@ def controller_family(sea: SEA, param: str, loop: SampledLoop) -> ControllerFami
         if loop.delay:
             polys = ControllerPolys(tuple(p.left_shift(loop.delay) for p in polys.num), polys.den)
         parts.append(polys)
+        special += sp_
+    return ControllerFamily(parts[0], parts[1], tuple(sorted(_rational_roots(special, lam))))
+
+
+def _z_family(sea: SEA, param: str, loop: SampledLoop) -> ControllerFamily:
+    """A controller given in ``z`` with ``param`` free: its own coefficients, nothing discretized.
+
+    ``z = 1/q``; the special values are the rational roots of the constant term of the
+    denominator (not causal there) and of the resultant (a factor cancels).
+    """
+    zc = sea.discrete
+    zc.check_loop(loop.period)
+    lam = symbol(param)
+    subs = {
+        symbol(k): sp.Rational(to_fraction(v, k))
+        for k, v in sea.values.items()
+        if v is not None and k != param
+    }
+    z = symbol("z")
+    parts, special = [], []
+    for side in ("CA", "CL"):
+        e = zc.symbolic(side).xreplace(subs)
+        leftover = e.free_symbols - {z, lam}
+        if leftover:
+            raise ParameterError(
+                "controller has parameters without values: " + ", ".join(sorted(map(str, leftover)))
+            )
+        num, den = sp.fraction(sp.cancel(sp.together(e)))
+        n = max(sp.Poly(num, z).degree(), sp.Poly(den, z).degree(), 0)
+        nq = sp.expand(num.xreplace({z: 1 / _Q}) * _Q**n)
+        dq = sp.expand(den.xreplace({z: 1 / _Q}) * _Q**n)
+        if sp.expand(dq.subs(_Q, 0)) == 0:
+            raise ParameterError(f"{side}_z is not causal for any value of {param}")
+        pn, pd, sp_ = _in_q(nq / dq, lam)
+        if loop.delay:
+            pn = [p.left_shift(loop.delay) for p in pn]
+        parts.append(ControllerPolys(tuple(pn), tuple(pd)))
         special += sp_
     return ControllerFamily(parts[0], parts[1], tuple(sorted(_rational_roots(special, lam))))

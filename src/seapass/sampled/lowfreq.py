@@ -83,7 +83,8 @@ def low_frequency_of(
         return None
     text = ""
     if explain:
-        expr = closed_form(sea, delay) if method != "zoh" else ""
+        continuous = method != "zoh" and getattr(sea, "discrete", None) is None
+        expr = closed_form(sea, delay) if continuous else ""  # no closed form for z
         form = f"R_lf = {expr} = {float(r):.6g} N*s/m" if expr else f"R_lf = {float(r):.6g} N*s/m"
         if r < 0:
             text = f"low-frequency resistance {form} < 0"

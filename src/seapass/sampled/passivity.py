@@ -355,7 +355,8 @@ def sampled_passivity(
     omega = _omega(d.witness, loop.period)
     gate = None
     if d.outcome is Outcome.PASSIVE and continuous_gate and not sea.free_parameters:
-        gate = _continuous_gate(sea)
+        # a controller in z has no continuous counterpart: the gate does not apply
+        gate = _continuous_gate(sea) if sea.discrete is None else None
     if gate is not None:
         nyquist = math.pi / loop.period
         result = SampledPassivityResult(

@@ -1,0 +1,108 @@
+"""The sampled loop's time response (``simulate`` of a controller given in z).
+
+Independent cross-check: python-control builds the same loop from its own pieces (the
+plant discretized by ``sample_system(..., "zoh")``, the controller as discrete transfer
+functions, joined by ``interconnect``) and ``forced_response`` gives the same samples.
+"""
+
+from __future__ import annotations
+
+import control
+import numpy as np
+import pytest
+
+from seapass.errors import ModelError, ParameterError
+from seapass.model.loop import SampledLoop
+from seapass.model.sea import SEA
+from seapass.model.zcontroller import ZController
+from seapass.sampled.response import sampled_response
+from seapass.sim.scenarios import ForceStep, LoadDisplaced, Step
+
+VALS = {"m": 1.02, "b": 10.0, "k1": 1005.0, "b1": 30.0, "kd": 800.0, "bd": 20.0, "kl": 300.0}
+ZC = ZController(CA="kd + bd*500*(1 - z^-1)", CL="kl*(1 + z^-1)/2/(1 - z^-1/5)", rate=500.0)
+SEA_Z = SEA(D1="k1 + b1*s", values=VALS, discrete=ZC)
+LOOP = SampledLoop(rate=500.0)
+
+
+def _tf(coeffs: tuple[tuple, tuple], dt: float, name: str, out: str) -> control.TransferFunction:
+    num, den = ([float(c) for c in p] for p in coeffs)
+    n = max(len(num), len(den))  # ascending in z^-1 == descending in z, padded alike
+    num, den = num + [0.0] * (n - len(num)), den + [0.0] * (n - len(den))
+    return control.tf(num, den, dt, inputs=name, outputs=out)
+
+
+def _python_control_loop(load_mass: float, T: float, delay: int) -> control.InputOutputSystem:
+    m, b, k1, b1, ml = VALS["m"], VALS["b"], VALS["k1"], VALS["b1"], load_mass
+    A = [[0, 1, 0, 0], [-k1 / m, -(b + b1) / m, k1 / m, b1 / m], [0, 0, 0, 1],
+         [k1 / ml, b1 / ml, -k1 / ml, -b1 / ml]]  # fmt: skip
+    B = [[0, 0], [1 / m, 0], [0, 0], [0, 1 / ml]]
+    C = [[1, 0, 0, 0], [0, 0, 1, 0]]
+    plant = control.sample_system(
+        control.ss(A, B, C, np.zeros((2, 2)), inputs=["fa", "fe"], outputs=["xa", "xl"]),
+        T, method="zoh",
+    )  # fmt: skip
+    ka, kl = ZC.coefficients(VALS)
+    blocks = [
+        plant,
+        _tf(ka, T, "ea", "ua"),
+        _tf(kl, T, "el", "ul"),
+        control.summing_junction(["ra", "-xa"], "ea", dt=T),
+        control.summing_junction(["rl", "-xl"], "el", dt=T),
+        control.summing_junction(["ua", "ul"], "u", dt=T),
+        control.tf([1.0], [1.0] + [0.0] * delay, T, inputs="u", outputs="fa"),  # z^-delay
+    ]
+    return control.interconnect(blocks, inplist=["ra", "rl", "fe"], outlist=["xa", "xl"])
+
+
+@pytest.mark.parametrize(("delay", "load_mass"), [(0, 0.5), (1, 2.0)])
+def test_agrees_with_python_control_forced_response(delay: int, load_mass: float) -> None:
+    loop = LOOP.replace(delay=delay)
+    res = sampled_response(SEA_Z, loop=loop, load_mass=load_mass, scenario=Step(0.02),
+                           horizon=0.6)  # fmt: skip
+    n = res.time.size
+    assert n == 301  # counted steps, not time
+    sys = _python_control_loop(load_mass, loop.period, delay)
+    u = np.zeros((3, n))
+    u[0], u[1] = 0.02, 0.02
+    fr = control.forced_response(sys, T=res.time, U=u)
+    assert np.allclose(fr.outputs[0], res.x_A, rtol=1e-9, atol=1e-12)
+    assert np.allclose(fr.outputs[1], res.x_L, rtol=1e-9, atol=1e-12)
+    assert res.stable and not np.allclose(res.x_L, 0.0)
+
+
+def test_force_step_settles_where_statics_say() -> None:
+    # K_A(1) = kd, K_L(1) = kl (1 + 1)/2/(1 - 1/5) = 1.25 kl (the DC gains), so at rest
+    # actuator: 0 = −kd xA − kl xL − k1 (xA − xL);  load: 0 = 10 − k1 (xL − xA)
+    r = sampled_response(SEA_Z, loop=LOOP, load_mass=1.0, scenario=ForceStep(10.0), horizon=8.0)
+    k1, kd, kl = VALS["k1"], VALS["kd"], 1.25 * VALS["kl"]
+    a = np.array([[-(k1 + kd), k1 - kl], [k1, -k1]])
+    want = np.linalg.solve(a, [0.0, -10.0])
+    assert r.stable
+    assert np.allclose([r.x_A[-1], r.x_L[-1]], want, rtol=1e-6)
+
+
+def test_results_and_bad_input() -> None:
+    r = sampled_response(SEA_Z, loop=LOOP, load_mass=1.0, scenario=LoadDisplaced(0.01),
+                         horizon=0.1)  # fmt: skip
+    d = r.to_dict()
+    assert d["samples"] == 51 and d["kind"] == "sampled" and d["target"] == 0.0
+    assert "SampledResponse" in repr(r) and "stable" in r._repr_html_()
+    ax = r.plot()
+    assert len(ax.lines) == 3
+    with pytest.raises(ParameterError, match="load mass"):
+        sampled_response(SEA_Z, loop=LOOP, load_mass=0.0)
+    with pytest.raises(ParameterError, match="runs at 500 Hz but the sampled loop at 1000 Hz"):
+        sampled_response(SEA_Z, loop=SampledLoop(rate=1000.0), load_mass=1.0)
+    with pytest.raises(ParameterError, match="limit"):
+        sampled_response(SEA_Z, loop=LOOP, load_mass=1.0, horizon=1e9)
+    lead = SEA(D1="k1/(1 + s)", values={k: v for k, v in VALS.items() if k != "b1"},
+               discrete=ZC)  # fmt: skip
+    with pytest.raises(ModelError, match="k \\+ b\\*s only"):
+        sampled_response(lead, loop=LOOP, load_mass=1.0, horizon=0.1)
+
+
+def test_an_unstable_loop_is_a_result_cut_at_divergence() -> None:
+    hot = SEA(D1="k1 + b1*s", values={**VALS, "kd": 4e5}, discrete=ZC)
+    r = sampled_response(hot, loop=LOOP, load_mass=1.0, scenario=Step(0.01), horizon=100.0)
+    assert not r.stable and r.spectral_radius > 1
+    assert r.time.size < 50_001 and np.all(np.isfinite(r.x_L))
