@@ -28,7 +28,7 @@ from seapass.cli.common import HelpFormatter, check_period, check_step, error_te
 from seapass.errors import ExpressionError, ParameterError
 from seapass.version import __version__
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 LP = ["--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "b=10", "--set", "k1=1000"]
 OURS = ["--D1", "k1 + b1*s", "--CA", "kd + bd*s", "--set", "m=1", "--set", "b=10",
         "--set", "k1=1000", "--set", "b1=20", "--set", "bd=25"]  # fmt: skip

@@ -30,7 +30,7 @@ from seapass.model.expr import parse_assignment, parse_expression
 from seapass.model.sea import SEA, Impedance
 
 CPU_BUDGET_S = 20.0
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 MARKER = Path(os.environ.get("TMPDIR", "/tmp")) / f"seapass-fuzz-marker-{os.getpid()}"
 
 

@@ -3,7 +3,7 @@
 One test (at least) per item of the issue.  Commands run in-process through
 `seapass.cli.main` (the stderr contract is `check_stderr` of the fuzz tests);
 the memory bounds are measured in a subprocess under ``resource`` limits in
-``test_fuzz_files.py``.
+``tests/files/test_hostile_files.py``.
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ from seapass.report.render import render_markdown
 from seapass.rig.rigfile import load_rig, paper_rig
 from seapass.sweep.cluster import probe_scheduler
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 OURS = (REPO / "examples" / "ours.toml").read_text()
 PAPER_RIG = (REPO / "src" / "seapass" / "data" / "paper_rig.toml").read_text()
 LP = ["--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "b=10", "--set", "k1=1000"]

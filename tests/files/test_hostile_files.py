@@ -26,7 +26,7 @@ import pytest
 
 from cpu_budget import BLOCKED_S
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 OURS = (REPO / "examples" / "ours.toml").read_text()
 RIG = (REPO / "src" / "seapass" / "data" / "paper_rig.toml").read_text()
 

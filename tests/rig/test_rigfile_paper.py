@@ -14,7 +14,7 @@ from seapass.cli import main
 from seapass.errors import FileFormatError
 from seapass.rig.rigfile import Rig, load_rig, paper_rig, parse_rig
 
-PAPER = Path(__file__).resolve().parents[1] / "src" / "seapass" / "data" / "paper_rig.toml"
+PAPER = Path(__file__).resolve().parents[2] / "src" / "seapass" / "data" / "paper_rig.toml"
 
 
 def _doc() -> dict:
