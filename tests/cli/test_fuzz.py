@@ -23,6 +23,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from cpu_budget import cpu_budget
+from helpers import LP_ARGV
 from seapass.cli import build_parser, main
 from seapass.errors import ExpressionError, ParameterError, SeapassError, SymbolicLimitError
 from seapass.files.atomic import atomic_save, atomic_write, atomic_write_text
@@ -375,7 +376,7 @@ OURS = [
     "--set",
     "kd=5000",
 ]
-LP = ["--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "b=10", "--set", "k1=1000"]
+LP = list(LP_ARGV)  # the paper's load-side P on its plant (tests/helpers.py)
 TEMPLATES = [
     ["check", *OURS, "--json"],
     ["check", "--Z", "(s + 1)/(s + 2)"],

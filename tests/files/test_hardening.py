@@ -23,6 +23,7 @@ import msgpack
 import pytest
 
 from cpu_budget import BLOCKED_S
+from helpers import LP_ARGV
 from seapass.cli import main
 from seapass.errors import FileFormatError, OutputPathError, ParameterError
 from seapass.files import limits
@@ -39,7 +40,7 @@ from seapass.sweep.cluster import probe_scheduler
 REPO = Path(__file__).resolve().parents[2]
 OURS = (REPO / "examples" / "ours.toml").read_text()
 PAPER_RIG = (REPO / "src" / "seapass" / "data" / "paper_rig.toml").read_text()
-LP = ["--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "b=10", "--set", "k1=1000"]
+LP = list(LP_ARGV)  # the paper's load-side P on its plant (tests/helpers.py)
 
 
 def cli(argv: list[str]) -> tuple[int, str, str]:
