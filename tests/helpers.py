@@ -16,9 +16,15 @@ import mode, as for ``cpu_budget`` and ``long_jobs``).
 from __future__ import annotations
 
 import ast
+import contextlib
+import importlib
+import io
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from types import MappingProxyType
+from typing import Any
+
+import pytest
 
 from seapass.model.catalog import PAPER_VALUES, design
 
@@ -151,3 +157,56 @@ def scan_text(scan: Callable[[str], CallScan], code: str) -> list[str]:
     v = scan("x.py")
     v.visit(ast.parse(code))
     return [name for (_, _, name), _, _ in v.found]
+
+
+# ------------------------------------------------------------------ the command line in-process
+
+OURS_TEXT = (EXAMPLES / "ours.toml").read_text(encoding="utf-8")
+"""``examples/ours.toml``, the repository's example design file."""
+PAPER_RIG_TEXT = (SRC / "data" / "paper_rig.toml").read_text(encoding="utf-8")
+"""The packaged paper rig file."""
+
+
+def run_main(argv: list[str]) -> tuple[int, str, str]:
+    """``seapass.cli.main(argv)`` in-process: exit code, standard output, standard error."""
+    from seapass.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(argv)
+    return code, out.getvalue(), err.getvalue()
+
+
+def one_error(argv: list[str], *needles: str) -> str:
+    """Run ``argv``: exit 2, exactly one ``error:`` line naming every needle."""
+    code, _, err = run_main(argv)
+    assert code == 2, (argv, err)
+    assert err.startswith("error:") and err.count("\n") == 1, err
+    for n in needles:
+        assert n in err, (n, err)
+    return err
+
+
+def write_file(folder: Path, text: str, name: str = "d.toml") -> Path:
+    """``text`` written as ``folder/name`` (a design or rig file for a test)."""
+    f = folder / name
+    f.write_text(text, encoding="utf-8")
+    return f
+
+
+def forbid(monkeypatch: pytest.MonkeyPatch, target: str) -> None:
+    """Make ``target`` ("package.module.function") fail the test if called: validation must
+    happen before the work."""
+
+    def work(*a: object, **k: object) -> None:
+        raise AssertionError(f"{target} ran although the input is invalid")
+
+    module, _, name = target.rpartition(".")
+    monkeypatch.setattr(importlib.import_module(module), name, work)
+
+
+def tiny_report(title: str = "t", text: str = "hello") -> Any:
+    """A one-section `seapass.report.document.Report`."""
+    from seapass.report.document import Report, Section
+
+    return Report(title=title, intro="intro", sections=(Section(key="a", title="A", text=text),))

@@ -18,8 +18,15 @@ from pathlib import Path
 
 import pytest
 
-from helpers import CallScan, scan_source, scan_text
+from helpers import (
+    LP_ARGV,
+    CallScan,
+    one_error,
+    scan_source,
+    scan_text,
+)
 from seapass.errors import FileFormatError
+from seapass.files import limits
 from seapass.files.textfile import check_input_file, open_text_file, read_text_file
 
 READ_ATTRIBUTES = frozenset(
@@ -171,3 +178,30 @@ def test_kind_only_check(tmp_path: Path) -> None:
     assert check_input_file(f, max_bytes=None) == f
     with pytest.raises(FileFormatError, match="larger than the limit"):
         check_input_file(f)
+
+
+# ------------- devices, FIFOs, large and missing files (moved from test_hardening, issue 12 item 1)
+
+
+@pytest.mark.parametrize("device", ["/dev/zero", "fifo", "dir"])
+def test_device_fifo_and_directory_are_refused_before_reading(tmp_path: Path, device: str) -> None:
+    path = {"/dev/zero": "/dev/zero", "fifo": str(tmp_path / "p"), "dir": str(tmp_path)}[device]
+    if device == "fifo":
+        os.mkfifo(path)  # opening it for reading without a writer must not wait
+    one_error(["rig", "show", "--rig", path], path, "not a rig file")
+    one_error(
+        ["simulate", *LP_ARGV, "--set", "kd=500", "--load-mass", "1", "--trajectory", path], path
+    )
+
+
+def test_large_files_are_refused_by_size(tmp_path: Path) -> None:
+    big = tmp_path / "big.toml"
+    big.write_bytes(b"# " + b"x" * limits.MAX_TEXT_FILE_BYTES)
+    with pytest.raises(FileFormatError, match="larger than the limit"):
+        read_text_file(big)
+    one_error(["rig", "show", "--rig", str(big)], "larger than the limit")
+
+
+def test_missing_file_message_has_no_errno(tmp_path: Path) -> None:
+    err = one_error(["rig", "show", "--rig", str(tmp_path / "nope.toml")], "No such file")
+    assert "Errno" not in err
