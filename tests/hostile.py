@@ -6,8 +6,8 @@ machine does not fail it, see ``cpu_budget``); the contract checked is: exit cod
 2, at most one line on stderr, no ``Traceback``.  Injection payloads try to
 create a marker file (`MARKER`); it must never appear (the `no_marker` fixture).
 
-Used by ``tests/cli/test_fuzz.py``, ``tests/model/test_expr.py``,
-``tests/model/test_design_file_strict.py``, ``tests/rig/test_rigfile_paper.py``,
+Used by ``tests/cli/test_fuzz.py``, ``tests/model/test_expr_hostile.py``,
+``tests/model/test_design_file_hostile.py``, ``tests/rig/test_rigfile_paper.py``,
 ``tests/files/test_hostile_files.py`` and ``tests/files/test_atomic.py``.
 """
 
@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import contextlib
 import io
-import math
 import os
 import tomllib
 from pathlib import Path
@@ -188,48 +187,3 @@ def mutate(draw: st.DrawFn, doc: dict) -> dict:
 
 def design_doc() -> dict:
     return tomllib.loads((REPO / "examples" / "ours.toml").read_text())
-
-
-def toml_value(v) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, float):
-        return (
-            "nan"
-            if math.isnan(v)
-            else ("inf" if v == math.inf else "-inf" if v == -math.inf else repr(v))
-        )
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, str):
-        return toml_key(v)
-    if isinstance(v, list):
-        return "[" + ", ".join(toml_value(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{" + ", ".join(f"{toml_key(k)} = {toml_value(x)}" for k, x in v.items()) + "}"
-    raise TypeError(type(v))
-
-
-def toml_key(k: str) -> str:
-    """A TOML basic string: escapes for quote, backslash and every non-printable character."""
-    out = []
-    for ch in k:
-        if 0xD800 <= ord(ch) <= 0xDFFF:
-            raise TypeError("surrogates cannot be written to TOML")
-        if ch in '"\\':
-            out.append("\\" + ch)
-        elif ch.isprintable() and ch != "\x7f":
-            out.append(ch)
-        else:
-            out.append(f"\\u{ord(ch):04x}" if ord(ch) <= 0xFFFF else f"\\U{ord(ch):08x}")
-    return '"' + "".join(out) + '"'
-
-
-def dump_toml(doc: dict) -> str:
-    top = [f"{toml_key(k)} = {toml_value(v)}" for k, v in doc.items() if not isinstance(v, dict)]
-    tables = [
-        f"[{toml_key(k)}]\n" + "\n".join(f"{toml_key(a)} = {toml_value(b)}" for a, b in v.items())
-        for k, v in doc.items()
-        if isinstance(v, dict)
-    ]
-    return "\n".join(top) + "\n" + "\n\n".join(tables) + "\n"

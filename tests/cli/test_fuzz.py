@@ -7,24 +7,38 @@ machine does not fail it, see ``cpu_budget``); the contract checked is: exit cod
 create a marker file; it must never appear.  The harness lives in ``tests/hostile.py``.
 
 This file attacks the command line (`seapass.cli`); the hostile-input tests of other
-targets sit with their module's tests: the parser in ``tests/model/test_expr.py``,
-design and rig documents in ``tests/model/test_design_file_strict.py`` and
+targets sit with their module's tests: the parser in ``tests/model/test_expr_hostile.py``,
+design and rig documents in ``tests/model/test_design_file_hostile.py`` and
 ``tests/rig/test_rigfile_paper.py``, garbage files in ``tests/files/test_hostile_files.py``,
-interrupted writes in ``tests/files/test_atomic.py``.
+interrupted writes in ``tests/files/test_atomic.py``.  Mutated design files through
+``seapass analyze`` stay here (the command is the target).
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import io
+import math
 
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from cpu_budget import cpu_budget
 from helpers import LP_ARGV
-from hostile import grammar, no_marker, payload_id, payloads, run_cli  # noqa: F401 (no_marker)
-from seapass.cli import build_parser
+from hostile import (  # noqa: F401 (no_marker)
+    CPU_BUDGET_S,
+    MARKER,
+    design_doc,
+    grammar,
+    mutate,
+    no_marker,
+    payload_id,
+    payloads,
+    run_cli,
+)
+from seapass.cli import build_parser, main
 from seapass.errors import SeapassError
 from seapass.model.sea import SEA, Impedance
 
@@ -553,3 +567,83 @@ def test_sampled_check_extreme_values_answer_in_one_line(extra, tmp_path, monkey
 def test_every_subcommand_is_covered_by_a_hostile_case():
     covered = {tuple(a[:1]) for a in SLOW_BAD if a} | {k[:1] for k in FAST}
     assert {k[:1] for k in COMMANDS} <= covered
+
+
+# ---------------------------------------------------------------- design files through analyze
+
+
+def _toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, float):
+        return (
+            "nan"
+            if math.isnan(v)
+            else ("inf" if v == math.inf else "-inf" if v == -math.inf else repr(v))
+        )
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, str):
+        return _toml_key(v)
+    if isinstance(v, list):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{" + ", ".join(f"{_toml_key(k)} = {_toml_value(x)}" for k, x in v.items()) + "}"
+    raise TypeError(type(v))
+
+
+def _toml_key(k: str) -> str:
+    """A TOML basic string: escapes for quote, backslash and every non-printable character."""
+    out = []
+    for ch in k:
+        if 0xD800 <= ord(ch) <= 0xDFFF:
+            raise TypeError("surrogates cannot be written to TOML")
+        if ch in '"\\':
+            out.append("\\" + ch)
+        elif ch.isprintable() and ch != "\x7f":
+            out.append(ch)
+        else:
+            out.append(f"\\u{ord(ch):04x}" if ord(ch) <= 0xFFFF else f"\\U{ord(ch):08x}")
+    return '"' + "".join(out) + '"'
+
+
+def _dump(doc: dict) -> str:
+    top = [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in doc.items() if not isinstance(v, dict)]
+    tables = [
+        f"[{_toml_key(k)}]\n"
+        + "\n".join(f"{_toml_key(a)} = {_toml_value(b)}" for a, b in v.items())
+        for k, v in doc.items()
+        if isinstance(v, dict)
+    ]
+    return "\n".join(top) + "\n" + "\n\n".join(tables) + "\n"
+
+
+@settings(
+    max_examples=20,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
+)
+@given(data=st.data())
+def test_mutated_design_files_through_analyze(data, tmp_path):
+    """``seapass analyze FILE --stages core``: 0/1 on a loadable design, else one error line."""
+    pytest.importorskip("seapass.model.design_file")
+    doc = mutate(data.draw, design_doc())
+    f = tmp_path / "design.toml"
+    try:
+        f.write_text(_dump(doc), encoding="utf-8", errors="surrogatepass")
+    except (TypeError, UnicodeEncodeError):
+        return
+    out, err = io.StringIO(), io.StringIO()
+    argv = ["analyze", str(f), "--out", str(tmp_path / "out"), "--stages", "core", "--no-progress"]
+    with (
+        cpu_budget(CPU_BUDGET_S),
+        contextlib.redirect_stdout(out),
+        contextlib.redirect_stderr(err),
+    ):
+        code = main(argv)
+    e = err.getvalue()
+    assert code in (0, 1, 2), (code, e[-2000:])
+    assert "Traceback" not in e, e[-2000:]
+    if code == 2:
+        assert e.count("\n") == 1 and e.startswith("error:"), e[-2000:]
+    assert not MARKER.exists()

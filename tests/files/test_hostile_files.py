@@ -16,7 +16,6 @@ up, brackets nested, bytes flipped).
 from __future__ import annotations
 
 import contextlib
-import io
 import json
 import os
 import random
@@ -28,17 +27,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from cpu_budget import BLOCKED_S, cpu_budget
-from hostile import CPU_BUDGET_S as FUZZ_CPU_BUDGET_S
+from cpu_budget import BLOCKED_S
 from hostile import (
-    MARKER,
-    design_doc,
-    dump_toml,
-    mutate,
     no_marker,  # noqa: F401 (a fixture)
     run_cli,
 )
-from seapass.cli import main
 from seapass.errors import SeapassError
 
 REPO = Path(__file__).resolve().parents[2]
@@ -266,35 +259,3 @@ def test_garbage_files_through_loaders_and_cli(text, tmp_path):
     with contextlib.suppress(SeapassError):
         design.load_design(f)
     run_cli(["rig", "show", "--rig", str(f)])
-
-
-@pytest.mark.usefixtures("no_marker")
-@settings(
-    max_examples=20,
-    deadline=None,
-    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
-)
-@given(data=st.data())
-def test_mutated_design_files_through_analyze(data, tmp_path):
-    """``seapass analyze FILE --stages core``: 0/1 on a loadable design, else one error line."""
-    pytest.importorskip("seapass.model.design_file")
-    doc = mutate(data.draw, design_doc())
-    f = tmp_path / "design.toml"
-    try:
-        f.write_text(dump_toml(doc), encoding="utf-8", errors="surrogatepass")
-    except (TypeError, UnicodeEncodeError):
-        return
-    out, err = io.StringIO(), io.StringIO()
-    argv = ["analyze", str(f), "--out", str(tmp_path / "out"), "--stages", "core", "--no-progress"]
-    with (
-        cpu_budget(FUZZ_CPU_BUDGET_S),
-        contextlib.redirect_stdout(out),
-        contextlib.redirect_stderr(err),
-    ):
-        code = main(argv)
-    e = err.getvalue()
-    assert code in (0, 1, 2), (code, e[-2000:])
-    assert "Traceback" not in e, e[-2000:]
-    if code == 2:
-        assert e.count("\n") == 1 and e.startswith("error:"), e[-2000:]
-    assert not MARKER.exists()
