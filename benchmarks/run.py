@@ -63,7 +63,7 @@ Measured with cProfile before optimizing (`python -m cProfile -s tottime`):
   conjugate pair is kept (half the work), and the coarse grid went from 512 to
   256 points with a 64-point subdivision of the last uncertain interval.
   Settling times stayed within 1e-7 s of the previous version and of the scalar
-  simulator (tests `test_batchsim.py`).
+  simulator (tests `tests/batch/test_step_metrics.py`).
 * numba was not needed: numpy reaches the targets, so there is a single code path.
 """
 

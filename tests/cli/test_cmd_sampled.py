@@ -12,6 +12,12 @@ import sys
 
 import pytest
 
+from helpers import (
+    LP_ARGV,
+    forbid,
+    one_error,
+)
+
 HEAVY = ("sympy", "control", "matplotlib", "scipy")
 MODEL = ["--D1", "k1 + b1*s", "--CA", "kd + bd*s", "--set", "m=1", "--set", "b=10",
          "--set", "k1=1005", "--set", "b1=30", "--set", "bd=25"]  # fmt: skip
@@ -42,3 +48,44 @@ def test_a_numeric_sampled_check_imports_no_symbolic_or_plotting_library(extra, 
     assert loaded == []
     assert code == (0 if passive else 1)
     assert json.loads(out[: out.rindex("\n[")])["passive"] is passive
+
+
+# -------------- options checked before the work (moved from test_hardening, issue 12 items 1, 3, 5)
+
+
+def test_sampled_bound_samples_are_capped(monkeypatch: pytest.MonkeyPatch) -> None:
+    forbid(monkeypatch, "seapass.sampled.bound.sampled_passive_bound")
+    one_error(
+        ["sampled", "bound", "kd", *LP_ARGV, "--range", "kd=0:5000", "--samples", "100000000"],
+        "--samples",
+    )
+
+
+def test_sampled_delay_is_capped(monkeypatch: pytest.MonkeyPatch) -> None:
+    forbid(monkeypatch, "seapass.sampled.bound.sampled_passive_bound")
+    forbid(monkeypatch, "seapass.sampled.passivity.sampled_passivity")
+    one_error(
+        ["sampled", "bound", "kd", *LP_ARGV, "--range", "kd=0:5000", "--delay", "1000000"],
+        "--delay",
+    )
+    one_error(["sampled", "check", *LP_ARGV, "--set", "kd=5", "--delay", "1000000"], "--delay")
+
+
+@pytest.mark.parametrize("rtol", ["0", "1e-300", "1e-13", "nan", "-1"])
+def test_sampled_bound_rtol_is_validated(rtol: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    forbid(monkeypatch, "seapass.sampled.bound.sampled_passive_bound")
+    one_error(
+        ["sampled", "bound", "kd", *LP_ARGV, "--range", "kd=0:5000", "--rtol", rtol], "--rtol"
+    )
+
+
+def test_rtol_below_the_smallest_enclosure_width_is_refused(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # the certified bound encloses each edge to rtol relative to the edge: any rtol from
+    # MIN_RTOL up is reachable in doubles, even on a range far from 0
+    forbid(monkeypatch, "seapass.sampled.bound.sampled_passive_bound")
+    one_error(
+        ["sampled", "bound", "kd", *LP_ARGV, "--range", "kd=1e15:1.0000001e15", "--rtol", "1e-13"],
+        "--rtol 1e-13",
+    )

@@ -9,13 +9,14 @@ from pathlib import Path
 
 import pytest
 
+from helpers import LP_ARGV
 from seapass.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
 OURS = str(ROOT / "examples" / "ours.toml")
 LP = str(ROOT / "examples" / "lp.toml")
 LPD = str(ROOT / "examples" / "load_pd_not_passive.toml")
-LP_FLAGS = ["--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "b=10", "--set", "k1=1000"]
+LP_FLAGS = list(LP_ARGV)  # the paper's load-side P on its plant (tests/helpers.py)
 
 
 def _run(argv: list[str]) -> tuple[int, str, str]:

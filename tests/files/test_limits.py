@@ -6,8 +6,11 @@ from pathlib import Path
 
 import pytest
 
+from helpers import REPO
 from seapass.errors import ParameterError
+from seapass.files import limits
 from seapass.files.limits import MAX_RTOL, MIN_RTOL, check_rtol
+from seapass.model.design_file import load_design
 
 
 @pytest.mark.parametrize("rtol", [MIN_RTOL, 1e-6, MAX_RTOL, 1])
@@ -28,7 +31,6 @@ def test_rtol_out_of_range_names_the_argument(rtol: object) -> None:
 
 def test_the_export_checks_rtol_before_certifying(monkeypatch: pytest.MonkeyPatch) -> None:
     from seapass.export import deployment
-    from seapass.model.design_file import load_design
 
     def never(*args: object, **kwargs: object) -> None:
         raise AssertionError("certified before checking rtol")
@@ -37,3 +39,13 @@ def test_the_export_checks_rtol_before_certifying(monkeypatch: pytest.MonkeyPatc
     design = load_design(Path(__file__).parents[2] / "examples" / "ours.toml")
     with pytest.raises(ParameterError, match="rtol"):
         deployment.plan_deployment(design, rtol=0.5)
+
+
+# ------------------------------------------ documented limits (moved from test_hardening, issue 12)
+
+
+def test_every_limit_is_documented() -> None:
+    doc = (REPO / "docs" / "verification.md").read_text()
+    for name in limits.__all__:
+        if name.isupper():
+            assert f"`{name}`" in doc, name

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import pytest
 
+from helpers import LP_ARGV, CallScan, scan_source, scan_text
 from seapass.cli import build_parser, main
 from seapass.errors import OutputPathError
 from seapass.files.owned import (
@@ -34,8 +35,7 @@ from seapass.rig.log import chirp_command, twin_log
 from seapass.rig.rigfile import paper_rig
 
 REPO = Path(__file__).resolve().parents[2]
-SRC = REPO / "src" / "seapass"
-LP = ["--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "b=10", "--set", "k1=1000"]
+LP = list(LP_ARGV)  # the paper's load-side P on its plant (tests/helpers.py)
 MINE = b"the user's own file\n"
 
 # ------------------------------------------------------------------ the library rule
@@ -153,56 +153,34 @@ RAW_WRITES_ALLOWED = {
 }
 
 
-class _Writes(ast.NodeVisitor):
+class _Writes(CallScan):
     def __init__(self, module: str) -> None:
-        self.module, self.scope, self.found = module, [], []
+        super().__init__(module)
         self.helpers: set[str] = set()  # names imported from seapass's own cli writers
 
     def visit_ImportFrom(self, node: ast.ImportFrom) -> None:
         if node.module in ("common", "output") and node.level == 1:
             self.helpers |= {a.asname or a.name for a in node.names}
 
-    def _enter(self, node: ast.AST, name: str) -> None:
-        self.scope.append(name)
-        self.generic_visit(node)
-        self.scope.pop()
-
-    def visit_FunctionDef(self, node: ast.FunctionDef) -> None:
-        self._enter(node, node.name)
-
-    def visit_ClassDef(self, node: ast.ClassDef) -> None:
-        self._enter(node, node.name)
-
-    def visit_Call(self, node: ast.Call) -> None:
+    def call_name(self, node: ast.Call) -> str | None:
         f = node.func
         text = ast.unparse(f)
-        name = None
         if text in WRITER_CALLS:
-            name = text
-        elif isinstance(f, ast.Attribute) and f.attr in WRITER_ATTRIBUTES:
-            name = f.attr
-        elif isinstance(f, ast.Name) and f.id in WRITER_ATTRIBUTES and f.id not in self.helpers:
+            return text
+        if isinstance(f, ast.Attribute) and f.attr in WRITER_ATTRIBUTES:
+            return f.attr
+        if isinstance(f, ast.Name) and f.id in WRITER_ATTRIBUTES and f.id not in self.helpers:
             # cli.output.write_text / write_bytes (imported via .common) call files.owned
-            name = f.id
-        elif isinstance(f, ast.Name) and f.id == "open" and len(node.args) > 1:
+            return f.id
+        if isinstance(f, ast.Name) and f.id == "open" and len(node.args) > 1:
             mode = node.args[1]
             if isinstance(mode, ast.Constant) and set(str(mode.value)) & set("wax+"):
-                name = "open"
-        if name is not None:
-            self.found.append(((self.module, ".".join(self.scope), name), node.lineno))
-        self.generic_visit(node)
+                return "open"
+        return None
 
 
-def raw_writes() -> list[tuple[tuple[str, str, str], int]]:
-    found = []
-    for path in sorted(SRC.rglob("*.py")):
-        module = path.relative_to(SRC).as_posix()
-        if module.startswith("files/"):
-            continue
-        v = _Writes(module)
-        v.visit(ast.parse(path.read_text(encoding="utf-8")))
-        found += v.found
-    return found
+def raw_writes() -> list[tuple[tuple[str, str, str], int, str]]:
+    return scan_source(_Writes)
 
 
 def test_every_output_goes_through_files_owned() -> None:
@@ -210,14 +188,14 @@ def test_every_output_goes_through_files_owned() -> None:
     assert found, "the scan finds nothing: it is broken"
     stray = [
         f"{m}:{line} {s} calls {n}"
-        for (m, s, n), line in found
+        for (m, s, n), line, _ in found
         if (m, s, n) not in RAW_WRITES_ALLOWED
     ]
     assert not stray, (
         "write outputs with seapass.files.owned (write_output_text, write_output_bytes, "
         "save_output) or add the call to RAW_WRITES_ALLOWED with the reason:\n" + "\n".join(stray)
     )
-    stale = sorted(set(RAW_WRITES_ALLOWED) - {key for key, _ in found})
+    stale = sorted(set(RAW_WRITES_ALLOWED) - {key for key, _, _ in found})
     assert not stale, f"RAW_WRITES_ALLOWED lists calls that are gone: {stale}"
 
 
@@ -227,9 +205,7 @@ def test_the_write_scan_sees_the_writes_it_forbids() -> None:
         "    p.write_text('x'); atomic_write_text(p, 'x'); os.replace(p, p)\n"
         "    open(p, 'w'); open(p); shutil.copy2(p, p); df.to_parquet(p)\n"
     )
-    v = _Writes("x.py")
-    v.visit(ast.parse(code))
-    assert sorted(n for (_, _, n), _ in v.found) == sorted(
+    assert sorted(scan_text(_Writes, code)) == sorted(
         ["write_text", "atomic_write_text", "os.replace", "open", "shutil.copy2", "to_parquet"]
     )
 

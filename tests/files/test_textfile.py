@@ -18,10 +18,16 @@ from pathlib import Path
 
 import pytest
 
+from helpers import (
+    LP_ARGV,
+    CallScan,
+    one_error,
+    scan_source,
+    scan_text,
+)
 from seapass.errors import FileFormatError
+from seapass.files import limits
 from seapass.files.textfile import check_input_file, open_text_file, read_text_file
-
-SRC = Path(__file__).resolve().parents[2] / "src" / "seapass"
 
 READ_ATTRIBUTES = frozenset(
     "read_text read_bytes open load loads_file loadtxt genfromtxt fromfile read_csv read_table "
@@ -58,47 +64,18 @@ ALLOWED = {
 }
 
 
-class _Reads(ast.NodeVisitor):
-    def __init__(self, module: str) -> None:
-        self.module, self.scope, self.found = module, [], []
-
-    def _enter(self, node: ast.AST, name: str) -> None:
-        self.scope.append(name)
-        self.generic_visit(node)
-        self.scope.pop()
-
-    def visit_FunctionDef(self, node: ast.FunctionDef) -> None:
-        self._enter(node, node.name)
-
-    def visit_AsyncFunctionDef(self, node: ast.AsyncFunctionDef) -> None:
-        self._enter(node, node.name)
-
-    def visit_ClassDef(self, node: ast.ClassDef) -> None:
-        self._enter(node, node.name)
-
-    def visit_Call(self, node: ast.Call) -> None:
+class _Reads(CallScan):
+    def call_name(self, node: ast.Call) -> str | None:
         f = node.func
-        name = None
         if isinstance(f, ast.Attribute) and f.attr in READ_ATTRIBUTES:
-            name = f.attr
-        elif isinstance(f, ast.Name) and f.id == "open":
-            name = "open"
-        if name is not None:
-            scope = ".".join(self.scope) or "<module>"
-            self.found.append(((self.module, scope, name), node.lineno, ast.unparse(f)))
-        self.generic_visit(node)
+            return f.attr
+        if isinstance(f, ast.Name) and f.id == "open":
+            return "open"
+        return None
 
 
 def file_reads() -> list[tuple[tuple[str, str, str], int, str]]:
-    out = []
-    for path in sorted(SRC.rglob("*.py")):
-        module = path.relative_to(SRC).as_posix()
-        if module.startswith("files/"):
-            continue
-        v = _Reads(module)
-        v.visit(ast.parse(path.read_text(encoding="utf-8")))
-        out += v.found
-    return out
+    return scan_source(_Reads)
 
 
 def test_every_file_read_goes_through_seapass_files() -> None:
@@ -120,9 +97,7 @@ def test_the_scan_sees_the_reads_it_forbids(tmp_path: Path) -> None:
         "    p.read_text(); p.read_bytes(); open(p); np.loadtxt(p); pd.read_csv(p)\n"
         "    tomllib.load(p)\n"
     )
-    v = _Reads("x.py")
-    v.visit(ast.parse(code))
-    assert sorted(n for (_, _, n), _, _ in v.found) == sorted(
+    assert sorted(scan_text(_Reads, code)) == sorted(
         ["read_text", "read_bytes", "open", "loadtxt", "read_csv", "load"]
     )
 
@@ -203,3 +178,30 @@ def test_kind_only_check(tmp_path: Path) -> None:
     assert check_input_file(f, max_bytes=None) == f
     with pytest.raises(FileFormatError, match="larger than the limit"):
         check_input_file(f)
+
+
+# ------------- devices, FIFOs, large and missing files (moved from test_hardening, issue 12 item 1)
+
+
+@pytest.mark.parametrize("device", ["/dev/zero", "fifo", "dir"])
+def test_device_fifo_and_directory_are_refused_before_reading(tmp_path: Path, device: str) -> None:
+    path = {"/dev/zero": "/dev/zero", "fifo": str(tmp_path / "p"), "dir": str(tmp_path)}[device]
+    if device == "fifo":
+        os.mkfifo(path)  # opening it for reading without a writer must not wait
+    one_error(["rig", "show", "--rig", path], path, "not a rig file")
+    one_error(
+        ["simulate", *LP_ARGV, "--set", "kd=500", "--load-mass", "1", "--trajectory", path], path
+    )
+
+
+def test_large_files_are_refused_by_size(tmp_path: Path) -> None:
+    big = tmp_path / "big.toml"
+    big.write_bytes(b"# " + b"x" * limits.MAX_TEXT_FILE_BYTES)
+    with pytest.raises(FileFormatError, match="larger than the limit"):
+        read_text_file(big)
+    one_error(["rig", "show", "--rig", str(big)], "larger than the limit")
+
+
+def test_missing_file_message_has_no_errno(tmp_path: Path) -> None:
+    err = one_error(["rig", "show", "--rig", str(tmp_path / "nope.toml")], "No such file")
+    assert "Errno" not in err

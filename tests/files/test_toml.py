@@ -3,10 +3,16 @@
 from __future__ import annotations
 
 import tomllib
+from pathlib import Path
 
 import pytest
 
-from seapass.files.toml import update_toml_text
+from helpers import (
+    one_error,
+    write_file,
+)
+from seapass.errors import FileFormatError
+from seapass.files.toml import loads_strict, update_toml_text
 from seapass.rig.packaged import rig_template
 
 
@@ -47,3 +53,23 @@ def test_what_cannot_be_edited_line_by_line_is_refused(text: str) -> None:
 
 def test_a_missing_table_is_refused() -> None:
     assert update_toml_text("a = 1\n", {"t.b": 2}) is None
+
+
+# ---------------------------------- deeply nested TOML (moved from test_hardening, issue 12 item 2)
+
+
+@pytest.mark.parametrize(
+    "nest", ["a = " + "[" * 500 + "]" * 500, "a = " + "{b = " * 500 + "1" + "}" * 500]
+)
+def test_deeply_nested_toml_is_one_line(tmp_path: Path, nest: str) -> None:
+    f = write_file(tmp_path, nest + "\n")
+    with pytest.raises(FileFormatError, match="nested too deeply"):
+        loads_strict(f.read_text())
+    one_error(["analyze", str(f), "--out", str(tmp_path / "o")], "nested too deeply")
+    one_error(["rig", "show", "--rig", str(f)], "nested too deeply")
+    one_error(["rig", "sweep", "--rig", str(f)], "nested too deeply")
+
+
+def test_moderate_nesting_beyond_the_limit_is_refused() -> None:
+    with pytest.raises(FileFormatError, match="limit is 8"):
+        loads_strict("a = " + "[" * 20 + "]" * 20)

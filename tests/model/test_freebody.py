@@ -1,7 +1,7 @@
 """The exact derivation (``model.freebody``, no sympy) against the sympy derivation.
 
 For every catalog design, the 72 standard structures, the cascaded torque/velocity
-controller of ``test_structures.py`` and the PID-force-loop-in-impedance-loop cascade:
+controller of ``tests/model/test_structures.py`` and the PID-force-loop-in-impedance-loop cascade:
 
 * the generic ``N/D`` (parameters symbolic) equals sympy's ``fraction(cancel(...))`` of
   [`load_impedance`][seapass.model.stiffness.load_impedance] *exactly*, scaling included;

@@ -18,6 +18,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from helpers import configs
 from seapass.analysis import find_destabilizing_environment, simulate_coupled
 from seapass.analysis.coupled import (
     CoupledResult,
@@ -225,15 +226,15 @@ def test_witness_for_random_non_passive_lp(sea):
     check_witness(sea, w)
 
 
-NON_PASSIVE_CONFIGS = {
-    "LP": dict(D1="k1", CL="kd"),
-    "LP-damped": dict(D1="k1 + b1*s", CL="kd"),
-    "LPD": dict(D1="k1", CL="kd + bd*s"),
-    "API": dict(D1="k1", CA="kd + ki/s"),
-    "LPI": dict(D1="k1", CL="kd + ki/s"),
-    "disjoint-damper": dict(D1="k1", D2="b2*s", CL="kd"),
-    "spring-spring": dict(D1="k1", D2="k2", CL="kd"),
-}
+NON_PASSIVE_CONFIGS = configs(
+    "LP",
+    "LP-damped",
+    "LPD",
+    "API",
+    "LPI",
+    "disjoint-damper",
+    "spring-spring",
+)
 
 
 @settings(max_examples=30, deadline=None)

@@ -15,6 +15,7 @@ up, brackets nested, bytes flipped).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import random
@@ -23,10 +24,17 @@ import sys
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from cpu_budget import BLOCKED_S
+from hostile import (
+    no_marker,  # noqa: F401 (a fixture)
+    run_cli,
+)
+from seapass.errors import SeapassError
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 OURS = (REPO / "examples" / "ours.toml").read_text()
 RIG = (REPO / "src" / "seapass" / "data" / "paper_rig.toml").read_text()
 
@@ -226,3 +234,28 @@ def test_rig_attacks_fail_at_load_time_in_process(tmp_path: Path) -> None:
         f = _write(tmp_path / f"{name}.toml", content)
         with pytest.raises(SeapassError):
             load_rig(f)
+
+
+# -------------------------------------- garbage and mutated files in-process (moved from test_fuzz)
+
+
+@pytest.mark.usefixtures("no_marker")
+@settings(
+    max_examples=100, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(
+    text=st.one_of(
+        st.text(max_size=200), st.binary(max_size=200).map(lambda b: b.decode("latin-1"))
+    )
+)
+def test_garbage_files_through_loaders_and_cli(text, tmp_path):
+    f = tmp_path / "garbage.toml"
+    f.write_bytes(text.encode("utf-8", "surrogatepass"))
+    from seapass.rig.rigfile import load_rig
+
+    with contextlib.suppress(SeapassError):
+        load_rig(f)
+    design = pytest.importorskip("seapass.model.design_file")
+    with contextlib.suppress(SeapassError):
+        design.load_design(f)
+    run_cli(["rig", "show", "--rig", str(f)])

@@ -22,7 +22,7 @@ from seapass.sim.simulate import simulate
 from seapass.tuning import TuningOptions, resolve_problem, tune
 from seapass.tuning.optimize import verify
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 # not a catalog structure: a damped spring, a dashpot from the load to ground, actuator PD
 CUSTOM = seapass.SEA(
     D1="k1 + b1*s", D2="b2*s", CA="kd + bd*s",

@@ -4,7 +4,7 @@ Opt-in: s3fs and ``moto[server]`` add some fifty packages, so they are not in
 the ``test`` extra and CI skips this module.  To run it::
 
     .venv/bin/pip install s3fs "moto[server]"
-    .venv/bin/python -m pytest tests/test_sweep_s3.py
+    .venv/bin/python -m pytest tests/sweep/test_store_s3.py
 """
 
 from __future__ import annotations

@@ -14,7 +14,7 @@ from seapass.cli import main
 from seapass.model.design_file import load_design
 from seapass.report.analyze import ANALYSIS_STAGES, analyze
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 def _csv(path: Path) -> list[dict[str, str]]:

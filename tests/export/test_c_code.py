@@ -43,7 +43,7 @@ from seapass.rig.rigfile import paper_rig
 from seapass.sampled.controllers import DiscreteController
 from seapass.sampled.runtime import ControlLoop, SimulatedHardware
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 CC = find_c_compiler()
 needs_cc = pytest.mark.skipif(
     CC is None,

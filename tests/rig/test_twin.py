@@ -237,3 +237,14 @@ def test_apply_accepts_partial_periods():
     for _ in range(30):
         stuck.apply(0.5, 0.0003)
     assert stuck.state[0] == pytest.approx(0.005, abs=1e-12)
+
+
+# ------------------------------------- bounded batches (moved from test_hardening, issue 12 item 3)
+
+
+def test_twin_batch_is_capped_before_allocation() -> None:
+    from seapass.rig.twin import simulate_loop
+
+    rig = paper_rig()
+    with pytest.raises(ParameterError, match="recorded samples"):
+        simulate_loop(rig, load_mass=[0.1] * 5000, duration=10.0, kp_actuator=100.0)

@@ -10,11 +10,25 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from helpers import (
+    PAPER_RIG_TEXT,
+    REPO,
+    forbid,
+    one_error,
+    write_file,
+)
+from hostile import (
+    mutate,
+    no_marker,  # noqa: F401 (a fixture)
+)
 from seapass.cli import main
-from seapass.errors import FileFormatError
+from seapass.errors import (
+    FileFormatError,
+    SeapassError,
+)
 from seapass.rig.rigfile import Rig, load_rig, paper_rig, parse_rig
 
-PAPER = Path(__file__).resolve().parents[1] / "src" / "seapass" / "data" / "paper_rig.toml"
+PAPER = Path(__file__).resolve().parents[2] / "src" / "seapass" / "data" / "paper_rig.toml"
 
 
 def _doc() -> dict:
@@ -152,3 +166,39 @@ def test_cli_show_and_bad_file(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "spring" in err
     assert main(["rig", "sweep", "--rig", str(tmp_path / "missing.toml")]) == 2
+
+
+# ----------------------------------------------------- mutated rig documents (moved from test_fuzz)
+
+
+@pytest.mark.usefixtures("no_marker")
+@settings(max_examples=200, deadline=3000)
+@given(data=st.data())
+def test_rig_documents_fail_with_file_format_errors(data):
+    rig = pytest.importorskip("seapass.rig.rigfile")
+    base = tomllib.loads((REPO / "src" / "seapass" / "data" / "paper_rig.toml").read_text())
+    doc = mutate(data.draw, base)
+    try:
+        r = rig.parse_rig(doc)
+    except SeapassError:
+        return
+    assert r.period > 0
+
+
+# ----------------------------------------- step counts (moved from test_hardening, issue 12 item 3)
+
+
+def test_rig_step_counts_are_capped_at_load_time(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    text = (
+        PAPER_RIG_TEXT.replace("rate = 500.0", "rate = 1000000.0")
+        .replace("substeps = 10", "substeps = 10000")
+        .replace("horizon = 3.0", "horizon = 10000.0")
+        .replace("settle_cap = 2.0", "settle_cap = 2.0")
+    )
+    f = write_file(tmp_path, text, "rig.toml")
+    with pytest.raises(FileFormatError, match=r"experiment\.horizon"):
+        load_rig(f)
+    forbid(monkeypatch, "seapass.rig.experiment.run_experiment")
+    one_error(["rig", "sweep", "--rig", str(f)], "control periods per run")

@@ -23,15 +23,16 @@ from pathlib import Path
 import pytest
 
 import seapass as sp
+from helpers import LP_ARGV, design_argv
 from seapass.cli import build_parser, main
 from seapass.cli.common import HelpFormatter, check_period, check_step, error_text
 from seapass.errors import ExpressionError, ParameterError
+from seapass.model.catalog import PAPER_VALUES
 from seapass.version import __version__
 
-REPO = Path(__file__).resolve().parents[1]
-LP = ["--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "b=10", "--set", "k1=1000"]
-OURS = ["--D1", "k1 + b1*s", "--CA", "kd + bd*s", "--set", "m=1", "--set", "b=10",
-        "--set", "k1=1000", "--set", "b1=20", "--set", "bd=25"]  # fmt: skip
+REPO = Path(__file__).resolve().parents[2]
+LP = list(LP_ARGV)  # the paper's load-side P on its plant (tests/helpers.py)
+OURS = design_argv("ours", PAPER_VALUES, b1=20, bd=25)
 
 
 def cli(argv: list[str]) -> tuple[int, str, str]:

@@ -18,6 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import signal
 
+from helpers import configs
 from seapass.analysis import find_destabilizing_environment, simulate_coupled
 from seapass.analysis.coupled import Environment, coupled_stability
 from seapass.analysis.freqresp import stiffness_coefficients, stiffness_response
@@ -30,14 +31,7 @@ from seapass.model.stiffness import derive_stiffness
 
 control = pytest.importorskip("control")
 
-CONFIGS = {
-    "LP": dict(D1="k1", CL="kd"),
-    "LPD": dict(D1="k1", CL="kd + bd*s"),
-    "APD": dict(D1="k1", CA="kd + bd*s"),
-    "API": dict(D1="k1", CA="kd + ki/s"),
-    "ours": dict(D1="k1 + b1*s", CA="kd + bd*s"),
-    "spring-spring": dict(D1="k1", D2="k2", CL="kd"),
-}
+CONFIGS = configs("LP", "LPD", "APD", "API", "ours", "spring-spring")
 
 
 def logu(lo: float, hi: float) -> st.SearchStrategy[float]:
@@ -378,16 +372,16 @@ def test_sampled_passivity_keeps_low_frequency_violations(cfg, vals, period):
     _sampled_matches_continuous(cfg, vals, period)
 
 
-BATCH_CONFIGS = {
-    "LP": dict(D1="k1", CL="kd"),
-    "LP-damped": dict(D1="k1 + b1*s", CL="kd"),
-    "LPD": dict(D1="k1", CL="kd + bd*s"),
-    "APD": dict(D1="k1", CA="kd + bd*s"),
-    "API": dict(D1="k1", CA="kd + ki/s"),
-    "ours": dict(D1="k1 + b1*s", CA="kd + bd*s"),
-    "disjoint-damper": dict(D1="k1", D2="b2*s", CL="kd"),
-    "spring-spring": dict(D1="k1", D2="k2", CL="kd"),
-}
+BATCH_CONFIGS = configs(
+    "LP",
+    "LP-damped",
+    "LPD",
+    "APD",
+    "API",
+    "ours",
+    "disjoint-damper",
+    "spring-spring",
+)
 
 
 @pytest.mark.parametrize("name", sorted(BATCH_CONFIGS))

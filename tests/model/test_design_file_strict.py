@@ -13,7 +13,7 @@ from seapass.cli import main
 from seapass.errors import FileFormatError
 from seapass.model.design_file import Design, load_design, parse_design
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 BASE = """
 name = "t"

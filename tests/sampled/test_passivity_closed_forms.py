@@ -13,6 +13,7 @@ from flint import acb, arb, fmpq, fmpq_poly
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from helpers import design_argv
 from seapass.cli import main
 from seapass.errors import ModelError, NotPassiveError, ParameterError
 from seapass.model.expr import S
@@ -408,10 +409,9 @@ def test_region_errors() -> None:
 
 # ------------------------------------------------------------------ CLI
 
-LP_ARGS = ["--D1", "k1 + b1*s", "--CL", "kd", "--set", "m=1.02", "--set", "b=10",
-           "--set", "k1=1005", "--set", "b1=30"]  # fmt: skip
-OURS_ARGS = ["--D1", "k1 + b1*s", "--CA", "kd + bd*s", "--set", "m=1.02", "--set", "b=10",
-             "--set", "k1=1005", "--set", "b1=30", "--set", "bd=25"]  # fmt: skip
+RIG_PLANT = {"m": 1.02, "b": 10, "k1": 1005, "b1": 30}
+LP_ARGS = design_argv("LP-damped", RIG_PLANT)
+OURS_ARGS = design_argv("ours", RIG_PLANT, bd=25)
 
 
 def test_cli_check_counterexample(capsys) -> None:  # type: ignore[no-untyped-def]

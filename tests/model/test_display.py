@@ -1,5 +1,5 @@
 """One-line reprs, notebook HTML cards and ``.plot()`` of the analysis, sampled, tuning and
-sweep results (the models and the other results are covered in test_interop.py)."""
+sweep results (the models and the other results are covered in tests/model/test_pycontrol_interop.py)."""
 
 from __future__ import annotations
 

@@ -11,6 +11,7 @@ import sympy as sp
 from hypothesis import assume, given
 from hypothesis import strategies as st
 
+from helpers import configs
 from seapass.analysis.conditions import exact_passivity_condition
 from seapass.analysis.passivity import is_passive
 from seapass.errors import NotPassiveError, ParameterError
@@ -135,16 +136,16 @@ def test_agrees_with_python_control_when_well_conditioned(num, den):
 
 # ---------------------------------------------------------------- invariants
 
-CONFIGS = {
-    "LP": dict(D1="k1", CL="kd"),
-    "LP-damped": dict(D1="k1 + b1*s", CL="kd"),
-    "LPD": dict(D1="k1", CL="kd + bd*s"),
-    "APD": dict(D1="k1", CA="kd + bd*s"),
-    "API": dict(D1="k1", CA="kd + ki/s"),
-    "ours": dict(D1="k1 + b1*s", CA="kd + bd*s"),
-    "disjoint-damper": dict(D1="k1", D2="b2*s", CL="kd"),
-    "spring-spring": dict(D1="k1", D2="k2", CL="kd"),
-}
+CONFIGS = configs(
+    "LP",
+    "LP-damped",
+    "LPD",
+    "APD",
+    "API",
+    "ours",
+    "disjoint-damper",
+    "spring-spring",
+)
 _COND_CACHE: dict[str, object] = {}
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 
 import control
 import numpy as np
@@ -12,6 +13,9 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from helpers import (
+    one_error,
+)
 from seapass.errors import ParameterError, UnrealizableError
 from seapass.model.catalog import PAPER_VALUES
 from seapass.model.expr import S, parse_expression, symbol
@@ -280,3 +284,16 @@ def test_agrees_with_control_forced_response(kd, bd, b1, mL):
     fr = control.forced_response(control.ss(sys.A, sys.B, sys.C, sys.D), res.time, u)
     scale = max(1.0, float(np.max(np.abs(res.x_L))))
     np.testing.assert_allclose(res.x_L, fr.outputs[2], atol=1e-8 * scale)
+
+
+# ------------------ a load mass too light to simulate (moved from test_hardening, issue 12 item 10)
+
+
+def test_tiny_load_mass_is_an_error_not_an_unstable_verdict() -> None:
+    ours = ["--D1", "k1 + b1*s", "--CA", "kd + bd*s", "--set", "m=1", "--set", "b=10",
+            "--set", "k1=1000", "--set", "b1=20", "--set", "bd=25", "--set", "kd=1000"]  # fmt: skip
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # scipy overflow warnings must not escape either
+        for mass in ("1e-300", "1e-6"):
+            err = one_error(["simulate", *ours, "--load-mass", mass], "too stiff")
+            assert "unstable" not in err

@@ -6,6 +6,7 @@ import json
 
 import pytest
 
+from helpers import LP_ARGV
 from seapass.cli import main
 
 OURS = [
@@ -13,7 +14,7 @@ OURS = [
     "--set", "m=1", "--set", "b=10", "--set", "k1=1000",
     "--set", "b1=100", "--set", "kd=2000", "--set", "bd=60",
 ]  # fmt: skip
-LP = ["--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "b=10", "--set", "k1=1000"]
+LP = list(LP_ARGV)  # the paper's load-side P on its plant (tests/helpers.py)
 
 
 def _json(capsys) -> dict:

@@ -188,7 +188,7 @@ def test_analyze_stage_draws_the_three_plots() -> None:
     from seapass.model.design_file import load_design
     from seapass.report.analyze import analyze
 
-    examples = Path(__file__).resolve().parents[1] / "examples"
+    examples = Path(__file__).resolve().parents[2] / "examples"
     design = load_design(examples / "load_pd_not_passive.toml")
     (sec,) = analyze(design, quick=True, stages=["frequency"]).sections[:1]
     assert sec.status == "ok"

@@ -13,6 +13,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from markupsafe import escape
 
+from helpers import OURS_TEXT, tiny_report, write_file
+from seapass.model.design_file import load_design
 from seapass.report.document import (
     Discrepancy,
     FigureData,
@@ -195,3 +197,16 @@ def test_written_report_has_svg_and_plain_data(tmp_path: Path) -> None:
     assert (out / "figures/f.svg").read_bytes().startswith(b"<svg")
     assert (out / "data/t.csv").read_text() == "a,formula\n1.5,kd <= k1\nx|y,?\n"
     assert '"claim": "claim kd <= k1"' in (out / "data/findings.json").read_text()
+
+
+# --------------------------------- user text in titles (moved from test_hardening, issue 12 item 9)
+
+
+def test_html_in_a_title_is_shown_not_run_in_markdown(tmp_path: Path) -> None:
+    md = render_markdown(
+        tiny_report(title="<script>alert(1)</script> ok", text="<img src=x onerror=y>")
+    )
+    assert "<script>" not in md and "<img" not in md
+    assert "&lt;script>alert(1)&lt;/script> ok" in md
+    f = write_file(tmp_path, OURS_TEXT.replace('title = "', 'title = "<script>alert(1)</script>'))
+    assert load_design(f).title.startswith("<script>")  # accepted as text, escaped on output

@@ -4,7 +4,7 @@ The stored copy in ``tests/data/golden/`` was written by seapass before the
 restructure into subpackages; it changes only when a result changes on purpose.
 To refresh it after an intended change, run::
 
-    SEAPASS_UPDATE_GOLDEN=1 .venv/bin/python -m pytest tests/test_golden.py
+    SEAPASS_UPDATE_GOLDEN=1 .venv/bin/python -m pytest tests/cli/test_golden.py
 
 and review the diff of ``tests/data/golden`` like any other change.
 
@@ -31,7 +31,7 @@ import pytest
 
 from seapass.cli import main
 
-GOLDEN = Path(__file__).parent / "data" / "golden"
+GOLDEN = Path(__file__).resolve().parents[1] / "data" / "golden"
 UPDATE = os.environ.get("SEAPASS_UPDATE_GOLDEN") == "1"
 RTOL = 1e-9
 STAGES = "tables,stiffness,regions,rig,sampled,deploy,tradeoff"

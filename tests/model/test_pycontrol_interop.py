@@ -29,7 +29,7 @@ from seapass.sim.scenarios import Step
 from seapass.sim.simulate import simulate
 
 DESIGNS = [*SIMULATION_DESIGNS, *TABLE_ROWS]
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 W = np.logspace(-1, 4, 97)
 
 

@@ -7,6 +7,7 @@ from dataclasses import replace
 
 import pytest
 
+from long_jobs import Recorder
 from seapass.analysis.passivity import is_passive
 from seapass.analysis.region import passive_intervals
 from seapass.errors import ParameterError
@@ -65,11 +66,10 @@ def test_force_limit_and_bounds_are_respected():
 
 
 def test_keyboard_interrupt_aborts_cleanly():
-    def stop(gen: int, best: float) -> None:
-        raise KeyboardInterrupt
-
+    stop = Recorder(stop_at=1)  # a seapass.progress.Progress that interrupts at its first advance
     with pytest.raises(KeyboardInterrupt):
-        tune("ours", options=QUICK, progress=True, callback=stop)
+        tune("ours", options=QUICK, progress=stop)
+    assert stop.advances == 1 and stop.balanced  # stopped at once, every task closed
 
 
 def test_bad_design_and_options():

@@ -4,7 +4,14 @@ Every CLI run goes through :func:`seapass.cli.main` under a CPU budget
 (``CPU_BUDGET_S`` seconds of CPU time per example, not wall-clock time: a busy
 machine does not fail it, see ``cpu_budget``); the contract checked is: exit code 0 or
 2, at most one line on stderr, no ``Traceback``.  Injection payloads try to
-create a marker file; it must never appear.
+create a marker file; it must never appear.  The harness lives in ``tests/hostile.py``.
+
+This file attacks the command line (`seapass.cli`); the hostile-input tests of other
+targets sit with their module's tests: the parser in ``tests/model/test_expr_hostile.py``,
+design and rig documents in ``tests/model/test_design_file_hostile.py`` and
+``tests/rig/test_rigfile_paper.py``, garbage files in ``tests/files/test_hostile_files.py``,
+interrupted writes in ``tests/files/test_atomic.py``.  Mutated design files through
+``seapass analyze`` stay here (the command is the target).
 """
 
 from __future__ import annotations
@@ -13,57 +20,29 @@ import argparse
 import contextlib
 import io
 import math
-import os
-import tomllib
-from pathlib import Path
 
 import pytest
-import sympy as sp
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from cpu_budget import cpu_budget
+from helpers import LP_ARGV
+from hostile import (  # noqa: F401 (no_marker)
+    CPU_BUDGET_S,
+    MARKER,
+    design_doc,
+    grammar,
+    mutate,
+    no_marker,
+    payload_id,
+    payloads,
+    run_cli,
+)
 from seapass.cli import build_parser, main
-from seapass.errors import ExpressionError, ParameterError, SeapassError, SymbolicLimitError
-from seapass.files.atomic import atomic_save, atomic_write, atomic_write_text
-from seapass.model.expr import parse_assignment, parse_expression
+from seapass.errors import SeapassError
 from seapass.model.sea import SEA, Impedance
 
-CPU_BUDGET_S = 20.0
-REPO = Path(__file__).resolve().parents[1]
-MARKER = Path(os.environ.get("TMPDIR", "/tmp")) / f"seapass-fuzz-marker-{os.getpid()}"
-
-
-def check_stderr(e: str, context: object = None) -> None:
-    """The stderr contract: no traceback; ``warning:`` and ``wrote`` lines; at most one
-    ``error:`` line, and it comes last."""
-    assert "Traceback" not in e and "internal error" not in e, (context, e[-2000:])
-    lines = e.splitlines()
-    errors = [i for i, line in enumerate(lines) if line.startswith("error:")]
-    assert len(errors) <= 1 and (not errors or errors[0] == len(lines) - 1), (context, e[-2000:])
-    others = [line for line in lines if not line.startswith("error:")]
-    assert all(line.startswith(("warning: ", "wrote ")) for line in others), (context, e[-2000:])
-
-
-def is_check(argv: list[str]) -> bool:
-    """Commands whose exit code 1 is a verdict (not passive), like cmp."""
-    return argv[:1] == ["check"] or argv[:2] == ["sampled", "check"]
-
-
-def run_cli(argv: list[str], codes: tuple[int, ...] | None = None) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with cpu_budget(CPU_BUDGET_S), contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            code = main(argv)
-        except SystemExit as exc:  # argparse --help / --version
-            code = int(exc.code or 0)
-    e = err.getvalue()
-    if codes is None:
-        codes = (0, 1, 2) if is_check(argv) else (0, 2)
-    assert code in codes, (argv, code, e[-2000:])
-    check_stderr(e, argv)
-    assert not MARKER.exists(), argv
-    return code, out.getvalue(), e
+pytestmark = pytest.mark.usefixtures("no_marker")  # no payload may create the marker file
 
 
 def run_cli_fuzz(argv: list[str]) -> None:
@@ -72,83 +51,8 @@ def run_cli_fuzz(argv: list[str]) -> None:
 
 # ---------------------------------------------------------------- injection
 
-PAYLOADS = [
-    "__import__('os').system('touch {m}')",
-    "open('{m}', 'w')",
-    "eval(\"open('{m}','w')\")",
-    "exec(\"open('{m}','w')\")",
-    "(lambda: open('{m}', 'w'))()",
-    "().__class__.__bases__[0].__subclasses__()",
-    "s.__class__.__init__.__globals__",
-    "k1.__reduce__()",
-    "[open('{m}','w') for _ in (1,)]",
-    'f\'{{open("{m}","w")}}\'',
-    "(x := open('{m}', 'w'))",
-    "s if open('{m}','w') else 1",
-    "__builtins__",
-    "Symbol('x')",
-    'sympify(\'open("{m}","w")\')',
-    "s[0]",
-    "*s",
-    "s @ s",
-    "s ** s",
-    "s ** 1.5",
-    "s ** (1/2)",
-    "2 ** 99999999",
-    "9" * 5000,
-    "1" + "*s" * 500,
-    "(" * 200 + "s" + ")" * 200,
-    "import os",
-    "k1;open('{m}','w')",
-    "k1\nopen('{m}','w')",
-    "\x00",
-    "s\u200b+1",
-    "ﬁ + s",
-    "𝑠 + 1",
-    "True",
-    "None",
-    "...",
-    "b'1'",
-    "'s'",
-    "1j*s",
-    "0x10*s",
-    "1_000*s",
-    "nan*s",
-    "1e999*s",
-    "1/(s-s)",
-    "k1/(kd-kd)",
-]
 
-
-def payloads() -> list[str]:
-    return [p.format(m=MARKER) for p in PAYLOADS]
-
-
-def _payload_id(text: str) -> str:
-    """The test id without the process id (each pytest-xdist worker collects the same ids)."""
-    return text.replace(str(MARKER), "MARKER")
-
-
-@pytest.fixture(autouse=True)
-def _no_marker():
-    MARKER.unlink(missing_ok=True)
-    yield
-    assert not MARKER.exists()
-
-
-@pytest.mark.parametrize("text", payloads(), ids=_payload_id)
-def test_injection_through_the_parser_does_nothing(text):
-    try:
-        expr = parse_expression(text)
-    except (ExpressionError, SymbolicLimitError):
-        pass
-    else:  # a few payloads are harmless valid arithmetic, e.g. 0x10*s
-        assert isinstance(expr, sp.Expr)
-        assert expr.free_symbols <= {sp.Symbol("s")}
-    assert not MARKER.exists()
-
-
-@pytest.mark.parametrize("text", payloads(), ids=_payload_id)
+@pytest.mark.parametrize("text", payloads(), ids=payload_id)
 def test_injection_through_models_and_cli_does_nothing(text):
     for build in (lambda: SEA(D1="k1", CA=text), lambda: Impedance(expr=text)):
         with contextlib.suppress(SeapassError):
@@ -158,68 +62,6 @@ def test_injection_through_models_and_cli_does_nothing(text):
     run_cli(["witness", "--Z", text])
     run_cli(["check", "--D1", "k1", "--set", f"{text}=1"])
     run_cli(["check", "--D1", "k1", "--set", f"k1={text}"])
-
-
-# ---------------------------------------------------------------- parser fuzz
-
-ALPHABET = "sk1bdmi0123456789.eE+-*/^() _,'\"[]{}:;=<>!@#$%&|~`\\\t\n" + "ωé\u200b"
-texts = st.one_of(
-    st.text(alphabet=ALPHABET, max_size=80),
-    st.text(max_size=40),
-)
-
-
-@settings(max_examples=400, deadline=2000)
-@given(text=texts)
-def test_parser_never_crashes(text):
-    try:
-        expr = parse_expression(text)
-    except (ExpressionError, SymbolicLimitError):
-        return
-    assert isinstance(expr, sp.Expr)
-
-
-_atoms = st.sampled_from(["s", "k1", "kd", "bd", "m", "0", "1", "2.5", "1e-6", "1e8", "0.0"])
-
-
-@st.composite
-def grammar(draw: st.DrawFn, depth: int = 4) -> str:
-    if depth == 0:
-        return draw(_atoms)
-    kind = draw(st.sampled_from(["atom", "add", "sub", "mul", "div", "pow", "neg", "paren"]))
-    if kind == "atom":
-        return draw(_atoms)
-    a = draw(grammar(depth - 1))
-    if kind == "neg":
-        return f"-{a}"
-    if kind == "paren":
-        return f"({a})"
-    if kind == "pow":
-        return f"({a})**{draw(st.integers(-14, 14))}"
-    b = draw(grammar(depth - 1))
-    op = {"add": "+", "sub": "-", "mul": "*", "div": "/"}[kind]
-    return f"({a}){op}({b})"
-
-
-@settings(max_examples=300, deadline=3000)
-@given(text=grammar())
-def test_grammar_expressions_parse_or_fail_cleanly(text):
-    try:
-        expr = parse_expression(text)
-    except (ExpressionError, SymbolicLimitError):
-        return
-    assert expr.is_rational_function(sp.Symbol("s"))
-    assert not expr.has(sp.zoo, sp.nan, sp.oo)
-
-
-@settings(max_examples=300, deadline=1000)
-@given(text=st.text(max_size=40))
-def test_set_assignments_never_crash(text):
-    try:
-        name, val = parse_assignment(text)
-    except ParameterError:
-        return
-    assert name.isidentifier() and math.isfinite(val)
 
 
 # ---------------------------------------------------------------- CLI fuzz
@@ -375,7 +217,7 @@ OURS = [
     "--set",
     "kd=5000",
 ]
-LP = ["--D1", "k1", "--CL", "kd", "--set", "m=1", "--set", "b=10", "--set", "k1=1000"]
+LP = list(LP_ARGV)  # the paper's load-side P on its plant (tests/helpers.py)
 TEMPLATES = [
     ["check", *OURS, "--json"],
     ["check", "--Z", "(s + 1)/(s + 2)"],
@@ -727,92 +569,7 @@ def test_every_subcommand_is_covered_by_a_hostile_case():
     assert {k[:1] for k in COMMANDS} <= covered
 
 
-# ---------------------------------------------------------------- TOML files
-
-TOML_VALUES = st.one_of(
-    st.integers(-(10**20), 10**20),
-    st.floats(allow_nan=True, allow_infinity=True),
-    st.text(max_size=20),
-    st.booleans(),
-    st.lists(st.floats(allow_nan=True), max_size=4),
-    st.dictionaries(st.text(max_size=5), st.integers(), max_size=2),
-    st.sampled_from(payloads()),
-)
-
-
-def _mutate(draw: st.DrawFn, doc: dict) -> dict:
-    doc = {k: (dict(v) if isinstance(v, dict) else v) for k, v in doc.items()}
-    for _ in range(draw(st.integers(1, 4))):
-        section = draw(st.sampled_from([*doc, "bogus_section"]))
-        action = draw(st.sampled_from(["set", "delete", "add", "replace_section"]))
-        if action == "replace_section" or section not in doc:
-            doc[section] = draw(TOML_VALUES)
-            continue
-        if not isinstance(doc[section], dict):
-            doc[section] = draw(TOML_VALUES)
-            continue
-        keys = list(doc[section]) or ["x"]
-        key = draw(st.sampled_from(keys))
-        if action == "delete":
-            doc[section].pop(key, None)
-        elif action == "add":
-            doc[section][draw(st.text(min_size=1, max_size=8))] = draw(TOML_VALUES)
-        else:
-            doc[section][key] = draw(TOML_VALUES)
-    return doc
-
-
-def _design_doc() -> dict:
-    return tomllib.loads((REPO / "examples" / "ours.toml").read_text())
-
-
-@settings(max_examples=200, deadline=3000)
-@given(data=st.data())
-def test_design_documents_fail_with_file_format_errors(data):
-    design = pytest.importorskip("seapass.model.design_file")
-    doc = _mutate(data.draw, _design_doc())
-    try:
-        d = design.parse_design(doc)
-    except SeapassError:
-        return
-    # a document that parses is a usable design: its model builds and its values are exact
-    sea = d.sea()
-    assert set(sea.free_parameters) == set()
-    assert d.to_dict()["name"] == d.name
-
-
-@settings(max_examples=200, deadline=3000)
-@given(data=st.data())
-def test_rig_documents_fail_with_file_format_errors(data):
-    rig = pytest.importorskip("seapass.rig.rigfile")
-    base = tomllib.loads((REPO / "src" / "seapass" / "data" / "paper_rig.toml").read_text())
-    doc = _mutate(data.draw, base)
-    try:
-        r = rig.parse_rig(doc)
-    except SeapassError:
-        return
-    assert r.period > 0
-
-
-@settings(
-    max_examples=100, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
-)
-@given(
-    text=st.one_of(
-        st.text(max_size=200), st.binary(max_size=200).map(lambda b: b.decode("latin-1"))
-    )
-)
-def test_garbage_files_through_loaders_and_cli(text, tmp_path):
-    f = tmp_path / "garbage.toml"
-    f.write_bytes(text.encode("utf-8", "surrogatepass"))
-    from seapass.rig.rigfile import load_rig
-
-    with contextlib.suppress(SeapassError):
-        load_rig(f)
-    design = pytest.importorskip("seapass.model.design_file")
-    with contextlib.suppress(SeapassError):
-        design.load_design(f)
-    run_cli(["rig", "show", "--rig", str(f)])
+# ---------------------------------------------------------------- design files through analyze
 
 
 def _toml_value(v) -> str:
@@ -870,7 +627,7 @@ def _dump(doc: dict) -> str:
 def test_mutated_design_files_through_analyze(data, tmp_path):
     """``seapass analyze FILE --stages core``: 0/1 on a loadable design, else one error line."""
     pytest.importorskip("seapass.model.design_file")
-    doc = _mutate(data.draw, _design_doc())
+    doc = mutate(data.draw, design_doc())
     f = tmp_path / "design.toml"
     try:
         f.write_text(_dump(doc), encoding="utf-8", errors="surrogatepass")
@@ -878,7 +635,11 @@ def test_mutated_design_files_through_analyze(data, tmp_path):
         return
     out, err = io.StringIO(), io.StringIO()
     argv = ["analyze", str(f), "--out", str(tmp_path / "out"), "--stages", "core", "--no-progress"]
-    with cpu_budget(CPU_BUDGET_S), contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+    with (
+        cpu_budget(CPU_BUDGET_S),
+        contextlib.redirect_stdout(out),
+        contextlib.redirect_stderr(err),
+    ):
         code = main(argv)
     e = err.getvalue()
     assert code in (0, 1, 2), (code, e[-2000:])
@@ -886,67 +647,3 @@ def test_mutated_design_files_through_analyze(data, tmp_path):
     if code == 2:
         assert e.count("\n") == 1 and e.startswith("error:"), e[-2000:]
     assert not MARKER.exists()
-
-
-# ---------------------------------------------------------------- atomic output
-
-
-class Boom(Exception):
-    pass
-
-
-@pytest.mark.parametrize("exc", [Boom, KeyboardInterrupt])
-def test_interrupted_atomic_write_keeps_the_old_file(tmp_path, exc):
-    target = tmp_path / "result.json"
-    target.write_text("old")
-    with pytest.raises(exc):
-        with atomic_write(target) as fh:
-            fh.write("new, half written")
-            raise exc()
-    assert target.read_text() == "old"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["result.json"]
-
-
-@pytest.mark.parametrize("exc", [Boom, KeyboardInterrupt])
-def test_interrupted_atomic_save_keeps_the_old_file(tmp_path, exc):
-    target = tmp_path / "figure.png"
-    target.write_bytes(b"old")
-
-    def save(path: str) -> None:
-        Path(path).write_bytes(b"partial")
-        raise exc()
-
-    with pytest.raises(exc):
-        atomic_save(target, save)
-    assert target.read_bytes() == b"old"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["figure.png"]
-
-
-def test_atomic_write_replaces_and_cleans_up(tmp_path):
-    target = tmp_path / "sub" / "a.txt"
-    atomic_write_text(target, "one")
-    atomic_write_text(target, "two")
-    assert target.read_text() == "two"
-    assert [p.name for p in target.parent.iterdir()] == ["a.txt"]
-
-
-def test_interrupted_cli_output_leaves_previous_files(tmp_path, monkeypatch):
-    """A KeyboardInterrupt while the witness figure is saved: old files stay, no leftovers."""
-    from seapass.files.owned import MANIFEST, write_output_bytes
-
-    out = tmp_path / "w"
-    out.mkdir()
-    write_output_bytes(out / "witness.png", b"old png")  # seapass's: it may be replaced
-    import matplotlib.figure
-
-    def interrupted(self, *a, **k):
-        raise KeyboardInterrupt
-
-    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", interrupted)
-    argv = ["witness", "--Z", "(s - 1)/(s + 1)", "--out", str(out)]
-    err = io.StringIO()
-    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
-        code = main(argv)
-    assert code == 130 and "interrupted" in err.getvalue()
-    assert (out / "witness.png").read_bytes() == b"old png"
-    assert sorted(p.name for p in out.iterdir()) == [MANIFEST, "witness.png"]

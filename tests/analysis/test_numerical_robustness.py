@@ -12,6 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cpu_budget import cpu_budget
+from helpers import configs
 from seapass.analysis.conditions import exact_passivity_condition
 from seapass.analysis.coupled import Environment, coupled_stability
 from seapass.analysis.passivity import MARGINAL_RTOL, TOLERANCE_POLICY, is_passive
@@ -24,14 +25,7 @@ from seapass.model.expr import S, parse_expression, symbol
 from seapass.model.sea import SEA, Impedance
 from seapass.model.stiffness import load_impedance
 
-CONFIGS = {
-    "LP": dict(D1="k1", CL="kd"),
-    "LP-damped": dict(D1="k1 + b1*s", CL="kd"),
-    "LPD": dict(D1="k1", CL="kd + bd*s"),
-    "APD": dict(D1="k1", CA="kd + bd*s"),
-    "ours": dict(D1="k1 + b1*s", CA="kd + bd*s"),
-    "disjoint-damper": dict(D1="k1", D2="b2*s", CL="kd"),
-}
+CONFIGS = configs("LP", "LP-damped", "LPD", "APD", "ours", "disjoint-damper")
 # dimension N * s^a / m of every parameter (a: 0 springs/gains, 1 dampers, 2 mass, -1 ki)
 ORDER = {"m": 2, "b": 1, "b1": 1, "b2": 1, "bd": 1, "k1": 0, "k2": 0, "kd": 0, "ki": -1}
 _COND: dict[str, object] = {}
