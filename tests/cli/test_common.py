@@ -341,3 +341,23 @@ def test_overshoot_has_the_same_unit_in_text_and_json() -> None:
 def test_missing_file_is_path_and_reason() -> None:
     err = one_error(["analyze", "/nonexistent/design.toml", "--out", "x"], "No such file")
     assert "Errno" not in err and "/nonexistent/design.toml" in err
+
+
+def test_no_help_text_joins_two_lines_with_a_lone_backslash() -> None:
+    """A ``\\`` at a line's end in a plain string joins the lines: help examples need ``\\\\``."""
+    import io as _io
+    import tokenize
+    from pathlib import Path as _Path
+
+    bad = []
+    for path in sorted((_Path(__file__).parents[2] / "src" / "seapass" / "cli").glob("*.py")):
+        text = path.read_text(encoding="utf-8")
+        for tok in tokenize.generate_tokens(_io.StringIO(text).readline):
+            if tok.type != tokenize.STRING:
+                continue
+            body = tok.string.lstrip("rRbBuUfF")
+            prefix = tok.string[: len(tok.string) - len(body)]
+            body = body.lstrip("\"'").removeprefix("\\\n")  # '"""\' opens without a newline
+            if "r" not in prefix.lower() and "\\\n" in body.replace("\\\\", ""):
+                bad.append(f"{path.name}:{tok.start[0]}")
+    assert bad == []

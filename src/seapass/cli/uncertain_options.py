@@ -44,24 +44,29 @@ __all__ = [
 CLI_BUDGET = 5000  # seapass.robust.verdict.DEFAULT_BUDGET (a test keeps them equal)
 
 
-def add_uncertain_options(p: argparse.ArgumentParser) -> None:
-    """``--uncertain NAME=LO:HI`` (repeatable) and ``--budget N``."""
+def add_uncertain_options(
+    p: argparse.ArgumentParser,
+    *,
+    budget: int = CLI_BUDGET,
+    verdict: str = "the verdict then holds for every value in the box (exact for one, "
+    "certified for several)",
+    boxes: str = "boxes the certified branch and bound may examine (several --uncertain)",
+) -> None:
+    """``--uncertain NAME=LO:HI`` (repeatable), ``--budget N``, ``--robust``, ``--confidence``."""
     g = p.add_argument_group("robust (every plant in a box)")
     g.add_argument(
         "--uncertain",
         action="append",
         default=[],
         metavar="NAME=LO:HI",
-        help="an uncertain parameter, repeatable, e.g. --uncertain m=0.9:1.1: the verdict "
-        "then holds for every value in the box (exact for one, certified for several)",
+        help=f"an uncertain parameter, repeatable, e.g. --uncertain m=0.9:1.1: {verdict}",
     )
     g.add_argument(
         "--budget",
         type=int,
-        default=CLI_BUDGET,
+        default=budget,
         metavar="N",
-        help="boxes the certified branch and bound may examine (several --uncertain); "
-        "when they run out the verdict is undecided, never passive",
+        help=f"{boxes}; when they run out the verdict is undecided, never passive",
     )
     add_robust_options(g)
 
@@ -339,25 +344,13 @@ def run_robust_region(
 
 
 def add_sampled_uncertain_options(p: argparse.ArgumentParser) -> None:
-    """``--uncertain NAME=LO:HI`` and ``--budget N`` on ``sampled check``."""
-    g = p.add_argument_group("robust (every plant in a box)")
-    g.add_argument(
-        "--uncertain",
-        action="append",
-        default=[],
-        metavar="NAME=LO:HI",
-        help="an uncertain plant parameter, repeatable, e.g. --uncertain m=0.9:1.1: passive then "
-        "means certified for every plant in the box",
+    """The options of `add_uncertain_options` on ``sampled check`` (plant parameters only)."""
+    add_uncertain_options(
+        p,
+        budget=4,
+        verdict="passive then means certified for every plant in the box (plant parameters)",
+        boxes="sub-boxes the certified branch and bound may examine",
     )
-    g.add_argument(
-        "--budget",
-        type=int,
-        default=4,
-        metavar="N",
-        help="sub-boxes the certified branch and bound may examine (--uncertain); when they "
-        "run out the verdict is undecided, never passive",
-    )
-    add_robust_options(g)
 
 
 def run_robust_sampled_check(args: argparse.Namespace, default_loop: Any) -> int:

@@ -28,7 +28,7 @@ from __future__ import annotations
 import itertools
 from collections import deque
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
 from types import MappingProxyType
 from typing import Any
@@ -41,17 +41,17 @@ from ..model.sea import SEA
 from ..outcome import Outcome
 from ..sampled.certified import precision, schur_stable_exact
 from ..sampled.controllers import DiscreteController, controller_parts
-from ..sampled.passivity import SampledPassivityResult, check_values, sampled_passivity
+from ..sampled.passivity import check_values, sampled_passivity
 from ..sampled.power import family_degree
 from ..sampled.verdict import MAX_POWER_DEGREE, needed_sums, point_family
 from .box import UncertainBox, uncertain_box
 from .sampled_local import LocalPower, local_outcome
 from .sampled_plant import ParametricPlant, ball_of
+from .verdict import WorstCase
 
 __all__ = [
     "DEFAULT_SAMPLED_BUDGET",
     "RobustSampledResult",
-    "SampledWorstCase",
     "box_outcome",
     "robust_sampled_check",
 ]
@@ -70,32 +70,6 @@ METHOD = (
 Box = tuple[tuple[Fraction, Fraction], ...]
 
 
-@dataclass(frozen=True, kw_only=True)
-class SampledWorstCase:
-    """A plant of the box at which the sampled design is not passive (verified).
-
-    Attributes
-    ----------
-    values : mapping of str to float
-        The uncertain parameters at that plant.
-    frequency : float or None
-        ``ω`` [rad/s] with a proven ``N(ω) < 0`` (None for another reason, e.g. unstable).
-    result : SampledPassivityResult
-        The ordinary certified sampled verdict at that plant.
-    """
-
-    values: Mapping[str, float]
-    frequency: float | None
-    result: SampledPassivityResult = field(repr=False, compare=False)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "values": dict(self.values),
-            "frequency": self.frequency,
-            "reason": str(self.result.reason),
-        }
-
-
 @dataclass(frozen=True, repr=False, kw_only=True)
 class RobustSampledResult:
     """The verdict of `robust_sampled_check`.
@@ -106,7 +80,7 @@ class RobustSampledResult:
         ``passive`` for every plant of the box, ``not_passive`` (with `worst`) or
         ``undecided``.
     box : UncertainBox
-    worst : SampledWorstCase or None
+    worst : WorstCase or None
     loop : SampledLoop
     boxes : int
         Sub-boxes examined (the counted work).
@@ -117,7 +91,7 @@ class RobustSampledResult:
 
     outcome: Outcome
     box: UncertainBox
-    worst: SampledWorstCase | None
+    worst: WorstCase | None
     loop: SampledLoop
     boxes: int
     certified_share: float
@@ -269,12 +243,12 @@ def volume_share(box: Box, whole: Box) -> float:
 
 def point_verdict(
     sea: SEA, loop: SampledLoop, names: tuple[str, ...], point: tuple[Fraction, ...]
-) -> SampledWorstCase | None:
+) -> WorstCase | None:
     """The ordinary certified verdict at ``point``; a worst case when it is not passive."""
     values = {n: float(x) for n, x in zip(names, point, strict=True)}
     r = sampled_passivity(sea, loop=loop, values=values)
     if r.outcome is Outcome.NOT_PASSIVE:
-        return SampledWorstCase(values=MappingProxyType(values), frequency=r.omega, result=r)
+        return WorstCase(values=MappingProxyType(values), frequency=r.omega, result=r)
     return None
 
 
@@ -345,7 +319,7 @@ def robust_sampled_check(
     setup = Setup(sea, loop, names)
 
     def result(
-        outcome: Outcome, worst: SampledWorstCase | None, n: int, share: float, detail: str
+        outcome: Outcome, worst: WorstCase | None, n: int, share: float, detail: str
     ) -> RobustSampledResult:
         r = RobustSampledResult(
             outcome=outcome, box=ubox, worst=worst, loop=loop, boxes=n,
@@ -413,6 +387,6 @@ def _tiny(box: Box) -> bool:
     return all(hi - lo <= TINY * max(abs(lo), abs(hi), Fraction(1)) for lo, hi in box)
 
 
-def _worst_detail(worst: SampledWorstCase) -> str:
+def _worst_detail(worst: WorstCase) -> str:
     at = ", ".join(f"{k}={v:.10g}" for k, v in worst.values.items())
     return f"not passive at the plant {at}: {worst.result.detail}"

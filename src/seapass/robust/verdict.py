@@ -36,7 +36,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import StrEnum
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from flint import fmpq
 
@@ -51,6 +51,9 @@ from ..outcome import Outcome
 from .bernstein import BoxSign, positive_on_box
 from .box import UncertainBox, uncertain_box
 from .family import ConditionKind, family_conditions, fixed_values
+
+if TYPE_CHECKING:  # the sampled kernel loads only with robust.sampled_verdict
+    from ..sampled.passivity import SampledPassivityResult
 
 __all__ = ["DEFAULT_BUDGET", "Method", "RobustResult", "WorstCase", "robust_check"]
 
@@ -67,22 +70,24 @@ class Method(StrEnum):
 
 @dataclass(frozen=True, kw_only=True)
 class WorstCase:
-    """A plant of the box at which the design is not passive (verified exactly).
+    """A plant of the box at which the design is not passive (verified by the ordinary test).
 
     Attributes
     ----------
     values : mapping of str to float
         The uncertain parameters at that plant.
     frequency : float or None
-        A frequency [rad/s] with ``Re Z(jω) < 0`` there (None when the plant fails
-        for another reason, e.g. an unstable pole).
-    result : PassivityResult
-        The ordinary exact test at that plant.
+        A frequency [rad/s] where the design fails there: ``Re Z(jω) < 0`` (continuous)
+        or a proven ``N(ω) < 0`` (sampled); None when the plant fails for another
+        reason, e.g. an unstable pole.
+    result : PassivityResult or SampledPassivityResult
+        The ordinary verdict at that plant: the exact test (`robust_check`) or the
+        certified sampled-data verdict (`robust_sampled_check`).
     """
 
     values: Mapping[str, float]
     frequency: float | None
-    result: PassivityResult = field(repr=False, compare=False)
+    result: PassivityResult | SampledPassivityResult = field(repr=False, compare=False)
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -148,7 +153,9 @@ class RobustResult:
         """
         if self.worst is None:
             raise ValueError(f"no worst-case plant to plot: the verdict is {self.outcome.label}")
-        return self.worst.result.plot(kind, ax=ax, omega=omega, **kwargs)
+        result = self.worst.result
+        assert isinstance(result, PassivityResult)  # robust_check's worst cases are continuous
+        return result.plot(kind, ax=ax, omega=omega, **kwargs)
 
     def __repr__(self) -> str:
         worst = None
