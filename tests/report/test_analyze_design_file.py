@@ -93,9 +93,11 @@ def test_tuning_lp_quick() -> None:
     report = analyze(design, quick=True, stages=["tuning"])
     (sec,) = report.sections[:1]
     assert sec.status == "ok"
-    (gain,) = sec.tables[0].rows
-    assert gain[0] == "kd" and 0.0 <= gain[2] <= 1000.0  # LP is passive only for kd <= k1
-    assert gain[3] == "[0, 5000]"  # the box of the file's [ranges]
+    (row,) = sec.tables[0].rows
+    gain = dict(zip(sec.tables[0].columns, row, strict=True))
+    assert gain["gain"] == "kd" and gain["unit"] == "N/m"
+    assert 0.0 <= gain["tuned"] <= 1000.0  # LP is passive only for kd <= k1
+    assert gain["search range"] == "[0, 5000]"  # the box of the file's [ranges]
     continuous, sampled = sec.findings
     assert continuous.verdict == "agrees"
     # the file's 500 Hz controller: sampled load feedback on an undamped spring is never passive
@@ -108,7 +110,7 @@ def test_no_control_rate_skips_sampled() -> None:
     assert report.sections[0].status == "skipped"
     assert "[control] rate" in report.sections[0].text
     assert ANALYSIS_STAGES == (
-        "passivity", "witness", "stiffness", "frequency", "ranges", "twoport", "delay",
+        "passivity", "witness", "stiffness", "frequency", "ranges", "twoport", "delay", "robust",
         "response", "tuning", "sampled", "zwidth", "rig",
     )  # fmt: skip
     rig = analyze(design, stages=["rig"]).sections[0]

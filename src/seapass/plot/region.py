@@ -17,6 +17,7 @@ import numpy as np
 from ..analysis.boundary import PassiveRegion
 from ..analysis.region import PassiveIntervals, PassiveMap
 from ..model.expr import UNITS
+from ..robust.verdict import Method
 from .style import axes_grid
 
 __all__ = ["axis_label", "plot_kd_bars", "plot_passive_intervals", "plot_passive_map",
@@ -227,7 +228,7 @@ def plot_robust_map(
             ax.bar(left, b - a, width=width, bottom=a, align="edge", color=_PASSIVE, lw=0)
         for a, b in rmap.intervals[i]:
             ax.bar(left, b - a, width=width, bottom=a, align="edge", color=_ROBUST, lw=0)
-        if str(rmap.method) != "exact":
+        if rmap.method is not Method.EXACT:
             for a, b in rmap.outer[i]:
                 ax.hlines([a, b], left, left + width, colors="k", linestyles="--", lw=0.8)
     span = ", ".join(f"{k} in [{lo:g}, {hi:g}]" for k, (lo, hi) in rmap.box.intervals.items())
@@ -235,7 +236,7 @@ def plot_robust_map(
     nominal = ", ".join(f"{k}={v:g}" for k, v in rmap.nominal_values.items())
     ax.plot([], [], color=_PASSIVE, lw=8, label=f"passive for the nominal plant ({nominal})")
     ax.plot([], [], color=_NOT_PASSIVE, lw=8, label="not passive (nominal)")
-    if str(rmap.method) != "exact":
+    if rmap.method is not Method.EXACT:
         ax.plot([], [], "k--", lw=0.8, label="outer enclosure of the robust set")
     ax.set_xlabel(axis_label(rmap.param_x, units[0]))
     ax.set_ylabel(axis_label(rmap.param_y, units[1]))

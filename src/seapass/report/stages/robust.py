@@ -18,6 +18,7 @@ from typing import Any
 
 from ...exact.rounding import enclosure_text, exact_text, interval_text
 from ...model.design_file import Design
+from ...outcome import Outcome
 from ...robust.box import uncertain_box
 from ...robust.intervals import robust_passive_intervals
 from ...robust.verdict import DEFAULT_BUDGET, Method, robust_check
@@ -89,7 +90,7 @@ def stage_robust(design: Design, context: StageContext) -> Section:
         "uncertain parameters the set is a certified inner set; no value outside the outer "
         "set is robustly passive.",
     )
-    status = v["status"]
+    status = Outcome(v["status"])
     text = (
         f"Over the box {span}: **{status.replace('_', ' ')}** for every plant "
         f"({v['method']}; {v['detail']})."
@@ -98,8 +99,8 @@ def stage_robust(design: Design, context: StageContext) -> Section:
         at = ", ".join(f"`{k}` = {x:.10g}" for k, x in v["worst"]["values"].items())
         text += f" Worst plant: {at} (verified not passive by the exact test)."
     claim = f"{design.name} is passive for every plant in the box"
-    verdict = Verdict.AGREES if status == "passive" else Verdict.INFO
-    undecided = status == "undecided"
+    verdict = Verdict.AGREES if status is Outcome.PASSIVE else Verdict.INFO
+    undecided = status is Outcome.UNDECIDED
     return Section(
         "robust", TITLE, text=text, tables=(table,),
         findings=(Finding(claim, verdict, v["detail"]),),
