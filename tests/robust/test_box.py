@@ -69,3 +69,28 @@ def test_the_error_names_the_python_argument() -> None:
     with pytest.raises(ParameterError) as info:
         uncertain_box(LP, {"m": (2.0, 1.0)})
     assert info.value.argument == "box"
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["check", "--set", "kd=100"],
+        ["bound", "kd"],
+        ["region", "kd", "k1", "--points", "2"],
+    ],
+)
+def test_a_box_on_a_delayed_design_is_one_clear_error(argv: list[str], capsys) -> None:
+    from seapass.cli import main
+    from seapass.errors import DelayError
+    from seapass.model.sea import SEA
+    from seapass.robust.box import uncertain_box
+
+    delayed = SEA(D1="k1", CA="kd*exp(-tau*s)", values=dict(b=10, k1=1000, tau=0.001, kd=100))
+    with pytest.raises(DelayError, match="robust verdicts over a box need a delay-free design"):
+        uncertain_box(delayed, {"m": (0.9, 1.1)})
+    model = ["--D1", "k1", "--CA", "kd*exp(-tau*s)", "--set", "b=10", "--set", "tau=0.001"]
+    if argv[0] != "region":
+        model += ["--set", "k1=1000"]
+    assert main([*argv, *model, "--uncertain", "m=0.9:1.1"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "need a delay-free design" in err[0], err

@@ -22,8 +22,9 @@ from fractions import Fraction
 from types import MappingProxyType
 from typing import Any
 
-from ..errors import ParameterError, did_you_mean
+from ..errors import DelayError, ParameterError, did_you_mean
 from ..files.limits import MAX_UNCERTAIN, MAX_UNCERTAIN_MAGNITUDE, MAX_UNCERTAIN_RATIO
+from ..model.delayatom import model_delays
 from ..model.expr import parse_value, to_fraction
 from ..model.sea import SEA, Impedance
 
@@ -126,7 +127,16 @@ def uncertain_box(
     ParameterError
         An unknown name, ``lo > hi``, a non-physical value (``m <= 0``, a negative
         stiffness or damping), or a box too large for bounded work.
+    DelayError
+        A model with a delay ``exp(-NAME*s)``: robust verdicts are rational.
     """
+    delays = model_delays(system)
+    if delays:  # the robust kernel works on rational functions of s and the box
+        raise DelayError(
+            f"a delay exp(-{delays[0]}*s) in the model: robust verdicts over a box need a "
+            "delay-free design; decide the delayed design at fixed plant values "
+            "(seapass.is_passive, seapass.delay_margin)"
+        )
     if isinstance(box, UncertainBox):
         box = dict(box.intervals)
     if not isinstance(box, Mapping) or not box:
