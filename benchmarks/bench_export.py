@@ -38,8 +38,16 @@ def run(quick: bool) -> tuple[list[Row], list[str]]:
 
     from scipy.signal import lfilter
 
-    filters = [(np.array([float(c) for c in f.tf.num]), np.array([float(c) for c in f.tf.den]))
-               for f in dep.filters]  # fmt: skip
+    # one scipy filter per (joint difference equation, input signal) it reads
+    filters = [
+        (
+            sig,
+            np.array([float(c) for c in f.transfer_function(sig).num]),
+            np.array([float(c) for c in f.transfer_function(sig).den]),
+        )
+        for f in dep.filters
+        for sig in f.inputs
+    ]
     signal = {
         "error_A": inputs[2] - inputs[0],
         "measurement_A": -inputs[0],
@@ -48,9 +56,7 @@ def run(quick: bool) -> tuple[list[Row], list[str]]:
     }
 
     def peer() -> np.ndarray:
-        u = sum(
-            lfilter(b, a, signal[f.signal]) for (b, a), f in zip(filters, dep.filters, strict=True)
-        )
+        u = sum(lfilter(b, a, signal[sig]) for sig, b, a in filters)
         return np.clip(u, -130.0, 130.0)
 
     theirs = timed(peer, repeat=5)

@@ -20,6 +20,7 @@ import numpy as np
 import legacy_exactpoly as ep
 from seapass.analysis.passivity import MARGINAL_RTOL, PassivityResult, Reason
 from seapass.errors import ParameterError
+from seapass.outcome import Outcome
 
 # ---------------------------------------------------------------- imaginary axis
 
@@ -190,7 +191,9 @@ def _margin_of(num: ep.Poly, den: ep.Poly, support: Sequence[bool] | None) -> fl
 
 
 def _fail(reason: Reason, detail: str, **kw: Any) -> PassivityResult:
-    return PassivityResult(passive=False, reason=reason, detail=detail or reason.description, **kw)
+    return PassivityResult(
+        outcome=Outcome.NOT_PASSIVE, reason=reason, detail=detail or reason.description, **kw
+    )
 
 
 def _to_floats(p: ep.Poly, descending: bool) -> tuple[float, ...]:
@@ -236,7 +239,7 @@ def positive_real_test(
     }
     if not num:
         return PassivityResult(
-            passive=True,
+            outcome=Outcome.PASSIVE,
             detail="Z is identically zero",
             marginal=True,
             lossless=True,
@@ -291,12 +294,15 @@ def positive_real_test(
     marginal = abs(margin) <= MARGINAL_RTOL
     if not px:
         return PassivityResult(
-            passive=True, detail="lossless: Re Z(jw) = 0 for all w", marginal=True, **base
+            outcome=Outcome.PASSIVE,
+            detail="lossless: Re Z(jw) = 0 for all w",
+            marginal=True,
+            **base,
         )
     odd = ep.positive_roots_odd_multiplicity(px)
     if ep.count_real_roots(odd, Fraction(0), None) == 0 and px[-1] > 0:
         return PassivityResult(
-            passive=True, detail=Reason.NONE.description, marginal=marginal, **base
+            outcome=Outcome.PASSIVE, detail=Reason.NONE.description, marginal=marginal, **base
         )
     witness = negative_point(px)
     return _fail(
