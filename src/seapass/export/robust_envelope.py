@@ -1,4 +1,4 @@
-"""The robust gain envelope of a deployment: the guards hold for every plant of the box.
+"""The robust gain envelope of a deployment: the guards narrowed by a box of plants.
 
 With ``export_c(..., robust=True)`` (``seapass export c --robust [RIGFILE]``) the
 design's box (its ``uncertainty``: the file's ``[uncertainty]``, or a fitted rig's
@@ -14,8 +14,9 @@ the envelope that ``seapass_ctrl_set_gains`` enforces:
   ends rounded inward), so a gain the guard accepts is passive at the sampling
   rate for the nominal plant and, in continuous time, for every plant of the box.
 
-Robust *sampled-data* passivity is not available yet: when it lands, its interval
-replaces this intersection.
+Robust *sampled-data* passivity over practical boxes is not available yet (see
+[`robust_sampled_check`][seapass.robust.sampled_verdict.robust_sampled_check]): the
+envelope claims the sampled rate for the nominal plant only, and the header says so.
 """
 
 from __future__ import annotations
@@ -95,5 +96,8 @@ def robust_envelopes(
     span = ", ".join(
         f"{k} in [{exact_text(a)}, {exact_text(b)}]" for k, (a, b) in box.intervals.items()
     )
-    notes.append(f"gain envelope robust for every plant with {span} ({verdict.method})")
+    notes.append(
+        f"gain envelope robust for every plant with {span} in continuous time "
+        f"({verdict.method}); passive at the sampling rate for the nominal plant only"
+    )
     return tuple(out), tuple(notes)
