@@ -133,6 +133,7 @@ class LazySympy:
 
 
 def freeze_values(values: Mapping[str, Any] | None) -> Mapping[str, float | None]:
+    """``values`` checked (names, finite numbers or None) and frozen."""
     if values is not None and not isinstance(values, Mapping):
         raise ParameterError(
             f"values: expected a mapping of names to numbers, got {type(values).__name__}",

@@ -14,9 +14,10 @@ from typing import Any
 
 import sympy as sp
 
-from ..errors import ExpressionError, ModelError, ParameterError
+from ..errors import ExpressionError, ModelError
 from ..files.limits import MAX_PORTS
-from ..model.expr import check_name, check_rational_in_s, parse_expression, to_fraction
+from ..model.elements import freeze_values  # one check of parameter values for every model
+from ..model.expr import check_rational_in_s, parse_expression, to_fraction
 from .ratfunc import cancelled
 
 __all__ = ["freeze_values", "no_values", "parse_entry", "square_entries"]
@@ -25,26 +26,6 @@ __all__ = ["freeze_values", "no_values", "parse_entry", "square_entries"]
 def no_values() -> Mapping[str, float | None]:
     """A read-only empty mapping of parameter values (the default of the port models)."""
     return MappingProxyType({})
-
-
-def freeze_values(values: Mapping[str, Any] | None) -> Mapping[str, float | None]:
-    """``values`` checked (names, finite numbers or None) and frozen."""
-    if values is not None and not isinstance(values, Mapping):
-        raise ParameterError(
-            f"values: expected a mapping of names to numbers, got {type(values).__name__}",
-            argument="values",
-        )
-    out: dict[str, float | None] = {}
-    for name, val in (values or {}).items():
-        if not isinstance(name, str):
-            raise ParameterError(f"values: parameter names must be strings, got {name!r}")
-        key = f"values[{name!r}]"
-        try:
-            check_name(name)
-        except ExpressionError as exc:
-            raise ParameterError(f"{key}: {exc}", argument=key) from None
-        out[name] = None if val is None else float(to_fraction(val, key))
-    return MappingProxyType(out)
 
 
 def parse_entry(value: Any, allowed: set[str], what: str) -> sp.Expr:
