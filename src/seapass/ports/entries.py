@@ -14,13 +14,27 @@ from typing import Any
 
 import sympy as sp
 
-from ..errors import ExpressionError, ModelError
+from ..errors import ExpressionError, ModelError, ParameterError
 from ..files.limits import MAX_PORTS
-from ..model.elements import freeze_values  # one check of parameter values for every model
-from ..model.expr import check_rational_in_s, parse_expression, to_fraction
+from ..model.elements import check_used, freeze_values  # one values check for every model
+from ..model.expr import (
+    STANDARD_SYMBOLS,
+    S,
+    check_rational_in_s,
+    parse_expression,
+    to_fraction,
+)
 from .ratfunc import cancelled
 
-__all__ = ["freeze_values", "no_values", "parse_entry", "square_entries"]
+__all__ = [
+    "entry_parameters",
+    "freeze_values",
+    "merged_values",
+    "no_values",
+    "parse_entries",
+    "parse_entry",
+    "square_entries",
+]
 
 
 def no_values() -> Mapping[str, float | None]:
@@ -47,6 +61,41 @@ def parse_entry(value: Any, allowed: set[str], what: str) -> sp.Expr:
             argument=what,
         )
     return cancelled(expr)
+
+
+def entry_parameters(entries: Sequence[sp.Expr]) -> tuple[str, ...]:
+    """Names of all parameters the entries use, sorted."""
+    return tuple(sorted({str(x) for e in entries for x in e.free_symbols if x != S}))
+
+
+def parse_entries(
+    raw: Sequence[Any], labels: Sequence[str], values: Mapping[str, Any], what: str
+) -> tuple[sp.Expr, ...]:
+    """Every entry parsed (``labels[i]`` names entry ``i``); every name of ``values`` used."""
+    allowed = set(STANDARD_SYMBOLS) | set(values)
+    entries = tuple(parse_entry(v, allowed, lab) for v, lab in zip(raw, labels, strict=True))
+    check_used(values, entry_parameters(entries), what)
+    return entries
+
+
+def merged_values(
+    fixed: Mapping[str, float | None],
+    given: Mapping[str, float] | None,
+    parameters: Sequence[str],
+    what: str,
+) -> dict[str, Any]:
+    """The values of ``parameters``: ``fixed`` with ``given`` over it; each must have one."""
+    merged: dict[str, Any] = {k: v for k, v in fixed.items() if v is not None}
+    if given:
+        check_used(given, parameters, what)
+        merged.update({k: to_fraction(v, k) for k, v in given.items()})
+    missing = [p for p in parameters if p not in merged]
+    if missing:
+        raise ParameterError(
+            f"no value for parameter(s) {', '.join(missing)}: give them, "
+            f"e.g. values={{{missing[0]!r}: 1.0}}"
+        )
+    return merged
 
 
 def _is_row(r: Any) -> bool:

@@ -30,9 +30,15 @@ import sympy as sp
 
 from ..errors import NotPassiveError, ParameterError
 from ..model.display import html_card, short_repr
-from ..model.expr import STANDARD_SYMBOLS, S, to_fraction
 from ..model.sea import check_used
-from .entries import freeze_values, no_values, parse_entry, square_entries
+from .entries import (
+    entry_parameters,
+    freeze_values,
+    merged_values,
+    no_values,
+    parse_entries,
+    square_entries,
+)
 from .matrix import ExactMatrix, exact_matrix
 from .passivity import MatrixPassivity, matrix_passivity
 from .twoport import TwoPort
@@ -86,16 +92,13 @@ class NPort:
         vals = freeze_values(values)
         raw = square_entries(matrix)
         n = math.isqrt(len(raw))
-        allowed = set(STANDARD_SYMBOLS) | set(vals)
         labels = [f"Z{i + 1}{j + 1}" for i in range(n) for j in range(n)]
-        entries = tuple(parse_entry(v, allowed, lab) for v, lab in zip(raw, labels, strict=True))
-        used = {str(x) for e in entries for x in e.free_symbols if x != S}
-        check_used(vals, used, "the impedance matrix")
+        entries = parse_entries(raw, labels, vals, "the impedance matrix")
         return cls(entries=entries, n=n, values=vals, name=name)
 
     @functools.cached_property
     def parameters(self) -> tuple[str, ...]:
-        return tuple(sorted({str(x) for e in self.entries for x in e.free_symbols if x != S}))
+        return entry_parameters(self.entries)
 
     @property
     def free_parameters(self) -> tuple[str, ...]:
@@ -107,16 +110,7 @@ class NPort:
 
     def exact(self, values: Mapping[str, float] | None = None) -> ExactMatrix:
         """The exact rational matrix at the parameter values."""
-        merged: dict[str, Any] = {k: v for k, v in self.values.items() if v is not None}
-        if values:
-            check_used(values, self.parameters, "the impedance matrix")
-            merged.update({k: to_fraction(v, k) for k, v in values.items()})
-        missing = [p for p in self.parameters if p not in merged]
-        if missing:
-            raise ParameterError(
-                f"no value for parameter(s) {', '.join(missing)}: give them, "
-                f"e.g. values={{{missing[0]!r}: 1.0}}"
-            )
+        merged = merged_values(self.values, values, self.parameters, "the impedance matrix")
         return exact_matrix(self.entries, self.n, merged)
 
     def to_dict(self) -> dict[str, Any]:

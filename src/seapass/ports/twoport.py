@@ -23,11 +23,18 @@ import sympy as sp
 
 from ..errors import ModelError, ParameterError
 from ..model.display import html_card, short_repr
-from ..model.expr import STANDARD_SYMBOLS, S, to_fraction
+from ..model.expr import S
 from ..model.sea import SEA, check_used
 from ..model.zcontroller import continuous_only
 from .derive import derive_two_port
-from .entries import freeze_values, no_values, parse_entry, square_entries
+from .entries import (
+    entry_parameters,
+    freeze_values,
+    merged_values,
+    no_values,
+    parse_entries,
+    square_entries,
+)
 from .forms import Form, convert_entries, form_of, reciprocity_sign
 from .matrix import ExactMatrix, exact_matrix
 
@@ -97,12 +104,9 @@ class TwoPort:
         """
         f = form_of(form)
         vals = freeze_values(values)
-        allowed = set(STANDARD_SYMBOLS) | set(vals)
         raw = square_entries(matrix, 2)
         labels = [f"{f.value}{i}{j}" for i in (1, 2) for j in (1, 2)]
-        entries = tuple(parse_entry(v, allowed, lab) for v, lab in zip(raw, labels, strict=True))
-        used = {str(x) for e in entries for x in e.free_symbols if x != S}
-        check_used(vals, used, "the two-port")
+        entries = parse_entries(raw, labels, vals, "the two-port")
         return cls(
             entries=(entries[0], entries[1], entries[2], entries[3]),
             form=f,
@@ -122,7 +126,7 @@ class TwoPort:
     @functools.cached_property
     def parameters(self) -> tuple[str, ...]:
         """Names of all parameters the entries use, sorted."""
-        return tuple(sorted({str(x) for e in self.entries for x in e.free_symbols if x != S}))
+        return entry_parameters(self.entries)
 
     @property
     def free_parameters(self) -> tuple[str, ...]:
@@ -160,16 +164,7 @@ class TwoPort:
 
     def exact(self, values: Mapping[str, float] | None = None) -> ExactMatrix:
         """The exact rational matrix at the parameter values (floats taken as the rationals they are)."""
-        merged: dict[str, Any] = {k: v for k, v in self.values.items() if v is not None}
-        if values:
-            check_used(values, self.parameters, "the two-port")
-            merged.update({k: to_fraction(v, k) for k, v in values.items()})
-        missing = [p for p in self.parameters if p not in merged]
-        if missing:
-            raise ParameterError(
-                f"no value for parameter(s) {', '.join(missing)}: give them, "
-                f"e.g. values={{{missing[0]!r}: 1.0}}"
-            )
+        merged = merged_values(self.values, values, self.parameters, "the two-port")
         return exact_matrix(self.entries, 2, merged)
 
     def to_control(self, values: Mapping[str, float] | None = None) -> Any:
