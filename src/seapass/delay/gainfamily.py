@@ -56,7 +56,7 @@ from ..model.sea import SEA, Impedance
 from ..outcome import Outcome
 from .balls import arb_of, ball, precision, sqrt_bounds
 from .sign import certify
-from .structure import DelayedImpedance, delay_parameter
+from .structure import DelayedImpedance, coefficients_in, delay_parameter
 from .trig import TrigRealPart, real_part
 
 __all__ = ["FamilyCertificate", "GainFamily", "family_certificate", "gain_family"]
@@ -95,23 +95,7 @@ class FamilyCertificate:
 
 
 def _parts(p: Any, env: Mapping[str, fmpq], evar: str, gain: str) -> Parts:
-    names = p.context().names()
-    coeffs: dict[tuple[int, int, int], fmpq] = {}
-    for exps, c in zip(p.monoms(), p.coeffs(), strict=True):
-        t = fmpq(c)
-        i = m = g = 0
-        for n, e in zip(names, exps, strict=True):
-            if not e:
-                continue
-            if n == S_NAME:
-                i = e
-            elif n == evar:
-                m = e
-            elif n == gain:
-                g = e
-            else:
-                t *= env[n] ** e
-        coeffs[(g, m, i)] = coeffs.get((g, m, i), fmpq(0)) + t
+    coeffs = coefficients_in(p, env, (gain, evar, S_NAME))
     top_g = max((g for g, _, _ in coeffs), default=0)
     top_m = max((m for _, m, _ in coeffs), default=0)
     out = []

@@ -38,6 +38,7 @@ from ..model.sea import SEA, Impedance
 __all__ = [
     "MAX_DELAY_SECONDS",
     "DelayedImpedance",
+    "coefficients_in",
     "controller_delay",
     "delay_parameter",
     "delayed_impedance",
@@ -234,23 +235,34 @@ def delayed_impedance(
     return DelayedImpedance(name=name, tau=tau, num=num, den=den, label=getattr(system, "name", ""))
 
 
-def _in_s_and_e(p: Any, env: Mapping[str, fmpq], evar: str) -> tuple[fmpq_poly, ...]:
-    """``p(s, E, params)`` at the parameter values, as ``N_k(s)`` for ascending ``E^k``."""
+def coefficients_in(
+    p: Any, env: Mapping[str, fmpq], variables: Sequence[str]
+) -> dict[tuple[int, ...], fmpq]:
+    """The coefficients of ``p`` (an exact multivariate polynomial) by its powers of
+    ``variables``, every other name replaced by its value in ``env``.
+
+    The key of a coefficient is the tuple of exponents of ``variables``, in their order.
+    """
     names = p.context().names()
-    coeffs: dict[tuple[int, int], fmpq] = {}
+    where = {n: i for i, n in enumerate(variables)}
+    coeffs: dict[tuple[int, ...], fmpq] = {}
     for exps, c in zip(p.monoms(), p.coeffs(), strict=True):
         t = fmpq(c)
-        i = k = 0
+        key = [0] * len(variables)
         for n, e in zip(names, exps, strict=True):
             if not e:
                 continue
-            if n == S_NAME:
-                i = e
-            elif n == evar:
-                k = e
+            if n in where:
+                key[where[n]] = e
             else:
                 t *= env[n] ** e
-        coeffs[(i, k)] = coeffs.get((i, k), fmpq(0)) + t
+        coeffs[tuple(key)] = coeffs.get(tuple(key), fmpq(0)) + t
+    return coeffs
+
+
+def _in_s_and_e(p: Any, env: Mapping[str, fmpq], evar: str) -> tuple[fmpq_poly, ...]:
+    """``p(s, E, params)`` at the parameter values, as ``N_k(s)`` for ascending ``E^k``."""
+    coeffs = coefficients_in(p, env, (S_NAME, evar))
     order = max((k for (_, k) in coeffs), default=0)
     out = []
     for k in range(order + 1):
