@@ -367,8 +367,7 @@ def run_robust_sampled_check(args: argparse.Namespace, default_loop: Any) -> int
         warn_unrealizable(resolved.sea)
         # the box of the flags, the file's [uncertainty] and a fitted rig (--robust)
         box = requested_box(args, resolved.sea, resolved.design)
-        if box is None:
-            raise ParameterError("--robust: no box given (the design file has no [uncertainty])")
+        assert box is not None  # --uncertain or --robust was given: robust_box requires a box
         result = robust_sampled_check(resolved.sea, loop=resolved.loop, box=box, budget=args.budget)
     except ParameterError as exc:
         raise _cli_text(exc) from None
