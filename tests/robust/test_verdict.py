@@ -223,3 +223,18 @@ def test_an_irrational_critical_value_inside_the_box_is_decided_over_the_reals()
     assert inside.method is Method.CERTIFIED and inside.outcome is Outcome.PASSIVE
     away = robust_check(sea, box={"b": (30.0, 40.0)})  # no irrational critical value: exact
     assert away.method is Method.EXACT and away.outcome is Outcome.PASSIVE
+
+
+def test_irrational_critical_values_are_certified_on_their_isolating_intervals() -> None:
+    """Ours over b1 in [0, 300]: three irrational critical values inside, and at b1 = 0 the
+    leading coefficient of the real part vanishes (a degree drop), so the Bernstein search over
+    the whole interval cannot finish.  The exact cells plus a certified tiny box around each
+    irrational value decide the real interval; dense sampling by the exact test agrees."""
+    sea = SEA(
+        D1="k1 + b1*s", CA="kd + bd*s", values=dict(m=1, b=10, k1=1000, b1=300, kd=1708, bd=300)
+    )  # examples/ours.toml
+    r = robust_check(sea, box={"b1": (0.0, 300.0)})
+    assert r.outcome is Outcome.PASSIVE, r.detail
+    assert "irrational critical value" in r.detail
+    for b1 in [*np.linspace(0.0, 300.0, 61), 0.1444050904017456, 3.2852724842756893]:
+        assert is_passive(sea, values={"b1": float(b1)}).passive

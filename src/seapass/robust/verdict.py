@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING, Any
 
 from flint import fmpq
 
-from ..analysis.critical import critical_polynomials_in, critical_values_in
+from ..analysis.critical import CriticalValue, critical_polynomials_in, critical_values_in
 from ..analysis.passivity import PassivityResult, is_passive
 from ..analysis.region import passive_intervals
 from ..errors import NotPassiveError, ParameterError
@@ -195,14 +195,60 @@ def _worst(
     return WorstCase(values=dict(at), frequency=res.omega, result=res)
 
 
-def _irrational_critical_inside(
+def _irrational_critical_values(
     system: SEA | Impedance, name: str, lo: float, hi: float, fixed: Mapping[str, float]
-) -> bool:
-    """Whether an irrational critical value of ``name`` lies in ``[lo, hi]`` (rational ones
-    are decided exactly as points by `passive_intervals`)."""
+) -> list[CriticalValue]:
+    """The irrational critical values of ``name`` in ``[lo, hi]`` (rational ones are decided
+    exactly as points by `passive_intervals`)."""
     polys = critical_polynomials_in(system, name, exact_values(fixed))
     crit = critical_values_in(polys, Fraction(lo), Fraction(hi))
-    return any(c.poly is not None for c in crit)
+    return [c for c in crit if c.poly is not None]
+
+
+def _enclosing_doubles(lo: Fraction, hi: Fraction) -> tuple[float, float]:
+    """The tightest pair of doubles ``a <= lo``, ``b >= hi`` (outward rounding)."""
+    a, b = float(lo), float(hi)
+    if Fraction(a) > lo:
+        a = math.nextafter(a, -math.inf)
+    if Fraction(b) < hi:
+        b = math.nextafter(b, math.inf)
+    return a, b
+
+
+def _across_irrational(
+    system: SEA | Impedance,
+    box: UncertainBox,
+    fixed: Mapping[str, float],
+    crit: list[CriticalValue],
+    budget: int,
+) -> RobustResult:
+    """Decide the real points the exact cells leave out: each irrational critical value,
+    by the certified branch and bound on a tiny box of doubles around its isolating
+    interval (the cells on both sides are decided exactly by `passive_intervals`)."""
+    (name,) = box.names
+    used = 0
+    for c in crit:
+        a, b = _enclosing_doubles(c.lo, c.hi)
+        lo, hi = box.intervals[name]
+        tiny = UncertainBox(intervals={name: (max(a, lo), min(b, hi))})
+        r = _certified(system, tiny, fixed, budget - used)
+        used += r.boxes
+        if r.outcome is Outcome.PASSIVE:
+            continue
+        if r.outcome is Outcome.NOT_PASSIVE:
+            return RobustResult(
+                outcome=Outcome.NOT_PASSIVE, box=box, worst=r.worst, boxes=used, detail=r.detail
+            )
+        # a touching point (the real part reaches 0 at the critical value): try the box whole
+        return _certified(system, box, fixed, budget)
+    return RobustResult(
+        outcome=Outcome.PASSIVE,
+        box=box,
+        boxes=used,
+        detail=f"the exact passive set of {name} contains [{box.intervals[name][0]:g}, "
+        f"{box.intervals[name][1]:g}]; its {len(crit)} irrational critical value(s) inside "
+        "are certified by Bernstein branch and bound on their isolating intervals",
+    )
 
 
 def _one_parameter(
@@ -217,11 +263,11 @@ def _one_parameter(
             outcome=out, box=box, worst=w, method=Method.EXACT, detail="a single plant"
         )
     pi = passive_intervals(system, name, lo, hi, values=dict(fixed))
-    if pi.intervals == ((lo, hi),) and _irrational_critical_inside(system, name, lo, hi, fixed):
+    irrational = _irrational_critical_values(system, name, lo, hi, fixed)
+    if pi.intervals == ((lo, hi),) and irrational:
         # passive_intervals decides the doubles of [lo, hi]; a plant is a real number, and an
-        # irrational critical value inside was never tested (it joins two passive cells):
-        # decide the whole real interval with the certified branch and bound instead
-        return _certified(system, box, fixed, budget)
+        # irrational critical value inside was never tested (it joins two passive cells)
+        return _across_irrational(system, box, fixed, irrational, budget)
     if pi.intervals == ((lo, hi),):
         return RobustResult(
             outcome=Outcome.PASSIVE,
