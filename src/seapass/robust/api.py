@@ -45,7 +45,7 @@ def is_passive(
         As for [`seapass.analysis.passivity.is_passive`][seapass.analysis.passivity.is_passive].
     box : mapping of str to (lo, hi), optional
         Uncertain parameters, e.g. ``{"m": (0.9, 1.1)}``: returns a
-        [`RobustResult`][seapass.robust.verdict.RobustResult].
+        [`RobustResult`][seapass.robust.result.RobustResult].
     budget : int
         Branch-and-bound budget of a box with several parameters.
 

@@ -33,11 +33,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
-from enum import StrEnum
 from fractions import Fraction
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
+import numpy as np
 from flint import fmpq
 
 from ..analysis.critical import CriticalValue, critical_polynomials_in, critical_values_in
@@ -45,138 +44,18 @@ from ..analysis.passivity import PassivityResult, is_passive
 from ..analysis.region import passive_intervals
 from ..errors import NotPassiveError, ParameterError
 from ..exact import poly as ep
-from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA, Impedance, exact_values
 from ..outcome import Outcome
 from .bernstein import BoxSign, positive_on_box
 from .box import UncertainBox, uncertain_box
-from .family import ConditionKind, family_conditions, fixed_values
-
-if TYPE_CHECKING:  # the sampled kernel loads only with robust.sampled_verdict
-    from ..sampled.passivity import SampledPassivityResult
+from .faces import divide_out, split_top
+from .family import Condition, ConditionKind, family_conditions, fixed_values
+from .result import Method, RobustResult, WorstCase
 
 __all__ = ["DEFAULT_BUDGET", "Method", "RobustResult", "WorstCase", "robust_check"]
 
 DEFAULT_BUDGET = 5000
 """Boxes the certified branch and bound may examine (all conditions together)."""
-
-
-class Method(StrEnum):
-    """How a robust verdict was reached (the JSON value is the string)."""
-
-    EXACT = "exact"
-    CERTIFIED = "certified"
-
-
-@dataclass(frozen=True, kw_only=True)
-class WorstCase:
-    """A plant of the box at which the design is not passive (verified by the ordinary test).
-
-    Attributes
-    ----------
-    values : mapping of str to float
-        The uncertain parameters at that plant.
-    frequency : float or None
-        A frequency [rad/s] where the design fails there: ``Re Z(jω) < 0`` (continuous)
-        or a proven ``N(ω) < 0`` (sampled); None when the plant fails for another
-        reason, e.g. an unstable pole.
-    result : PassivityResult or SampledPassivityResult
-        The ordinary verdict at that plant: the exact test (`robust_check`) or the
-        certified sampled-data verdict (`robust_sampled_check`).
-    """
-
-    values: Mapping[str, float]
-    frequency: float | None
-    result: PassivityResult | SampledPassivityResult = field(repr=False, compare=False)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "values": dict(self.values),
-            "frequency": self.frequency,
-            "reason": str(self.result.reason),
-        }
-
-
-@dataclass(frozen=True, repr=False, kw_only=True)
-class RobustResult:
-    """Outcome of a robust (box) passivity verdict.
-
-    Attributes
-    ----------
-    outcome : Outcome
-        ``PASSIVE``: passive for every plant in the box; ``NOT_PASSIVE``: `worst` is
-        a plant of the box that is not passive; ``UNDECIDED``: neither was proven.
-    box : UncertainBox
-        The uncertain parameters.
-    worst : WorstCase or None
-        The verified counterexample of a negative verdict.
-    method : Method
-        ``"exact"`` (one parameter) or ``"certified"`` (Bernstein branch and bound).
-    boxes : int
-        Boxes examined by the branch and bound (0 for the exact method).
-    detail : str
-        Why, in words.
-    """
-
-    outcome: Outcome
-    box: UncertainBox
-    worst: WorstCase | None = None
-    method: Method = Method.CERTIFIED
-    boxes: int = 0
-    detail: str = ""
-
-    @property
-    def passive(self) -> bool:
-        return self.outcome.passive
-
-    @property
-    def status(self) -> str:
-        return str(self.outcome)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "robust": True,
-            "passive": self.passive,
-            "status": self.status,
-            "box": self.box.to_dict(),
-            "worst": None if self.worst is None else self.worst.to_dict(),
-            "method": str(self.method),
-            "boxes": self.boxes,
-            "detail": self.detail,
-        }
-
-    def plot(self, kind: str = "real", *, ax: Any = None, omega: Any = None, **kwargs: Any) -> Any:
-        """``Re Z(jω)`` (or the Nyquist plot) of the worst-case plant, with its failing bands.
-
-        Only for a negative verdict (a passive box has no single plant to show); returns
-        the matplotlib Axes.
-        """
-        if self.worst is None:
-            raise ValueError(f"no worst-case plant to plot: the verdict is {self.outcome.label}")
-        result = self.worst.result
-        assert isinstance(result, PassivityResult)  # robust_check's worst cases are continuous
-        return result.plot(kind, ax=ax, omega=omega, **kwargs)
-
-    def __repr__(self) -> str:
-        worst = None
-        if self.worst is not None:
-            worst = Shown(", ".join(f"{k}={v:.6g}" for k, v in self.worst.values.items()))
-        return short_repr(
-            "RobustResult",
-            {"outcome": str(self.outcome), "worst": worst, "method": str(self.method)},
-        )
-
-    def _repr_html_(self) -> str:
-        rows: list[tuple[str, Any]] = [("verdict", self.outcome.label), ("detail", self.detail)]
-        rows += [(k, f"[{lo:g}, {hi:g}]") for k, (lo, hi) in self.box.intervals.items()]
-        if self.worst is not None:
-            at = ", ".join(f"{k} = {v:.6g}" for k, v in self.worst.values.items())
-            rows.append(("worst case", at))
-        return html_card(
-            f"Robust passivity: {self.outcome.label}",
-            rows,
-            note=f"{self.method} verdict for every plant in the box",
-        )
 
 
 def _test(
@@ -308,6 +187,83 @@ def _as_floats(names: tuple[str, ...], point: tuple[fmpq, ...]) -> dict[str, flo
     return {n: float(ep.to_fraction(q)) for n, q in zip(names, point, strict=True)}
 
 
+def _with_values(system: SEA | Impedance, values: Mapping[str, float]) -> SEA | Impedance:
+    if isinstance(system, SEA):
+        return system.with_values(**values)
+    return Impedance(expr=system.expr, values={**system.values, **values})
+
+
+def _inside_near(
+    system: SEA | Impedance,
+    fixed: Mapping[str, float],
+    box: UncertainBox,
+    at: dict[str, float],
+) -> tuple[WorstCase | None, dict[str, float]]:
+    """A failing plant near ``at`` inside the box: the coordinates of ``at`` on a face moved
+    towards the centre by ``2^-k`` of the width (a condition that is zero on a face and
+    negative just inside it); ``(None, at)`` when every one is passive."""
+    center = box.center()
+    for k in range(1, 9):
+        near = {
+            n: v + (center[n] - v) * 2.0 ** (1 - k) if v in box.intervals[n] else v
+            for n, v in at.items()
+        }
+        w = _worst(system, fixed, near)
+        if w is not None:
+            return w, near
+    return None, at
+
+
+Face = tuple[int, bool]  # (axis of the Bernstein region, upper end)
+
+
+def _off_face(
+    cond: Condition, point: tuple[fmpq, ...], region: list[tuple[fmpq, fmpq]]
+) -> tuple[Face, list[np.ndarray]] | None:
+    """A face of the box through ``point`` on which ``cond`` vanishes, and the conditions
+    that prove it positive off that face (`seapass.robust.faces`), or None."""
+    for axis in range(1, len(region)):
+        lo, hi = region[axis]
+        if lo == hi or point[axis] not in (lo, hi):
+            continue
+        upper = point[axis] == hi
+        c = hi if upper else lo
+        whole = divide_out(cond.coeffs, axis, c, upper=upper)
+        if whole is not None:
+            return (axis, upper), [whole]
+        if cond.kind is ConditionKind.REAL_PART and point[0] == 1:
+            parts = split_top(cond.coeffs)
+            if parts is not None:
+                top = divide_out(parts[0], axis, c, upper=upper)
+                if top is not None:
+                    return (axis, upper), [top, parts[1]]
+    return None
+
+
+def _face(
+    system: SEA | Impedance,
+    box: UncertainBox,
+    fixed: Mapping[str, float],
+    face: Face,
+    budget: int,
+) -> RobustResult:
+    """The robust verdict on one face of ``box`` (a box with one parameter fewer)."""
+    name = box.names[face[0] - 1]
+    value = box.intervals[name][1 if face[1] else 0]
+    rest = {k: v for k, v in box.intervals.items() if k != name}
+    at_face = _with_values(system, {name: value})
+    fixed_face = {**fixed, name: value}
+    if not rest:
+        w = _worst(at_face, fixed_face, {})
+        return RobustResult(
+            outcome=Outcome.PASSIVE if w is None else Outcome.NOT_PASSIVE, box=box, worst=w
+        )
+    sub = UncertainBox(intervals=rest)
+    if len(rest) == 1:
+        return _one_parameter(at_face, sub, fixed_face, budget)
+    return _certified(at_face, sub, fixed_face, budget)
+
+
 def _certified(
     system: SEA | Impedance, box: UncertainBox, fixed: Mapping[str, float], budget: int
 ) -> RobustResult:
@@ -328,8 +284,10 @@ def _certified(
     region = [(fmpq(0), fmpq(1)), *((ep.rational(a), ep.rational(b)) for a, b in box.exact())]
     used = 0
     # real part last: it is the costliest, and stability failures are the plainer witnesses
-    order = sorted(fam.conditions, key=lambda c: c.kind == ConditionKind.REAL_PART)
-    for cond in order:
+    pending = sorted(fam.conditions, key=lambda c: c.kind == ConditionKind.REAL_PART)
+    faces: list[Face] = []
+    while pending:
+        cond = pending.pop(0)
         search = positive_on_box(cond.coeffs, region, budget=budget - used)
         used += search.boxes
         if search.sign is BoxSign.PROVEN:
@@ -344,6 +302,21 @@ def _certified(
         assert search.point is not None
         at = _as_floats(box.names, search.point[1:])
         w = _worst(system, fixed, at)
+        split = None if w is not None else _off_face(cond, search.point, region)
+        if split is not None:
+            # zero, not negative, on a face where the structure changes: prove the condition
+            # off the face and decide the face apart
+            if split[0] not in faces:
+                faces.append(split[0])
+            off_label = (
+                cond.label
+                if cond.label.endswith("(off a face)")
+                else (f"{cond.label} (off a face)")
+            )
+            pending[:0] = [Condition(kind=cond.kind, label=off_label, coeffs=c) for c in split[1]]
+            continue
+        if w is None:
+            w, at = _inside_near(system, fixed, box, at)
         if w is None:
             return RobustResult(
                 outcome=Outcome.UNDECIDED,
@@ -366,11 +339,23 @@ def _certified(
             detail=f"not passive at {', '.join(f'{k}={v:.6g}' for k, v in at.items())}: "
             f"{w.result.detail}",
         )
+    for face in faces:
+        r = _face(system, box, fixed, face, budget - used)
+        used += r.boxes
+        if r.outcome is not Outcome.PASSIVE:
+            return RobustResult(
+                outcome=r.outcome,
+                box=box,
+                worst=r.worst,
+                boxes=used,
+                detail=f"on a face: {r.detail}",
+            )
+    on_faces = f", off {len(faces)} face(s) of the box decided apart" if faces else ""
     return RobustResult(
         outcome=Outcome.PASSIVE,
         box=box,
         boxes=used,
-        detail=f"{len(fam.conditions)} positive-real conditions proven on the box",
+        detail=f"{len(fam.conditions)} positive-real conditions proven on the box{on_faces}",
     )
 
 
