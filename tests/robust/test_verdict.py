@@ -180,6 +180,8 @@ def test_library_errors_name_python_arguments() -> None:
         robust_check(LP, box={"mass": (0.9, 1.1)})
     with pytest.raises(ParameterError, match="budget"):
         robust_check(LP, box={"m": (0.9, 1.1)}, budget=0)
+    with pytest.raises(ParameterError, match="budget must be an integer in"):
+        robust_check(LP, box={"m": (0.9, 1.1)}, budget=10**9)  # bounds time and memory
     with pytest.raises(ParameterError, match="no value"):
         robust_check(SEA(D1="k1", CL="kd", values=PLANT), box={"m": (0.9, 1.1)})
 

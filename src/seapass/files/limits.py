@@ -152,6 +152,10 @@ MAX_UNCERTAIN = 6
 """Uncertain parameters of one robust verdict (``--uncertain``, ``box=``): the certified
 branch and bound works on a box of this many dimensions plus frequency."""
 
+MAX_BOX_BUDGET = 1_000_000
+"""Largest ``budget`` of one continuous robust verdict (boxes of the Bernstein branch and
+bound; the pending boxes are kept in memory, so this also bounds memory)."""
+
 MAX_UNCERTAIN_RATIO = 1e6
 """Largest ``HI/LO`` of one uncertain positive parameter (six decades); a wider box is
 split into boxes so small that the budgeted branch and bound cannot end."""

@@ -44,6 +44,7 @@ from ..analysis.passivity import PassivityResult, is_passive
 from ..analysis.region import passive_intervals
 from ..errors import NotPassiveError, ParameterError
 from ..exact import poly as ep
+from ..files.limits import MAX_BOX_BUDGET
 from ..model.sea import SEA, Impedance, exact_values
 from ..outcome import Outcome
 from .bernstein import BoxSign, positive_on_box
@@ -399,9 +400,10 @@ def robust_check(
     >>> r.outcome, r.worst.values["k1"] < 500
     (<Outcome.NOT_PASSIVE: 'not_passive'>, True)
     """
-    if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
+    if isinstance(budget, bool) or not isinstance(budget, int) or not 1 <= budget <= MAX_BOX_BUDGET:
         raise ParameterError(
-            f"budget must be a positive integer, got {budget!r}", argument="budget"
+            f"budget must be an integer in [1, {MAX_BOX_BUDGET}], got {budget!r}",
+            argument="budget",
         )
     if values:
         system = (
