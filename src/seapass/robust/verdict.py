@@ -45,6 +45,7 @@ from ..analysis.passivity import PassivityResult, is_passive
 from ..analysis.region import passive_intervals
 from ..errors import NotPassiveError, ParameterError
 from ..exact import poly as ep
+from ..model.delayatom import model_delays
 from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA, Impedance, exact_values
 from ..outcome import Outcome
@@ -53,6 +54,7 @@ from .box import UncertainBox, uncertain_box
 from .family import ConditionKind, family_conditions, fixed_values
 
 if TYPE_CHECKING:  # the sampled kernel loads only with robust.sampled_verdict
+    from ..delay.passivity import DelayPassivityResult
     from ..sampled.passivity import SampledPassivityResult
 
 __all__ = ["DEFAULT_BUDGET", "Method", "RobustResult", "WorstCase", "robust_check"]
@@ -80,14 +82,17 @@ class WorstCase:
         A frequency [rad/s] where the design fails there: ``Re Z(jω) < 0`` (continuous)
         or a proven ``N(ω) < 0`` (sampled); None when the plant fails for another
         reason, e.g. an unstable pole.
-    result : PassivityResult or SampledPassivityResult
-        The ordinary verdict at that plant: the exact test (`robust_check`) or the
-        certified sampled-data verdict (`robust_sampled_check`).
+    result : PassivityResult, SampledPassivityResult or DelayPassivityResult
+        The ordinary verdict at that plant: the exact test (`robust_check`), the
+        certified sampled-data verdict (`robust_sampled_check`) or the certified
+        delayed verdict (`robust_check` of a delayed design).
     """
 
     values: Mapping[str, float]
     frequency: float | None
-    result: PassivityResult | SampledPassivityResult = field(repr=False, compare=False)
+    result: PassivityResult | SampledPassivityResult | DelayPassivityResult = field(
+        repr=False, compare=False
+    )
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -116,6 +121,8 @@ class RobustResult:
         Boxes examined by the branch and bound (0 for the exact method).
     detail : str
         Why, in words.
+    delay : mapping or None
+        ``{"name": ..., "tau": seconds}`` for a delayed design (the verdict is at that delay).
     """
 
     outcome: Outcome
@@ -124,6 +131,7 @@ class RobustResult:
     method: Method = Method.CERTIFIED
     boxes: int = 0
     detail: str = ""
+    delay: Mapping[str, Any] | None = None
 
     @property
     def passive(self) -> bool:
@@ -143,6 +151,7 @@ class RobustResult:
             "method": str(self.method),
             "boxes": self.boxes,
             "detail": self.detail,
+            **({} if self.delay is None else {"delay": dict(self.delay)}),
         }
 
     def plot(self, kind: str = "real", *, ax: Any = None, omega: Any = None, **kwargs: Any) -> Any:
@@ -154,7 +163,9 @@ class RobustResult:
         if self.worst is None:
             raise ValueError(f"no worst-case plant to plot: the verdict is {self.outcome.label}")
         result = self.worst.result
-        assert isinstance(result, PassivityResult)  # robust_check's worst cases are continuous
+        from ..delay.passivity import DelayPassivityResult
+
+        assert isinstance(result, PassivityResult | DelayPassivityResult)  # continuous ones
         return result.plot(kind, ax=ax, omega=omega, **kwargs)
 
     def __repr__(self) -> str:
@@ -378,6 +389,11 @@ def robust_check(
             if isinstance(system, SEA)
             else Impedance(expr=system.expr, values={**system.values, **values})
         )
+    if model_delays(system):  # a delay exp(-NAME*s): certified at the delay, over the box
+        from .delayed import DEFAULT_DELAY_BUDGET, robust_delayed_check
+
+        cells = DEFAULT_DELAY_BUDGET if budget == DEFAULT_BUDGET else budget
+        return robust_delayed_check(system, box=box, budget=cells, throw=throw)
     checked = uncertain_box(system, box)
     fixed = fixed_values(system, checked)
     if len(checked.names) == 1:
