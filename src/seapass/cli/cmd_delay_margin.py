@@ -189,6 +189,8 @@ def _run_robust(args: argparse.Namespace, figure: Path | None) -> int:
     clash = sorted(set(values_from_args(args)) & {a.partition("=")[0].strip() for a in args.uncertain})
     if clash:
         raise ParameterError(f"--set {clash[0]}: {clash[0]} is uncertain (--uncertain {clash[0]}); do not also give it a value")  # fmt: skip
+    if args.name in {a.partition("=")[0].strip() for a in args.uncertain}:
+        raise ParameterError(f"--uncertain {args.name}: {args.name} is the delay whose margin is computed; it cannot be uncertain")  # fmt: skip
     system = _system(args)
     if not isinstance(system, SEA):
         raise ParameterError("--uncertain needs a design (DESIGN or the model --D1 ...), not --Z")

@@ -57,7 +57,17 @@ from ..files.limits import MIN_RTOL
 from ..model.display import html_card, short_repr
 from ..outcome import Outcome
 from .box import UncertainBox, uncertain_box
-from .delayform import CellStatus, DelayedFamily, Poly, coeff_of, s_degree, eval_ball, high_cutoff, positive_on
+from .delayform import (
+    CellStatus,
+    DelayedFamily,
+    Poly,
+    coeff_of,
+    eval_ball,
+    high_cutoff,
+    over_box,
+    positive_on,
+    s_degree,
+)
 from .verdict import Method, RobustResult, WorstCase
 
 __all__ = ["DEFAULT_DELAY_BUDGET", "RobustDelayMargin", "robust_delay_margin", "robust_delayed_check"]
@@ -83,14 +93,27 @@ def _points(box: UncertainBox) -> list[dict[str, float]]:
     return out
 
 
-def _structure(fam: DelayedFamily, params: list[Any]) -> str:
+def _positive(exact: list[tuple[fmpq, fmpq]], num: Poly, den: Poly | None = None) -> bool:
+    """``num/den > 0`` on the whole box (ball bounds on halved pieces)."""
+
+    def bound(params: list[Any]) -> bool | None:
+        v = eval_ball(num, 0, params)
+        if den is not None:
+            v = v / eval_ball(den, 0, params)
+        return True if v > 0 else None
+
+    return over_box(exact, bound) is not None
+
+
+def _structure(fam: DelayedFamily, exact: list[tuple[fmpq, fmpq]]) -> str:
     """Why the structure is not uniform on the box ("" when it is)."""
     dp = fam.dprime
     top = s_degree(dp[0])
     if any(s_degree(p) >= top for p in dp[1:]):
         return "the loop is not of retarded type for every plant"
-    lead = eval_ball(coeff_of(dp[0], top), 0, params)
-    if lead.contains(0):
+    lead = coeff_of(dp[0], top)
+    sign = 1 if eval_ball(lead, 0, [ball(a, b) for a, b in exact]).mid() > 0 else -1
+    if not _positive(exact, {k: sign * c for k, c in lead.items()}):
         return "the leading coefficient of the loop may vanish on the box"
     dn = max(s_degree(p) for p in fam.num)
     dd = top + fam.s_order
@@ -99,8 +122,7 @@ def _structure(fam: DelayedFamily, params: list[Any]) -> str:
     if dn - dd == 1:
         if any(s_degree(p) >= dn for p in fam.num[1:]):
             return "the delay reaches the leading term of Z"
-        ratio = eval_ball(coeff_of(fam.num[0], dn), 0, params) / lead
-        if not ratio > 0:
+        if not _positive(exact, coeff_of(fam.num[0], dn), lead):
             return "Z ~ c s at high frequency with c > 0 is not proven on the box"
     if fam.s_order >= 2:
         return "a pole of order >= 2 at s = 0"
@@ -115,8 +137,7 @@ def _structure(fam: DelayedFamily, params: list[Any]) -> str:
             for p in dp:
                 for k, c in coeff_of(p, 0).items():
                     d0[k] = d0.get(k, fmpq(0)) + c
-            res = eval_ball(n0, 0, params) / eval_ball(d0, 0, params)
-            if not res > 0:
+            if not _positive(exact, n0, d0):
                 return "the residue of the pole at s = 0 is not proven positive on the box"
     return ""
 
@@ -135,8 +156,7 @@ def _certify(
     """Every plant of ``box`` passive for every delay in ``[tau_a, tau_b]``? (module docstring)."""
     exact = [(ep.rational(a), ep.rational(b)) for a, b in box.exact()]
     with precision(128):
-        params = [ball(a, b) for a, b in exact]
-        why = _structure(fam, params)
+        why = _structure(fam, exact)
     if why:
         return _Certificate(Outcome.UNDECIDED, 0, f"structure: {why}")
     centre = [ep.rational(Fraction(v)) for v in box.center().values()]
@@ -153,8 +173,8 @@ def _certify(
         return _Certificate(Outcome.UNDECIDED, 0, "the centre plant is not proven stable")
     used = 0
     for form, what in ((fam.loop_magnitude(), "|D(jw)|^2"), (fam.real_part(), "Re Z(jw)")):
-        with precision(128):
-            omega1 = high_cutoff(form, None, params)
+        cuts = over_box(exact, lambda params, f=form: high_cutoff(f, None, params))
+        omega1 = None if cuts is None else max(cuts)
         if omega1 is None:
             return _Certificate(Outcome.UNDECIDED, used, f"{what}: no uniform high-frequency bound")
         steps = max(1, math.ceil(float(omega1 * tau_b) / 2))

@@ -60,6 +60,7 @@ __all__ = [
     "CellStatus",
     "DelayedFamily",
     "high_cutoff",
+    "over_box",
     "positive_on",
 ]
 
@@ -374,6 +375,36 @@ def high_cutoff(form: AxisForm, taus: Any, params: Sequence[Any]) -> fmpq | None
     return None
 
 
+MAX_SPLIT_DEPTH = 8
+"""Halvings of the box a ball bound over the box (`over_box`) may use (natural interval
+extensions are wide on a wide box)."""
+
+
+def over_box(
+    exact: Sequence[tuple[fmpq, fmpq]], bound: Any, depth: int = MAX_SPLIT_DEPTH
+) -> Any:
+    """``bound(balls)`` over the box, halving the widest side where it gives None.
+
+    ``bound`` returns a value or None (not proven there); the result is the list of the
+    values of every piece, or None when a piece is still unproven at ``depth``.
+    """
+    with precision(PREC):
+        got = bound([ball(a, b) for a, b in exact])
+    if got is not None:
+        return [got]
+    if depth == 0 or not exact:
+        return None
+    i = max(range(len(exact)), key=lambda j: (exact[j][1] - exact[j][0]) / max(abs(exact[j][1]), fmpq(1)))  # fmt: skip
+    a, b = exact[i]
+    out = []
+    for half in ((a, (a + b) / 2), ((a + b) / 2, b)):
+        got = over_box([*exact[:i], half, *exact[i + 1 :]], bound, depth - 1)
+        if got is None:
+            return None
+        out += got
+    return out
+
+
 class CellStatus(StrEnum):
     """How `positive_on` ended."""
 
@@ -396,6 +427,8 @@ def _enclose(form: AxisForm, cell: Cell) -> tuple[Any, Any, list[Any]]:
         for i, (a, b) in enumerate(cell)
     ]
     vb = form.value(duals[0], duals[1], duals[2:])
+    if not isinstance(vb, Dual):  # a constant form
+        vb = Dual(vb, [arb(0)] * n)
     spread = [abs(vb.d[i]).abs_upper() * arb(r) for i, r in enumerate(radii)]
     low = vc
     for s in spread:
