@@ -213,7 +213,6 @@ def test_plot_is_written_and_announced(tmp_path):
 # ---------------------------------------------------------------- --uncertain (issue 26)
 
 
-
 def test_delay_margin_over_a_box_json(capsys) -> None:
     import json
 

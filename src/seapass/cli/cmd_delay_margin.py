@@ -186,7 +186,9 @@ def _run_robust(args: argparse.Namespace, figure: Path | None) -> int:
         raise ParameterError("give --range or --uncertain, not both")
     if args.budget < 1:
         raise ParameterError(f"--budget must be a positive integer, got {args.budget}")
-    clash = sorted(set(values_from_args(args)) & {a.partition("=")[0].strip() for a in args.uncertain})
+    clash = sorted(
+        set(values_from_args(args)) & {a.partition("=")[0].strip() for a in args.uncertain}
+    )
     if clash:
         raise ParameterError(f"--set {clash[0]}: {clash[0]} is uncertain (--uncertain {clash[0]}); do not also give it a value")  # fmt: skip
     if args.name in {a.partition("=")[0].strip() for a in args.uncertain}:
@@ -214,7 +216,11 @@ def _run_robust(args: argparse.Namespace, figure: Path | None) -> int:
         if result.worst_values is not None:
             at = ", ".join(f"{k}={v:.10g}" for k, v in result.worst_values.items())
             wm = result.worst_margin
-            star = "" if wm is None or wm.tau_star is None else f": tau* in {enclosure_text(*wm.tau_star, digits=6)} s"
+            star = (
+                ""
+                if wm is None or wm.tau_star is None
+                else f": tau* in {enclosure_text(*wm.tau_star, digits=6)} s"
+            )
             print(f"worst plant: {at}{star}")
         if result.outcome is not Outcome.PASSIVE or not result.certified:
             print(f"{result.outcome.label}: {result.detail}")

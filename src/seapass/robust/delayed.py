@@ -48,7 +48,7 @@ from flint import fmpq
 from ..delay.balls import ball, precision, round_down, round_up
 from ..delay.margin import delay_margin
 from ..delay.marginresult import DelayMarginResult
-from ..delay.passivity import DelayPassivityResult, delayed_passivity
+from ..delay.passivity import delayed_passivity
 from ..delay.stability import characteristic, rhp_count, stability_at
 from ..errors import NotPassiveError, ParameterError
 from ..exact import poly as ep
@@ -70,7 +70,12 @@ from .delayform import (
 )
 from .verdict import Method, RobustResult, WorstCase
 
-__all__ = ["DEFAULT_DELAY_BUDGET", "RobustDelayMargin", "robust_delay_margin", "robust_delayed_check"]
+__all__ = [
+    "DEFAULT_DELAY_BUDGET",
+    "RobustDelayMargin",
+    "robust_delay_margin",
+    "robust_delayed_check",
+]
 
 DEFAULT_DELAY_BUDGET = 20_000
 """Cells (frequency × delays × sub-box) the branch and bound may examine."""
@@ -355,7 +360,11 @@ class RobustDelayMargin:
         )  # fmt: skip
 
     def _repr_html_(self) -> str:
-        star = "none" if self.tau_star is None else f"[{self.tau_star[0]:.6g}, {self.tau_star[1]:.6g}] s"
+        star = (
+            "none"
+            if self.tau_star is None
+            else f"[{self.tau_star[0]:.6g}, {self.tau_star[1]:.6g}] s"
+        )
         rows: list[tuple[str, Any]] = [("robust τ*", star), ("verdict", self.outcome.label),
                                        ("detail", self.detail)]  # fmt: skip
         rows += [(k, f"[{lo:g}, {hi:g}]") for k, (lo, hi) in self.box.intervals.items()]
@@ -410,7 +419,9 @@ def robust_delay_margin(
     if not (isinstance(rtol, int | float) and math.isfinite(rtol) and MIN_RTOL <= rtol <= 0.5):
         raise ParameterError(f"rtol must be in [{MIN_RTOL:g}, 0.5], got {rtol!r}", argument="rtol")
     if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
-        raise ParameterError(f"budget must be a positive integer, got {budget!r}", argument="budget")
+        raise ParameterError(
+            f"budget must be a positive integer, got {budget!r}", argument="budget"
+        )
     if not has_model_delay(system):
         system = controller_delay(system, delay)
     checked = uncertain_box(system, box, delay_ok=True)
@@ -453,7 +464,7 @@ def robust_delay_margin(
     lo: fmpq | None = None
     backoff = rt / 2
     while cells < budget:
-        hi = best[1].exact[1]  # type: ignore[index]
+        hi = best[1].exact[1]
         target = hi * (1 - backoff)
         cert = _certify(fam, checked, fmpq(0), target, budget - cells)
         cells += cert.cells

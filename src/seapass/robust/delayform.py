@@ -53,15 +53,15 @@ from ..model.rational import S_NAME
 
 __all__ = [
     "AxisForm",
+    "CellStatus",
+    "DelayedFamily",
     "Poly",
     "coeff_of",
     "eval_ball",
-    "s_degree",
-    "CellStatus",
-    "DelayedFamily",
     "high_cutoff",
     "over_box",
     "positive_on",
+    "s_degree",
 ]
 
 Poly = dict[tuple[int, ...], fmpq]
@@ -152,7 +152,9 @@ class DelayedFamily:
             if n in names:
                 continue
             if merged.get(n) is None:
-                raise ParameterError(f"no value for parameter {n}: give it, e.g. values={{{n!r}: 1.0}}")
+                raise ParameterError(
+                    f"no value for parameter {n}: give it, e.g. values={{{n!r}: 1.0}}"
+                )
             env[n] = ep.rational(to_fraction(merged[n], n))
         names = tuple(n for n in names if n in params)
 
@@ -380,9 +382,7 @@ MAX_SPLIT_DEPTH = 8
 extensions are wide on a wide box)."""
 
 
-def over_box(
-    exact: Sequence[tuple[fmpq, fmpq]], bound: Any, depth: int = MAX_SPLIT_DEPTH
-) -> Any:
+def over_box(exact: Sequence[tuple[fmpq, fmpq]], bound: Any, depth: int = MAX_SPLIT_DEPTH) -> Any:
     """``bound(balls)`` over the box, halving the widest side where it gives None.
 
     ``bound`` returns a value or None (not proven there); the result is the list of the
@@ -465,7 +465,10 @@ def positive_on(
                 stuck = True  # a tangency: this cell is never decided
                 continue
             mid = (a + b) / 2
-            for half in ((*cell[:i], (a, mid), *cell[i + 1 :]), (*cell[:i], (mid, b), *cell[i + 1 :])):
+            for half in (
+                (*cell[:i], (a, mid), *cell[i + 1 :]),
+                (*cell[:i], (mid, b), *cell[i + 1 :]),
+            ):
                 tick += 1
                 heapq.heappush(heap, (float(vc.mid()), tick, half))
     return (CellStatus.BUDGET if stuck else CellStatus.PROVEN), None, used
