@@ -41,6 +41,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
+from types import MappingProxyType
 from typing import Any
 
 from flint import fmpq
@@ -147,7 +148,7 @@ def _structure(fam: DelayedFamily, exact: list[tuple[fmpq, fmpq]]) -> str:
     return ""
 
 
-@dataclass
+@dataclass(frozen=True, kw_only=True)
 class _Certificate:
     outcome: Outcome
     cells: int
@@ -163,7 +164,7 @@ def _certify(
     with precision(128):
         why = _structure(fam, exact)
     if why:
-        return _Certificate(Outcome.UNDECIDED, 0, f"structure: {why}")
+        return _Certificate(outcome=Outcome.UNDECIDED, cells=0, detail=f"structure: {why}")
     centre = [ep.rational(Fraction(v)) for v in box.center().values()]
     den_c = fam.at(fam.den, centre)
     if tau_a == 0:
@@ -175,26 +176,35 @@ def _certify(
     else:
         stable = stability_at(characteristic(den_c), tau_a).stable is True
     if not stable:
-        return _Certificate(Outcome.UNDECIDED, 0, "the centre plant is not proven stable")
+        return _Certificate(
+            outcome=Outcome.UNDECIDED, cells=0, detail="the centre plant is not proven stable"
+        )
     used = 0
     for form, what in ((fam.loop_magnitude(), "|D(jw)|^2"), (fam.real_part(), "Re Z(jw)")):
         cuts = over_box(exact, lambda params, f=form: high_cutoff(f, None, params))
         omega1 = None if cuts is None else max(cuts)
         if omega1 is None:
-            return _Certificate(Outcome.UNDECIDED, used, f"{what}: no uniform high-frequency bound")
+            return _Certificate(
+                outcome=Outcome.UNDECIDED,
+                cells=used,
+                detail=f"{what}: no uniform high-frequency bound",
+            )
         steps = max(1, math.ceil(float(omega1 * tau_b) / 2))
         pieces = [(omega1 * k / steps, omega1 * (k + 1) / steps) for k in range(steps)]
         cells = [((a, b), (tau_a, tau_b), *exact) for a, b in pieces]
         status, point, n = positive_on(form, cells, budget=budget - used)
         used += n
         if status is CellStatus.COUNTER and what == "Re Z(jw)":
-            return _Certificate(Outcome.NOT_PASSIVE, used, f"{what} < 0 proven", point)
-        if status is not CellStatus.PROVEN:
             return _Certificate(
-                Outcome.UNDECIDED, used,
-                f"{what} > 0 was not proven within the budget of {budget} cells",
+                outcome=Outcome.NOT_PASSIVE, cells=used, detail=f"{what} < 0 proven", point=point
+            )
+        if status is not CellStatus.PROVEN:
+            return _Certificate(outcome=Outcome.UNDECIDED, cells=used,
+                detail=f"{what} > 0 was not proven within the budget of {budget} cells",
             )  # fmt: skip
-    return _Certificate(Outcome.PASSIVE, used, "certified for every plant of the box")
+    return _Certificate(
+        outcome=Outcome.PASSIVE, cells=used, detail="certified for every plant of the box"
+    )
 
 
 def _values(box: UncertainBox, point: tuple[fmpq, ...]) -> dict[str, float]:
@@ -246,7 +256,7 @@ def robust_delayed_check(
 
     def done(outcome: Outcome, worst: WorstCase | None, cells: int, detail: str) -> RobustResult:
         r = RobustResult(outcome=outcome, box=checked, worst=worst, method=Method.CERTIFIED,
-                         boxes=cells, detail=detail, delay=delay)  # fmt: skip
+                         boxes=cells, detail=detail, delay=MappingProxyType(delay))  # fmt: skip
         if throw and not r.passive:
             raise NotPassiveError(f"not robustly passive at the delay: {detail}")
         return r
@@ -265,7 +275,10 @@ def robust_delayed_check(
     cert = _certify(fam, checked, fmpq(0), t, budget)
     if cert.outcome is not Outcome.PASSIVE and t > 0:
         again = _certify(fam, checked, t, t, budget)  # only at the delay
-        cert = _Certificate(again.outcome, cert.cells + again.cells, again.detail, again.point)
+        cert = _Certificate(
+            outcome=again.outcome, cells=cert.cells + again.cells, detail=again.detail,
+            point=again.point,
+        )  # fmt: skip
     if cert.outcome is Outcome.PASSIVE:
         return done(Outcome.PASSIVE, None, cert.cells,
                     f"passive at {fam.delay} = {float(tau):g} s for every plant of the box "
@@ -439,7 +452,7 @@ def robust_delay_margin(
         star = None if hi is None else (0.0 if lo is None else round_down(lo), round_up(hi))
         r = RobustDelayMargin(
             delay=delay, outcome=outcome, tau_star=star, box=checked,
-            worst_values=None if worst is None else worst[0],
+            worst_values=None if worst is None else MappingProxyType(dict(worst[0])),
             worst_margin=None if worst is None else worst[1],
             certified=lo is not None and hi is not None and hi - lo <= rt * hi, rtol=float(rtol),
             cells=cells, detail=detail, exact=None if lo is None or hi is None else (lo, hi),
