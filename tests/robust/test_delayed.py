@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from seapass.delay.margin import delay_margin
 from seapass.delay.passivity import delayed_passivity
@@ -114,3 +116,22 @@ def test_bad_options_are_clear_errors() -> None:
         robust_delay_margin(OURS, "tau", box={"m": (0.9, 1.1)}, budget=0)
     with pytest.raises(ParameterError, match="no value for the delay"):
         robust_delayed_check(OURS, box={"m": (0.9, 1.1)})
+
+
+def test_a_small_budget_is_undecided_never_passive() -> None:
+    sys = Impedance(expr=WALL.expr, values={**WALL.values, "tau": 0.0325})
+    r = robust_check(sys, box={"b": (1.8, 2.2), "K": (45.0, 55.0)}, budget=3)
+    assert r.outcome is Outcome.UNDECIDED
+
+
+@settings(max_examples=6, deadline=None)
+@given(
+    b=st.floats(1.0, 3.0), db=st.floats(0.0, 0.5), k=st.floats(20.0, 80.0), dk=st.floats(0.0, 10.0)
+)
+def test_margin_of_the_wall_encloses_the_closed_form(
+    b: float, db: float, k: float, dk: float
+) -> None:
+    r = robust_delay_margin(WALL, "tau", box={"b": (b, b + db), "K": (k, k + dk)}, rtol=1e-2)
+    assert r.outcome is Outcome.PASSIVE
+    lo, hi = r.tau_star
+    assert lo <= b / (k + dk) <= hi

@@ -190,6 +190,12 @@ def _certify(
                 detail=f"{what}: no uniform high-frequency bound",
             )
         steps = max(1, math.ceil(float(omega1 * tau_b) / 2))
+        if steps > budget - used:  # bounded work: one cell per 2 rad of w*tau at least
+            return _Certificate(
+                outcome=Outcome.UNDECIDED, cells=used,
+                detail=f"{what}: the delay makes it oscillate {steps} times up to "
+                f"{float(omega1):.4g} rad/s, beyond the budget of {budget} cells",
+            )  # fmt: skip
         pieces = [(omega1 * k / steps, omega1 * (k + 1) / steps) for k in range(steps)]
         cells = [((a, b), (tau_a, tau_b), *exact) for a, b in pieces]
         status, point, n = positive_on(form, cells, budget=budget - used)

@@ -156,7 +156,7 @@ class DelayedFamily:
                     f"no value for parameter {n}: give it, e.g. values={{{n!r}: 1.0}}"
                 )
             env[n] = ep.rational(to_fraction(merged[n], n))
-        names = tuple(n for n in names if n in params)
+        names = tuple(names)  # a name absent from Z is a variable of degree 0
 
         def parts(p: Any) -> tuple[Poly, ...]:
             coeffs = coefficients_in(p, env, (S_NAME, evar, *names))
