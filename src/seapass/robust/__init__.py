@@ -18,7 +18,8 @@ sampled power over a box, decided piece by piece in ``cos ωT``) and
 (`robust_sampled_check`: the sampled-data verdict for every plant of a box),
 [`delayform`][seapass.robust.delayform] (mean-value ball enclosures of a delayed real part
 over frequency × delays × box) and [`delayed`][seapass.robust.delayed]
-(`robust_delayed_check`, `robust_delay_margin`: delayed designs over a box).
+(`robust_delayed_check`, `robust_delay_margin`: delayed designs over a box; the result
+in [`delayresult`][seapass.robust.delayresult]).
 
 May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box), [`seapass.sampled`][seapass.sampled] (the certified sampled-data kernel).
 """
