@@ -135,3 +135,14 @@ def test_margin_of_the_wall_encloses_the_closed_form(
     assert r.outcome is Outcome.PASSIVE
     lo, hi = r.tau_star
     assert lo <= b / (k + dk) <= hi
+
+
+def test_a_zero_margin_stays_zero_over_the_box() -> None:
+    # LP with a delayed controller: every delay > 0 fails at high frequency (tau* = 0)
+    from seapass.delay.structure import controller_delay
+
+    lp = controller_delay("LP", "tau", {"kd": 500.0})
+    assert delay_margin(lp, "tau").tau_star == (0.0, 0.0)
+    r = robust_delay_margin(lp, "tau", box={"m": (0.9, 1.1), "b": (9.0, 11.0)})
+    assert r.outcome is Outcome.PASSIVE and r.tau_star == (0.0, 0.0)
+    assert r.to_dict()["loss"] == "unbounded_band"

@@ -178,7 +178,7 @@ def _certify(
         )
     used = 0
     for form, what in ((fam.loop_magnitude(), "|D(jw)|^2"), (fam.real_part(), "Re Z(jw)")):
-        cuts = over_box(exact, lambda params, f=form: high_cutoff(f, None, params))
+        cuts = over_box(exact, lambda params, f=form: high_cutoff(f, tau_b == 0, params))
         omega1 = None if cuts is None else max(cuts)
         if omega1 is None:
             return _Certificate(

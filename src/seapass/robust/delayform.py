@@ -345,10 +345,18 @@ def _sinc(y: Any) -> Any:
     return Dual(v.sinc(), [der * x for x in y.d])
 
 
-def high_cutoff(form: AxisForm, taus: Any, params: Sequence[Any]) -> fmpq | None:
-    """An exact ``Ω`` with ``form > 0`` for every ``ω ≥ Ω``, delay in ``taus`` and plant in
-    ``params`` (balls); None when the leading ``A_0`` term does not dominate."""
-    del taus  # |cos|, |sin| <= 1: the bound holds for every delay
+def high_cutoff(form: AxisForm, zero_delay: bool, params: Sequence[Any]) -> fmpq | None:
+    """An exact ``Ω`` with ``form > 0`` for every ``ω ≥ Ω``, every delay and every plant in
+    ``params`` (balls); None when the leading ``A_0`` term does not dominate.
+
+    ``|cos|, |sin| ≤ 1`` bound the delayed terms for every delay; at ``zero_delay`` only
+    (``τ = 0``) the form is the polynomial ``Σ_m A_m`` and is bounded as such.
+    """
+    if zero_delay:
+        total: Poly = {}
+        for p in form.a:
+            _add(total, p)
+        form = AxisForm(a=(total,), t=({},), divided=form.divided)
     top = s_degree(form.a[0])
     if top < 0:
         return None
