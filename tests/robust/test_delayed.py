@@ -146,3 +146,31 @@ def test_a_zero_margin_stays_zero_over_the_box() -> None:
     r = robust_delay_margin(lp, "tau", box={"m": (0.9, 1.1), "b": (9.0, 11.0)})
     assert r.outcome is Outcome.PASSIVE and r.tau_star == (0.0, 0.0)
     assert r.to_dict()["loss"] == "unbounded_band"
+
+
+def _ours_re_z(m: np.ndarray, b1: np.ndarray, tau: float, w: np.ndarray) -> np.ndarray:
+    """Re Z_L(jw) of OURS in floating point (numpy), plants by rows: an independent formula."""
+    s = 1j * w[None, :]
+    e = np.exp(-s * tau)
+    d1 = 1000.0 + b1[:, None] * s
+    ca = (500.0 + 25.0 * s) * e
+    alpha = m[:, None] * s**2 + 10.0 * s
+    return (d1 * (alpha + ca) / (alpha + ca + d1) / s).real
+
+
+def test_margin_of_ours_against_a_dense_grid_of_400_plants() -> None:
+    box = {"m": (0.9, 1.1), "b1": (18.0, 22.0)}
+    r = robust_delay_margin(OURS, "tau", box=box, rtol=1e-2)
+    assert r.outcome is Outcome.PASSIVE
+    lo, hi = r.tau_star
+    rng = np.random.default_rng(7)
+    m = np.concatenate([rng.uniform(0.9, 1.1, 396), [0.9, 0.9, 1.1, 1.1]])
+    b1 = np.concatenate([rng.uniform(18, 22, 396), [18.0, 22.0, 18.0, 22.0]])
+    w = np.geomspace(0.1, 1e4, 6000)
+    # no sampled plant has a (clearly) negative real part at the certified delay
+    assert _ours_re_z(m, b1, lo, w).min() > -1e-9
+    # the worst plant's real part is negative just beyond hi (the grid sees the loss too)
+    wv = r.worst_values
+    assert wv is not None
+    worst = _ours_re_z(np.array([wv["m"]]), np.array([wv["b1"]]), hi * 1.01, w)
+    assert worst.min() < 0
