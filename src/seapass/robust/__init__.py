@@ -33,6 +33,7 @@ from .region import RobustPassiveMap, robust_passive_map
 from .verdict import RobustResult, WorstCase, robust_check
 
 __all__ = [
+    "RobustDelayMargin",
     "RobustIntervals",
     "RobustPassiveMap",
     "RobustResult",
@@ -40,6 +41,8 @@ __all__ = [
     "UncertainBox",
     "WorstCase",
     "robust_check",
+    "robust_delay_margin",
+    "robust_delayed_check",
     "robust_passive_intervals",
     "robust_passive_map",
     "robust_sampled_check",
@@ -47,13 +50,21 @@ __all__ = [
 ]
 
 
-# the sampled-data entry points load on first use (they import the sampled kernel)
+# the sampled-data and delayed entry points load on first use (the sampled and delay kernels)
 __getattr__, __dir__ = lazy_exports(
     __name__,
-    {"robust_sampled_check": "sampled_verdict", "RobustSampledResult": "sampled_verdict"},
+    {
+        "robust_sampled_check": "sampled_verdict",
+        "RobustSampledResult": "sampled_verdict",
+        "robust_delay_margin": "delayed",
+        "robust_delayed_check": "delayed",
+        "RobustDelayMargin": "delayresult",
+    },
     globals(),
 )
 
 
 if TYPE_CHECKING:
+    from .delayed import robust_delay_margin, robust_delayed_check
+    from .delayresult import RobustDelayMargin
     from .sampled_verdict import RobustSampledResult, robust_sampled_check
