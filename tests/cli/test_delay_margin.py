@@ -208,3 +208,58 @@ def test_plot_is_written_and_announced(tmp_path):
                           "--plot", str(fig)])  # fmt: skip
     assert code == 0 and "tau* in" in out and fig.stat().st_size > 1000
     assert err == f"wrote {fig}\n"
+
+
+# ---------------------------------------------------------------- --uncertain (issue 26)
+
+
+def test_delay_margin_over_a_box_json(capsys) -> None:
+    import json
+
+    from seapass.cli import main
+
+    code = main(["delay-margin", "tau", "ours", "--set", "kd=500", "--set", "bd=25",
+                 "--set", "b1=20", "--uncertain", "m=0.95:1.05", "--rtol", "1e-2", "--json"])  # fmt: skip
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and out["robust"] is True and out["box"] == {"m": [0.95, 1.05]}
+    assert out["status"] == "passive" and out["worst"]["values"]["m"] in (0.95, 1.05)
+    lo, hi = out["tau_star"]
+    assert 0 < lo <= hi and out["worst"]["tau_star"][1] == hi
+    assert {"delay", "frequency", "loss", "certified", "rtol", "detail"} <= set(out)
+
+
+def test_check_over_a_box_at_the_loop_latency(tmp_path, capsys) -> None:
+    import json
+
+    from seapass.cli import main
+
+    f = tmp_path / "lat.toml"
+    f.write_text('name = "lat"\n[model]\nD1 = "k1 + b1*s"\nCA = "kd + bd*s"\n[parameters]\n'
+                 "m = 1.0\nb = 10.0\nk1 = 1000.0\nb1 = 20.0\nkd = 500.0\nbd = 25.0\n"
+                 "[control]\ndelay_time = 0.01\n")  # fmt: skip
+    assert main(["check", str(f), "--uncertain", "m=0.9:1.1", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["status"] == "passive" and out["delay"] == {"name": "delay_time", "tau": 0.01}
+    assert main(["check", str(f), "--uncertain", "m=0.9:1.1", "--delay-time", "0.06"]) == 1
+    text = capsys.readouterr().out
+    assert "not passive" in text and "worst case: m=" in text
+
+
+@pytest.mark.parametrize(
+    "extra",
+    [
+        ["--uncertain", "m=1.1:0.9"],
+        ["--uncertain", "tau=0:1"],
+        ["--set", "m=1", "--uncertain", "m=0.9:1.1"],
+        ["--uncertain", "m=0.9:1.1", "--budget", "0"],
+        ["--uncertain", "zz=1:2"],
+        ["--uncertain", "m=0:1"],
+    ],
+)
+def test_delay_margin_box_bad_input_is_one_error_line(extra: list[str], capsys) -> None:
+    from seapass.cli import main
+
+    assert main(["delay-margin", "tau", "ours", "--set", "kd=500", "--set", "bd=25",
+                 "--set", "b1=20", *extra]) == 2  # fmt: skip
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error: "), err

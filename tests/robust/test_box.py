@@ -74,12 +74,13 @@ def test_the_error_names_the_python_argument() -> None:
 @pytest.mark.parametrize(
     "argv",
     [
-        ["check", "--set", "kd=100"],
         ["bound", "kd"],
         ["region", "kd", "k1", "--points", "2"],
     ],
 )
 def test_a_box_on_a_delayed_design_is_one_clear_error(argv: list[str], capsys) -> None:
+    # check --uncertain decides a delayed design (seapass.robust.delayed); bound and
+    # region over a box stay delay-free
     from seapass.cli import main
     from seapass.errors import DelayError
     from seapass.model.sea import SEA
@@ -88,6 +89,7 @@ def test_a_box_on_a_delayed_design_is_one_clear_error(argv: list[str], capsys) -
     delayed = SEA(D1="k1", CA="kd*exp(-tau*s)", values=dict(b=10, k1=1000, tau=0.001, kd=100))
     with pytest.raises(DelayError, match="robust verdicts over a box need a delay-free design"):
         uncertain_box(delayed, {"m": (0.9, 1.1)})
+    assert uncertain_box(delayed, {"m": (0.9, 1.1)}, delay_ok=True).names == ("m",)
     model = ["--D1", "k1", "--CA", "kd*exp(-tau*s)", "--set", "b=10", "--set", "tau=0.001"]
     if argv[0] != "region":
         model += ["--set", "k1=1000"]

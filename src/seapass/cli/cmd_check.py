@@ -27,9 +27,13 @@ EXAMPLE = """examples:
       --set kv=1000 --set bv=5 --set ba=20
   seapass check --D1 "k1 + b1*s" --CA "(kd + bd*s)*exp(-tau*s)" --set m=1 --set b=10 \\
       --set k1=1000 --set b1=20 --set kd=500 --set bd=25 --set tau=0.001 --json
+  seapass check examples/ours.toml --delay-time 0.003 --uncertain m=0.9:1.1 \\
+      --uncertain b1=270:330 --json     # every plant of the box at the loop latency
 
 A delay factor exp(-NAME*s) (NAME a parameter in seconds) is decided with certified
-ball arithmetic; an answer it cannot certify is 'undecided' (exit 1), never passive.
+ball arithmetic; an answer it cannot certify is 'undecided' (exit 1), never passive;
+with --uncertain it is decided for every plant of the box at that delay (--budget counts
+the cells of its branch and bound).
 
 exit codes (like cmp, so a CI job can gate on it):
   0  passive

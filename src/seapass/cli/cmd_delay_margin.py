@@ -27,6 +27,8 @@ EXAMPLE = """examples:
 
   seapass delay-margin tau ours --set bd=25 --set b1=20 --range kd=100:3000 --points 9 \\
       --plot region.png     # the passive region in (kd, tau): tau*(kd), certified per gain
+  seapass delay-margin tau examples/ours.toml --uncertain m=0.9:1.1 --uncertain b1=270:330 \\
+      --rtol 1e-3 --json    # robust: min of tau* over every plant of the box, certified
 
 NAME is the delay parameter (seconds); it is free here, so do not give it with --set.
 Give DESIGN right after NAME.
@@ -39,6 +41,10 @@ hi (rounded up) passivity is proven lost; hi - lo <= rtol*hi.  tau_star is null 
 design is not passive without delay (passive_at_zero false) or is passive for every delay
 (delay_independent true).  loss: interior (at 'frequency'), low_frequency (w -> 0) or
 unbounded_band (tau* = 0: every delay > 0 fails at arbitrarily high frequencies).
+
+With --uncertain NAME=LO:HI (repeatable): tau_star encloses the smallest tau* over the box;
+lo is certified for every plant of the box, hi is the tau* upper end of the worst plant found
+(in 'worst', verified by the ordinary delay margin); 'robust' is true and 'box' the intervals.
 
 exit codes: 0 margin found (or passive for every delay), 1 not passive without delay or
 undecided, 2 bad input (one 'error:' line on stderr)
@@ -70,6 +76,14 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
                    "[LO, HI] (do not give GAIN with --set)")  # fmt: skip
     p.add_argument("--points", type=int, metavar="N",
                    help="with --range: number of gains, 2 to 200 (default: 9)")  # fmt: skip
+    from .uncertain_options import add_uncertain_options
+
+    add_uncertain_options(
+        p,
+        budget=20_000,
+        verdict="tau* then holds for every plant in the box (certified)",
+        boxes="cells (frequency x delays x sub-box) the certified branch and bound may examine",
+    )
     add_plot_option(p, "the first failing delay per frequency with the enclosure of tau* "
                     "(with --range: the passive region in (GAIN, NAME))")  # fmt: skip
     add_force_option(p)
@@ -161,6 +175,58 @@ def _run_region(args: argparse.Namespace, figure: Path | None) -> int:
     return 0
 
 
+def _run_robust(args: argparse.Namespace, figure: Path | None) -> int:
+    """``--uncertain``: the delay margin of every plant of the box (`robust_delay_margin`)."""
+    from ..model.sea import SEA
+    from ..outcome import Outcome
+    from ..robust.delayed import robust_delay_margin
+    from .uncertain_options import box_from_args, box_text, cli_text
+
+    if args.range is not None:
+        raise ParameterError("give --range or --uncertain, not both")
+    if args.budget < 1:
+        raise ParameterError(f"--budget must be a positive integer, got {args.budget}")
+    clash = sorted(
+        set(values_from_args(args)) & {a.partition("=")[0].strip() for a in args.uncertain}
+    )
+    if clash:
+        raise ParameterError(f"--set {clash[0]}: {clash[0]} is uncertain (--uncertain {clash[0]}); do not also give it a value")  # fmt: skip
+    if args.name in {a.partition("=")[0].strip() for a in args.uncertain}:
+        raise ParameterError(f"--uncertain {args.name}: {args.name} is the delay whose margin is computed; it cannot be uncertain")  # fmt: skip
+    system = _system(args)
+    if not isinstance(system, SEA):
+        raise ParameterError("--uncertain needs a design (DESIGN or the model --D1 ...), not --Z")
+    try:
+        box = box_from_args(args, system, free=[args.name])
+        result = robust_delay_margin(system, args.name, box=box, rtol=args.rtol, budget=args.budget)
+    except ParameterError as exc:
+        raise cli_text(exc) from None
+    if figure is not None and result.worst_margin is not None:
+        write_figure(lambda: result.plot(), figure, force=args.force)
+    if args.json:
+        print_json(result.to_dict())
+    else:
+        from ..exact.rounding import decimal_down, enclosure_text
+
+        span = box_text(box)
+        if result.exact is not None:
+            lo, hi = result.exact
+            print(f"passive for every plant with {span} and every delay {args.name} <= {decimal_down(lo, 6)} s")  # fmt: skip
+            print(f"robust tau* in {enclosure_text(lo, hi)} s")
+        if result.worst_values is not None:
+            at = ", ".join(f"{k}={v:.10g}" for k, v in result.worst_values.items())
+            wm = result.worst_margin
+            star = (
+                ""
+                if wm is None or wm.tau_star is None
+                else f": tau* in {enclosure_text(*wm.tau_star, digits=6)} s"
+            )
+            print(f"worst plant: {at}{star}")
+        if result.outcome is not Outcome.PASSIVE or not result.certified:
+            print(f"{result.outcome.label}: {result.detail}")
+    return 0 if result.outcome is Outcome.PASSIVE else 1
+
+
 def run(args: argparse.Namespace) -> int:
     from ..delay.margin import delay_margin
     from ..outcome import Outcome
@@ -171,6 +237,8 @@ def run(args: argparse.Namespace) -> int:
         return _run_region(args, figure)
     if args.points is not None:
         raise ParameterError("--points needs --range GAIN=LO:HI (the gains of the region)")
+    if args.uncertain or args.robust is not None:
+        return _run_robust(args, figure)
     result = delay_margin(_system(args), args.name, rtol=args.rtol)
     if figure is not None:
         write_figure(lambda: result.plot(), figure, force=args.force)

@@ -32,6 +32,7 @@ __all__ = [
     "add_uncertain_options",
     "box_from_args",
     "box_text",
+    "cli_text",
     "requested_box",
     "robust_design",
     "run_robust_bound",
@@ -115,7 +116,7 @@ def box_from_args(
             fixed=fixed, required=robust is not None,
         )  # fmt: skip
     except ParameterError as exc:
-        raise _cli_text(exc) from None
+        raise cli_text(exc) from None
     clash = sorted(set(free) & set(box.names if box is not None else ()))
     if clash:
         raise ParameterError(
@@ -172,10 +173,10 @@ def _raw(args: argparse.Namespace) -> dict[str, tuple[float, float]]:
     try:
         return parse_uncertain(getattr(args, "uncertain", []) or [])
     except ParameterError as exc:
-        raise _cli_text(exc) from None
+        raise cli_text(exc) from None
 
 
-def _cli_text(exc: ParameterError) -> ParameterError:
+def cli_text(exc: ParameterError) -> ParameterError:
     """The library's ``box['m']`` / ``budget`` in the words of the command line."""
     msg = re.sub(r"box\['(\w+)'\]", r"--uncertain \1", str(exc))
     msg = re.sub(r"e\.g\. box=\{'(\w+)': \([^)]*\)\}", r"e.g. --uncertain \1=LO:HI", msg)
@@ -244,7 +245,7 @@ def run_robust_check(args: argparse.Namespace) -> int | None:
     try:
         result = robust_check(system, box=box, budget=args.budget)
     except ParameterError as exc:
-        raise _cli_text(exc) from None
+        raise cli_text(exc) from None
     if args.json:
         print_json(result.to_dict())
     else:
@@ -274,7 +275,7 @@ def run_robust_bound(args: argparse.Namespace) -> int | None:
     try:
         result = robust_passive_intervals(system, args.param, lo, hi, box=box, budget=args.budget)
     except ParameterError as exc:
-        raise _cli_text(exc) from None
+        raise cli_text(exc) from None
     if args.json:
         print_json(result.to_dict())
         return 0
@@ -316,7 +317,7 @@ def run_robust_region(
             system, args.x, x_values, args.y, y_range, box=box, budget=args.budget
         )
     except ParameterError as exc:
-        raise _cli_text(exc) from None
+        raise cli_text(exc) from None
     if figure is not None:
         from ..plot.region import plot_robust_map
 
@@ -370,7 +371,7 @@ def run_robust_sampled_check(args: argparse.Namespace, default_loop: Any) -> int
         assert box is not None  # --uncertain or --robust was given: robust_box requires a box
         result = robust_sampled_check(resolved.sea, loop=resolved.loop, box=box, budget=args.budget)
     except ParameterError as exc:
-        raise _cli_text(exc) from None
+        raise cli_text(exc) from None
     if args.json:
         print_json(result.to_dict())
     else:

@@ -15,7 +15,11 @@ nominal one), [`api`][seapass.robust.api] (``is_passive`` and ``passive_interval
 arb balls), [`sampled_local`][seapass.robust.sampled_local] (mean-value enclosures of the
 sampled power over a box, decided piece by piece in ``cos ωT``) and
 [`sampled_verdict`][seapass.robust.sampled_verdict]
-(`robust_sampled_check`: the sampled-data verdict for every plant of a box).
+(`robust_sampled_check`: the sampled-data verdict for every plant of a box),
+[`delayform`][seapass.robust.delayform] (mean-value ball enclosures of a delayed real part
+over frequency × delays × box) and [`delayed`][seapass.robust.delayed]
+(`robust_delayed_check`, `robust_delay_margin`: delayed designs over a box; the result
+in [`delayresult`][seapass.robust.delayresult]).
 
 May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box), [`seapass.sampled`][seapass.sampled] (the certified sampled-data kernel).
 """
@@ -29,6 +33,7 @@ from .region import RobustPassiveMap, robust_passive_map
 from .verdict import RobustResult, WorstCase, robust_check
 
 __all__ = [
+    "RobustDelayMargin",
     "RobustIntervals",
     "RobustPassiveMap",
     "RobustResult",
@@ -36,6 +41,8 @@ __all__ = [
     "UncertainBox",
     "WorstCase",
     "robust_check",
+    "robust_delay_margin",
+    "robust_delayed_check",
     "robust_passive_intervals",
     "robust_passive_map",
     "robust_sampled_check",
@@ -43,13 +50,21 @@ __all__ = [
 ]
 
 
-# the sampled-data entry points load on first use (they import the sampled kernel)
+# the sampled-data and delayed entry points load on first use (the sampled and delay kernels)
 __getattr__, __dir__ = lazy_exports(
     __name__,
-    {"robust_sampled_check": "sampled_verdict", "RobustSampledResult": "sampled_verdict"},
+    {
+        "robust_sampled_check": "sampled_verdict",
+        "RobustSampledResult": "sampled_verdict",
+        "robust_delay_margin": "delayed",
+        "robust_delayed_check": "delayed",
+        "RobustDelayMargin": "delayresult",
+    },
     globals(),
 )
 
 
 if TYPE_CHECKING:
+    from .delayed import robust_delay_margin, robust_delayed_check
+    from .delayresult import RobustDelayMargin
     from .sampled_verdict import RobustSampledResult, robust_sampled_check

@@ -119,6 +119,8 @@ def _pair(name: str, value: Any) -> tuple[float, float]:
 def uncertain_box(
     system: SEA | Impedance,
     box: Mapping[str, Any] | UncertainBox,
+    *,
+    delay_ok: bool = False,
 ) -> UncertainBox:
     """Check ``box`` against ``system`` and return it as an `UncertainBox`.
 
@@ -128,14 +130,15 @@ def uncertain_box(
         An unknown name, ``lo > hi``, a non-physical value (``m <= 0``, a negative
         stiffness or damping), or a box too large for bounded work.
     DelayError
-        A model with a delay ``exp(-NAME*s)``: robust verdicts are rational.
+        A model with a delay ``exp(-NAME*s)`` unless ``delay_ok`` (the verdicts of
+        [`seapass.robust.delayed`][seapass.robust.delayed] take one; the others are rational).
     """
     delays = model_delays(system)
-    if delays:  # the robust kernel works on rational functions of s and the box
+    if delays and not delay_ok:  # the robust kernel works on rational functions of s and the box
         raise DelayError(
             f"a delay exp(-{delays[0]}*s) in the model: robust verdicts over a box need a "
             "delay-free design; decide the delayed design at fixed plant values "
-            "(seapass.is_passive, seapass.delay_margin)"
+            "(seapass.is_passive, seapass.delay_margin) or use robust_check / robust_delay_margin"
         )
     if isinstance(box, UncertainBox):
         box = dict(box.intervals)

@@ -18,6 +18,7 @@ from ..outcome import Outcome
 from .box import UncertainBox
 
 if TYPE_CHECKING:  # the sampled kernel loads only with robust.sampled_verdict
+    from ..delay.passivity import DelayPassivityResult
     from ..sampled.passivity import SampledPassivityResult
 
 __all__ = ["Method", "RobustResult", "WorstCase"]
@@ -42,14 +43,17 @@ class WorstCase:
         A frequency [rad/s] where the design fails there: ``Re Z(jω) < 0`` (continuous)
         or a proven ``N(ω) < 0`` (sampled); None when the plant fails for another
         reason, e.g. an unstable pole.
-    result : PassivityResult or SampledPassivityResult
-        The ordinary verdict at that plant: the exact test (`robust_check`) or the
-        certified sampled-data verdict (`robust_sampled_check`).
+    result : PassivityResult, SampledPassivityResult or DelayPassivityResult
+        The ordinary verdict at that plant: the exact test (`robust_check`), the
+        certified sampled-data verdict (`robust_sampled_check`) or the certified
+        delayed verdict (`robust_check` of a delayed design).
     """
 
     values: Mapping[str, float]
     frequency: float | None
-    result: PassivityResult | SampledPassivityResult = field(repr=False, compare=False)
+    result: PassivityResult | SampledPassivityResult | DelayPassivityResult = field(
+        repr=False, compare=False
+    )
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -78,6 +82,8 @@ class RobustResult:
         Boxes examined by the branch and bound (0 for the exact method).
     detail : str
         Why, in words.
+    delay : mapping or None
+        ``{"name": ..., "tau": seconds}`` for a delayed design (the verdict is at that delay).
     """
 
     outcome: Outcome
@@ -86,6 +92,7 @@ class RobustResult:
     method: Method = Method.CERTIFIED
     boxes: int = 0
     detail: str = ""
+    delay: Mapping[str, Any] | None = None
 
     @property
     def passive(self) -> bool:
@@ -105,6 +112,7 @@ class RobustResult:
             "method": str(self.method),
             "boxes": self.boxes,
             "detail": self.detail,
+            **({} if self.delay is None else {"delay": dict(self.delay)}),
         }
 
     def plot(self, kind: str = "real", *, ax: Any = None, omega: Any = None, **kwargs: Any) -> Any:
@@ -116,7 +124,9 @@ class RobustResult:
         if self.worst is None:
             raise ValueError(f"no worst-case plant to plot: the verdict is {self.outcome.label}")
         result = self.worst.result
-        assert isinstance(result, PassivityResult)  # robust_check's worst cases are continuous
+        from ..delay.passivity import DelayPassivityResult
+
+        assert isinstance(result, PassivityResult | DelayPassivityResult)  # continuous ones
         return result.plot(kind, ax=ax, omega=omega, **kwargs)
 
     def __repr__(self) -> str:

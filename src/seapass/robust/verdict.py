@@ -45,6 +45,7 @@ from ..analysis.region import passive_intervals
 from ..errors import NotPassiveError, ParameterError
 from ..exact import poly as ep
 from ..files.limits import MAX_BOX_BUDGET
+from ..model.delayatom import model_delays
 from ..model.sea import SEA, Impedance, exact_values
 from ..outcome import Outcome
 from .bernstein import BoxSign, positive_on_box
@@ -411,6 +412,11 @@ def robust_check(
             if isinstance(system, SEA)
             else Impedance(expr=system.expr, values={**system.values, **values})
         )
+    if model_delays(system):  # a delay exp(-NAME*s): certified at the delay, over the box
+        from .delayed import DEFAULT_DELAY_BUDGET, robust_delayed_check
+
+        cells = DEFAULT_DELAY_BUDGET if budget == DEFAULT_BUDGET else budget
+        return robust_delayed_check(system, box=box, budget=cells, throw=throw)
     checked = uncertain_box(system, box)
     fixed = fixed_values(system, checked)
     if len(checked.names) == 1:
