@@ -15,9 +15,14 @@ nominal one), [`api`][seapass.robust.api] (``is_passive`` and ``passive_interval
 arb balls), [`sampled_local`][seapass.robust.sampled_local] (mean-value enclosures of the
 sampled power over a box, decided piece by piece in ``cos ωT``) and
 [`sampled_verdict`][seapass.robust.sampled_verdict]
-(`robust_sampled_check`: the sampled-data verdict for every plant of a box).
+(`robust_sampled_check`: the sampled-data verdict for every plant of a box),
+[`portfamily`][seapass.robust.portfamily] (a two-port's Llewellyn and passivity
+conditions as polynomials on the box), [`twoport`][seapass.robust.twoport]
+(`robust_two_port_check`: absolute stability and passivity of a two-port for every
+plant of a box) and [`portbound`][seapass.robust.portbound] (robust gain sets of a
+two-port).
 
-May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box), [`seapass.sampled`][seapass.sampled] (the certified sampled-data kernel).
+May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.ports`][seapass.ports] (the exact two-port verdicts), [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box), [`seapass.sampled`][seapass.sampled] (the certified sampled-data kernel).
 """
 
 from typing import TYPE_CHECKING
@@ -30,15 +35,19 @@ from .verdict import RobustResult, WorstCase, robust_check
 
 __all__ = [
     "RobustIntervals",
+    "RobustPortIntervals",
     "RobustPassiveMap",
     "RobustResult",
     "RobustSampledResult",
+    "RobustTwoPortResult",
     "UncertainBox",
     "WorstCase",
     "robust_check",
     "robust_passive_intervals",
     "robust_passive_map",
+    "robust_port_intervals",
     "robust_sampled_check",
+    "robust_two_port_check",
     "uncertain_box",
 ]
 
@@ -46,10 +55,19 @@ __all__ = [
 # the sampled-data entry points load on first use (they import the sampled kernel)
 __getattr__, __dir__ = lazy_exports(
     __name__,
-    {"robust_sampled_check": "sampled_verdict", "RobustSampledResult": "sampled_verdict"},
+    {
+        "robust_sampled_check": "sampled_verdict",
+        "RobustSampledResult": "sampled_verdict",
+        "robust_two_port_check": "twoport",
+        "RobustTwoPortResult": "twoport",
+        "robust_port_intervals": "portbound",
+        "RobustPortIntervals": "portbound",
+    },
     globals(),
 )
 
 
 if TYPE_CHECKING:
+    from .portbound import RobustPortIntervals, robust_port_intervals
     from .sampled_verdict import RobustSampledResult, robust_sampled_check
+    from .twoport import RobustTwoPortResult, robust_two_port_check
