@@ -32,6 +32,7 @@ References
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -291,6 +292,16 @@ def _at_text(at: Mapping[str, float]) -> str:
     return ", ".join(f"{k}={v:.6g}" for k, v in at.items())
 
 
+def _cheap_plants(box: UncertainBox) -> list[dict[str, float]]:
+    """The centre and (up to 3 parameters) the corners of the box: cheap exact checks."""
+    plants = [box.center()]
+    if len(box.names) <= 3:
+        plants += [
+            dict(zip(box.names, c, strict=True)) for c in itertools.product(*box.intervals.values())
+        ]
+    return plants
+
+
 def _certified(
     tp: TwoPort, box: UncertainBox, fixed: Mapping[str, float], criterion: Criterion, budget: int
 ) -> RobustPortVerdict:
@@ -308,6 +319,10 @@ def _certified(
                 Outcome.NOT_PASSIVE, f"fails at the centre of the box ({fam.generic_failure})", worst=w
             )  # fmt: skip
         return verdict(Outcome.UNDECIDED, f"structural defect: {fam.generic_failure}")
+    for plant in _cheap_plants(box):  # a failing corner or centre ends it without a search
+        w = _worst(tp, fixed, plant, criterion)
+        if w is not None:
+            return verdict(Outcome.NOT_PASSIVE, f"fails at {_at_text(plant)}: {w.condition}", worst=w)  # fmt: skip
     region = [(fmpq(0), fmpq(1)), *((ep.rational(a), ep.rational(b)) for a, b in box.exact())]
     used = 0
     order = sorted(fam.conditions, key=lambda c: c.kind is PortConditionKind.FREQUENCY)
