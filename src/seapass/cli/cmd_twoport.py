@@ -366,9 +366,13 @@ def _run_robust_bound(args: argparse.Namespace, lo: float, hi: float) -> int | N
         return 0
     what, span = result.criterion.label, box_text(box)
     if not result.intervals:
-        print(f"not proven {what} for every plant ({span}) for any {args.param} in [{lo:g}, {hi:g}]")
+        print(
+            f"not proven {what} for every plant ({span}) for any {args.param} in [{lo:g}, {hi:g}]"
+        )
     for a, b in result.intervals:  # rounded inward: the printed ends hold for every plant
-        print(f"{what} for every plant ({span}) for {args.param} in {interval_text(a, b, digits=10)}")
+        print(
+            f"{what} for every plant ({span}) for {args.param} in {interval_text(a, b, digits=10)}"
+        )
     outer = ", ".join(enclosure_text(a, b, digits=10) for a, b in result.outer) or "empty"
     print(f"certified: inner set above; no value outside {outer} is {what} for every plant")
     return 0

@@ -317,9 +317,7 @@ def port_critical_values(
     >>> [float(a) for a, b in crit if a == b]  # the rational ones
     [1600.0, 3250.0]
     """
-    _n, _d, _f, crit, _lo, _hi = _prepared(
-        system, param, lo, hi, criterion_of(criterion), values
-    )
+    _n, _d, _f, crit, _lo, _hi = _prepared(system, param, lo, hi, criterion_of(criterion), values)
     return tuple((ep.to_fraction(a), ep.to_fraction(b)) for a, b in crit)
 
 

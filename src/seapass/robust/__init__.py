@@ -35,8 +35,8 @@ from .verdict import RobustResult, WorstCase, robust_check
 
 __all__ = [
     "RobustIntervals",
-    "RobustPortIntervals",
     "RobustPassiveMap",
+    "RobustPortIntervals",
     "RobustResult",
     "RobustSampledResult",
     "RobustTwoPortResult",

@@ -44,6 +44,7 @@ class Parametrized(Protocol):
     @property
     def parameters(self) -> tuple[str, ...]: ...
 
+
 POSITIVE = frozenset({"m"})
 """Parameters that must be positive on the whole box."""
 

@@ -196,7 +196,9 @@ def robust_port_intervals(
         raise ParameterError(f"empty range {lo}:{hi}: the lower bound must not exceed the upper")
     check_rtol(rtol)
     if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
-        raise ParameterError(f"budget must be a positive integer, got {budget!r}", argument="budget")
+        raise ParameterError(
+            f"budget must be a positive integer, got {budget!r}", argument="budget"
+        )
     tp = as_two_port(system)
     if values:
         tp = tp.with_values(**values)

@@ -39,7 +39,7 @@ from enum import StrEnum
 from typing import Any
 
 import numpy as np
-from flint import fmpq, fmpq_mpoly
+from flint import fmpq, fmpq_mpoly, fmpz
 
 from ..exact import poly as ep
 from ..model.expr import to_fraction
@@ -118,7 +118,8 @@ def _coeff_s(p: fmpq_mpoly, i: int) -> fmpq_mpoly:
 
 
 def _value(p: fmpq_mpoly, point: Mapping[str, fmpq]) -> fmpq:
-    q = p.subs(dict(point)) if point else p
+    subs: dict[str | int, int | fmpz | fmpq] = {k: v for k, v in point.items()}
+    q = p.subs(subs) if subs else p
     return fmpq(q.to_dict().get((0,) * p.context().nvars(), 0))
 
 
@@ -225,14 +226,19 @@ def port_family(
     if n >= 3:
         zero = ctx.from_dict({})
         h = [
-            [desc[c] if 0 <= (c := 2 * (col + 1) - (row + 1)) <= n else zero for col in range(n)]
+            [desc[ix] if 0 <= (ix := 2 * (col + 1) - (row + 1)) <= n else zero for col in range(n)]
             for row in range(n)
         ]
         minors = _bareiss_minors(h, n - 1)
         if minors is None:
             return fail("a Hurwitz determinant of the denominator is identically zero")
         for k, delta in enumerate(minors[1:], start=2):
-            add(PortConditionKind.STABILITY, f"Hurwitz determinant {k} of D", "stable_entries", delta)
+            add(
+                PortConditionKind.STABILITY,
+                f"Hurwitz determinant {k} of D",
+                "stable_entries",
+                delta,
+            )
     keeps: list[PortCondition] = []
     if j == 1:
         k0 = [[_coeff_s(p, 0) for p in row] for row in nmat]

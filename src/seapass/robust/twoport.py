@@ -87,7 +87,11 @@ class PortWorstCase:
     result: TwoPortCheck = field(repr=False, compare=False)
 
     def to_dict(self) -> dict[str, Any]:
-        return {"values": dict(self.values), "frequency": self.frequency, "condition": self.condition}
+        return {
+            "values": dict(self.values),
+            "frequency": self.frequency,
+            "condition": self.condition,
+        }
 
 
 @dataclass(frozen=True, kw_only=True, repr=False)
@@ -255,8 +259,14 @@ def _outcome(check: TwoPortCheck, criterion: Criterion) -> Outcome:
     return check.stability.outcome if criterion is Criterion.ABSOLUTE else check.passivity.outcome
 
 
-def _frequency(check: TwoPortCheck, criterion: Criterion, hint: float | None) -> tuple[str, float | None]:
-    conds = check.stability.conditions if criterion is Criterion.ABSOLUTE else check.passivity.conditions
+def _frequency(
+    check: TwoPortCheck, criterion: Criterion, hint: float | None
+) -> tuple[str, float | None]:
+    conds = (
+        check.stability.conditions
+        if criterion is Criterion.ABSOLUTE
+        else check.passivity.conditions
+    )
     failing = [c for c in conds if c.holds is False]
     first = failing[0]
     for c in failing:
@@ -362,9 +372,7 @@ def _certified(
                 "the pole at s = 0 may cancel in the box (a hidden mode at 0)",
                 used,
             )
-    return verdict(
-        Outcome.PASSIVE, f"{len(fam.conditions)} conditions proven on the box", used
-    )
+    return verdict(Outcome.PASSIVE, f"{len(fam.conditions)} conditions proven on the box", used)
 
 
 def _one_parameter(
@@ -471,7 +479,9 @@ def robust_two_port_check(
     ('not_passive', 're_p11')
     """
     if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
-        raise ParameterError(f"budget must be a positive integer, got {budget!r}", argument="budget")
+        raise ParameterError(
+            f"budget must be a positive integer, got {budget!r}", argument="budget"
+        )
     tp = as_two_port(system)
     if values:
         tp = tp.with_values(**values)
