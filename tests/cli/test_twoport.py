@@ -240,16 +240,26 @@ def test_robust_check_from_the_design_files_uncertainty(
     assert code == 0 and "robust" not in json.loads(out)  # --set m fixes it: the plain check
 
 
-def test_robust_bound_json(capsys: pytest.CaptureFixture[str]) -> None:
-    argv = ["twoport", "bound", "kl", *ROBUST[:-2], "--set", "bd=25", "--set", "b=10",
-            "--uncertain", "m=0.9:1.1", "--range", "0:2000", "--rtol", "0.01", "--json"]  # fmt: skip
+def test_robust_bound_json(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    argv = ["twoport", "bound", "kd", "--D1", "k1", "--CA", "kd", "--set", "b=10", "--set",
+            "k1=1000", "--uncertain", "m=0.9:1.1", "--range", "100:5000", "--json"]  # fmt: skip
     code, out, err = run(capsys, argv)
     assert code == 0, err
     d = json.loads(out)
-    assert d["robust"] is True and d["param"] == "kl" and d["method"] == "certified"
-    ((a, b),) = d["intervals"]
-    ((c, e),) = d["outer"]
-    assert a == 0.0 and c <= a <= b <= e and e == pytest.approx(1486.2888626586266, rel=1e-12)
+    assert d["robust"] is True and d["param"] == "kd" and d["method"] == "certified"
+    assert d["intervals"] == [[100.0, 5000.0]] and d["outer"] == [[100.0, 5000.0]]
+    assert d["box"] == {"m": [0.9, 1.1]}
+    code, out, err = run(capsys, argv[:-1])
+    assert code == 0 and out.startswith("absolutely stable for every plant (m in [0.9, 1.1])")
+    # the worst plant's eta as a figure; none to draw when the box passes
+    fig = tmp_path / "worst.png"
+    code, _, err = run(capsys, ["twoport", "check", *ROBUST, "--set", "kl=1500", *BOX,
+                                "--plot", str(fig)])  # fmt: skip
+    assert code == 1 and fig.stat().st_size > 1000, err
+    fig2 = tmp_path / "none.png"
+    code, _, err = run(capsys, ["twoport", "check", *ROBUST, "--set", "kl=300", *BOX,
+                                "--plot", str(fig2)])  # fmt: skip
+    assert code == 0 and not fig2.exists() and "no worst plant" in err
 
 
 @pytest.mark.parametrize(

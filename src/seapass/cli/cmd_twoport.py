@@ -19,6 +19,7 @@ from .common import (
     print_json,
     save_plot,
     values_from_args,
+    warn,
     warn_unrealizable,
 )
 from .design_options import add_range_options, points_from_args, ranges_from_args
@@ -326,12 +327,10 @@ def _run_robust_check(args: argparse.Namespace) -> int | None:
     if box is None:
         return None
     result = robust_two_port_check(tp, box=box, budget=args.budget)
-    if figure is not None:
-        if result.worst is None:
-            raise ParameterError(
-                "--plot shows the worst plant of a robust verdict; there is none: "
-                f"{result.stability.outcome.label} over the box"
-            )
+    if figure is not None and result.worst is None:
+        warn(f"--plot {figure}: no worst plant to draw (absolute stability over the box: "
+             f"{result.stability.outcome.label}); nothing written")  # fmt: skip
+    elif figure is not None:
         save_plot(lambda: result.plot(), figure, force=args.force, flag="--plot")
     if args.json:
         print_json(result.to_dict())
