@@ -138,3 +138,20 @@ def test_bad_arguments_are_refused() -> None:
     with pytest.raises(ParameterError, match="lower bound"):
         robust_port_intervals(sea, "kd", 10, 0, box={"m": (1.0, 2.0)})
     assert math.isfinite(robust_two_port_check(SIMPLE, box={"m": (1.0, 1.0)}).passivity.boxes)
+
+
+def test_an_interior_worst_plant_is_found_where_corners_and_centre_pass() -> None:
+    # the quartic loses Hurwitz stability only near a = 1.2: not at a corner, not at the centre
+    den = "(s**4 + 2*s**3 + (2 + 4*(a - 6/5)**2 - 1/100)*s**2 + 2*s + 1)"
+    tp = TwoPort.from_matrix([[f"1 + b/{den}", "0"], ["0", "1"]], values={"a": 1.0, "b": 0.01})
+    box = {"a": (0.5, 1.5), "b": (0.01, 0.02)}
+    for a, b in itertools.product((0.5, 1.0, 1.5), (0.01, 0.015, 0.02)):
+        assert check_two_port(tp, values={"a": a, "b": b}, witness=False).absolutely_stable
+    r = robust_two_port_check(tp, box=box)
+    assert r.stability.outcome is Outcome.NOT_PASSIVE and r.stability.method is Method.CERTIFIED
+    assert r.worst is not None and 1.0 < r.worst.values["a"] < 1.5
+    again = check_two_port(tp, values=dict(r.worst.values), witness=False)
+    assert not again.absolutely_stable and r.worst.condition in {
+        c.name for c in again.stability.conditions if c.holds is False
+    }
+    assert robust_two_port_check(tp, box={"a": (1.4, 1.5), "b": (0.01, 0.02)}).absolutely_stable
