@@ -19,7 +19,7 @@ sampled power over a box, decided piece by piece in ``cos ωT``) and
 [`portfamily`][seapass.robust.portfamily] (a two-port's Llewellyn and passivity
 conditions as polynomials on the box), [`twoport`][seapass.robust.twoport]
 (`robust_two_port_check`: absolute stability and passivity of a two-port for every
-plant of a box) and [`portbound`][seapass.robust.portbound] (robust gain sets of a
+plant of a box; its results in [`portresult`][seapass.robust.portresult]) and [`portbound`][seapass.robust.portbound] (robust gain sets of a
 two-port).
 
 May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.ports`][seapass.ports] (the exact two-port verdicts), [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box), [`seapass.sampled`][seapass.sampled] (the certified sampled-data kernel).
@@ -59,7 +59,7 @@ __getattr__, __dir__ = lazy_exports(
         "robust_sampled_check": "sampled_verdict",
         "RobustSampledResult": "sampled_verdict",
         "robust_two_port_check": "twoport",
-        "RobustTwoPortResult": "twoport",
+        "RobustTwoPortResult": "portresult",
         "robust_port_intervals": "portbound",
         "RobustPortIntervals": "portbound",
     },
@@ -69,5 +69,6 @@ __getattr__, __dir__ = lazy_exports(
 
 if TYPE_CHECKING:
     from .portbound import RobustPortIntervals, robust_port_intervals
+    from .portresult import RobustTwoPortResult
     from .sampled_verdict import RobustSampledResult, robust_sampled_check
-    from .twoport import RobustTwoPortResult, robust_two_port_check
+    from .twoport import robust_two_port_check

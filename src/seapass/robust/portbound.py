@@ -109,8 +109,12 @@ class RobustPortIntervals:
     def __repr__(self) -> str:
         return short_repr(
             "RobustPortIntervals",
-            {"param": self.param, "criterion": self.criterion.value, "intervals": Shown(_text(self.intervals))},
-        )  # fmt: skip
+            {
+                "param": self.param,
+                "criterion": self.criterion.value,
+                "intervals": Shown(_text(self.intervals)),
+            },
+        )
 
     def _repr_html_(self) -> str:
         rows = [("search range", f"[{self.lo:g}, {self.hi:g}]")]
@@ -216,20 +220,28 @@ def robust_port_intervals(
     checked = uncertain_box(free_tp, raw)
     fixed = port_fixed_values(free_tp, checked, free=(param,))
     names = checked.names
-    corners = [dict(zip(names, c, strict=True)) for c in itertools.product(*checked.intervals.values())]  # fmt: skip
+    corners = [
+        dict(zip(names, c, strict=True)) for c in itertools.product(*checked.intervals.values())
+    ]
     outer: list[tuple[Fraction, Fraction]] = [(lo_q, hi_q)]
 
     def cut(plant: Mapping[str, float]) -> None:
         nonlocal outer
-        pi = port_intervals(free_tp, param, float(lo_q), float(hi_q), criterion=crit, values={**fixed, **plant})  # fmt: skip
+        pi = port_intervals(
+            free_tp, param, float(lo_q), float(hi_q), criterion=crit, values={**fixed, **plant}
+        )
         ivs = [  # ends rounded inward by port_intervals: widen by one ulp
             (Fraction(math.nextafter(a, -math.inf)), Fraction(math.nextafter(b, math.inf)))
             for a, b in (*pi.intervals, *pi.undecided)
         ]
-        outer = _merge([
-            (max(a, c, lo_q), min(b, d, hi_q)) for a, b in outer for c, d in ivs
-            if max(a, c, lo_q) <= min(b, d, hi_q)
-        ])  # fmt: skip
+        outer = _merge(
+            [
+                (max(a, c, lo_q), min(b, d, hi_q))
+                for a, b in outer
+                for c, d in ivs
+                if max(a, c, lo_q) <= min(b, d, hi_q)
+            ]
+        )
 
     for plant in [*corners, checked.center()]:
         cut(plant)

@@ -272,9 +272,13 @@ def port_family(
     g = axis_matrix(nmat, den)
     if criterion is Criterion.PASSIVE:
         freq = [
-            (f"minor_{''.join(str(i + 1) for i in sub)} of P + P^H >= 0", f"minor_{''.join(str(i + 1) for i in sub)}", m)
+            (
+                f"minor_{''.join(str(i + 1) for i in sub)} of P + P^H >= 0",
+                f"minor_{''.join(str(i + 1) for i in sub)}",
+                m,
+            )
             for sub, m in principal_minors(hermitian_part(g)).items()
-        ]  # fmt: skip
+        ]
     else:
         r11, r22, a, disc = llewellyn_polynomials(g)
         freq = [

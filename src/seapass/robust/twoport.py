@@ -35,14 +35,12 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
 from typing import Any
 
 from flint import fmpq
 
 from ..errors import NotPassiveError, ParameterError
 from ..exact import poly as ep
-from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA
 from ..outcome import Outcome
 from ..ports.bound import Criterion, port_critical_values, port_intervals
@@ -52,192 +50,14 @@ from ..ports.twoport import TwoPort
 from .bernstein import BoxSign, positive_on_box
 from .box import UncertainBox, uncertain_box
 from .portfamily import PortConditionKind, port_family
+from .portresult import PortWorstCase, RobustPortVerdict, RobustTwoPortResult
 from .verdict import DEFAULT_BUDGET, Method
 
 __all__ = [
-    "PortWorstCase",
-    "RobustPortVerdict",
-    "RobustTwoPortResult",
     "port_fixed_values",
     "robust_port_verdict",
     "robust_two_port_check",
 ]
-
-
-@dataclass(frozen=True, kw_only=True)
-class PortWorstCase:
-    """A plant of the box at which the exact two-port verdict fails.
-
-    Attributes
-    ----------
-    values : mapping of str to float
-        The uncertain parameters at that plant.
-    frequency : float or None
-        A frequency [rad/s] inside an exact failing band of ``condition`` there;
-        None when the failing condition is not a frequency condition.
-    condition : str
-        The first exact condition that fails (``llewellyn``, ``minor_12``, ...).
-    result : TwoPortCheck
-        The ordinary exact verdict at that plant.
-    """
-
-    values: Mapping[str, float]
-    frequency: float | None
-    condition: str
-    result: TwoPortCheck = field(repr=False, compare=False)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "values": dict(self.values),
-            "frequency": self.frequency,
-            "condition": self.condition,
-        }
-
-
-@dataclass(frozen=True, kw_only=True, repr=False)
-class RobustPortVerdict:
-    """One criterion (absolute stability or passivity) over the box.
-
-    Attributes
-    ----------
-    criterion : Criterion
-    outcome : Outcome
-        ``PASSIVE``: the criterion holds for every plant of the box;
-        ``NOT_PASSIVE``: `worst` fails it; ``UNDECIDED``: neither was proven.
-    worst : PortWorstCase or None
-    method : Method
-        ``"exact"`` (one uncertain parameter) or ``"certified"``.
-    boxes : int
-        Boxes examined by the branch and bound.
-    detail : str
-    """
-
-    criterion: Criterion
-    outcome: Outcome
-    worst: PortWorstCase | None = None
-    method: Method = Method.CERTIFIED
-    boxes: int = 0
-    detail: str = ""
-
-    @property
-    def holds(self) -> bool:
-        return self.outcome.passive
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "criterion": self.criterion.value,
-            "status": str(self.outcome),
-            "worst": None if self.worst is None else self.worst.to_dict(),
-            "method": str(self.method),
-            "boxes": self.boxes,
-            "detail": self.detail,
-        }
-
-    def __repr__(self) -> str:
-        return short_repr(
-            "RobustPortVerdict",
-            {"criterion": self.criterion.value, "outcome": str(self.outcome), "method": str(self.method)},
-        )  # fmt: skip
-
-
-def _status_word(v: RobustPortVerdict) -> str:
-    if v.outcome is Outcome.UNDECIDED:
-        return "undecided"
-    return v.criterion.label if v.holds else f"not {v.criterion.label}"
-
-
-@dataclass(frozen=True, kw_only=True, repr=False)
-class RobustTwoPortResult:
-    """Absolute stability and passivity of a two-port for every plant of a box.
-
-    Attributes
-    ----------
-    box : UncertainBox
-    stability : RobustPortVerdict
-        Llewellyn's absolute stability over the box (it decides the exit code of
-        ``seapass twoport check``, and `outcome`, `status` and `worst`).
-    passivity : RobustPortVerdict
-        Passivity of the immittance matrix over the box.
-    two_port : TwoPort
-        What was checked.
-    """
-
-    box: UncertainBox
-    stability: RobustPortVerdict
-    passivity: RobustPortVerdict
-    two_port: TwoPort = field(compare=False)
-
-    @property
-    def outcome(self) -> Outcome:
-        return self.stability.outcome
-
-    @property
-    def status(self) -> str:
-        return str(self.outcome)
-
-    @property
-    def absolutely_stable(self) -> bool:
-        return self.stability.holds
-
-    @property
-    def passive(self) -> bool:
-        return self.passivity.holds
-
-    @property
-    def worst(self) -> PortWorstCase | None:
-        return self.stability.worst
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON of ``seapass twoport check --uncertain ...``."""
-        pas = None if self.passivity.outcome is Outcome.UNDECIDED else self.passive
-        stab = None if self.stability.outcome is Outcome.UNDECIDED else self.absolutely_stable
-        return {
-            "robust": True,
-            "status": self.status,
-            "absolutely_stable": stab,
-            "passive": pas,
-            "box": self.box.to_dict(),
-            "worst": None if self.worst is None else self.worst.to_dict(),
-            "absolute_stability": self.stability.to_dict(),
-            "passivity": self.passivity.to_dict(),
-        }
-
-    def plot(self, kind: str = "eta", *, ax: Any = None, **kwargs: Any) -> Any:
-        """The exact verdict of a worst plant: ``kind="eta"`` (absolute stability's) or
-        ``"minors"`` (passivity's); returns the Axes (ValueError without a worst plant)."""
-        verdict = self.passivity if kind == "minors" else self.stability
-        if verdict.worst is None:
-            raise ValueError(f"no worst plant to plot: {_status_word(verdict)} over the box")
-        return verdict.worst.result.plot(kind, ax=ax, **kwargs)
-
-    def __repr__(self) -> str:
-        worst = None
-        if self.worst is not None:
-            worst = Shown(", ".join(f"{k}={v:.6g}" for k, v in self.worst.values.items()))
-        return short_repr(
-            "RobustTwoPortResult",
-            {
-                "absolute_stability": str(self.stability.outcome),
-                "passivity": str(self.passivity.outcome),
-                "worst": worst,
-            },
-        )
-
-    def _repr_html_(self) -> str:
-        rows: list[tuple[str, Any]] = [(k, f"[{lo:g}, {hi:g}]") for k, (lo, hi) in self.box.intervals.items()]  # fmt: skip
-        for v in (self.stability, self.passivity):
-            rows.append((v.criterion.label, f"{_status_word(v)} ({v.method}): {v.detail}"))
-            if v.worst is not None:
-                at = ", ".join(f"{k} = {x:.6g}" for k, x in v.worst.values.items())
-                rows.append(("worst plant", at))
-        return html_card(
-            f"Robust two-port {self.two_port.name}".strip(),
-            rows,
-            note="verdicts for every plant in the box",
-        )
-
-
-# ---------------------------------------------------------------------------- deciding
 
 
 def port_fixed_values(
@@ -279,13 +99,16 @@ def _frequency(
                 return c.name, max(2 * b.lo, b.lo + 1.0)
             if b.hi > b.lo:
                 return c.name, b.hi / 2 if b.lo == 0 else math.sqrt(b.lo * b.hi)
-    return first.name, None  # fmt: skip
+    return first.name, None
 
 
 def _worst(
-    tp: TwoPort, fixed: Mapping[str, float], at: Mapping[str, float], criterion: Criterion,
+    tp: TwoPort,
+    fixed: Mapping[str, float],
+    at: Mapping[str, float],
+    criterion: Criterion,
     hint: float | None = None,
-) -> PortWorstCase | None:  # fmt: skip
+) -> PortWorstCase | None:
     """The exact verdict at ``at``: a `PortWorstCase` when ``criterion`` fails there."""
     check = check_two_port(tp, values={**fixed, **at}, witness=False)
     if _outcome(check, criterion) is not Outcome.NOT_PASSIVE:
@@ -317,7 +140,9 @@ def _certified(
 ) -> RobustPortVerdict:
     fam = port_family(tp, box, fixed, criterion)
 
-    def verdict(outcome: Outcome, detail: str, used: int = 0, worst: PortWorstCase | None = None) -> RobustPortVerdict:  # fmt: skip
+    def verdict(
+        outcome: Outcome, detail: str, used: int = 0, worst: PortWorstCase | None = None
+    ) -> RobustPortVerdict:
         return RobustPortVerdict(
             criterion=criterion, outcome=outcome, worst=worst, boxes=used, detail=detail
         )
@@ -326,13 +151,17 @@ def _certified(
         w = _worst(tp, fixed, box.center(), criterion)
         if w is not None:
             return verdict(
-                Outcome.NOT_PASSIVE, f"fails at the centre of the box ({fam.generic_failure})", worst=w
-            )  # fmt: skip
+                Outcome.NOT_PASSIVE,
+                f"fails at the centre of the box ({fam.generic_failure})",
+                worst=w,
+            )
         return verdict(Outcome.UNDECIDED, f"structural defect: {fam.generic_failure}")
     for plant in _cheap_plants(box):  # a failing corner or centre ends it without a search
         w = _worst(tp, fixed, plant, criterion)
         if w is not None:
-            return verdict(Outcome.NOT_PASSIVE, f"fails at {_at_text(plant)}: {w.condition}", worst=w)  # fmt: skip
+            return verdict(
+                Outcome.NOT_PASSIVE, f"fails at {_at_text(plant)}: {w.condition}", worst=w
+            )
     region = [(fmpq(0), fmpq(1)), *((ep.rational(a), ep.rational(b)) for a, b in box.exact())]
     used = 0
     order = sorted(fam.conditions, key=lambda c: c.kind is PortConditionKind.FREQUENCY)
@@ -348,7 +177,11 @@ def _certified(
         assert search.point is not None
         at = _as_floats(box.names, search.point[1:])
         t = search.point[0]
-        hint = math.sqrt(float(t / (1 - t))) if cond.kind is PortConditionKind.FREQUENCY and t < 1 else None  # fmt: skip
+        hint = (
+            math.sqrt(float(t / (1 - t)))
+            if cond.kind is PortConditionKind.FREQUENCY and t < 1
+            else None
+        )
         w = _worst(tp, fixed, at, criterion, hint)
         if w is None:
             return verdict(
@@ -381,7 +214,9 @@ def _one_parameter(
     (name,) = box.names
     lo, hi = box.intervals[name]
 
-    def exact(outcome: Outcome, detail: str, worst: PortWorstCase | None = None) -> RobustPortVerdict:  # fmt: skip
+    def exact(
+        outcome: Outcome, detail: str, worst: PortWorstCase | None = None
+    ) -> RobustPortVerdict:
         return RobustPortVerdict(
             criterion=criterion, outcome=outcome, worst=worst, method=Method.EXACT, detail=detail
         )
