@@ -5,7 +5,6 @@ one-parameter robust set against the intersection of exact sets."""
 from __future__ import annotations
 
 import itertools
-import math
 
 import numpy as np
 import pytest
@@ -137,7 +136,9 @@ def test_bad_arguments_are_refused() -> None:
         robust_port_intervals(sea, "kd", 0, 10, box={"kd": (1.0, 2.0)})
     with pytest.raises(ParameterError, match="lower bound"):
         robust_port_intervals(sea, "kd", 10, 0, box={"m": (1.0, 2.0)})
-    assert math.isfinite(robust_two_port_check(SIMPLE, box={"m": (1.0, 1.0)}).passivity.boxes)
+    single = robust_two_port_check(SIMPLE, box={"m": (1.0, 1.0)})  # a one-plant box
+    assert single.passive and single.passivity.method is Method.EXACT
+    assert single.passivity.detail == "a single plant"
 
 
 def test_an_interior_worst_plant_is_found_where_corners_and_centre_pass() -> None:
