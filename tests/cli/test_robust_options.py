@@ -223,3 +223,18 @@ def test_the_robust_options_register_once() -> None:
     args = p.parse_args(["--robust", "fitted.toml", "--confidence", "0.9"])
     assert args.robust == "fitted.toml" and args.confidence == 0.9
     assert p.parse_args(["--robust"]).robust == "" and p.parse_args([]).robust is None
+
+
+def test_twoport_check_takes_the_box_of_a_fitted_rig(files: dict[str, Path]) -> None:
+    """``twoport check DESIGN --robust RIGFILE``: the rig's intervals as the box, as
+    ``check`` takes them (issue 26)."""
+    code, out, err = _cli(["twoport", "check", str(files["ours"]), "--robust",
+                           str(files["fitted"]), "--json"])  # fmt: skip
+    d = json.loads(out)
+    box = json.loads(_cli(["check", str(files["ours"]), "--robust", str(files["fitted"]),
+                           "--json"])[1])["box"]  # fmt: skip
+    assert d["robust"] is True and d["box"] == box and set(box) >= {"m"}
+    assert code == (0 if d["status"] == "passive" else 1), err
+    assert (d["worst"] is None) == (d["status"] != "not_passive")
+    _error(["twoport", "check", str(files["ours"]), "--robust", str(files["rig"])],
+           "has no [intervals] table")  # fmt: skip

@@ -194,3 +194,115 @@ def test_bad_axes_files(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> N
     one_error(capsys, ["mimo", "check", "--axes", str(bad)], "kc")
     bad.write_text(text + "\n[extra]\nx = 1\n")
     one_error(capsys, ["mimo", "check", "--axes", str(bad)], "unknown key extra")
+
+
+# ------------------------------------------------------------------ robust (issue 26)
+
+ROBUST = ["--D1", "k1 + b1*s", "--CA", "kd + bd*s", "--CL", "kl", "--set", "k1=1000",
+          "--set", "b1=20", "--set", "kd=500", "--set", "bd=25"]  # fmt: skip
+BOX = ["--uncertain", "m=0.9:1.1", "--uncertain", "b=8:12"]
+
+
+def test_robust_check_json_text_and_exit_codes(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, err = run(capsys, ["twoport", "check", *ROBUST, "--set", "kl=300", *BOX, "--json"])
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["robust"] is True and d["status"] == "passive" and d["worst"] is None
+    assert d["box"] == {"b": [8.0, 12.0], "m": [0.9, 1.1]}
+    assert d["absolutely_stable"] is True and d["passive"] is True
+    assert d["absolute_stability"]["method"] == "certified"
+    code, out, err = run(capsys, ["twoport", "check", *ROBUST, "--set", "kl=1500", *BOX, "--json"])
+    assert code == 1, err
+    d = json.loads(out)
+    assert d["status"] == "not_passive" and d["absolutely_stable"] is False
+    worst = d["worst"]
+    assert 0.9 <= worst["values"]["m"] <= 1.1 and 8 <= worst["values"]["b"] <= 12
+    sea = SEA(D1="k1 + b1*s", CA="kd + bd*s", CL="kl",
+              values=dict(k1=1000, b1=20, kd=500, bd=25, kl=1500, **worst["values"]))  # fmt: skip
+    assert not absolute_stability(sea, witness=False).absolutely_stable  # the plain verdict
+    code, out, _ = run(capsys, ["twoport", "check", *ROBUST, "--set", "kl=1500", *BOX])
+    assert code == 1 and out.startswith("not absolutely stable for every plant with b in [8, 12]")
+    assert "worst plant: " in out
+
+
+def test_robust_check_from_the_design_files_uncertainty(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    text = (REPO / "examples" / "ours.toml").read_text() + "\n[uncertainty]\nm = [0.9, 1.1]\n"
+    path = tmp_path / "ours_box.toml"
+    path.write_text(text)
+    code, out, err = run(capsys, ["twoport", "check", str(path), "--json"])
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["robust"] is True and d["box"] == {"m": [0.9, 1.1]}
+    assert d["absolute_stability"]["method"] == "exact"
+    code, out, err = run(capsys, ["twoport", "check", str(path), "--set", "m=1", "--json"])
+    assert code == 0 and "robust" not in json.loads(out)  # --set m fixes it: the plain check
+
+
+def test_robust_bound_json(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    argv = ["twoport", "bound", "kd", "--D1", "k1", "--CA", "kd", "--set", "b=10", "--set",
+            "k1=1000", "--uncertain", "m=0.9:1.1", "--range", "100:5000", "--json"]  # fmt: skip
+    code, out, err = run(capsys, argv)
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["robust"] is True and d["param"] == "kd" and d["method"] == "certified"
+    assert d["intervals"] == [[100.0, 5000.0]] and d["outer"] == [[100.0, 5000.0]]
+    assert d["box"] == {"m": [0.9, 1.1]}
+    code, out, err = run(capsys, argv[:-1])
+    assert code == 0 and out.startswith("absolutely stable for every plant (m in [0.9, 1.1])")
+    # the worst plant's eta as a figure; none to draw when the box passes
+    fig = tmp_path / "worst.png"
+    code, _, err = run(capsys, ["twoport", "check", *ROBUST, "--set", "kl=1500", *BOX,
+                                "--plot", str(fig)])  # fmt: skip
+    assert code == 1 and fig.stat().st_size > 1000, err
+    fig2 = tmp_path / "none.png"
+    code, _, err = run(capsys, ["twoport", "check", *ROBUST, "--set", "kl=300", *BOX,
+                                "--plot", str(fig2)])  # fmt: skip
+    assert code == 0 and not fig2.exists() and "no worst plant" in err
+
+
+@pytest.mark.parametrize(
+    ("extra", "match"),
+    [
+        (["--uncertain", "m=1.1:0.9"], "LO must not exceed HI"),
+        (["--uncertain", "zz=1:2"], "zz"),
+        (["--uncertain", "m=0:2"], "non-physical"),
+        (["--uncertain", "m=-1:2"], "non-physical"),
+        (["--set", "m=1", "--uncertain", "m=0.9:1.1"], "--set m"),
+        (["--uncertain", "m=0.9"], "NAME=LO:HI"),
+        (["--uncertain", "m=0.9:1.1", "--budget", "0"], "--budget"),
+    ],
+)
+def test_robust_bad_input_is_one_error_line(
+    capsys: pytest.CaptureFixture[str], extra: list[str], match: str
+) -> None:
+    one_error(
+        capsys, ["twoport", "check", *ROBUST, "--set", "kl=300", "--set", "b=10", *extra], match
+    )
+
+
+def test_robust_bound_bad_input(capsys: pytest.CaptureFixture[str]) -> None:
+    base = ["twoport", "bound", "kl", *ROBUST[:-2], "--set", "bd=25", "--set", "b=10"]
+    one_error(capsys, [*base, "--uncertain", "kl=0:1"], "--uncertain kl")
+    one_error(capsys, [*base, "--uncertain", "m=2:1"], "LO must not exceed HI")
+
+
+def test_region_house_vocabulary_and_old_spellings(capsys: pytest.CaptureFixture[str]) -> None:
+    base = ["twoport", "region", "kd", "kl", *SEA_ARGS]
+    code, new, err = run(capsys, [*base, "--range", "kd=0:2000", "--range", "kl=0:5000",
+                                  "--points", "3", "--json"])  # fmt: skip
+    assert code == 0 and err == ""
+    code, old, err = run(capsys, [*base, "--range", "0:2000", "--range2", "0:5000", "--nx", "3",
+                                  "--json"])  # fmt: skip
+    assert code == 0 and old == new
+    assert err.count("warning: ") == 3 and "--range2 0:5000 is deprecated" in err
+    assert json.loads(new)["x"] == [0.0, 1000.0, 2000.0]
+    one_error(capsys, [*base, "--range", "kl=0:1", "--range2", "0:1"], "--range2")
+    one_error(capsys, [*base, "--points", "3", "--nx", "3"], "--points")
+    one_error(capsys, [*base, "--range", "kd=2:1"], "LO must not exceed HI")
+    one_error(capsys, [*base, "--points", "0"], "--points 0")
+    with pytest.raises(SystemExit):
+        main(["twoport", "region", "--help"])
+    shown = capsys.readouterr().out.split("examples:")[0]  # the options, not the epilog
+    assert "--points" in shown and "--range2" not in shown and "--nx" not in shown

@@ -6,6 +6,7 @@ import argparse
 from typing import Any
 
 from ..errors import ParameterError, SeapassError
+from ..files.limits import MAX_REGION_COLUMNS
 from ..outcome import Outcome
 from .common import (
     add_force_option,
@@ -18,8 +19,11 @@ from .common import (
     print_json,
     save_plot,
     values_from_args,
+    warn,
     warn_unrealizable,
 )
+from .design_options import add_range_options, points_from_args, ranges_from_args
+from .uncertain_options import add_uncertain_options, box_text, wants_box
 
 EXAMPLE = """examples:
   seapass twoport check --D1 "k1 + b1*s" --CA "kd + bd*s" --CL kl --set m=1 --set b=10 \\
@@ -29,8 +33,12 @@ EXAMPLE = """examples:
       --form h --set mm=0.5 --set bm=2 --set ms=1 --set bs=5 --set kc=400
   seapass twoport bound kl --D1 "k1 + b1*s" --CA "kd + bd*s" --CL kl --set m=1 --set b=10 \\
       --set k1=1000 --set b1=20 --set kd=500 --set bd=25 --range 0:1e4 --json
+  seapass twoport check examples/ours.toml --uncertain m=0.9:1.1 --uncertain b=8:12 --json
+  seapass twoport bound kl --D1 "k1 + b1*s" --CA "kd + bd*s" --CL kl --set b=10 \\
+      --set k1=1000 --set b1=20 --set kd=500 --set bd=25 --uncertain m=0.9:1.1 --range 0:3000
   seapass twoport region kd kl --D1 "k1 + b1*s" --CA "kd + bd*s" --CL kl --set m=1 \\
-      --set b=10 --set k1=1000 --set b1=20 --set bd=25 --range 0:5000 --range2 0:5000
+      --set b=10 --set k1=1000 --set b1=20 --set bd=25 --range kd=0:5000 --range kl=0:5000 \\
+      --points 11
   seapass twoport friction --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 \\
       --set k1=1000 --set b1=20 --set kd=500 --set bd=25 --at actuator
 
@@ -40,11 +48,21 @@ C_L (theta - x_L), and F_2 = f_A, v_2 = s theta. A passive termination obeys
 F = -Z v. Absolutely stable: stable with every pair of passive terminations
 (Llewellyn); passive: the immittance matrix is positive real (Raisbeck).
 
-exit codes (check): 0 absolutely stable, 1 not (or undecided), 2 bad input;
+With --uncertain NAME=LO:HI (or --robust, or a design file's [uncertainty]) check
+and bound hold for every plant in the box (check: exact for one uncertain
+parameter, certified by exact Bernstein branch and bound for several; bound:
+certified inner and outer sets); what cannot be certified is 'undecided', never
+absolutely stable or passive.  region: --range/--range2/--nx
+are the old spellings of --range X=..., --range Y=... and --points.
+
+exit codes (check): 0 absolutely stable (for every plant of a box), 1 not (or
+undecided), 2 bad input;
 (friction): 0 certified, 1 not certified, 2 bad input.
 """
 
 _ENTRIES = ("Z11", "Z12", "Z21", "Z22")
+REGION_POINTS = 21
+DEFAULT_RANGE = (0.0, 1e5)
 
 
 def _system_options(p: argparse.ArgumentParser) -> None:
@@ -84,6 +102,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="do not search a destabilizing pair of terminations",
     )
     add_plot_option(c, "eta(w) with the failing bands")
+    add_uncertain_options(c, verdict="both verdicts then hold for every value in the box")
     add_force_option(c)
     add_json_option(c)
     c.set_defaults(func=run_check)
@@ -99,17 +118,28 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         default="absolute",
         help="absolute stability or passivity",
     )
+    add_uncertain_options(
+        b, verdict="the set then holds for every plant in the box (certified inner and outer sets)"
+    )
+    b.add_argument(
+        "--rtol",
+        type=float,
+        default=1e-3,
+        help="relative width where the robust inner set stops bisecting (with a box)",
+    )
     add_json_option(b)
     b.set_defaults(func=run_bound)
     r = ss.add_parser(
-        "region", help="exact set of NAME2 at each of --nx values of NAME1", epilog=EXAMPLE
+        "region", help="exact set of Y at each of --points values of X", epilog=EXAMPLE
     )
-    r.add_argument("param_x", metavar="NAME1", help="parameter of the columns")
-    r.add_argument("param_y", metavar="NAME2", help="parameter bounded exactly in each column")
+    r.add_argument("param_x", metavar="X", help="parameter of the columns")
+    r.add_argument("param_y", metavar="Y", help="parameter bounded exactly in each column")
     _system_options(r)
-    r.add_argument("--range", required=True, metavar="LO:HI", help="range of NAME1")
-    r.add_argument("--range2", required=True, metavar="LO:HI", help="range of NAME2")
-    r.add_argument("--nx", type=int, default=21, help="number of NAME1 values, 1 to 2000")
+    add_range_options(
+        r, points=REGION_POINTS, points_help=f"number of X values, 1 to {MAX_REGION_COLUMNS}"
+    )
+    r.add_argument("--range2", help=argparse.SUPPRESS)  # before 0.5: --range Y=LO:HI
+    r.add_argument("--nx", type=int, help=argparse.SUPPRESS)  # before 0.5: --points
     r.add_argument(
         "--criterion",
         choices=("absolute", "passive"),
@@ -146,8 +176,12 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     v.set_defaults(func=run_convert)
 
 
-def _sea(args: argparse.Namespace, free: tuple[str, ...]) -> Any:
-    """The SEA of DESIGN (with --set overrides) or of the model options; ``free`` left free."""
+def _sea(
+    args: argparse.Namespace, free: tuple[str, ...], labels: dict[str, str] | None = None
+) -> Any:
+    """The SEA of DESIGN (with --set overrides) or of the model options; ``free`` left free
+    (``labels``: how each was given, for messages)."""
+    labels = {n: n for n in free} | (labels or {})
     from ..model.design_file import load_design
 
     elements = any(getattr(args, e) not in (None, "0") for e in ("D1", "D2", "CA", "CL"))
@@ -161,11 +195,13 @@ def _sea(args: argparse.Namespace, free: tuple[str, ...]) -> Any:
         for name in free:
             if name in over:
                 raise ParameterError(
-                    f"--set {name}: {name} is a free parameter here; do not also give it a value"
+                    f"--set {name}: {name} is a free parameter here ({labels[name]}); do not "
+                    "also give it a value"
                 )
             if name not in sea.parameters:
                 raise ParameterError(
-                    f"{name}: not a parameter of the design ({', '.join(sea.parameters)})"
+                    f"{labels[name]}: {name} is not a parameter of the design "
+                    f"({', '.join(sea.parameters)})"
                 )
         return sea.with_values(**over, **dict.fromkeys(free))
     if not elements:
@@ -173,11 +209,14 @@ def _sea(args: argparse.Namespace, free: tuple[str, ...]) -> Any:
             "nothing to check: give a design file, the model (--D1 ... --set ...) or the matrix "
             "(--Z11 --Z12 --Z21 --Z22)"
         )
-    return model_from_args(args, extra_free={n: n for n in free})
+    return model_from_args(args, extra_free=labels)
 
 
-def two_port_from_args(args: argparse.Namespace, free: tuple[str, ...] = ()) -> Any:
+def two_port_from_args(
+    args: argparse.Namespace, free: tuple[str, ...] = (), labels: dict[str, str] | None = None
+) -> Any:
     """The `TwoPort` of the command line: DESIGN, the model options, or --Z11..--Z22 [--form]."""
+    labels = {n: n for n in free} | (labels or {})
     from ..ports.twoport import TwoPort, two_port
 
     given = [e for e in _ENTRIES if getattr(args, e, None) is not None]
@@ -195,7 +234,8 @@ def two_port_from_args(args: argparse.Namespace, free: tuple[str, ...] = ()) -> 
         for name in free:
             if name in values:
                 raise ParameterError(
-                    f"--set {name}: {name} is a free parameter here; do not also give it a value"
+                    f"--set {name}: {name} is a free parameter here ({labels[name]}); do not "
+                    "also give it a value"
                 )
             values[name] = None
         m = [[args.Z11, args.Z12], [args.Z21, args.Z22]]
@@ -208,9 +248,30 @@ def two_port_from_args(args: argparse.Namespace, free: tuple[str, ...] = ()) -> 
             raise
     if args.form is not None:
         raise ParameterError("--form applies to a matrix given with --Z11 --Z12 --Z21 --Z22")
-    sea = _sea(args, free)
+    sea = _sea(args, free, labels)
     warn_unrealizable(sea)
     return two_port(sea)
+
+
+def _robust_two_port(args: argparse.Namespace, free: tuple[str, ...] = ()) -> tuple[Any, Any]:
+    """``(TwoPort, box)`` of a command line that may give a box (box None: no source gives one)."""
+    from ..model.design_file import load_design
+    from ..robust.box import parse_uncertain
+    from .uncertain_options import box_from_args
+
+    if args.budget < 1:
+        raise ParameterError(f"--budget must be a positive integer, got {args.budget}")
+    raw = parse_uncertain(args.uncertain)
+    clash = sorted(set(raw) & set(free))
+    if clash:
+        raise ParameterError(
+            f"--uncertain {clash[0]}: {clash[0]} is the free parameter here; it cannot also be "
+            "uncertain"
+        )
+    labels = {**{n: n for n in free}, **{n: f"--uncertain {n}" for n in raw}}
+    tp = two_port_from_args(args, (*free, *raw), labels)
+    design = load_design(args.design) if args.design is not None else None
+    return tp, box_from_args(args, tp, design, free=free)
 
 
 def _bands(bands: Any) -> str:
@@ -221,6 +282,8 @@ def run_check(args: argparse.Namespace) -> int:
     from ..ports.check import check_two_port
     from ..ports.stability import eta_text
 
+    if wants_box(args) and (code := _run_robust_check(args)) is not None:
+        return code  # a box: --uncertain, --robust, the file's [uncertainty]
     figure = plot_path(args.plot, force=args.force)
     tp = two_port_from_args(args)
     result = check_two_port(tp, witness=not args.no_witness)
@@ -255,10 +318,71 @@ def run_check(args: argparse.Namespace) -> int:
     return 0 if result.absolutely_stable else 1
 
 
+def _run_robust_check(args: argparse.Namespace) -> int | None:
+    """``twoport check --uncertain ...``: exit 0 absolutely stable for every plant, else 1."""
+    from ..robust.twoport import robust_two_port_check
+
+    figure = plot_path(args.plot, force=args.force)
+    tp, box = _robust_two_port(args)
+    if box is None:
+        return None
+    result = robust_two_port_check(tp, box=box, budget=args.budget)
+    if figure is not None and result.worst is None:
+        warn(f"--plot {figure}: no worst plant to draw (absolute stability over the box: "
+             f"{result.stability.outcome.label}); nothing written")  # fmt: skip
+    elif figure is not None:
+        save_plot(lambda: result.plot(), figure, force=args.force, flag="--plot")
+    if args.json:
+        print_json(result.to_dict())
+        return 0 if result.absolutely_stable else 1
+    span = box_text(box)
+    for v in (result.stability, result.passivity):
+        word = "undecided" if v.outcome is Outcome.UNDECIDED else (
+            v.criterion.label if v.holds else f"not {v.criterion.label}"
+        )  # fmt: skip
+        print(f"{word} for every plant with {span} ({v.method}): {v.detail}")
+        if v.worst is not None:
+            at = ", ".join(f"{k}={x:.10g}" for k, x in v.worst.values.items())
+            w = v.worst.frequency
+            where = f" at w = {w:.6g} rad/s" if w is not None else ""
+            print(f"worst plant: {at}; {v.worst.condition} fails{where} (exact verdict there)")
+    return 0 if result.absolutely_stable else 1
+
+
+def _run_robust_bound(args: argparse.Namespace, lo: float, hi: float) -> int | None:
+    from ..exact.rounding import enclosure_text, interval_text
+    from ..robust.portbound import robust_port_intervals
+
+    tp, box = _robust_two_port(args, (args.param,))
+    if box is None:
+        return None
+    result = robust_port_intervals(
+        tp, args.param, lo, hi, box=box, criterion=args.criterion, rtol=args.rtol,
+        budget=args.budget,
+    )  # fmt: skip
+    if args.json:
+        print_json(result.to_dict())
+        return 0
+    what, span = result.criterion.label, box_text(box)
+    if not result.intervals:
+        print(
+            f"not proven {what} for every plant ({span}) for any {args.param} in [{lo:g}, {hi:g}]"
+        )
+    for a, b in result.intervals:  # rounded inward: the printed ends hold for every plant
+        print(
+            f"{what} for every plant ({span}) for {args.param} in {interval_text(a, b, digits=10)}"
+        )
+    outer = ", ".join(enclosure_text(a, b, digits=10) for a, b in result.outer) or "empty"
+    print(f"certified: inner set above; no value outside {outer} is {what} for every plant")
+    return 0
+
+
 def run_bound(args: argparse.Namespace) -> int:
     from ..ports.bound import port_intervals
 
     lo, hi = parse_range(args.range)
+    if wants_box(args) and (code := _run_robust_bound(args, lo, hi)) is not None:
+        return code
     tp = two_port_from_args(args, free=(args.param,))
     result = port_intervals(tp, args.param, lo, hi, criterion=args.criterion)
     if args.json:
@@ -281,14 +405,18 @@ def run_region(args: argparse.Namespace) -> int:
     from ..ports.bound import port_region
 
     if args.param_x == args.param_y:
-        raise ParameterError("NAME1 and NAME2 must be different parameters")
-    if not 1 <= args.nx <= MAX_REGION_COLUMNS:
-        raise ParameterError(f"--nx {args.nx}: use between 1 and {MAX_REGION_COLUMNS} columns")
-    x_lo, x_hi = parse_range(args.range)
-    y_range = parse_range(args.range2, "--range2")
+        raise ParameterError("X and Y must be different parameters")
+    nx = points_from_args(args, "nx", REGION_POINTS)
+    if not 1 <= nx <= MAX_REGION_COLUMNS:
+        raise ParameterError(f"--points {nx}: use between 1 and {MAX_REGION_COLUMNS} columns")
+    given = ranges_from_args(
+        args, [args.param_x, args.param_y], {args.param_y: ("--range2", args.range2)}, strict=False
+    )
+    x_lo, x_hi = given[args.param_x] or DEFAULT_RANGE
+    y_range = given[args.param_y] or DEFAULT_RANGE
     figure = plot_path(args.plot, force=args.force)
     tp = two_port_from_args(args, free=(args.param_x, args.param_y))
-    xs = np.linspace(x_lo, x_hi, args.nx)
+    xs = np.linspace(x_lo, x_hi, nx)
     region = port_region(tp, args.param_x, xs, args.param_y, y_range, criterion=args.criterion)
     if figure is not None:
         from ..plot.ports import plot_port_region

@@ -43,6 +43,7 @@ __all__ = [
     "PortIntervals",
     "PortRegion",
     "criterion_of",
+    "port_critical_values",
     "port_intervals",
     "port_region",
 ]
@@ -254,6 +255,72 @@ def _merge(
     return tuple(out)
 
 
+def _prepared(
+    system: Any,
+    param: str,
+    lo: float,
+    hi: float,
+    criterion: Criterion,
+    values: Mapping[str, float] | None,
+) -> tuple[list[list[Any]], list[list[Any]], str, list[tuple[fmpq, fmpq]], Fraction, Fraction]:
+    """``(nums, dens, form, critical values, lo, hi)`` of `port_intervals` (arguments checked)."""
+    obj, n, form = _system(system, None)
+    if criterion is Criterion.ABSOLUTE and n != 2:
+        raise ParameterError(
+            "criterion 'absolute' (Llewellyn) is for two-ports; use 'passive'", argument="criterion"
+        )
+    lo_f, hi_f = to_fraction(lo, "lo"), to_fraction(hi, "hi")
+    if lo_f > hi_f:
+        raise ParameterError(f"empty range {lo}:{hi}: the lower bound must not exceed the upper")
+    if param not in obj.parameters:
+        raise ParameterError(
+            f"parameter {param!r} does not appear in the model (its parameters: "
+            f"{', '.join(obj.parameters) or 'none'})"
+        )
+    merged = {k: v for k, v in obj.values.items() if k != param and v is not None}
+    merged.update({k: v for k, v in (values or {}).items() if k != param})
+    free = [p for p in obj.parameters if p != param and merged.get(p) is None]
+    if free:
+        raise ParameterError(
+            f"no value for parameter(s) {', '.join(free)}: give them, e.g. values={{{free[0]!r}: 1.0}}"
+        )
+    exact = {k: ep.rational(to_fraction(v, k)) for k, v in merged.items()}
+    polys = [frac_of(e).substitute(exact, (param,)) for e in obj.entries]
+    nums = [[polys[i * n + j][0] for j in range(n)] for i in range(n)]
+    dens = [[polys[i * n + j][1] for j in range(n)] for i in range(n)]
+    crit = _critical_values(critical_polynomials(nums, dens, criterion), lo_f, hi_f)
+    return nums, dens, form, crit, lo_f, hi_f
+
+
+def port_critical_values(
+    system: Any,
+    param: str,
+    lo: float,
+    hi: float,
+    *,
+    criterion: Criterion | str = Criterion.ABSOLUTE,
+    values: Mapping[str, float] | None = None,
+) -> tuple[tuple[Fraction, Fraction], ...]:
+    """The exact critical values of ``param`` in ``[lo, hi]`` that `port_intervals` uses.
+
+    Each is ``(r, r)`` for a rational ``r`` (decided as a point) or a tight
+    isolating interval ``(a, b]`` of an irrational one (never decided as a point:
+    a caller that needs every real value, such as a robust verdict, must treat it
+    separately).
+
+    Examples
+    --------
+    >>> from seapass import SEA
+    >>> sea = SEA(D1="k1 + b1*s", CA="kd + bd*s", CL="kl",
+    ...           values=dict(m=1, b=10, k1=1000, b1=20, kd=500, bd=25, kl=None))
+    >>> crit = port_critical_values(sea, "kl", 0, 10000)
+    >>> [float(a) for a, b in crit if a == b]  # the rational ones
+    [1600.0, 3250.0]
+    """
+    _n, _d, _f, crit, _lo, _hi = _prepared(system, param, lo, hi, criterion_of(criterion), values)
+    return tuple((ep.to_fraction(a), ep.to_fraction(b)) for a, b in crit)
+
+
 def port_intervals(
     system: Any,
     param: str,
@@ -292,31 +359,7 @@ def port_intervals(
     [(0.0, 1523.919)]
     """
     criterion = criterion_of(criterion)
-    obj, n, form = _system(system, None)
-    if criterion is Criterion.ABSOLUTE and n != 2:
-        raise ParameterError(
-            "criterion 'absolute' (Llewellyn) is for two-ports; use 'passive'", argument="criterion"
-        )
-    lo_f, hi_f = to_fraction(lo, "lo"), to_fraction(hi, "hi")
-    if lo_f > hi_f:
-        raise ParameterError(f"empty range {lo}:{hi}: the lower bound must not exceed the upper")
-    if param not in obj.parameters:
-        raise ParameterError(
-            f"parameter {param!r} does not appear in the model (its parameters: "
-            f"{', '.join(obj.parameters) or 'none'})"
-        )
-    merged = {k: v for k, v in obj.values.items() if k != param and v is not None}
-    merged.update({k: v for k, v in (values or {}).items() if k != param})
-    free = [p for p in obj.parameters if p != param and merged.get(p) is None]
-    if free:
-        raise ParameterError(
-            f"no value for parameter(s) {', '.join(free)}: give them, e.g. values={{{free[0]!r}: 1.0}}"
-        )
-    exact = {k: ep.rational(to_fraction(v, k)) for k, v in merged.items()}
-    polys = [frac_of(e).substitute(exact, (param,)) for e in obj.entries]
-    nums = [[polys[i * n + j][0] for j in range(n)] for i in range(n)]
-    dens = [[polys[i * n + j][1] for j in range(n)] for i in range(n)]
-    crit = _critical_values(critical_polynomials(nums, dens, criterion), lo_f, hi_f)
+    nums, dens, form, crit, lo_f, hi_f = _prepared(system, param, lo, hi, criterion, values)
 
     def decide(x: fmpq) -> Outcome:
         at: dict[str | int, int | fmpz | fmpq] = {param: x}

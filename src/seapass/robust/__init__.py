@@ -19,9 +19,14 @@ sampled power over a box, decided piece by piece in ``cos ωT``) and
 [`delayform`][seapass.robust.delayform] (mean-value ball enclosures of a delayed real part
 over frequency × delays × box) and [`delayed`][seapass.robust.delayed]
 (`robust_delayed_check`, `robust_delay_margin`: delayed designs over a box; the result
-in [`delayresult`][seapass.robust.delayresult]).
+in [`delayresult`][seapass.robust.delayresult]),
+[`portfamily`][seapass.robust.portfamily] (a two-port's Llewellyn and passivity
+conditions as polynomials on the box), [`twoport`][seapass.robust.twoport]
+(`robust_two_port_check`: absolute stability and passivity of a two-port for every
+plant of a box; its results in [`portresult`][seapass.robust.portresult]) and [`portbound`][seapass.robust.portbound] (robust gain sets of a
+two-port).
 
-May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box), [`seapass.sampled`][seapass.sampled] (the certified sampled-data kernel).
+May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.ports`][seapass.ports] (the exact two-port verdicts), [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box), [`seapass.sampled`][seapass.sampled] (the certified sampled-data kernel).
 """
 
 from typing import TYPE_CHECKING
@@ -36,8 +41,10 @@ __all__ = [
     "RobustDelayMargin",
     "RobustIntervals",
     "RobustPassiveMap",
+    "RobustPortIntervals",
     "RobustResult",
     "RobustSampledResult",
+    "RobustTwoPortResult",
     "UncertainBox",
     "WorstCase",
     "robust_check",
@@ -45,7 +52,9 @@ __all__ = [
     "robust_delayed_check",
     "robust_passive_intervals",
     "robust_passive_map",
+    "robust_port_intervals",
     "robust_sampled_check",
+    "robust_two_port_check",
     "uncertain_box",
 ]
 
@@ -59,6 +68,10 @@ __getattr__, __dir__ = lazy_exports(
         "robust_delay_margin": "delayed",
         "robust_delayed_check": "delayed",
         "RobustDelayMargin": "delayresult",
+        "robust_two_port_check": "twoport",
+        "RobustTwoPortResult": "portresult",
+        "robust_port_intervals": "portbound",
+        "RobustPortIntervals": "portbound",
     },
     globals(),
 )
@@ -67,4 +80,7 @@ __getattr__, __dir__ = lazy_exports(
 if TYPE_CHECKING:
     from .delayed import robust_delay_margin, robust_delayed_check
     from .delayresult import RobustDelayMargin
+    from .portbound import RobustPortIntervals, robust_port_intervals
+    from .portresult import RobustTwoPortResult
     from .sampled_verdict import RobustSampledResult, robust_sampled_check
+    from .twoport import robust_two_port_check

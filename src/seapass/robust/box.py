@@ -20,7 +20,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from types import MappingProxyType
-from typing import Any
+from typing import Any, Protocol
 
 from ..errors import DelayError, ParameterError, did_you_mean
 from ..files.limits import MAX_UNCERTAIN, MAX_UNCERTAIN_MAGNITUDE, MAX_UNCERTAIN_RATIO
@@ -28,7 +28,22 @@ from ..model.delayatom import model_delays
 from ..model.expr import parse_value, to_fraction
 from ..model.sea import SEA, Impedance
 
-__all__ = ["NONNEGATIVE", "POSITIVE", "UncertainBox", "parse_uncertain", "uncertain_box"]
+__all__ = [
+    "NONNEGATIVE",
+    "POSITIVE",
+    "Parametrized",
+    "UncertainBox",
+    "parse_uncertain",
+    "uncertain_box",
+]
+
+
+class Parametrized(Protocol):
+    """Anything with named parameters (a `seapass.ports.twoport.TwoPort`, say)."""
+
+    @property
+    def parameters(self) -> tuple[str, ...]: ...
+
 
 POSITIVE = frozenset({"m"})
 """Parameters that must be positive on the whole box."""
@@ -117,7 +132,7 @@ def _pair(name: str, value: Any) -> tuple[float, float]:
 
 
 def uncertain_box(
-    system: SEA | Impedance,
+    system: SEA | Impedance | Parametrized,
     box: Mapping[str, Any] | UncertainBox,
     *,
     delay_ok: bool = False,
@@ -133,7 +148,8 @@ def uncertain_box(
         A model with a delay ``exp(-NAME*s)`` unless ``delay_ok`` (the verdicts of
         [`seapass.robust.delayed`][seapass.robust.delayed] take one; the others are rational).
     """
-    delays = model_delays(system)
+    # a two-port (or any other model with parameters) is rational: no delay to refuse
+    delays = model_delays(system) if isinstance(system, SEA | Impedance) else ()
     if delays and not delay_ok:  # the robust kernel works on rational functions of s and the box
         raise DelayError(
             f"a delay exp(-{delays[0]}*s) in the model: robust verdicts over a box need a "
