@@ -15,7 +15,11 @@ nominal one), [`api`][seapass.robust.api] (``is_passive`` and ``passive_interval
 arb balls), [`sampled_local`][seapass.robust.sampled_local] (mean-value enclosures of the
 sampled power over a box, decided piece by piece in ``cos ωT``) and
 [`sampled_verdict`][seapass.robust.sampled_verdict]
-(`robust_sampled_check`: the sampled-data verdict for every plant of a box).
+(`robust_sampled_check`: the sampled-data verdict for every plant of a box),
+[`sampled_intervals`][seapass.robust.sampled_intervals] (`robust_sampled_intervals`: the
+certified sampled passive set of a plant parameter, or of a gain over a box) and
+[`sampled_gains`][seapass.robust.sampled_gains] (its gain case: the outer set from the
+plants of the box).
 
 May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box), [`seapass.sampled`][seapass.sampled] (the certified sampled-data kernel).
 """
@@ -32,6 +36,7 @@ __all__ = [
     "RobustIntervals",
     "RobustPassiveMap",
     "RobustResult",
+    "RobustSampledIntervals",
     "RobustSampledResult",
     "UncertainBox",
     "WorstCase",
@@ -39,6 +44,7 @@ __all__ = [
     "robust_passive_intervals",
     "robust_passive_map",
     "robust_sampled_check",
+    "robust_sampled_intervals",
     "uncertain_box",
 ]
 
@@ -46,10 +52,16 @@ __all__ = [
 # the sampled-data entry points load on first use (they import the sampled kernel)
 __getattr__, __dir__ = lazy_exports(
     __name__,
-    {"robust_sampled_check": "sampled_verdict", "RobustSampledResult": "sampled_verdict"},
+    {
+        "robust_sampled_check": "sampled_verdict",
+        "RobustSampledResult": "sampled_verdict",
+        "robust_sampled_intervals": "sampled_intervals",
+        "RobustSampledIntervals": "sampled_intervals",
+    },
     globals(),
 )
 
 
 if TYPE_CHECKING:
+    from .sampled_intervals import RobustSampledIntervals, robust_sampled_intervals
     from .sampled_verdict import RobustSampledResult, robust_sampled_check
