@@ -14,13 +14,8 @@ from seapass.model.loop import SampledLoop
 from seapass.model.sea import SEA
 from seapass.robust import RobustSampledIntervals, robust_sampled_intervals
 from seapass.robust.intervals import RobustIntervals
-from seapass.robust.sampled_intervals import (
-    DEFAULT_INTERVAL_BUDGET,
-    MAX_INTERVAL_BUDGET,
-    intersect,
-    merge,
-    minus,
-)
+from seapass.robust.pieces import intersect, merge, minus
+from seapass.robust.sampled_intervals import DEFAULT_INTERVAL_BUDGET, MAX_INTERVAL_BUDGET
 from seapass.sampled.bound import sampled_passive_bound
 from seapass.sampled.passivity import sampled_passivity
 

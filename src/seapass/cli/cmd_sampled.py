@@ -8,7 +8,7 @@ import re
 from typing import Any
 
 from ..errors import ParameterError
-from ..files.limits import MAX_RTOL, MIN_RTOL, check_rtol
+from ..files.limits import MAX_RTOL, MAX_SAMPLED_INTERVAL_BUDGET, MIN_RTOL, check_rtol
 from .common import (
     add_force_option,
     add_json_option,
@@ -154,7 +154,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         budget=DEFAULT_ROBUST_BUDGET,
         verdict="the set is then certified for every plant in the box (plant parameters)",
         boxes="with a plant parameter or --uncertain: sub-intervals of a plant parameter, or "
-        f"plants of the box for a gain (default {DEFAULT_ROBUST_BUDGET}, at most 10000)",
+        f"plants of the box for a gain (default {DEFAULT_ROBUST_BUDGET}, at most "
+        f"{MAX_SAMPLED_INTERVAL_BUDGET})",
     )
     b.set_defaults(func=run_bound, budget=None)
     r = ss.add_parser(
@@ -341,8 +342,10 @@ def _run_robust_bound(
         )
     lo, hi = resolved.range_of(name, given)
     budget = DEFAULT_INTERVAL_BUDGET if args.budget is None else args.budget
-    if not 1 <= budget <= 10_000:
-        raise ParameterError(f"--budget must be an integer in [1, 10000], got {budget}")
+    if not 1 <= budget <= MAX_SAMPLED_INTERVAL_BUDGET:
+        raise ParameterError(
+            f"--budget must be an integer in [1, {MAX_SAMPLED_INTERVAL_BUDGET}], got {budget}"
+        )
     sea, loop = resolved.sea, resolved.loop
     with choose_progress(not args.no_progress) as progress:
         try:
@@ -363,10 +366,13 @@ def _run_robust_bound(
     if res.undecided:
         rest = ", ".join(enclosure_text(a, b) for a, b in res.undecided[:5])
         more = f" and {len(res.undecided) - 5} more" if len(res.undecided) > 5 else ""
-        print(
-            f"  undecided (never shown passive; {res.budget_used} of {res.budget} used, raise "
-            f"--budget or narrow the range): {rest}{more}"
-        )
+        if res.budget_exhausted:
+            why = f"{res.budget_used} of {res.budget} used: raise --budget or narrow the range"
+        elif res.kind == "gain" and not res.intervals:
+            why = "a gain interval over a box is not certified, see docs/sampled.md"
+        else:
+            why = "edge enclosures"
+        print(f"  undecided (never shown passive; {why}): {rest}{more}")
     for w in res.failing[:5]:
         at = ", ".join(f"{k}={v:.10g}" for k, v in w.values.items())
         freq = "" if w.frequency is None else f" (N(w) < 0 at w = {w.frequency:.6g} rad/s)"

@@ -19,9 +19,10 @@ sampled power over a box, decided piece by piece in ``cos ωT``) and
 [`sampled_intervals`][seapass.robust.sampled_intervals] (`robust_sampled_intervals`: the
 certified sampled passive set of a plant parameter, or of a gain over a box) and
 [`sampled_gains`][seapass.robust.sampled_gains] (its gain case: the outer set from the
-plants of the box).
+plants of the box), [`pieces`][seapass.robust.pieces] (unions of closed intervals with
+exact ends, rounded in or out).
 
-May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box), [`seapass.sampled`][seapass.sampled] (the certified sampled-data kernel).
+May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.progress`][seapass.progress], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box), [`seapass.sampled`][seapass.sampled] (the certified sampled-data kernel).
 """
 
 from typing import TYPE_CHECKING

@@ -24,16 +24,8 @@ from typing import Any
 from ..model.loop import SampledLoop
 from ..model.sea import SEA
 from .box import UncertainBox
-from .sampled_intervals import (
-    Pieces,
-    RobustSampledIntervals,
-    as_floats,
-    corners,
-    intersect,
-    merge,
-    minus,
-    widen,
-)
+from .pieces import Pieces, as_floats, intersect, merge, minus, widen
+from .sampled_intervals import RobustSampledIntervals, corners
 from .verdict import WorstCase
 
 __all__ = ["gain_intervals"]

@@ -48,12 +48,14 @@ from fractions import Fraction
 from typing import Any
 
 from ..errors import NotPassiveError, ParameterError, did_you_mean
+from ..files.limits import MAX_SAMPLED_INTERVAL_BUDGET
 from ..model.display import Shown, html_card, short_repr
 from ..model.loop import SampledLoop
 from ..model.sea import SEA
 from ..outcome import Outcome
 from ..progress import ProgressLike, as_progress, task
 from .box import NONNEGATIVE, POSITIVE, UncertainBox, uncertain_box
+from .pieces import Pieces, as_floats, intersect, merge, minus, text, widen
 from .verdict import Method, WorstCase
 
 __all__ = [
@@ -66,12 +68,10 @@ __all__ = [
 DEFAULT_INTERVAL_BUDGET = 16
 """Sub-intervals (plant parameter) or plants (gain) examined by default."""
 
-MAX_INTERVAL_BUDGET = 10_000
-"""Most sub-intervals or plants one call may examine (bounded work)."""
+MAX_INTERVAL_BUDGET = MAX_SAMPLED_INTERVAL_BUDGET
+"""Most sub-intervals or plants one call may examine (bounded work, `seapass.files.limits`)."""
 
 RTOL = Fraction(1, 10**9)  # sub-intervals narrower than this share of the range: not split
-
-Pieces = list[tuple[Fraction, Fraction]]
 
 
 @dataclass(frozen=True, repr=False, kw_only=True)
@@ -204,72 +204,6 @@ class RobustSampledIntervals:
             rows,
             note="Inner ends rounded inward, outer ends outward; undecided is never passive.",
         )
-
-
-def text(ivs: tuple[tuple[float, float], ...]) -> str:
-    """``[a, b], [c, d]`` (6 significant digits) or ``none``."""
-    return ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in ivs) or "none"
-
-
-def down(x: Fraction) -> float:
-    """The largest double ``<= x``."""
-    f = float(x)
-    return f if Fraction(f) <= x else math.nextafter(f, -math.inf)
-
-
-def up(x: Fraction) -> float:
-    """The smallest double ``>= x``."""
-    f = float(x)
-    return f if Fraction(f) >= x else math.nextafter(f, math.inf)
-
-
-def merge(pieces: Pieces) -> Pieces:
-    """Union of closed intervals, as disjoint sorted closed intervals."""
-    out: Pieces = []
-    for a, b in sorted(pieces):
-        if out and a <= out[-1][1]:
-            out[-1] = (out[-1][0], max(out[-1][1], b))
-        else:
-            out.append((a, b))
-    return out
-
-
-def intersect(xs: Pieces, ys: Pieces) -> Pieces:
-    """Intersection of two unions of closed intervals."""
-    return merge([(max(a, c), min(b, d)) for a, b in xs for c, d in ys if max(a, c) <= min(b, d)])
-
-
-def minus(xs: Pieces, ys: Pieces) -> Pieces:
-    """Closure of ``xs`` minus ``ys`` (closed pieces; the shared ends stay in both)."""
-    out: Pieces = []
-    for a, b in xs:
-        cur = a
-        for c, d in sorted(ys):
-            if d < cur or c > b:
-                continue
-            if c > cur:
-                out.append((cur, c))
-            cur = max(cur, d)
-        if cur < b or (cur == a == b and not any(c <= a <= d for c, d in ys)):
-            out.append((cur, b))
-    return out
-
-
-def widen(pieces: Pieces, lo: Fraction, hi: Fraction) -> Pieces:
-    """Each end one double outward, clipped to ``[lo, hi]`` (outer sets from rounded ends)."""
-    return merge(
-        [
-            (max(lo, Fraction(math.nextafter(down(a), -math.inf))),
-             min(hi, Fraction(math.nextafter(up(b), math.inf))))
-            for a, b in pieces
-        ]
-    )  # fmt: skip
-
-
-def as_floats(pieces: Pieces, *, inward: bool) -> tuple[tuple[float, float], ...]:
-    if inward:
-        return tuple((up(a), down(b)) for a, b in pieces if up(a) <= down(b))
-    return tuple((down(a), up(b)) for a, b in pieces)
 
 
 def check_budget(budget: Any) -> int:
