@@ -225,3 +225,16 @@ def test_interval_helpers() -> None:
     assert minus([(f(0), f(4))], [(f(0), f(4))]) == []
     assert minus([(f(1), f(1))], []) == [(1, 1)]
     assert DEFAULT_INTERVAL_BUDGET >= 1
+
+
+def test_the_outer_set_keeps_the_deployment_policy_of_sampled_check() -> None:
+    # CL = kd: the continuous design is passive only for b >= 2.6049... (exact); sampled
+    # check refuses to deploy below it, so the outer set starts there
+    sea = SEA(D1="k1 + b1*s", CL="kd", values=dict(m=1.02, k1=1000, b1=30, kd=500))
+    loop = SampledLoop(period=0.002)
+    r = robust_sampled_intervals(sea, "b", loop=loop, lo=0.5, hi=10, budget=2)
+    assert len(r.outer) == 1 and 2.6 < r.outer[0][0] < 2.61 and r.outer[0][1] == 10
+    for b in (0.5, 1.0, 2.0, 2.6):  # independent: the plain verdict outside the outer set
+        assert not sampled_passivity(sea, loop=loop, values={"b": b}).passive
+    for w in r.failing:
+        assert not sampled_passivity(sea, loop=loop, values={"b": w.values["b"]}).passive
