@@ -182,6 +182,27 @@ def test_an_interruption_closes_the_progress_task(monkeypatch: pytest.MonkeyPatc
     assert closed == [True]
 
 
+def test_an_interrupt_from_the_progress_stops_cleanly_and_the_call_then_completes() -> None:
+    calls: list[str] = []
+
+    class Stopper:
+        def start(self, task: str, total: int | None = None) -> None:
+            calls.append("start")
+
+        def advance(self, n: int = 1, *, note: str = "") -> None:
+            calls.append("advance")
+            raise KeyboardInterrupt
+
+        def close(self) -> None:
+            calls.append("close")
+
+    with pytest.raises(KeyboardInterrupt):
+        robust_sampled_intervals(_ours(), "m", loop=LOOP, lo=0.95, hi=1.05, progress=Stopper())
+    assert calls == ["start", "advance", "close"]
+    again = robust_sampled_intervals(_ours(), "m", loop=LOOP, lo=0.95, hi=1.05, budget=1)
+    assert again.budget_used == 1 and again.failing
+
+
 def test_throw_when_nothing_is_certified() -> None:
     with pytest.raises(NotPassiveError, match="certified"):
         robust_sampled_intervals(_ours(), "m", loop=LOOP, lo=0.95, hi=1.05, budget=1, throw=True)

@@ -158,22 +158,9 @@ class RobustSampledIntervals:
         -------
         matplotlib.axes.Axes
         """
-        from ..plot.region import axes_grid, axis_label
+        from ..plot.sampled import plot_robust_sampled_bound
 
-        ax = axes_grid(ax, 1, 1, figsize=(6, 1.8))[0, 0]
-        ax.axhspan(0, 1, color="#f4cccc", label="not passive (outside outer)")
-        for i, (a, b) in enumerate(self.undecided):
-            ax.axvspan(a, b, color="#dddddd", label="undecided" if i == 0 else None)
-        for i, (a, b) in enumerate(self.intervals):
-            ax.axvspan(a, b, color="#b6d7a8", label="passive for every plant" if i == 0 else None)
-        xs = [w.values[self.param] for w in self.failing if self.param in w.values]
-        if xs:
-            ax.plot(xs, [0.5] * len(xs), "kx", label="failing plant")
-        ax.set_xlim(self.lo, self.hi) if self.hi > self.lo else None
-        ax.set_yticks([])
-        ax.set_xlabel(axis_label(self.param))
-        ax.legend(loc="upper right", ncol=2, fontsize=8)
-        return ax
+        return plot_robust_sampled_bound(self, ax=ax)
 
     def __repr__(self) -> str:
         return short_repr(
