@@ -23,6 +23,7 @@ from typing import Any
 
 from ..model.loop import SampledLoop
 from ..model.sea import SEA
+from ..outcome import Outcome
 from .box import UncertainBox
 from .pieces import Pieces, as_floats, intersect, merge, minus, widen
 from .sampled_intervals import RobustSampledIntervals, corners
@@ -60,7 +61,7 @@ def gain_intervals(
                     v = sampled_passivity(
                         sea, loop=loop, values={**plant, name: g}, continuous_gate=False
                     )
-                    if not v.passive and v.outcome.value == "not_passive":
+                    if v.outcome is Outcome.NOT_PASSIVE:
                         failing.append(
                             WorstCase(
                                 values=MappingProxyType({**plant, name: g}),
