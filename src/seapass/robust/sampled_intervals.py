@@ -365,6 +365,7 @@ def plant_intervals(
     per_box = 1 if box is None else 4  # the kernel's own sub-boxes for each sub-interval
     inner: Pieces = []
     failing: list[WorstCase] = []
+    seen: set[tuple[tuple[str, float], ...]] = set()  # failing plants already recorded
     queue: deque[tuple[Fraction, Fraction]] = deque([(lo, hi)])
     used = 0
     tiny = RTOL * max(hi - lo, abs(hi), Fraction(1, 10**300))
@@ -380,10 +381,11 @@ def plant_intervals(
             if r.outcome is Outcome.PASSIVE:
                 inner.append((a, b))
                 continue
-            if r.worst is not None and not any(
-                dict(w.values) == dict(r.worst.values) for w in failing
-            ):
-                failing.append(r.worst)
+            if r.worst is not None:
+                key = tuple(sorted(r.worst.values.items()))
+                if key not in seen:
+                    seen.add(key)
+                    failing.append(r.worst)
             mid = Fraction(float((a + b) / 2))
             if b - a > tiny and a < mid < b:
                 queue += [(a, mid), (mid, b)]
