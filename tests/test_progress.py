@@ -99,6 +99,7 @@ def test_every_long_job_takes_a_progress() -> None:
     from seapass.report.pipeline import run_stages
     from seapass.report.reproduce import reproduce
     from seapass.rig.experiment import run_experiment
+    from seapass.robust.sampled_intervals import robust_sampled_intervals
     from seapass.sampled.bound import sampled_passive_bound
     from seapass.sampled.region import sampled_region
     from seapass.sweep.runner import run_design_sweep
@@ -106,7 +107,7 @@ def test_every_long_job_takes_a_progress() -> None:
 
     jobs = (export_c, plan_deployment, run_simulation_study, build_tables, analyze, run_stages,
             reproduce, run_experiment, sampled_passive_bound, sampled_region, run_design_sweep,
-            tune)  # fmt: skip
+            tune, robust_sampled_intervals)  # fmt: skip
     for job in jobs:
         p = inspect.signature(job).parameters["progress"]
         assert p.default is None, job.__name__

@@ -164,9 +164,14 @@ def test_sampled_check_decides_the_fitted_box_with_the_robust_sampled_verdict(
     assert _cli(["sampled", "check", str(boxed_ours)])[0] == 0
 
 
-def test_sampled_bound_refuses_a_box(files: dict[str, Path]) -> None:
-    argv = ["sampled", "bound", "kd", str(files["ours"]), "--range", "kd=0:2000"]
-    _error([*argv, "--robust", str(files["fitted"])], "robust sampled passivity")
+def test_sampled_bound_takes_the_fitted_box(files: dict[str, Path]) -> None:
+    argv = ["sampled", "bound", "kd", str(files["ours"]), "--range", "kd=0:2000", "--no-progress"]
+    code, out, err = _cli([*argv, "--robust", str(files["fitted"]), "--budget", "1", "--json"])
+    assert code == 0, err
+    d = json.loads(out)
+    assert set(d["box"]) == {"m", "b", "b1"} and d["kind"] == "gain"
+    # a gain over a box that is not a point: the outer set only, the rest undecided
+    assert d["intervals"] == [] and d["undecided"] == d["outer"] and d["budget_used"] == 1
 
 
 def test_tune_passes_the_fitted_box_on_as_uncertain(

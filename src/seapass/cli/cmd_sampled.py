@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 from typing import Any
 
 from ..errors import ParameterError
-from ..files.limits import MAX_RTOL, MIN_RTOL, check_rtol
+from ..files.limits import MAX_RTOL, MAX_SAMPLED_INTERVAL_BUDGET, MIN_RTOL, check_rtol
 from .common import (
     add_force_option,
     add_json_option,
@@ -31,18 +32,21 @@ from .design_options import (
 )
 from .loop_options import add_loop_options
 from .uncertain_options import (
-    add_robust_options,
     add_sampled_uncertain_options,
+    add_uncertain_options,
     requested_box,
     run_robust_sampled_check,
 )
 
 ROWS = 25
+DEFAULT_ROBUST_BUDGET = 16  # seapass.robust.sampled_intervals.DEFAULT_INTERVAL_BUDGET (tested)
 
 EXAMPLE = """examples:
   seapass sampled check examples/ours.toml          # at the file's [control] rate
   seapass sampled bound kd examples/ours.toml --range kd=0:5000
   seapass sampled region kd bd examples/ours.toml --range kd=0:1e5 --points 5
+  seapass sampled bound m examples/ours.toml --range m=1:1.000004 --budget 8
+  seapass sampled bound kd examples/ours.toml --range kd=0:5000 --uncertain m=0.95:1.05
   seapass sampled check --period 0.002 --D1 "k1 + b1*s" --CA "kd + bd*s" \\
       --set m=1.02 --set b=10 --set k1=1005 --set b1=30 --set bd=25 --set kd=2000 --json
   seapass sampled bound kd --period 0.002 --D1 "k1 + b1*s" --CL "kd" \\
@@ -58,7 +62,14 @@ The loop: the flags, else the design file's [control], else T = 0.002 s (500 Hz)
 with no delay and no filter ('region': 1 sample of delay and a 50 Hz filter).
 Ranges: --range NAME=LO:HI, else the file's [ranges], else [0, max(10*value,
 1000)] around the file's value, else 0:1e5 (the rule of 'seapass bound'); the old
-spellings --range LO:HI, --range2 and --rows still work for one release.
+spellings --range LO:HI, --range2 and --rows still work for one release.  A plant
+parameter (m, b, k1, b1, ...) needs --range or [ranges].
+
+'sampled bound' of a plant parameter, or with --uncertain: 'intervals' is the set
+certified passive for every plant of the box (ends rounded inward), 'outer' a
+certified superset (ends rounded outward), 'undecided' the rest (never passive).
+For a gain with a box only the outer set is certified (the inner set needs a
+point box); see docs/sampled.md.
 """
 
 _FORMATTER = argparse.RawDescriptionHelpFormatter  # the CLI shows every default
@@ -138,8 +149,15 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     _budget_options(b, "the branch and bound")
     add_model_options(b)
     _loop_options(b)
-    add_robust_options(b.add_argument_group("robust (every plant in a box)"))
-    b.set_defaults(func=run_bound)
+    add_uncertain_options(
+        b,
+        budget=DEFAULT_ROBUST_BUDGET,
+        verdict="the set is then certified for every plant in the box (plant parameters)",
+        boxes="with a plant parameter or --uncertain: sub-intervals of a plant parameter, or "
+        f"plants of the box for a gain (default {DEFAULT_ROBUST_BUDGET}, at most "
+        f"{MAX_SAMPLED_INTERVAL_BUDGET})",
+    )
+    b.set_defaults(func=run_bound, budget=None)
     r = ss.add_parser(
         "region",
         help="Z-width map: passive region of two controller parameters, three loop setups",
@@ -228,12 +246,20 @@ def run_check(args: argparse.Namespace) -> int:
 
 def run_bound(args: argparse.Namespace) -> int:
     from ..exact.rounding import enclosure_text, interval_text
+    from ..robust.box import parse_uncertain
     from ..sampled.bound import sampled_passive_bound
     from .progress import choose_progress
 
     given = ranges_from_args(args, [args.param])[args.param]
+    raw = parse_uncertain(args.uncertain)
+    if args.param in raw:
+        raise ParameterError(
+            f"--uncertain {args.param}: {args.param} is the bounded parameter; it cannot also "
+            "be uncertain"
+        )
+    labels = {n: f"--uncertain {n}" for n in raw}
     resolved = design_from_args(
-        args, {args.param: f"sampled bound {args.param}"}, default_loop=_default_loop()
+        args, {**labels, args.param: f"sampled bound {args.param}"}, default_loop=_default_loop()
     )
     check_rtol(args.rtol)
     stem = f"sampled_bound_{args.param}"
@@ -243,11 +269,18 @@ def run_bound(args: argparse.Namespace) -> int:
     sea, loop = resolved.sea, resolved.loop
     lo, hi = resolved.range_of(args.param, given)
     warn_unrealizable(sea)
-    box = requested_box(args, sea, resolved.design, free=[args.param])  # --robust: passed on
+    box = requested_box(args, sea, resolved.design, free=[args.param])
+    if box is not None or _plant_parameter(sea, args.param):
+        return _run_robust_bound(args, resolved, box, given)
+    if args.budget is not None:
+        raise ParameterError(
+            "--budget applies to a plant parameter or --uncertain; the branch and bound of a "
+            "gain takes --max-boxes"
+        )
     with choose_progress(not args.no_progress) as progress:
         res = sampled_passive_bound(
             sea, args.param, loop=loop, lo=lo, hi=hi, rtol=args.rtol,
-            max_precision=args.max_precision, progress=progress, box=box, **_max_boxes(args),
+            max_precision=args.max_precision, progress=progress, **_max_boxes(args),
         )  # fmt: skip
     out = {**res.to_dict(), **units_json(args, resolved)}
     if d is not None:
@@ -275,6 +308,75 @@ def run_bound(args: argparse.Namespace) -> int:
         print(f"  undecided slivers: {len(res.undecided)} (each narrower than rtol)")
     if res.low_frequency is not None:
         print(f"  low-frequency condition: {res.low_frequency}")
+    return 0
+
+
+def _plant_parameter(sea: Any, name: str) -> bool:
+    from ..robust.sampled_intervals import plant_parameters
+
+    return name in plant_parameters(sea)
+
+
+def _run_robust_bound(
+    args: argparse.Namespace, resolved: Any, box: Any, given: tuple[float, float] | None
+) -> int:
+    """``sampled bound`` of a plant parameter, or over a box: `robust_sampled_intervals`."""
+    from ..exact.rounding import enclosure_text, interval_text
+    from ..robust.sampled_intervals import DEFAULT_INTERVAL_BUDGET, robust_sampled_intervals
+    from .progress import choose_progress
+    from .uncertain_options import box_text
+
+    name = args.param
+    if args.out is not None:
+        raise ParameterError(
+            "--out is not available for a plant parameter or with --uncertain; use --json"
+        )
+    if args.max_boxes is not None:
+        raise ParameterError(
+            "--max-boxes applies to the bound of a gain at fixed plant values; give --budget"
+        )
+    if given is None and name not in resolved.ranges:
+        raise ParameterError(
+            f"sampled bound {name}: a plant parameter needs its range; give --range "
+            f"{name}=LO:HI (or [ranges] {name} in the design file)"
+        )
+    lo, hi = resolved.range_of(name, given)
+    budget = DEFAULT_INTERVAL_BUDGET if args.budget is None else args.budget
+    if not 1 <= budget <= MAX_SAMPLED_INTERVAL_BUDGET:
+        raise ParameterError(
+            f"--budget must be an integer in [1, {MAX_SAMPLED_INTERVAL_BUDGET}], got {budget}"
+        )
+    sea, loop = resolved.sea, resolved.loop
+    with choose_progress(not args.no_progress) as progress:
+        try:
+            res = robust_sampled_intervals(
+                sea, name, loop=loop, lo=lo, hi=hi, box=box, budget=budget, progress=progress
+            )
+        except ParameterError as exc:  # the box in the words of the command line
+            raise ParameterError(re.sub(r"box\['(\w+)'\]", r"--uncertain \1", str(exc))) from None
+    if args.json:
+        print_json({**res.to_dict(), **units_json(args, resolved)})
+        return 0
+    over = f" for every plant with {box_text(box)}" if box is not None else ""
+    ivs = ", ".join(interval_text(a, b, digits=10) for a, b in res.intervals) or "none"
+    ivs += unit_suffix(args, resolved, name) if res.intervals else ""
+    print(f"passive{over} at T = {loop.period:g} s (delay {loop.delay}): {name} in {ivs}")
+    outer = ", ".join(enclosure_text(a, b, digits=10) for a, b in res.outer) or "empty"
+    print(f"  outer (certified): no {name} outside {outer} is passive{over}")
+    if res.undecided:
+        rest = ", ".join(enclosure_text(a, b) for a, b in res.undecided[:5])
+        more = f" and {len(res.undecided) - 5} more" if len(res.undecided) > 5 else ""
+        if res.budget_exhausted:
+            why = f"{res.budget_used} of {res.budget} used: raise --budget or narrow the range"
+        elif res.kind == "gain" and not res.intervals:
+            why = "a gain interval over a box is not certified, see docs/sampled.md"
+        else:
+            why = "edge enclosures"
+        print(f"  undecided (never shown passive; {why}): {rest}{more}")
+    for w in res.failing[:5]:
+        at = ", ".join(f"{k}={v:.10g}" for k, v in w.values.items())
+        freq = "" if w.frequency is None else f" (N(w) < 0 at w = {w.frequency:.6g} rad/s)"
+        print(f"  not passive at {at}{freq}")
     return 0
 
 

@@ -44,6 +44,7 @@ __all__ = [
     "MAX_RIG_INTEGRATOR_STEPS",
     "MAX_RIG_SAMPLES",
     "MAX_RTOL",
+    "MAX_SAMPLED_INTERVAL_BUDGET",
     "MAX_SIM_STEPS",
     "MAX_SWEEP_MANIFEST_BYTES",
     "MAX_S_DEGREE",
@@ -162,6 +163,11 @@ split into boxes so small that the budgeted branch and bound cannot end."""
 
 MAX_UNCERTAIN_MAGNITUDE = 1e12
 """Largest ``|LO|``, ``|HI|`` of an uncertain parameter (keeps the exact rationals small)."""
+
+MAX_SAMPLED_INTERVAL_BUDGET = 10_000
+"""Most sub-intervals (a plant parameter) or plants (a gain over a box) one robust sampled
+bound examines ([`robust_sampled_intervals`][seapass.robust.sampled_intervals.robust_sampled_intervals],
+``sampled bound --budget``); each is one certified decision of the robust kernel."""
 MAX_DELAY_SECONDS = 1000.0
 """A continuous delay ``exp(-NAME*s)``, in seconds (beyond it a value is a unit slip)."""
 

@@ -23,6 +23,7 @@ __all__ = [
     "plot_bound",
     "plot_bound_table",
     "plot_power_curve",
+    "plot_robust_sampled_bound",
     "plot_sampled_limits",
     "plot_sampled_response",
     "plot_zwidth",
@@ -187,4 +188,35 @@ def plot_sampled_response(result: Any, ax: Any = None) -> Any:
     ax.set_xlabel("t [s]")
     ax.set_ylabel("position [m]")
     ax.legend(loc="best")
+    return ax
+
+
+def plot_robust_sampled_bound(result: Any, ax: Any = None, *, unit: str | None = None) -> Any:
+    """A [`RobustSampledIntervals`][seapass.robust.sampled_intervals.RobustSampledIntervals]:
+    the certified inner set, the undecided rest of the outer set, the failing values.
+
+    Outside the outer set the value is certified not passive for some plant.  ``unit``
+    labels the axis.  Returns the Axes.
+    """
+    ax = axes_grid(ax, 1, 1, figsize=(7, 2.6))[0, 0]
+    ax.axhspan(0, 1, color="tab:red", alpha=0.15, label="not passive (outside the outer set)")
+    for i, (lo, hi) in enumerate(result.undecided):
+        ax.axvspan(lo, hi, color="tab:orange", alpha=0.5, label="undecided" if i == 0 else None)
+    for i, (lo, hi) in enumerate(result.intervals):
+        label = "passive for every plant (certified)" if i == 0 else None
+        if hi > lo:
+            ax.axvspan(lo, hi, color="tab:green", alpha=0.5, label=label)
+        else:
+            ax.axvline(lo, color="tab:green", lw=2, label=label)
+    xs = [w.values[result.param] for w in result.failing if result.param in w.values]
+    if xs:
+        ax.plot(xs, [0.5] * len(xs), "x", color="k", label="verified failing value")
+    ax.set_yticks([])
+    ax.set_ylim(0, 1)
+    if result.hi > result.lo:
+        ax.set_xlim(result.lo, result.hi)
+    ax.set_xlabel(axis_label(result.param, unit))
+    loop = result.loop
+    ax.set_title(f"Robust sampled passivity at T = {loop.period * 1e3:g} ms (delay {loop.delay})")
+    ax.legend(loc="upper right", fontsize=8)
     return ax

@@ -23,10 +23,15 @@ in [`delayresult`][seapass.robust.delayresult]),
 [`portfamily`][seapass.robust.portfamily] (a two-port's Llewellyn and passivity
 conditions as polynomials on the box), [`twoport`][seapass.robust.twoport]
 (`robust_two_port_check`: absolute stability and passivity of a two-port for every
-plant of a box; its results in [`portresult`][seapass.robust.portresult]) and [`portbound`][seapass.robust.portbound] (robust gain sets of a
-two-port).
+plant of a box; its results in [`portresult`][seapass.robust.portresult]), [`portbound`][seapass.robust.portbound] (robust gain sets of a
+two-port),
+[`sampled_intervals`][seapass.robust.sampled_intervals] (`robust_sampled_intervals`: the
+certified sampled passive set of a plant parameter, or of a gain over a box),
+[`sampled_gains`][seapass.robust.sampled_gains] (its gain case: the outer set from the
+plants of the box) and [`pieces`][seapass.robust.pieces] (unions of closed intervals with
+exact ends, rounded in or out).
 
-May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.ports`][seapass.ports] (the exact two-port verdicts), [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box), [`seapass.sampled`][seapass.sampled] (the certified sampled-data kernel).
+May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.outcome`][seapass.outcome], [`seapass.progress`][seapass.progress], [`seapass.files`][seapass.files], [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis], [`seapass.ports`][seapass.ports] (the exact two-port verdicts), [`seapass.delay`][seapass.delay] (the front door `is_passive` without a box), [`seapass.sampled`][seapass.sampled] (the certified sampled-data kernel).
 """
 
 from typing import TYPE_CHECKING
@@ -43,6 +48,7 @@ __all__ = [
     "RobustPassiveMap",
     "RobustPortIntervals",
     "RobustResult",
+    "RobustSampledIntervals",
     "RobustSampledResult",
     "RobustTwoPortResult",
     "UncertainBox",
@@ -55,6 +61,7 @@ __all__ = [
     "robust_port_intervals",
     "robust_sampled_check",
     "robust_two_port_check",
+    "robust_sampled_intervals",
     "uncertain_box",
 ]
 
@@ -72,6 +79,8 @@ __getattr__, __dir__ = lazy_exports(
         "RobustTwoPortResult": "portresult",
         "robust_port_intervals": "portbound",
         "RobustPortIntervals": "portbound",
+        "robust_sampled_intervals": "sampled_intervals",
+        "RobustSampledIntervals": "sampled_intervals",
     },
     globals(),
 )
@@ -82,5 +91,6 @@ if TYPE_CHECKING:
     from .delayresult import RobustDelayMargin
     from .portbound import RobustPortIntervals, robust_port_intervals
     from .portresult import RobustTwoPortResult
+    from .sampled_intervals import RobustSampledIntervals, robust_sampled_intervals
     from .sampled_verdict import RobustSampledResult, robust_sampled_check
     from .twoport import robust_two_port_check

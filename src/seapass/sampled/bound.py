@@ -309,7 +309,8 @@ def sampled_passive_bound(
         Where the branch and bound reports: one task of 100 steps, the percent of the
         range decided (default: none; ``True``/``False`` still work for one release).
     box : mapping, optional
-        A box of uncertain plants: robust sampled passivity, not available yet (refused).
+        Refused: the bound over a box of plants is
+        [`robust_sampled_intervals`][seapass.robust.sampled_intervals.robust_sampled_intervals].
     **old
         ``period=, delay=, velocity_filter=, method=``: the loop's old spelling, still
         accepted for one release with a
@@ -326,10 +327,11 @@ def sampled_passive_bound(
     >>> [round(x) for x in r.intervals[0]]
     [0, 10033]
     """
-    if box is not None:  # the hook of robust sampled passivity (issue 26), not in this release
+    if box is not None:  # robust sampled passivity lives a layer up (issue 26)
         raise ParameterError(
-            "robust sampled passivity (every plant in a box) is not available yet; decide the "
-            "box in continuous time (seapass.robust.robust_check)"
+            "sampled_passive_bound bounds at fixed plant values; for every plant in a box use "
+            "seapass.robust.robust_sampled_intervals(sea, param, box=...)",
+            argument="box",
         )
     loop = loop_argument(loop, old, where="sampled_passive_bound")
     shown = as_progress(progress, where="sampled_passive_bound")
@@ -350,8 +352,8 @@ def sampled_passive_bound(
     plant_params = {str(x) for k in ("m", "b", "D1", "D2") for x in getattr(base, k).free_symbols}
     if param in plant_params:
         raise ParameterError(
-            f"{param} is a plant parameter; sampled bounds are certified for controller "
-            "parameters (those in CA/CL only): use `sampled check` at chosen values"
+            f"{param} is a plant parameter; sampled_passive_bound bounds controller parameters "
+            "(those in CA/CL only): use seapass.robust.robust_sampled_intervals"
         )
     if design_value is not None:
         lo, hi = min(lo, design_value), max(hi, design_value)

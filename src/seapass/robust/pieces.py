@@ -1,0 +1,88 @@
+"""Unions of closed intervals with exact rational ends, and their doubles rounded in or out.
+
+The set algebra of the robust passive sets
+([`sampled_intervals`][seapass.robust.sampled_intervals]): `merge`, `intersect`, `minus`
+on lists of closed ``(lo, hi)`` pieces of `fractions.Fraction`; `widen` (one double
+outward, for sets read back from rounded ends); `as_floats` (ends rounded inward for an
+inner set, outward for an outer set); `text`.
+
+>>> from fractions import Fraction as F
+>>> minus([(F(0), F(4))], [(F(1), F(2))])
+[(Fraction(0, 1), Fraction(1, 1)), (Fraction(2, 1), Fraction(4, 1))]
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+__all__ = ["Pieces", "as_floats", "down", "intersect", "merge", "minus", "text", "up", "widen"]
+
+Pieces = list[tuple[Fraction, Fraction]]
+"""Closed intervals ``[lo, hi]`` with exact ends."""
+
+
+def text(ivs: tuple[tuple[float, float], ...]) -> str:
+    """``[a, b], [c, d]`` (6 significant digits) or ``none``."""
+    return ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in ivs) or "none"
+
+
+def down(x: Fraction) -> float:
+    """The largest double ``<= x``."""
+    f = float(x)
+    return f if Fraction(f) <= x else math.nextafter(f, -math.inf)
+
+
+def up(x: Fraction) -> float:
+    """The smallest double ``>= x``."""
+    f = float(x)
+    return f if Fraction(f) >= x else math.nextafter(f, math.inf)
+
+
+def merge(pieces: Pieces) -> Pieces:
+    """Union of closed intervals, as disjoint sorted closed intervals."""
+    out: Pieces = []
+    for a, b in sorted(pieces):
+        if out and a <= out[-1][1]:
+            out[-1] = (out[-1][0], max(out[-1][1], b))
+        else:
+            out.append((a, b))
+    return out
+
+
+def intersect(xs: Pieces, ys: Pieces) -> Pieces:
+    """Intersection of two unions of closed intervals."""
+    return merge([(max(a, c), min(b, d)) for a, b in xs for c, d in ys if max(a, c) <= min(b, d)])
+
+
+def minus(xs: Pieces, ys: Pieces) -> Pieces:
+    """Closure of ``xs`` minus ``ys`` (closed pieces; the shared ends stay in both)."""
+    out: Pieces = []
+    for a, b in xs:
+        cur = a
+        for c, d in sorted(ys):
+            if d < cur or c > b:
+                continue
+            if c > cur:
+                out.append((cur, c))
+            cur = max(cur, d)
+        if cur < b or (cur == a == b and not any(c <= a <= d for c, d in ys)):
+            out.append((cur, b))
+    return out
+
+
+def widen(pieces: Pieces, lo: Fraction, hi: Fraction) -> Pieces:
+    """Each end one double outward, clipped to ``[lo, hi]`` (outer sets from rounded ends)."""
+    return merge(
+        [
+            (max(lo, Fraction(math.nextafter(down(a), -math.inf))),
+             min(hi, Fraction(math.nextafter(up(b), math.inf))))
+            for a, b in pieces
+        ]
+    )  # fmt: skip
+
+
+def as_floats(pieces: Pieces, *, inward: bool) -> tuple[tuple[float, float], ...]:
+    if inward:
+        return tuple((up(a), down(b)) for a, b in pieces if up(a) <= down(b))
+    return tuple((down(a), up(b)) for a, b in pieces)
