@@ -60,8 +60,8 @@ __all__ = [
     "robust_passive_map",
     "robust_port_intervals",
     "robust_sampled_check",
-    "robust_two_port_check",
     "robust_sampled_intervals",
+    "robust_two_port_check",
     "uncertain_box",
 ]
 
