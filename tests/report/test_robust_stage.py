@@ -75,3 +75,29 @@ def test_analyze_runs_the_stage_from_the_file_and_refuses_robust_without_a_box(
         plain.write_text(design.read_text().split("[uncertainty]")[0])
         code = main(["analyze", str(plain), "--out", str(tmp_path / "r2"), "--robust"])
     assert code == 2 and err.getvalue().startswith("error: ") and "[uncertainty]" in err.getvalue()
+
+
+def test_with_a_loop_latency_the_box_is_decided_at_the_latency_with_its_delay_margin() -> None:
+    """``[control] delay_time`` with ``[uncertainty]``: the verdict is the certified delayed
+    one over the box (not the delay-free one), with the robust delay margin; the gain ranges
+    over a box take no delay, so they are not computed (and the report says why)."""
+    from seapass.robust.delayed import robust_delay_margin
+
+    values = {"m": 1.0, "b": 10.0, "k1": 1000.0, "b1": 20.0, "kd": 500.0, "bd": 25.0}
+    box = {"m": (0.9, 1.1)}
+
+    def ours(tau: float) -> Design:
+        return Design(name="ours-latency", D1="k1 + b1*s", CA="kd + bd*s", values=values,
+                      ranges={"kd": (0.0, 2000.0)}, uncertainty=box, delay_time=tau)  # fmt: skip
+
+    inside = robust_data(ours(0.01))  # the full budget: 20,000 cells for the margin
+    margin = robust_delay_margin(ours(0.01), "delay_time", box=box)
+    lo, hi = inside["delay_margin"]["tau_star"]
+    assert [lo, hi] == list(margin.tau_star) and 0.01 < lo <= hi < 0.0414  # nominal 41.26 ms
+    assert inside["verdict"]["status"] == "passive" and inside["verdict"]["delay"]["tau"] == 0.01
+    assert inside["ranges"] == [] and "loop latency" in inside["ranges_note"]
+    beyond = robust_data(ours(0.045), budget=BUDGET_QUICK)  # above every plant's margin
+    assert beyond["verdict"]["status"] == "not_passive"
+    sec = stage_robust(ours(0.045), StageContext(quick=True, budget=BUDGET_QUICK))
+    assert "at the loop latency 0.045 s" in sec.text and "Robust delay margin" in sec.text
+    assert sec.tables == ()

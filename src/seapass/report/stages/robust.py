@@ -18,8 +18,9 @@ from typing import Any
 
 from ...exact.rounding import enclosure_text, exact_text, interval_text
 from ...model.design_file import Design
+from ...model.latency import LATENCY_PARAMETER
 from ...outcome import Outcome
-from ...robust.box import uncertain_box
+from ...robust.box import UncertainBox, uncertain_box
 from ...robust.intervals import robust_passive_intervals
 from ...robust.verdict import DEFAULT_BUDGET, Method, robust_check
 from ..document import Finding, Section, SectionStatus, Table, Verdict, to_json
@@ -50,6 +51,8 @@ def robust_data(design: Design, *, budget: int = DEFAULT_BUDGET) -> dict[str, An
         raise ParameterError("the design has no [uncertainty] table")
     sea = design.sea()
     box = uncertain_box(sea, dict(design.uncertainty))
+    if design.delay_time:
+        return _delayed_data(design, box, budget=budget)
     verdict = robust_check(sea, box=box, budget=budget)
     ranges = []
     for name, (lo, hi) in design.analysis_ranges().items():
@@ -59,6 +62,24 @@ def robust_data(design: Design, *, budget: int = DEFAULT_BUDGET) -> dict[str, An
         r = robust_passive_intervals(free, name, lo, hi, box=box, budget=budget)
         ranges.append(r.to_dict() | {"nominal": design.values.get(name)})
     return {"box": box.to_dict(), "verdict": verdict.to_dict(), "ranges": ranges}
+
+
+def _delayed_data(design: Design, box: UncertainBox, *, budget: int) -> dict[str, Any]:
+    """With a loop latency: the box verdict at ``delay_time`` and the robust delay margin
+    (`seapass.robust.delayed`); robust gain ranges over a box take no delay (none given)."""
+    from ...robust.delayed import DEFAULT_DELAY_BUDGET, robust_delay_margin
+
+    cells = DEFAULT_DELAY_BUDGET if budget == DEFAULT_BUDGET else budget
+    verdict = robust_check(design.delayed_sea(), box=box, budget=budget)
+    margin = robust_delay_margin(design, LATENCY_PARAMETER, box=box, budget=cells)
+    return {
+        "box": box.to_dict(),
+        "verdict": verdict.to_dict(),
+        "delay_margin": margin.to_dict(),
+        "ranges": [],
+        "ranges_note": f"not computed: the design has a loop latency ({design.delay_time:g} s), "
+        "and robust gain ranges over a box are decided without a delay",
+    }
 
 
 def stage_robust(design: Design, context: StageContext) -> Section:
@@ -91,10 +112,21 @@ def stage_robust(design: Design, context: StageContext) -> Section:
         "set is robustly passive.",
     )
     status = Outcome(v["status"])
+    at_latency = f" at the loop latency {design.delay_time:g} s" if design.delay_time else ""
     text = (
-        f"Over the box {span}: **{status.replace('_', ' ')}** for every plant "
+        f"Over the box {span}: **{status.replace('_', ' ')}** for every plant{at_latency} "
         f"({v['method']}; {v['detail']})."
     )
+    if "delay_margin" in data:
+        dm = data["delay_margin"]
+        lo, hi = dm["tau_star"] if dm.get("tau_star") else (None, None)
+        text += (
+            f" Robust delay margin over the box: τ* ∈ [{lo:.6g}, {hi:.6g}] s "
+            f"({dm['status'].replace('_', ' ')}; the lower end holds for every plant)."
+            if lo is not None and hi is not None
+            else f" Robust delay margin over the box: {dm['status'].replace('_', ' ')}."
+        )
+        text += f" Gain ranges {data['ranges_note']}."
     if v["worst"] is not None:
         at = ", ".join(f"`{k}` = {x:.10g}" for k, x in v["worst"]["values"].items())
         text += f" Worst plant: {at} (verified not passive by the exact test)."
@@ -102,7 +134,7 @@ def stage_robust(design: Design, context: StageContext) -> Section:
     verdict = Verdict.AGREES if status is Outcome.PASSIVE else Verdict.INFO
     undecided = status is Outcome.UNDECIDED
     return Section(
-        "robust", TITLE, text=text, tables=(table,),
+        "robust", TITLE, text=text, tables=() if "delay_margin" in data else (table,),
         findings=(Finding(claim, verdict, v["detail"]),),
         files={"robust.json": to_json(data)},
         status=SectionStatus.STOPPED_AT_BUDGET if undecided else SectionStatus.OK,
