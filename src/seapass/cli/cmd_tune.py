@@ -109,6 +109,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     add_uncertain_options(p)
     s = p.add_argument_group("the step response (default: the file's [simulation], else the paper's experiment: 10 kg, 0.5 m, 10 s)")  # fmt: skip
     s.add_argument("--load-mass", type=float, metavar="KG", help="tuning load mass m_L [kg]")
+    s.add_argument("--mass-policy", choices=("worst", "tune"),
+                   help="settling/itae: worst = the worst objective over the file's load_masses; "
+                   "tune = the tuning mass only (default: worst when the design file lists "
+                   "several load masses and --load-mass is not given, else tune)")  # fmt: skip
     s.add_argument("--step", type=float, metavar="M", help="reference step [m]")
     s.add_argument("--horizon", type=float, metavar="S", help="simulated time [s]")
     b = p.add_argument_group("the search")
@@ -200,6 +204,7 @@ def options_from_args(args: argparse.Namespace, file: Design | None) -> TuningOp
         max_overshoot=None if args.max_overshoot is None else args.max_overshoot / 100.0,
         **({"force_limit": None} if args.no_force_limit else limit),
         load_mass=args.load_mass,
+        masses=args.mass_policy,
         step=args.step,
         horizon=args.horizon,
         loop=_loop(args, file),
@@ -323,7 +328,22 @@ def _print_text(result: TuningResult, units: Mapping[str, str] | None = None) ->
     )
     print(f"{result.design}: {gains}")
     kind = Objective(result.options.objective)
-    print(f"{kind.label}: {result.objective:.6g} {kind.unit} ({m.status})")
+    several = len(result.per_mass) > 1
+    worst = f", worst at m_L = {result.worst_mass:g} kg" if several else ""
+    print(f"{kind.label}: {result.objective:.6g} {kind.unit} ({m.status}{worst})")
+    if several:
+        for run in result.per_mass:
+            settle = run.metrics.settling_time
+            also = (
+                ""
+                if kind is Objective.SETTLING or settle is None
+                else f", settles in {settle:.4g} s"
+            )
+            print(
+                f"  m_L = {run.load_mass:g} kg: {kind.label} {run.objective:.6g} {kind.unit} "
+                f"({run.metrics.status}{also}); overshoot {overshoot_text(run.metrics.overshoot)}; "
+                f"peak force {run.metrics.peak_force:.4g} N"
+            )
     c = result.constraint
     how = "" if c is None or c.kind is ConstraintKind.EXACT else f" ({c.label})"
     verdicts = f"passive{how}: {'yes' if result.passive else 'NO'}"
