@@ -58,8 +58,8 @@ its value.  Plant parameters (m, b, k1, k2, b1, b2, those of D1/D2, [plant] or
 design file, or with --allow-plant.  Every candidate that could become the best
 is checked with the exact passivity test (and the sampled-data test with
 --period).  A delay factor exp(-NAME*s) in the model (NAME given a value in
-seconds) makes the constraint passivity at that delay, certified (the step
-response is the delay-free loop's); --uncertain NAME=LO:HI makes it passivity
+seconds; or --delay-time, [control] delay_time) makes the constraint passivity at
+that delay, certified, and the step response that of the delayed loop; --uncertain NAME=LO:HI makes it passivity
 for every plant in the box, certified (the nominal tune runs too and the
 robustness cost is printed).  Undecided counts as not passive.  The printed
 gains are the verified ones.  Exit code 0 when the result is feasible, 1 when

@@ -4,7 +4,9 @@ One candidate (a vector of gains) is simulated at the search time step at each l
 mass of the run (``options.masses``); its cost at one mass is the objective
 (`objective_value`) plus, for each violated soft limit (peak force, overshoot), a
 penalty of at least one `cost_unit`, and its cost is the worst over the masses; an
-unstable closed loop (at any mass) costs ten units.  The unit exceeds every feasible objective, so any
+unstable closed loop (at any mass) costs ten units.  Under a delay constraint the step
+response is that of the loop with its controller output delayed
+([`simulate_delayed_loop`][seapass.sim.delayed.simulate_delayed_loop]).  The unit exceeds every feasible objective, so any
 candidate within the limits beats any candidate outside them.
 
 The hard constraints are decided exactly, but only where they can matter: for
@@ -30,10 +32,11 @@ from ..analysis.passivity import is_passive
 from ..errors import SeapassError
 from ..model.realization import closed_loop_factory
 from ..sampled.passivity import sampled_passivity
+from ..sim.delayed import actuator_mass, simulate_delayed_loop
 from ..sim.metrics import Settling, TrackingMetrics, tracking_metrics
 from ..sim.scenarios import Step
 from ..sim.simulate import SimulationResult, simulate_closed_loop
-from .constraints import PassivityConstraint
+from .constraints import ConstraintKind, PassivityConstraint
 from .problem import Objective, ResolvedTuning, TuningOptions, TuningProblem
 
 __all__ = [
@@ -155,6 +158,9 @@ class CandidateCost:
             closed_loop_factory(problem.sea, problem.gains, load_mass=mass) for mass in opts.masses
         ]
         self._scenario = Step(opts.step)
+        c = checks.constraint
+        self._delay = c.tau if c is not None and c.kind is ConstraintKind.DELAY else None
+        self._mass = actuator_mass(problem.sea) if self._delay else 1.0
 
     def __call__(self, x: np.ndarray) -> float:
         self.evaluations += 1
@@ -179,12 +185,21 @@ class CandidateCost:
             loop = build(list(x))
         except SeapassError:  # e.g. a zero denominator at these gains
             return UNSTABLE_UNITS * self.unit + 1e3, True
-        worst = float(np.max(loop.poles.real)) if loop.poles.size else -1.0
-        if worst >= 0:
-            return UNSTABLE_UNITS * self.unit + min(worst, 1e3), True
-        res = simulate_closed_loop(
-            loop, scenario=self._scenario, horizon=opts.horizon, dt=opts.dt_search
-        )
+        if self._delay:  # the loop with its controller output delayed
+            res = simulate_delayed_loop(
+                loop, delay_time=self._delay, actuator_mass=self._mass,
+                scenario=self._scenario, horizon=opts.horizon, dt=opts.dt_search,
+            )  # fmt: skip
+            worst = float(np.max(res.poles.real)) if res.poles.size else -1.0
+            if worst >= 0:
+                return UNSTABLE_UNITS * self.unit + min(worst, 1e3), True
+        else:
+            worst = float(np.max(loop.poles.real)) if loop.poles.size else -1.0
+            if worst >= 0:
+                return UNSTABLE_UNITS * self.unit + min(worst, 1e3), True
+            res = simulate_closed_loop(
+                loop, scenario=self._scenario, horizon=opts.horizon, dt=opts.dt_search
+            )
         met = tracking_metrics(res, tolerance=opts.tolerance)
         if met.status == Settling.UNSTABLE:
             return UNSTABLE_UNITS * self.unit + min(float(np.max(res.poles.real)), 1e3), True

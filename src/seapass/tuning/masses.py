@@ -7,8 +7,10 @@ objective of a candidate is its largest objective (and penalty) over the masses,
 tuned gains are the best ones for the hardest load.  `MassPolicy` names the two choices
 and `resolve_masses` turns ``TuningOptions.masses`` into the masses of a run.
 
-`step_run` simulates one step response and `MassRun` holds the objective and metrics of
-the optimum at one mass.
+`step_run` simulates one step response (with the controller output delayed for a design
+with a delay on its controllers, see
+[`simulate_delayed`][seapass.sim.delayed.simulate_delayed]) and `MassRun` holds the
+objective and metrics of the optimum at one mass.
 """
 
 from __future__ import annotations
@@ -23,9 +25,10 @@ from ..files.limits import MAX_LIST_LENGTH
 from ..model.experiment import PAPER_EXPERIMENT
 from ..model.expr import finite_number
 from ..model.sea import SEA
+from ..sim.delayed import simulate_delayed
 from ..sim.metrics import TrackingMetrics, tracking_metrics
 from ..sim.scenarios import Step
-from ..sim.simulate import SimulationResult, simulate
+from ..sim.simulate import SimulationResult
 
 if TYPE_CHECKING:
     from .problem import TuningOptions
@@ -143,8 +146,9 @@ def resolve_masses(
 def step_run(
     sea: SEA, opts: TuningOptions, load_mass: float
 ) -> tuple[SimulationResult, TrackingMetrics]:
-    """The verified step response of ``sea`` at ``load_mass`` and its metrics (``dt_verify``)."""
-    res = simulate(
+    """The verified step response of ``sea`` at ``load_mass`` and its metrics (``dt_verify``);
+    a delay ``exp(-NAME*s)`` on the controllers delays their output."""
+    res = simulate_delayed(
         sea, load_mass=load_mass, scenario=Step(opts.step), horizon=opts.horizon, dt=opts.dt_verify
     )
     return res, tracking_metrics(res, tolerance=opts.tolerance)

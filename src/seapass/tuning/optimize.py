@@ -236,16 +236,18 @@ def verify(
 
     ``cost``, ``evaluations`` and ``generations`` are the search's best cost, simulation
     count and generations, when ``x`` comes from a search.  ``constraint``: the passivity
-    test (default: exact, at ``problem.sea``; the step response is always ``problem.sea``'s).
+    test (default: exact, at ``problem.sea``); the step response is the constraint's design
+    (a delay delays the controller output).
     """
     opts = problem.options
     gains = dict(zip(problem.gains, x, strict=True))
     sea = problem.candidate(x)
     pr = is_passive(sea) if constraint is None else constraint.verdict(x)
     sampled = None if opts.loop is None else _sampled_verdict(problem, sea)
+    simulated = sea if constraint is None else constraint.design(x)  # with its delay
     runs = []
     for mass in opts.masses:
-        res, met = step_run(sea, opts, mass)
+        res, met = step_run(simulated, opts, mass)
         runs.append(MassRun(load_mass=mass, objective=objective_value(opts, res, met), metrics=met))
     worst = max(runs, key=lambda r: r.objective)
     violations, notes = limit_violations(
