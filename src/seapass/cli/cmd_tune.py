@@ -39,6 +39,7 @@ EXAMPLE = """examples:
   seapass tune --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
       --set b1=30 --tune kd=0:5000 --tune bd=0:300 --period 0.002 --max-overshoot 5
   seapass tune ours --load-mass 10 --quick
+  seapass tune examples/ours.toml --continuous --mass-policy tune --json
   seapass tune examples/cascaded_impedance.toml --objective rendering \\
       --target "kv + bv*s" --band 1:100 --quick
   seapass tune APD --objective force-bandwidth --quick --json

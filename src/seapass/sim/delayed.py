@@ -290,8 +290,8 @@ class _Scheme:
         for i in range(size):
             w = np.zeros(size)
             w[i] = 1.0
-            parts = np.split(w, [n, 2 * n, 2 * n + 3, 2 * n + 6])
-            cols.append(self.chain(*parts, h))
+            x0, x1, u, s, z = np.split(w, [n, 2 * n, 2 * n + 3, 2 * n + 6])
+            cols.append(self.chain(x0, x1, u, s, z, h))
         return np.column_stack(cols)
 
     def chain(self, x0: np.ndarray, x1: np.ndarray, u: np.ndarray, s: np.ndarray,

@@ -185,6 +185,7 @@ class CandidateCost:
             loop = build(list(x))
         except SeapassError:  # e.g. a zero denominator at these gains
             return UNSTABLE_UNITS * self.unit + 1e3, True
+        res: SimulationResult
         if self._delay:  # the loop with its controller output delayed
             res = simulate_delayed_loop(
                 loop, delay_time=self._delay, actuator_mass=self._mass,

@@ -31,7 +31,7 @@ from ..sim.scenarios import Step
 from ..sim.simulate import SimulationResult
 
 if TYPE_CHECKING:
-    from .problem import TuningOptions
+    from .problem import ResolvedTuning
 
 __all__ = ["MassPolicy", "MassRun", "check_masses", "resolve_masses", "step_run"]
 
@@ -144,7 +144,7 @@ def resolve_masses(
 
 
 def step_run(
-    sea: SEA, opts: TuningOptions, load_mass: float
+    sea: SEA, opts: ResolvedTuning, load_mass: float
 ) -> tuple[SimulationResult, TrackingMetrics]:
     """The verified step response of ``sea`` at ``load_mass`` and its metrics (``dt_verify``);
     a delay ``exp(-NAME*s)`` on the controllers delays their output."""

@@ -13,7 +13,9 @@ The job, in four readable steps:
    penalties for the force and overshoot limits, and exact passivity (and
    sampled passivity when a period is given) for every candidate that could
    become the best; then move gains that ended next to an edge of the box onto
-   it when that is better (`seapass.tuning.search.snap_to_edges`);
+   it when that is better (`seapass.tuning.search.snap_to_edges`); round the gains for
+   printing (over several load masses keeping the search's cost too: the worst case
+   has ridges where the settling time jumps);
 4. **verify** the optimum at the finer time step: exact verdicts, metrics, the
    limits, and which gains sit at an edge of their box (``on_bound``, with a
    [`TuningWarning`][seapass.errors.TuningWarning]: the optimum may lie beyond).
@@ -31,6 +33,8 @@ from collections.abc import Callable, Mapping
 from dataclasses import replace
 from types import MappingProxyType
 from typing import Any
+
+import numpy as np
 
 from ..analysis.passivity import is_passive
 from ..analysis.region import passive_intervals
@@ -171,7 +175,14 @@ def tune(
         callback=callback,
     )
     x, best = snap_to_edges(problem, bounds, [float(v) for v in found.x], float(found.fun), cost)
-    x = rounded_gains(x, [bounds[g] for g in problem.gains], checks.passive)  # printed = verified
+    several = len(problem.options.masses) > 1
+
+    def keep(r: tuple[float, ...]) -> bool:  # over several masses the rounding must not step
+        if several and float(cost(np.array(r))) > best + 1e-9 * abs(best):  # off a ridge
+            return False
+        return checks.passive(r)
+
+    x = rounded_gains(x, [bounds[g] for g in problem.gains], keep)  # printed = verified
     result = verify(
         problem, x, bounds=bounds, checks=checks, cost=best, evaluations=cost.evaluations,
         generations=int(found.nit), constraint=constraint,
