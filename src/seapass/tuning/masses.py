@@ -76,6 +76,8 @@ class MassRun:
 def check_masses(masses: Any) -> tuple[float, ...] | MassPolicy | None:
     """``TuningOptions.masses`` checked: None, a `MassPolicy` or a tuple of positive masses.
 
+    Examples
+    --------
     >>> check_masses("worst"), check_masses([25, 1.0])
     (<MassPolicy.WORST: 'worst'>, (25.0, 1.0))
     """
@@ -126,6 +128,8 @@ def resolve_masses(
     listed : sequence of float or None
         The design file's ``load_masses`` (None: not a design file).
 
+    Examples
+    --------
     >>> resolve_masses(None, load_mass=10.0, given_mass=False, listed=(1.0, 10.0, 25.0))
     (1.0, 10.0, 25.0)
     >>> resolve_masses(MassPolicy.TUNE, load_mass=10.0, given_mass=False, listed=(1.0, 25.0))
