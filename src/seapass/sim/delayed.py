@@ -258,7 +258,7 @@ def simulate_delayed(
     )  # fmt: skip
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class _Scheme:
     """The one-step maps of the delayed recurrence (see the module docstring)."""
 
@@ -281,7 +281,7 @@ class _Scheme:
         aug[n : n + 3, n + 3 : n + 6] = np.eye(3)
         for i in range(_CHAIN - 1):
             aug[n + 6 + i, n + 7 + i] = 1.0
-        return cls(A, B, e, c, d, aug)
+        return cls(A=A, B=B, e=e, c=c, d=d, aug=aug)
 
     def chain_map(self, n: int, h: float) -> np.ndarray:
         """`chain` as a matrix on ``(x0, x1, u, s, z)`` (it is linear in them)."""
