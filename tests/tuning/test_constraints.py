@@ -24,6 +24,10 @@ from seapass.model.loop import SampledLoop
 from seapass.model.sea import SEA
 from seapass.outcome import Outcome
 from seapass.robust.verdict import robust_check
+from seapass.sim.delayed import simulate_delayed
+from seapass.sim.metrics import tracking_metrics
+from seapass.sim.scenarios import Step
+from seapass.sim.simulate import simulate
 from seapass.tuning.constraints import (
     DIGITS,
     LATENCY,
@@ -33,10 +37,6 @@ from seapass.tuning.constraints import (
     gain_text,
     rounded_gains,
 )
-from seapass.sim.delayed import simulate_delayed
-from seapass.sim.metrics import tracking_metrics
-from seapass.sim.scenarios import Step
-from seapass.sim.simulate import simulate
 from seapass.tuning.optimize import tune
 
 BUDGET = {"maxiter": 8, "popsize": 5, "dt_search": 1e-2}  # counted: 8 generations of 10
