@@ -144,6 +144,9 @@ def test_cli_text_lists_every_mass_and_refuses_a_bad_policy() -> None:
     assert code == 0, err
     assert "worst at m_L = 25 kg" in out
     assert sum(line.startswith("  m_L = ") for line in out.splitlines()) == 3
+    code, out, err = _cli([*CLI, "--objective", "zwidth", "--mass-policy", "worst"])
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert err.startswith("error: --mass-policy works with --objective settling or itae")
     code, out, err = _cli([*CLI, "--mass-policy", "heaviest"])
     assert code == 2 and out == ""
     assert len(err.strip().splitlines()) == 1 and err.startswith("error:") and "worst" in err

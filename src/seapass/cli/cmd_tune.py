@@ -282,6 +282,11 @@ def run(args: argparse.Namespace) -> int:
         if box is not None:
             uncertain = dict(box.intervals)
     if args.objective not in ("settling", "itae"):
+        if args.mass_policy is not None:  # those objectives check every load mass already
+            raise ParameterError(
+                f"--mass-policy works with --objective settling or itae, not {args.objective} "
+                "(its candidates must be stable with every load mass of the file already)"
+            )
         if uncertain:
             raise ParameterError(
                 f"--uncertain and --robust work with --objective settling or itae, "
