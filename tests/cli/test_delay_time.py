@@ -114,3 +114,55 @@ def test_bound_decides_the_gain_at_the_files_latency(tmp_path):
 def test_delay_time_is_listed_in_help():
     code, out, _ = run(["check", "--help"])
     assert code == 0 and "--delay-time SECONDS" in out
+
+
+def test_simulate_delays_the_controller_output_by_the_files_latency(tmp_path):
+    from seapass.sim.delayed import simulate_delayed
+    from seapass.sim.metrics import tracking_metrics
+
+    path = design(tmp_path, 0.01)
+    code, out, err = run(["simulate", path, "--load-mass", "10", "--json"])
+    d = json.loads(out)
+    assert code == 0 and err == "" and d["delay_time"] == 0.01 and d["status"] == "settled"
+    code0, out0, _ = run(["simulate", path, "--load-mass", "10", "--delay-time", "0", "--json"])
+    free = json.loads(out0)
+    assert code0 == 0 and "delay_time" not in free
+    assert d["settling_time"] != free["settling_time"] and d["overshoot"] > free["overshoot"]
+    # the library call the command makes, on the file's model with the latency
+    sea = load_design(path).sea().with_values(kd=500.0)
+    ref = tracking_metrics(simulate_delayed(sea, load_mass=10.0, delay_time=0.01, horizon=10.0))
+    assert d["settling_time"] == ref.settling_time
+    # passivity is certified at the latency: the file's gains are passive up to b/kd-ish
+    code, out, _ = run(["check", path, "--json"])
+    assert d["passive"] == json.loads(out)["passive"]
+    code, out, err = run(["simulate", path, "--load-mass", "10", "--delay-time", "0.02"])
+    assert code == 0 and "loop latency: 0.02 s" in out and "settling time:" in out
+
+
+def test_simulate_refuses_a_delay_it_cannot_simulate_in_one_line():
+    code, out, err = run(["simulate", "--D1", "k1", "--CA", "kd*exp(-tau*s)", "--CL", "kl",
+                          "--set", "m=1", "--set", "b=10", "--set", "k1=1000", "--set", "kd=100",
+                          "--set", "kl=50", "--set", "tau=0.01", "--load-mass", "1"])  # fmt: skip
+    assert code == 2 and out == "" and err.count("\n") == 1 and err.startswith("error:")
+    assert "delays the controller output only" in err
+    code, out, err = run(["simulate", "--D1", "k1", "--CA", "kd", "--set", "m=1", "--set", "b=10",
+                          "--set", "k1=1000", "--set", "kd=100", "--load-mass", "1",
+                          "--delay-time", "-0.5"])  # fmt: skip
+    assert code == 2 and err.count("\n") == 1 and "--delay-time" in err
+
+
+def test_tune_a_file_with_a_latency_reports_the_delayed_step_response(tmp_path):
+    path = design(tmp_path, 0.02)
+    code, out, err = run(["tune", path, "--tune", "kd=0:3000", "--tune", "bd=0:300", "--quick",
+                          "--maxiter", "6", "--popsize", "5", "--no-progress", "--json"])  # fmt: skip
+    d = json.loads(out)
+    assert code == 0, err
+    assert d["constraint"]["kind"] == "delay" and d["constraint"]["tau"] == 0.02
+    assert d["mass_policy"] == "worst" and [r["load_mass"] for r in d["per_mass"]] == [1, 10, 25]
+    from seapass.sim.delayed import simulate_delayed
+    from seapass.sim.metrics import tracking_metrics
+
+    sea = load_design(path).sea().with_values(**d["gains"])
+    for run_ in d["per_mass"]:
+        r = simulate_delayed(sea, load_mass=run_["load_mass"], delay_time=0.02, horizon=10.0)
+        assert run_["settling_time"] == tracking_metrics(r).settling_time

@@ -24,6 +24,10 @@ from seapass.model.loop import SampledLoop
 from seapass.model.sea import SEA
 from seapass.outcome import Outcome
 from seapass.robust.verdict import robust_check
+from seapass.sim.delayed import simulate_delayed
+from seapass.sim.metrics import tracking_metrics
+from seapass.sim.scenarios import Step
+from seapass.sim.simulate import simulate
 from seapass.tuning.constraints import (
     DIGITS,
     LATENCY,
@@ -125,6 +129,41 @@ def test_the_delay_constraint_matters() -> None:
     assert _held_port_growth({**PLANT, **nominal.gains}, TAU) > 1e3
     constrained = _tune(_delayed())
     assert constrained.feasible and dict(constrained.gains) != dict(nominal.gains)
+
+
+def _settling_by_hand(v: dict[str, float], tau: float, mass: float, step: float) -> float:
+    """2 % settling time of the delayed loop by the held-port integrator's method, with the
+    load free: semi-implicit Euler at 1e-5 s with a history buffer (independent of seapass)."""
+    dt, horizon = 1e-5, 10.0
+    lag, steps = round(tau / dt), round(horizon / dt)
+    xa = va = xl = vl = 0.0
+    hist = [0.0] * lag  # the controller output, tau ago (at rest before t = 0)
+    last_out = 0.0
+    for n in range(steps):
+        k = n % lag
+        f_a = hist[k]
+        hist[k] = v["kd"] * (step - xa) - v["bd"] * va
+        f1 = v["k1"] * (xl - xa) + v["b1"] * (vl - va)
+        va += dt * (f_a + f1 - v["b"] * va) / v["m"]
+        vl += dt * (-f1) / mass
+        xa += dt * va
+        xl += dt * vl
+        if abs(xl - step) > 0.02 * abs(step):
+            last_out = (n + 1) * dt
+    return last_out
+
+
+def test_a_delayed_tune_judges_the_step_response_of_the_delayed_loop() -> None:
+    tau = 0.02
+    r = _tune(_delayed(tau))
+    v = {**PLANT, **r.gains}
+    free = simulate(SEA(D1="k1 + b1*s", CA="kd + bd*s", values=v), load_mass=10.0,
+                    scenario=Step(0.5), horizon=10.0, dt=1e-3)  # fmt: skip
+    delayed = tracking_metrics(simulate_delayed(r.sea, load_mass=10.0, scenario=Step(0.5),
+                                                horizon=10.0, dt=1e-3))  # fmt: skip
+    assert r.objective == delayed.settling_time == r.per_mass[0].objective
+    assert r.objective != tracking_metrics(free).settling_time  # not the delay-free loop's
+    assert r.objective == pytest.approx(_settling_by_hand(v, tau, 10.0, 0.5), abs=2e-3)
 
 
 def test_robust_tuned_gains_pass_a_dense_sampling_of_the_box_exactly() -> None:

@@ -31,6 +31,9 @@ EXAMPLE = """examples:
   seapass simulate --D1 k1 --CA "kd + ki/s" --set m=1 --set b=10 --set k1=1000 \\
       --set kd=300 --set ki=100 --load-mass 1 --trajectory ref.csv --interp linear
 
+A loop latency (--delay-time, [control] delay_time, or exp(-NAME*s) on the
+controllers) delays the controller output: the loop is simulated by the method of
+steps (a step of at most --dt that divides the delay) and passivity is certified at it.
 Controllers act on the error, except that the derivative part (e.g. bd*s) acts on
 the measured velocity only ("derivative on measurement"), so steps give no impulse.
 A --trajectory file has two columns, time [s] and reference [m] (header optional).
@@ -88,7 +91,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_json_option(p, "the metrics")
     add_plot_option(p, "the response")
     add_force_option(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, allow_delay=True)
 
 
 def scenario_from_args(args: argparse.Namespace) -> Scenario:
@@ -139,6 +142,11 @@ def run(args: argparse.Namespace) -> int:
         ts = met.settling_time
         passive = {True: "passive", False: "not passive", None: "passivity not decided"}
         print(f"status: {met.status} (closed loop {result.status}; {passive[summary.passive]})")
+        if summary.delay_time:
+            print(
+                f"loop latency: {summary.delay_time:g} s (the controller output is applied "
+                f"that late; method of steps at {summary.dt:.6g} s)"
+            )
         if error is not None:
             print(f"passivity: {error}")
         print(f"settling time: {'-' if ts is None else f'{ts:.6g} s'}")

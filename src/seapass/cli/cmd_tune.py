@@ -39,6 +39,7 @@ EXAMPLE = """examples:
   seapass tune --D1 "k1 + b1*s" --CA "kd + bd*s" --set m=1 --set b=10 --set k1=1000 \\
       --set b1=30 --tune kd=0:5000 --tune bd=0:300 --period 0.002 --max-overshoot 5
   seapass tune ours --load-mass 10 --quick
+  seapass tune examples/ours.toml --continuous --mass-policy tune --json
   seapass tune examples/cascaded_impedance.toml --objective rendering \\
       --target "kv + bv*s" --band 1:100 --quick
   seapass tune APD --objective force-bandwidth --quick --json
@@ -58,8 +59,8 @@ its value.  Plant parameters (m, b, k1, k2, b1, b2, those of D1/D2, [plant] or
 design file, or with --allow-plant.  Every candidate that could become the best
 is checked with the exact passivity test (and the sampled-data test with
 --period).  A delay factor exp(-NAME*s) in the model (NAME given a value in
-seconds) makes the constraint passivity at that delay, certified (the step
-response is the delay-free loop's); --uncertain NAME=LO:HI makes it passivity
+seconds; or --delay-time, [control] delay_time) makes the constraint passivity at
+that delay, certified, and the step response that of the delayed loop; --uncertain NAME=LO:HI makes it passivity
 for every plant in the box, certified (the nominal tune runs too and the
 robustness cost is printed).  Undecided counts as not passive.  The printed
 gains are the verified ones.  Exit code 0 when the result is feasible, 1 when
@@ -109,6 +110,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     add_uncertain_options(p)
     s = p.add_argument_group("the step response (default: the file's [simulation], else the paper's experiment: 10 kg, 0.5 m, 10 s)")  # fmt: skip
     s.add_argument("--load-mass", type=float, metavar="KG", help="tuning load mass m_L [kg]")
+    s.add_argument("--mass-policy", choices=("worst", "tune"),
+                   help="settling/itae: worst = the worst objective over the file's load_masses; "
+                   "tune = the tuning mass only (default: worst when the design file lists "
+                   "several load masses and --load-mass is not given, else tune)")  # fmt: skip
     s.add_argument("--step", type=float, metavar="M", help="reference step [m]")
     s.add_argument("--horizon", type=float, metavar="S", help="simulated time [s]")
     b = p.add_argument_group("the search")
@@ -200,6 +205,7 @@ def options_from_args(args: argparse.Namespace, file: Design | None) -> TuningOp
         max_overshoot=None if args.max_overshoot is None else args.max_overshoot / 100.0,
         **({"force_limit": None} if args.no_force_limit else limit),
         load_mass=args.load_mass,
+        masses=args.mass_policy,
         step=args.step,
         horizon=args.horizon,
         loop=_loop(args, file),
@@ -276,6 +282,11 @@ def run(args: argparse.Namespace) -> int:
         if box is not None:
             uncertain = dict(box.intervals)
     if args.objective not in ("settling", "itae"):
+        if args.mass_policy is not None:  # those objectives check every load mass already
+            raise ParameterError(
+                f"--mass-policy works with --objective settling or itae, not {args.objective} "
+                "(its candidates must be stable with every load mass of the file already)"
+            )
         if uncertain:
             raise ParameterError(
                 f"--uncertain and --robust work with --objective settling or itae, "
@@ -323,7 +334,22 @@ def _print_text(result: TuningResult, units: Mapping[str, str] | None = None) ->
     )
     print(f"{result.design}: {gains}")
     kind = Objective(result.options.objective)
-    print(f"{kind.label}: {result.objective:.6g} {kind.unit} ({m.status})")
+    several = len(result.per_mass) > 1
+    worst = f", worst at m_L = {result.worst_mass:g} kg" if several else ""
+    print(f"{kind.label}: {result.objective:.6g} {kind.unit} ({m.status}{worst})")
+    if several:
+        for run in result.per_mass:
+            settle = run.metrics.settling_time
+            also = (
+                ""
+                if kind is Objective.SETTLING or settle is None
+                else f", settles in {settle:.4g} s"
+            )
+            print(
+                f"  m_L = {run.load_mass:g} kg: {kind.label} {run.objective:.6g} {kind.unit} "
+                f"({run.metrics.status}{also}); overshoot {overshoot_text(run.metrics.overshoot)}; "
+                f"peak force {run.metrics.peak_force:.4g} N"
+            )
     c = result.constraint
     how = "" if c is None or c.kind is ConstraintKind.EXACT else f" ({c.label})"
     verdicts = f"passive{how}: {'yes' if result.passive else 'NO'}"

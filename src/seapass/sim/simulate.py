@@ -65,6 +65,8 @@ from .scenarios import (
 __all__ = [
     "SimulationResult",
     "Stability",
+    "checked_expm",
+    "scenario_setup",
     "simulate",
     "simulate_closed_loop",
 ]
@@ -212,7 +214,7 @@ def _foh_matrix(sys: ClosedLoop) -> np.ndarray:
     return aug
 
 
-def _scenario_setup(
+def scenario_setup(
     scenario: Scenario, sys: ClosedLoop, t: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, bool, float, float, bool]:
     """Initial state, inputs on the grid, linear-interpolation flag, target, scale, has_step."""
@@ -241,7 +243,7 @@ def _scenario_setup(
     raise ParameterError(f"unknown scenario {scenario!r}")
 
 
-def _expm(m: np.ndarray, dt: float) -> np.ndarray:
+def checked_expm(m: np.ndarray, dt: float) -> np.ndarray:
     """``expm(m dt)``, or `SimulationError` when it is not finite in double precision.
 
     A load mass that is tiny next to the other masses makes a mode so fast that
@@ -267,7 +269,7 @@ def _propagate_constant(
     n = x0.size
     aug = np.zeros((n + 3, n + 3))
     aug[:n, :n], aug[:n, n:] = sys.A, sys.B
-    phi = _expm(aug, dt)
+    phi = checked_expm(aug, dt)
     block = min(64, N)
     powers = np.empty((block, n + 3, n + 3))
     powers[0] = np.eye(n + 3)
@@ -296,7 +298,7 @@ def _propagate_general(
     sys: ClosedLoop, x0: np.ndarray, u: np.ndarray, slopes: np.ndarray, dt: float, limit: float
 ) -> np.ndarray:
     n = x0.size
-    e = _expm(_foh_matrix(sys), dt)
+    e = checked_expm(_foh_matrix(sys), dt)
     phi, g0, g1 = e[:n, :n], e[:n, n : n + 3], e[:n, n + 3 :]
     out = np.empty((u.shape[0], n))
     out[0] = x = x0
@@ -331,7 +333,7 @@ def simulate_closed_loop(
         )
     t = np.linspace(0.0, horizon, N + 1)
     h = horizon / N
-    x0, u, linear, target, scale, has_step = _scenario_setup(scenario, sys, t)
+    x0, u, linear, target, scale, has_step = scenario_setup(scenario, sys, t)
     slopes = np.diff(u, axis=0) / h if linear else np.zeros((N, 3))
     mag = max(1.0, float(np.max(np.abs(u), initial=0.0)), float(np.max(np.abs(x0), initial=0.0)))
     limit = _DIVERGENCE * mag * max(1.0, float(np.max(np.abs(sys.B), initial=0.0)))
@@ -400,7 +402,7 @@ def _exact_work(
     N = M.shape[0]
     big = np.zeros((2 * N, 2 * N))
     big[:N, :N], big[:N, N:], big[N:, N:] = -M.T, Q, M
-    E = _expm(big, h)
+    E = checked_expm(big, h)
     W = E[N:, N:].T @ E[:N, N:]
     W = 0.5 * (W + W.T)
     w = np.hstack([x[:-1], u[: x.shape[0] - 1], slopes[: x.shape[0] - 1]])

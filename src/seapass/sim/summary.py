@@ -1,9 +1,12 @@
 """One simulation with its tracking metrics and the design's passivity: ``seapass simulate``.
 
 `simulation_summary` is the one call behind the command: it simulates the
-design with a load mass ([`simulate`][seapass.sim.simulate.simulate]), measures
+design with a load mass ([`simulate`][seapass.sim.simulate.simulate]; a design whose
+controller output is delayed, by ``exp(-tau*s)`` on its controllers or a loop latency,
+by [`simulate_delayed`][seapass.sim.delayed.simulate_delayed]), measures
 the response ([`tracking_metrics`][seapass.sim.metrics.tracking_metrics]) and
-decides passivity exactly ([`is_passive`][seapass.analysis.passivity.is_passive]),
+decides passivity exactly ([`is_passive`][seapass.analysis.passivity.is_passive];
+certified at the delay by [`delayed_passivity`][seapass.delay.passivity.delayed_passivity]),
 which is informative here: a model the passivity test cannot take still has
 its simulation.
 """
@@ -15,12 +18,15 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..analysis.passivity import is_passive
+from ..delay.passivity import delayed_passivity
 from ..errors import SeapassError
 from ..model.display import html_card, short_repr
 from ..model.sea import SEA
+from ..outcome import Outcome
+from .delayed import controller_latency, simulate_delayed
 from .metrics import TrackingMetrics, tracking_metrics
 from .scenarios import Scenario
-from .simulate import SimulationResult, simulate
+from .simulate import SimulationResult
 
 __all__ = ["SimulationSummary", "simulation_summary"]
 
@@ -39,6 +45,8 @@ class SimulationSummary:
         Why it could not (one line).
     load_mass, horizon, dt : float
         Load mass (kg), simulated time (s) and the time step of the grid (s).
+    delay_time : float
+        The loop latency [s] the controller output was delayed by (0: none).
     """
 
     result: SimulationResult
@@ -48,6 +56,7 @@ class SimulationSummary:
     load_mass: float
     horizon: float
     dt: float
+    delay_time: float = 0.0
 
     def to_dict(self) -> dict[str, Any]:
         """The metrics, the verdict, the closed loop and the run (``simulate --json``)."""
@@ -74,6 +83,7 @@ class SimulationSummary:
             "load_mass": self.load_mass,
             "horizon": self.horizon,
             "dt": self.dt,
+            **({"delay_time": self.delay_time} if self.delay_time else {}),
             "scenario": type(res.scenario).__name__,
             "poles": [[float(p.real), float(p.imag)] for p in res.poles],
         }
@@ -125,7 +135,9 @@ def simulation_summary(
     ----------
     sea, load_mass, scenario, horizon, dt
         As for [`simulate`][seapass.sim.simulate.simulate] (default scenario: a
-        0.5 m reference step).
+        0.5 m reference step).  A delay ``exp(-NAME*s)`` on the controllers is simulated
+        ([`simulate_delayed`][seapass.sim.delayed.simulate_delayed]; ``dt`` is then the
+        largest step) and passivity is certified at it.
     tolerance : float
         Settling band, a fraction of the motion.
 
@@ -144,12 +156,19 @@ def simulation_summary(
     >>> s.passive, str(s.result.status), s.to_dict()["scenario"]
     (True, 'stable', 'Step')
     """
-    result = simulate(sea, load_mass=load_mass, scenario=scenario, horizon=horizon, dt=dt)
+    result = simulate_delayed(sea, load_mass=load_mass, scenario=scenario, horizon=horizon, dt=dt)
     metrics = tracking_metrics(result, tolerance=tolerance)
+    tau = controller_latency(sea)[1]
     passive: bool | None
     error: str | None = None
     try:
-        passive = is_passive(sea).passive
+        if tau:
+            outcome = delayed_passivity(sea).outcome
+            passive = None if outcome is Outcome.UNDECIDED else outcome is Outcome.PASSIVE
+            if passive is None:
+                error = f"undecided at the delay {tau:g} s (the certified test)"
+        else:
+            passive = is_passive(sea).passive
     except SeapassError as exc:  # informative here: the simulation stands
         passive, error = None, " ".join(str(exc).split()) or type(exc).__name__
     step = float(result.time[1] - result.time[0]) if result.time.size > 1 else float(dt)
@@ -161,4 +180,5 @@ def simulation_summary(
         load_mass=float(load_mass),
         horizon=float(result.time[-1]) if result.time.size else math.nan,
         dt=step,
+        delay_time=tau,
     )

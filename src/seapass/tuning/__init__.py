@@ -8,9 +8,11 @@ overshoot limits, exact continuous and sampled passivity where it matters),
 [`constraints`][seapass.tuning.constraints] (the one passivity constraint of a run:
 exact, certified at a fixed continuous delay, or certified for every plant in a box),
 [`limits`][seapass.tuning.limits] (what a tuned design misses, one sentence each),
+[`masses`][seapass.tuning.masses] (the load masses a candidate is judged on: the worst
+case over a design's masses or the tuning mass, and the step response at each),
 [`search`][seapass.tuning.search] (differential evolution with a seed, its progress
-and a clean Ctrl-C) and [`optimize`][seapass.tuning.optimize] (`tune`, the
-step-response entry point, and its `TuningResult`); the interaction-control objectives
+and a clean Ctrl-C), [`optimize`][seapass.tuning.optimize] (`tune`, the
+step-response entry point) and [`result`][seapass.tuning.result] (its `TuningResult`); the interaction-control objectives
 in [`objectives`][seapass.tuning.objectives] (rendering fidelity, force bandwidth,
 Z-width), their entry point [`interaction`][seapass.tuning.interaction]
 (`tune_objective`, constrained and unconstrained) and its result in
@@ -27,16 +29,20 @@ May import: [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.pro
 
 from .constraints import ConstraintKind, PassivityConstraint, constrained_problem
 from .interaction import tune_objective
+from .masses import MassPolicy, MassRun
 from .objective_result import ObjectiveOptimum, ObjectiveTuningResult
 from .objectives import Interaction, InteractionObjective
-from .optimize import TuningResult, tune
+from .optimize import tune
 from .problem import QUICK_OPTIONS, Objective, TuningOptions, TuningProblem, resolve_problem
+from .result import TuningResult
 
 __all__ = [
     "QUICK_OPTIONS",
     "ConstraintKind",
     "Interaction",
     "InteractionObjective",
+    "MassPolicy",
+    "MassRun",
     "Objective",
     "ObjectiveOptimum",
     "ObjectiveTuningResult",

@@ -9,9 +9,10 @@
 - ``delay``: the design has a delay factor ``exp(-NAME*s)`` with ``NAME`` given a
   value (seconds); every candidate must be passive at that delay, *certified* by
   [`delayed_passivity`][seapass.delay.passivity.delayed_passivity] (an
-  ``undecided`` verdict counts as not passive).  The step response is simulated
-  without the delay (``seapass.sim`` has no continuous delay): the delay constrains
-  passivity, the objective is that of the delay-free loop (`delay_free`);
+  ``undecided`` verdict counts as not passive).  The step response is that of the
+  loop with its controller output delayed
+  ([`simulate_delayed`][seapass.sim.delayed.simulate_delayed]); the problem holds the
+  delay-free design (`delay_free`) and the constraint the delay;
 - ``box``: uncertain plant parameters ``{name: (lo, hi)}``; every candidate must
   be passive for every plant in the box by
   [`robust_check`][seapass.robust.verdict.robust_check] (``undecided`` counts as

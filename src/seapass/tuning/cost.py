@@ -1,9 +1,12 @@
 """The cost the optimizer sees: objective plus penalties, with exact constraint checks.
 
-One candidate (a vector of gains) is simulated at the search time step; its
-cost is the objective (`objective_value`) plus, for each violated soft limit
-(peak force, overshoot), a penalty of at least one `cost_unit`; an unstable
-closed loop costs ten units.  The unit exceeds every feasible objective, so any
+One candidate (a vector of gains) is simulated at the search time step at each load
+mass of the run (``options.masses``); its cost at one mass is the objective
+(`objective_value`) plus, for each violated soft limit (peak force, overshoot), a
+penalty of at least one `cost_unit`, and its cost is the worst over the masses; an
+unstable closed loop (at any mass) costs ten units.  Under a delay constraint the step
+response is that of the loop with its controller output delayed
+([`simulate_delayed_loop`][seapass.sim.delayed.simulate_delayed_loop]).  The unit exceeds every feasible objective, so any
 candidate within the limits beats any candidate outside them.
 
 The hard constraints are decided exactly, but only where they can matter: for
@@ -29,10 +32,11 @@ from ..analysis.passivity import is_passive
 from ..errors import SeapassError
 from ..model.realization import closed_loop_factory
 from ..sampled.passivity import sampled_passivity
+from ..sim.delayed import actuator_mass, simulate_delayed_loop
 from ..sim.metrics import Settling, TrackingMetrics, tracking_metrics
 from ..sim.scenarios import Step
 from ..sim.simulate import SimulationResult, simulate_closed_loop
-from .constraints import PassivityConstraint
+from .constraints import ConstraintKind, PassivityConstraint
 from .problem import Objective, ResolvedTuning, TuningOptions, TuningProblem
 
 __all__ = [
@@ -150,32 +154,57 @@ class CandidateCost:
         self.unit = cost_unit(opts)
         self.best = math.inf
         self.evaluations = 0
-        self._build = closed_loop_factory(problem.sea, problem.gains, load_mass=opts.load_mass)
+        self._builds = [
+            closed_loop_factory(problem.sea, problem.gains, load_mass=mass) for mass in opts.masses
+        ]
         self._scenario = Step(opts.step)
+        c = checks.constraint
+        self._delay = c.tau if c is not None and c.kind is ConstraintKind.DELAY else None
+        self._mass = actuator_mass(problem.sea) if self._delay else 1.0
 
     def __call__(self, x: np.ndarray) -> float:
         self.evaluations += 1
-        opts = self.problem.options
-        try:
-            loop = self._build(list(x))
-        except SeapassError:  # e.g. a zero denominator at these gains
-            return UNSTABLE_UNITS * self.unit + 1e3
-        worst = float(np.max(loop.poles.real)) if loop.poles.size else -1.0
-        if worst >= 0:
-            return UNSTABLE_UNITS * self.unit + min(worst, 1e3)
-        res = simulate_closed_loop(
-            loop, scenario=self._scenario, horizon=opts.horizon, dt=opts.dt_search
-        )
-        met = tracking_metrics(res, tolerance=opts.tolerance)
-        if met.status == Settling.UNSTABLE:
-            return UNSTABLE_UNITS * self.unit + min(float(np.max(res.poles.real)), 1e3)
-        cost = objective_value(opts, res, met)
-        if opts.objective is Objective.SETTLING and met.settling_time is not None:
-            cost += 1e-3 * met.final_error / max(met.band, 1e-300)  # tie-break
-        cost += self.unit * limit_penalty(opts, met)
+        cost = -math.inf
+        for build in self._builds:  # the worst case over the load masses
+            one, unstable = self._at_mass(build, x)
+            if unstable:
+                return one
+            cost = max(cost, one)
         # the exact constraints only where they can matter: a candidate that would be the best
         if cost < self.best:
             if not self.checks.passive(tuple(float(v) for v in x)):
                 return cost + CONSTRAINT_UNITS * self.unit
             self.best = cost
         return cost
+
+    def _at_mass(self, build: Any, x: np.ndarray) -> tuple[float, bool]:
+        """Objective plus limit penalties at one load mass, and whether the loop is unstable
+        there (then the cost is ten units or more)."""
+        opts = self.problem.options
+        try:
+            loop = build(list(x))
+        except SeapassError:  # e.g. a zero denominator at these gains
+            return UNSTABLE_UNITS * self.unit + 1e3, True
+        res: SimulationResult
+        if self._delay:  # the loop with its controller output delayed
+            res = simulate_delayed_loop(
+                loop, delay_time=self._delay, actuator_mass=self._mass,
+                scenario=self._scenario, horizon=opts.horizon, dt=opts.dt_search,
+            )  # fmt: skip
+            worst = float(np.max(res.poles.real)) if res.poles.size else -1.0
+            if worst >= 0:
+                return UNSTABLE_UNITS * self.unit + min(worst, 1e3), True
+        else:
+            worst = float(np.max(loop.poles.real)) if loop.poles.size else -1.0
+            if worst >= 0:
+                return UNSTABLE_UNITS * self.unit + min(worst, 1e3), True
+            res = simulate_closed_loop(
+                loop, scenario=self._scenario, horizon=opts.horizon, dt=opts.dt_search
+            )
+        met = tracking_metrics(res, tolerance=opts.tolerance)
+        if met.status == Settling.UNSTABLE:
+            return UNSTABLE_UNITS * self.unit + min(float(np.max(res.poles.real)), 1e3), True
+        cost = objective_value(opts, res, met)
+        if opts.objective is Objective.SETTLING and met.settling_time is not None:
+            cost += 1e-3 * met.final_error / max(met.band, 1e-300)  # tie-break
+        return cost + self.unit * limit_penalty(opts, met), False

@@ -7,6 +7,7 @@ that ended on an edge of its box.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 from ..sampled.passivity import SampledPassivityResult
@@ -32,9 +33,13 @@ def limit_violations(
     problem: TuningProblem,
     pr: Any,
     sampled: SampledPassivityResult | None,
-    met: TrackingMetrics,
+    met: TrackingMetrics | Mapping[float, TrackingMetrics],
 ) -> tuple[list[str], list[str]]:
-    """Violated constraints and one sentence for each."""
+    """Violated constraints and one sentence for each.
+
+    ``met``: the metrics of the step response, or ``{load_mass: metrics}`` for a run over
+    several load masses (a limit is violated when it is at any mass; the sentence names it).
+    """
     opts = problem.options
     violations, notes = [], []
     if not pr.passive:
@@ -46,18 +51,24 @@ def limit_violations(
             f"the best gains are not passive under sampled-data control at T = {sampled.period:g} s "
             f"({sampled.detail or sampled.reason})"
         )
-    if opts.force_limit is not None and met.peak_force > opts.force_limit * (1 + 1e-9):
-        violations.append("force limit")
-        notes.append(f"peak force {met.peak_force:.4g} N exceeds the limit {opts.force_limit:g} N")
-    if met.settling_time is None:
-        notes.append(
-            f"the best gains do not settle within the {opts.horizon:g} s horizon ({met.status}): "
-            "widen the boxes, relax the limits or lengthen the horizon"
-        )
-    overshoot = met.overshoot or 0.0
-    if opts.max_overshoot is not None and overshoot > opts.max_overshoot * (1 + 1e-9):
-        violations.append("overshoot")
-        notes.append(
-            f"overshoot {overshoot_text(overshoot)} exceeds the limit {100 * opts.max_overshoot:g} %"
-        )
-    return violations, notes
+    runs = met if isinstance(met, Mapping) else {None: met}
+    for mass, m in runs.items():
+        at = "" if mass is None or len(runs) == 1 else f" at m_L = {mass:g} kg"
+        if opts.force_limit is not None and m.peak_force > opts.force_limit * (1 + 1e-9):
+            violations.append("force limit")
+            notes.append(
+                f"peak force {m.peak_force:.4g} N{at} exceeds the limit {opts.force_limit:g} N"
+            )
+        if m.settling_time is None:
+            notes.append(
+                f"the best gains do not settle within the {opts.horizon:g} s horizon{at} "
+                f"({m.status}): widen the boxes, relax the limits or lengthen the horizon"
+            )
+        overshoot = m.overshoot or 0.0
+        if opts.max_overshoot is not None and overshoot > opts.max_overshoot * (1 + 1e-9):
+            violations.append("overshoot")
+            notes.append(
+                f"overshoot {overshoot_text(overshoot)}{at} exceeds the limit "
+                f"{100 * opts.max_overshoot:g} %"
+            )
+    return list(dict.fromkeys(violations)), notes

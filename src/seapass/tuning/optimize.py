@@ -13,7 +13,9 @@ The job, in four readable steps:
    penalties for the force and overshoot limits, and exact passivity (and
    sampled passivity when a period is given) for every candidate that could
    become the best; then move gains that ended next to an edge of the box onto
-   it when that is better (`seapass.tuning.search.snap_to_edges`);
+   it when that is better (`seapass.tuning.search.snap_to_edges`); round the gains for
+   printing (over several load masses keeping the search's cost too: the worst case
+   has ridges where the settling time jumps);
 4. **verify** the optimum at the finer time step: exact verdicts, metrics, the
    limits, and which gains sit at an edge of their box (``on_bound``, with a
    [`TuningWarning`][seapass.errors.TuningWarning]: the optimum may lie beyond).
@@ -28,244 +30,38 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from types import MappingProxyType
 from typing import Any
 
-from ..analysis.passivity import PassivityResult, is_passive
+import numpy as np
+
+from ..analysis.passivity import is_passive
 from ..analysis.region import passive_intervals
 from ..errors import NotPassiveError, ParameterError, SeapassDeprecationWarning, TuningWarning
-from ..model.display import Shown, html_card, short_repr
 from ..model.sea import SEA
-from ..outcome import Outcome
 from ..progress import ProgressLike, as_progress
 from ..sampled.passivity import SampledPassivityResult, sampled_passivity
-from ..sim.metrics import TrackingMetrics, overshoot_text, tracking_metrics
-from ..sim.scenarios import Step
-from ..sim.simulate import SimulationResult, simulate
 from .constraints import (
     ConstraintKind,
     PassivityConstraint,
-    Verdict,
     constrained_problem,
     rounded_gains,
 )
 from .cost import CandidateCost, ConstraintChecks, objective_value
 from .limits import edge_note, limit_violations
-from .problem import BoxLike, DesignLike, Objective, ResolvedTuning, TuningOptions, TuningProblem
+from .masses import MassRun, step_run
+from .problem import BoxLike, DesignLike, TuningOptions, TuningProblem
+from .result import TuningResult
 from .search import differential_search, snap_to_edges
 
 __all__ = [
-    "TuningResult",
+    "TuningResult",  # from seapass.tuning.result, where it lives
     "narrowed_box",
     "step_run",
     "tune",
     "verify",
 ]
-
-
-@dataclass(frozen=True, repr=False, kw_only=True)
-class TuningResult:
-    """Outcome of `tune`.
-
-    Attributes
-    ----------
-    design : str
-        The design's name.
-    gains : mapping of str to float
-        The tuned gains.
-    objective : float
-        The objective at the gains, verified at ``options.dt_verify``: the
-        settling time (s) or ITAE (m·s²), see ``options.objective``.
-    outcome : Outcome
-        Exact continuous-time verdict at the gains (``passive`` is ``outcome.passive``).
-    sampled_outcome : Outcome or None
-        Certified verdict under sampled-data control in ``options.loop`` (None without a
-        loop; ``sampled_passive`` is its ``passive``).
-    feasible : bool
-        Passive (and sampled-passive) and within the force and overshoot limits.
-    violations : tuple of str
-        What is not met: ``"passivity"``, ``"sampled passivity"``, ``"force limit"``,
-        ``"overshoot"``.
-    on_bound : mapping of str to str
-        Gains within 1 % of an edge of their box (``"lower"`` or ``"upper"``).
-    metrics : TrackingMetrics
-        Of the step response at the tuning load mass, at ``options.dt_verify``.
-    box : mapping of str to (float, float)
-        The box given (or defaulted) per gain.
-    bounds : mapping of str to (float, float)
-        The box actually searched (a single gain's box narrowed to its passive set).
-    cost : float
-        The best search cost (objective plus penalties, at ``options.dt_search``).
-    evaluations, passivity_checks, sampled_checks : int
-        Simulations, exact continuous and sampled passivity tests run.
-    generations : int
-        Generations the search ran: ``options.maxiter`` unless it converged earlier.
-    sea : SEA
-        The design with the tuned gains.
-    options : ResolvedTuning
-        With the load mass, step, horizon and digital-controller settings resolved.
-    passivity, sampled : PassivityResult, SampledPassivityResult or None
-        The verdicts in full (``passivity``: the constraint's test, certified at a delay
-        or over a box, see `constraint`).
-    warnings : tuple of str
-        One sentence per gain on a bound and per violated limit.
-    constraint : PassivityConstraint or None
-        The passivity constraint imposed (exact, at a delay, over a box).
-    nominal : TuningResult or None
-        Over a box: the nominal tune with the same budget (`robustness_cost`).
-    """
-
-    design: str
-    gains: Mapping[str, float]
-    objective: float
-    outcome: Outcome
-    sampled_outcome: Outcome | None
-    feasible: bool
-    violations: tuple[str, ...]
-    on_bound: Mapping[str, str]
-    metrics: TrackingMetrics
-    box: Mapping[str, tuple[float, float]]
-    bounds: Mapping[str, tuple[float, float]]
-    cost: float
-    evaluations: int
-    passivity_checks: int
-    sampled_checks: int
-    generations: int = 0
-    sea: SEA = field(repr=False)
-    options: ResolvedTuning = field(repr=False)
-    passivity: PassivityResult | Verdict | None = field(default=None, repr=False)
-    sampled: SampledPassivityResult | None = field(default=None, repr=False)
-    warnings: tuple[str, ...] = ()
-    constraint: PassivityConstraint | None = field(default=None, repr=False)
-    nominal: TuningResult | None = field(default=None, repr=False)
-
-    @property
-    def robustness_cost(self) -> float | None:
-        """Objective here minus the nominal tune's (over a box, both feasible; else None)."""
-        ok = self.nominal is not None and self.feasible and self.nominal.feasible
-        return self.objective - self.nominal.objective if ok else None  # type: ignore[union-attr]
-
-    @property
-    def passive(self) -> bool:
-        return self.outcome.passive
-
-    @property
-    def sampled_passive(self) -> bool | None:
-        return None if self.sampled_outcome is None else self.sampled_outcome.passive
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready: ``gains``, ``objective``, ``passive``, ``on_bound`` and the rest."""
-        o = self.options
-        return {
-            "design": self.design,
-            "gains": dict(self.gains),
-            "objective": self.objective,
-            "objective_kind": str(o.objective),
-            "objective_unit": Objective(o.objective).unit,
-            "passive": self.passive,
-            "sampled_passive": self.sampled_passive,
-            "feasible": self.feasible,
-            "violations": list(self.violations),
-            "on_bound": sorted(self.on_bound),
-            "on_bound_edges": dict(self.on_bound),
-            "box": {k: list(v) for k, v in self.box.items()},
-            "bounds": {k: list(v) for k, v in self.bounds.items()},
-            "cost": self.cost,
-            "evaluations": self.evaluations,
-            "passivity_checks": self.passivity_checks,
-            "sampled_checks": self.sampled_checks,
-            "generations": self.generations,
-            "load_mass": o.load_mass,
-            "step": o.step,
-            "horizon": o.horizon,
-            "force_limit": o.force_limit,
-            "max_overshoot": o.max_overshoot,
-            "period": None if o.loop is None else o.loop.period,
-            "delay": None if o.loop is None else o.loop.delay,
-            "velocity_filter": None if o.loop is None else o.loop.velocity_filter,
-            "seed": o.seed,
-            "warnings": list(self.warnings),
-            "constraint": None if self.constraint is None else self.constraint.to_dict(),
-            "certified": None if self.passivity is None else str(self.passivity.outcome),
-            "nominal": None if self.nominal is None else self.nominal.objective,
-            "robust": None if self.nominal is None else self.objective,
-            "robustness_cost": self.robustness_cost,
-            **self.metrics.to_dict(),
-        }
-
-    def plot(self, *, ax: Any = None, load_masses: Any = None, **kwargs: Any) -> Any:
-        """The step response at the tuned gains, simulated at ``options.dt_verify``.
-
-        Parameters
-        ----------
-        ax : matplotlib.axes.Axes, optional
-            Where to draw; a new figure if None.
-        load_masses : sequence of float, optional
-            Load masses [kg], one line each (default: the tuning load mass).
-        **kwargs
-            Passed to [`plot_step_responses`][seapass.plot.sim.plot_step_responses]
-            (``title``).
-
-        Returns
-        -------
-        matplotlib.axes.Axes
-        """
-        from ..plot.sim import plot_step_responses
-
-        o = self.options
-        masses = (o.load_mass,) if load_masses is None else tuple(load_masses)
-        runs = [(float(mass), *step_run(self.sea, o, float(mass))) for mass in masses]
-        kwargs.setdefault("title", f"{self.design}: tuned gains")
-        return plot_step_responses(runs, step=o.step, ax=ax, **kwargs)
-
-    def __repr__(self) -> str:
-        return short_repr(
-            "TuningResult",
-            {
-                "design": self.design,
-                "gains": dict(self.gains),
-                str(self.options.objective): self.objective,
-                "feasible": self.feasible,
-                "passive": self.passive,
-                "sampled_passive": self.sampled_passive,
-                "violations": Shown(", ".join(self.violations)) if self.violations else None,
-                "on_bound": dict(self.on_bound) or None,
-            },
-        )
-
-    def _repr_html_(self) -> str:
-        o, m = self.options, self.metrics
-        verdict = "feasible" if self.feasible else "not feasible: " + ", ".join(self.violations)
-        how = self.constraint.label if self.constraint else "exact"
-        rows: list[tuple[str, Any]] = [
-            (
-                name,
-                f"{value:.6g} (searched [{self.bounds[name][0]:.6g}, {self.bounds[name][1]:.6g}]"
-                + (f", at the {self.on_bound[name]} edge)" if name in self.on_bound else ")"),
-            )
-            for name, value in self.gains.items()
-        ]
-        rows += [
-            ("verdict", verdict),
-            (f"objective ({o.objective})", f"{self.objective:.6g} {Objective(o.objective).unit}"),
-            (f"passive ({how})", "yes" if self.passive else "no"),
-        ]
-        if self.sampled_passive is not None and o.loop is not None:
-            rows.append(
-                (
-                    f"sampled passive (T = {o.loop.period:g} s)",
-                    "yes" if self.sampled_passive else "no",
-                )
-            )
-        settle = "-" if m.settling_time is None else f"{m.settling_time:.4g} s"
-        over = overshoot_text(m.overshoot)
-        rows += [
-            (f"step {o.step:g} m, m_L = {o.load_mass:g} kg", f"{m.status}, settles in {settle}"),
-            ("overshoot, peak force", f"{over}, {m.peak_force:.4g} N"),
-            ("simulations", self.evaluations),
-        ]
-        return html_card(f"Tuning {self.design}: {verdict}", rows, note=" ".join(self.warnings))
 
 
 def tune(
@@ -379,7 +175,14 @@ def tune(
         callback=callback,
     )
     x, best = snap_to_edges(problem, bounds, [float(v) for v in found.x], float(found.fun), cost)
-    x = rounded_gains(x, [bounds[g] for g in problem.gains], checks.passive)  # printed = verified
+    several = len(problem.options.masses) > 1
+
+    def keep(r: tuple[float, ...]) -> bool:  # over several masses the rounding must not step
+        if several and float(cost(np.array(r))) > best + 1e-9 * abs(best):  # off a ridge
+            return False
+        return checks.passive(r)
+
+    x = rounded_gains(x, [bounds[g] for g in problem.gains], keep)  # printed = verified
     result = verify(
         problem, x, bounds=bounds, checks=checks, cost=best, evaluations=cost.evaluations,
         generations=int(found.nit), constraint=constraint,
@@ -444,27 +247,35 @@ def verify(
 
     ``cost``, ``evaluations`` and ``generations`` are the search's best cost, simulation
     count and generations, when ``x`` comes from a search.  ``constraint``: the passivity
-    test (default: exact, at ``problem.sea``; the step response is always ``problem.sea``'s).
+    test (default: exact, at ``problem.sea``); the step response is the constraint's design
+    (a delay delays the controller output).
     """
     opts = problem.options
     gains = dict(zip(problem.gains, x, strict=True))
     sea = problem.candidate(x)
     pr = is_passive(sea) if constraint is None else constraint.verdict(x)
     sampled = None if opts.loop is None else _sampled_verdict(problem, sea)
-    res, met = step_run(sea, opts, opts.load_mass)
-    violations, notes = limit_violations(problem, pr, sampled, met)
+    simulated = sea if constraint is None else constraint.design(x)  # with its delay
+    runs = []
+    for mass in opts.masses:
+        res, met = step_run(simulated, opts, mass)
+        runs.append(MassRun(load_mass=mass, objective=objective_value(opts, res, met), metrics=met))
+    worst = max(runs, key=lambda r: r.objective)
+    violations, notes = limit_violations(
+        problem, pr, sampled, {r.load_mass: r.metrics for r in runs}
+    )
     on_bound = problem.on_bound(gains)
     notes += [edge_note(problem, name, gains[name], edge) for name, edge in on_bound.items()]
     return TuningResult(
         design=problem.name,
         gains=MappingProxyType(gains),
-        objective=objective_value(opts, res, met),
+        objective=worst.objective,
         outcome=pr.outcome,
         sampled_outcome=None if sampled is None else sampled.outcome,
         feasible=not violations,
         violations=tuple(violations),
         on_bound=MappingProxyType(on_bound),
-        metrics=met,
+        metrics=worst.metrics,
         box=problem.box,
         bounds=MappingProxyType(dict(bounds)),
         cost=cost,
@@ -478,17 +289,8 @@ def verify(
         sampled=sampled,
         warnings=tuple(notes),
         constraint=constraint,
+        per_mass=tuple(runs),
     )
-
-
-def step_run(
-    sea: SEA, opts: ResolvedTuning, load_mass: float
-) -> tuple[SimulationResult, TrackingMetrics]:
-    """The verified step response of ``sea`` at ``load_mass`` and its metrics (``dt_verify``)."""
-    res = simulate(
-        sea, load_mass=load_mass, scenario=Step(opts.step), horizon=opts.horizon, dt=opts.dt_verify
-    )
-    return res, tracking_metrics(res, tolerance=opts.tolerance)
 
 
 def _sampled_verdict(problem: TuningProblem, sea: SEA) -> SampledPassivityResult:

@@ -16,7 +16,7 @@ the paper's plant with the catalog's gains and boxes), a
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import InitVar, dataclass, field, fields, replace
 from enum import StrEnum
 from types import MappingProxyType
@@ -31,6 +31,7 @@ from ..model.experiment import PAPER_EXPERIMENT
 from ..model.expr import finite_number, symbol
 from ..model.loop import SampledLoop, loop_argument
 from ..model.sea import SEA
+from .masses import MassPolicy, check_masses, resolve_masses
 
 __all__ = [
     "DEFAULT_LOAD_MASS",
@@ -112,6 +113,9 @@ class TuningOptions:
         Time steps (s) of the search and of the final verification.
     maxiter, popsize, seed : int
         Differential-evolution generations, population per gain and seed.
+    masses : "worst", "tune", sequence of float or None
+        The load masses a candidate is judged on, the worst case over several (default:
+        a design file's ``load_masses``), see [`resolve_masses`][seapass.tuning.masses.resolve_masses].
     """
 
     objective: Objective | str = Objective.SETTLING
@@ -130,10 +134,12 @@ class TuningOptions:
     period: InitVar[float | None] = None
     delay: InitVar[int | None] = None
     velocity_filter: InitVar[float | None] = None
+    masses: Sequence[float] | str | None = None
 
     def __post_init__(
         self, period: float | None, delay: int | None, velocity_filter: float | None
     ) -> None:
+        object.__setattr__(self, "masses", check_masses(self.masses))
         old = {"period": period, "delay": delay, "velocity_filter": velocity_filter}
         object.__setattr__(self, "loop", _old_loop(self.loop, old))
         if self.loop is not None and not isinstance(self.loop, SampledLoop):
@@ -213,11 +219,18 @@ class ResolvedTuning(TuningOptions):
 
     ``load_mass``, ``step`` and ``horizon`` are numbers: the option when given, else the
     design file's ``[simulation]``, else the paper's experiment (10 kg, 0.5 m, 10 s).
+    ``masses``: the load masses a candidate is judged on (the worst case when several).
     """
 
     load_mass: float = DEFAULT_LOAD_MASS
     step: float = DEFAULT_STEP
     horizon: float = DEFAULT_HORIZON
+    masses: tuple[float, ...] = (DEFAULT_LOAD_MASS,)
+
+    @property
+    def mass_policy(self) -> MassPolicy:
+        """``worst`` when candidates are judged on several masses, else ``tune``."""
+        return MassPolicy.of(self.masses)
 
 
 @dataclass(frozen=True)
@@ -458,12 +471,15 @@ def resolve_problem(
     gains = tuple(box)
     file = design if isinstance(design, Design) else None
     given = {f.name: getattr(opts, f.name) for f in fields(TuningOptions)}
+    load_mass = PAPER_EXPERIMENT.pick("load_mass", opts.load_mass, file and file.tuning_mass)
+    listed = None if file is None else file.load_masses
+    given_mass = opts.load_mass is not None
+    masses = resolve_masses(opts.masses, load_mass=load_mass, given_mass=given_mass, listed=listed)
     resolved = ResolvedTuning(
         **{
             **given,
-            "load_mass": PAPER_EXPERIMENT.pick(
-                "load_mass", opts.load_mass, file and file.tuning_mass
-            ),
+            "load_mass": load_mass,
+            "masses": masses,
             "step": PAPER_EXPERIMENT.pick("step", opts.step, file and file.step),
             "horizon": PAPER_EXPERIMENT.pick("horizon", opts.horizon, file and file.horizon),
         }

@@ -234,7 +234,7 @@ def tuning_data(
 
     ``generations`` replaces the search's ``maxiter`` (default: 60, 12 quick).
     """
-    opts = QUICK_OPTIONS if quick else TuningOptions()
+    opts = (QUICK_OPTIONS if quick else TuningOptions()).replace(masses="tune")  # the tune_mass
     if generations is not None:
         opts = opts.replace(maxiter=generations)
     try:
