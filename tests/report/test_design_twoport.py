@@ -154,3 +154,26 @@ def test_analyze_help_names_the_stage(tmp_path: Path, capsys: pytest.CaptureFixt
     assert main(["analyze", str(path), "--out", str(tmp_path / "o"), "--stages", "twoports"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("error:") and "twoport" in err[0]
+
+
+def test_a_box_adds_the_robust_two_port_verdict_as_twoport_check_prints_it(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """With ``[uncertainty]`` the section also decides both criteria over the box; its
+    ``twoport_robust.json`` is what ``seapass twoport check FILE --json`` prints for that
+    file, and a box reaching past the kl edge at some plant gives a verified worst plant."""
+    path = tmp_path / "boxed.toml"
+    path.write_text(DESIGN.format(kl=300.0) + "\n[uncertainty]\nm = [0.9, 1.1]\n")
+    out = tmp_path / "boxed"
+    rc = main(["analyze", str(path), "--out", str(out), "--stages", "twoport", "--no-progress"])
+    assert rc == 0
+    capsys.readouterr()
+    robust = json.loads((out / "data/twoport_robust.json").read_text())
+    assert main(["twoport", "check", str(path), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out) == robust
+    assert robust["robust"] is True and robust["status"] == "passive"
+    assert "Over the `[uncertainty]` box" in (out / "report.md").read_text()
+    hot = tmp_path / "hot.toml"
+    hot.write_text(DESIGN.format(kl=1500.0) + "\n[uncertainty]\nm = [0.9, 1.1]\nb = [8.0, 12.0]\n")
+    (sec,) = analyze(load_design(hot), stages=["twoport"]).sections[:1]
+    assert "Worst plant" in sec.text and sec.findings[-1].verdict is Verdict.DIFFERS

@@ -38,6 +38,8 @@ from ...ports.stability import eta_text
 from ...ports.twoport import two_port
 from ...ports.witness import MAX_PAIRS, VIRTUAL_ENVIRONMENT
 from ...progress import NoProgress, Progress, task
+from ...robust.portresult import RobustTwoPortResult
+from ...robust.twoport import robust_two_port_check
 from ..document import FigureData, Finding, Section, Table, Verdict, format_intervals, to_json
 from ..pipeline import StageContext
 
@@ -64,12 +66,16 @@ class TwoPortData:
         The exact absolutely-stable set of each ranged gain, the others at their values.
     friction : tuple of FrictionCertificate
         The friction certificate at each site.
+    robust : RobustTwoPortResult or None
+        With an ``[uncertainty]`` table: both criteria for every plant of the box
+        ([`robust_two_port_check`][seapass.robust.twoport.robust_two_port_check]).
     """
 
     check: TwoPortCheck
     person: EnvironmentBounds
     ranges: tuple[tuple[str, PortIntervals], ...]
     friction: tuple[FrictionCertificate, ...]
+    robust: RobustTwoPortResult | None = None
 
 
 def twoport_data(design: Design, quick: bool, *, progress: Progress | None = None) -> TwoPortData:
@@ -82,7 +88,7 @@ def twoport_data(design: Design, quick: bool, *, progress: Progress | None = Non
     tp = two_port(sea)
     person = bounds_from_mapping(dict(design.environment))
     ranges = design.analysis_ranges()
-    steps = len(ranges) + 1 + len(FRICTION_SITES)
+    steps = len(ranges) + 1 + len(FRICTION_SITES) + bool(design.uncertainty)
     with task(shown, f"two-port of {design.name}", steps):
         check = check_two_port(tp, bounds=(person, VIRTUAL_ENVIRONMENT))
         shown.advance(note="absolute stability")
@@ -95,7 +101,13 @@ def twoport_data(design: Design, quick: bool, *, progress: Progress | None = Non
         for site in FRICTION_SITES:
             friction.append(friction_certificate(sea, at=site))
             shown.advance(note=f"friction at the {site}")
-    return TwoPortData(check=check, person=person, ranges=tuple(sets), friction=tuple(friction))
+        robust = None
+        if design.uncertainty:
+            robust = robust_two_port_check(tp, box=dict(design.uncertainty))
+            shown.advance(note="over the [uncertainty] box")
+    return TwoPortData(
+        check=check, person=person, ranges=tuple(sets), friction=tuple(friction), robust=robust
+    )
 
 
 def twoport_figures(data: TwoPortData) -> tuple[FigureData, ...]:
@@ -269,18 +281,36 @@ def _text(design: Design, data: TwoPortData) -> str:
         "not finding one is no proof. A friction certificate that fails proves nothing: the "
         "test is sufficient only."
     )
-    return head + verdict + tail
+    return head + verdict + tail + _robust_text(data.robust)
+
+
+def _robust_text(robust: RobustTwoPortResult | None) -> str:
+    if robust is None:
+        return ""
+    span = ", ".join(f"`{k}` ∈ [{a:g}, {b:g}]" for k, (a, b) in robust.box.intervals.items())
+    words = {Outcome.PASSIVE: "holds", Outcome.NOT_PASSIVE: "fails",
+             Outcome.UNDECIDED: "is undecided"}  # fmt: skip
+    out = (
+        f" Over the `[uncertainty]` box {span}: absolute stability "
+        f"{words[robust.stability.outcome]} for every plant ({robust.stability.detail}); "
+        f"two-port passivity {words[robust.passivity.outcome]} ({robust.passivity.detail})."
+    )
+    if robust.worst is not None:
+        at = ", ".join(f"`{k}` = {v:.10g}" for k, v in robust.worst.values.items())
+        out += f" Worst plant: {at} (verified by the exact two-port test)."
+    return out
 
 
 def twoport_section(design: Design, data: TwoPortData, figures: Sequence[FigureData]) -> Section:
     """The section of `twoport_data` with the figures of `twoport_figures`."""
     check = data.check
     stab = check.stability
-    finding_verdict = {
+    finding_verdict_of = {
         Outcome.PASSIVE: Verdict.AGREES,
         Outcome.NOT_PASSIVE: Verdict.DIFFERS,
         Outcome.UNDECIDED: Verdict.INFO,
-    }[stab.outcome]
+    }
+    finding_verdict = finding_verdict_of[stab.outcome]
     findings = [
         Finding(
             f"{design.name} is stable with every passive person and every passive virtual "
@@ -297,6 +327,14 @@ def twoport_section(design: Design, data: TwoPortData, figures: Sequence[FigureD
             for f in data.friction
         ),
     ]
+    if data.robust is not None:
+        findings.append(
+            Finding(
+                f"{design.name} is absolutely stable for every plant of the [uncertainty] box",
+                finding_verdict_of[data.robust.stability.outcome],
+                data.robust.stability.detail,
+            )
+        )
     tables = [_verdicts_table(check), _conditions_table(check)]
     witness = _witness_table(check)
     if witness is not None:
@@ -315,6 +353,11 @@ def twoport_section(design: Design, data: TwoPortData, figures: Sequence[FigureD
             "twoport.json": to_json(check.to_dict()),
             "twoport_ranges.json": to_json({n: r.to_dict() for n, r in data.ranges}),
             "friction.json": to_json({f.site: f.to_dict() for f in data.friction}),
+            **(
+                {}
+                if data.robust is None
+                else {"twoport_robust.json": to_json(data.robust.to_dict())}
+            ),
         },
     )
 
