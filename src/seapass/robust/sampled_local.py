@@ -29,7 +29,9 @@ for every plant of the box.  Only simple non-origin poles are handled (a multipl
 
 from __future__ import annotations
 
+import functools
 import itertools
+import math
 from collections.abc import Mapping, Sequence
 from fractions import Fraction
 from typing import Any
@@ -312,6 +314,7 @@ def local_outcome(
     ts = [th.cos() for th in nodes]
     cos_table = [[(k * th).cos() for th in nodes] for k in range(n + 1)]
     mat = interpolation_matrix(n, prec)
+    bern = chebyshev_bernstein(n)
     # geometric pieces towards x = ±1, where the weight's factors (x_q − x) of slow poles
     # make the power tiny: each piece then holds values of one size
     ends = [Fraction(1) - Fraction(1, 2**k) for k in range(1, GEOMETRIC + 1)]
@@ -336,7 +339,11 @@ def local_outcome(
             cv.append(_enclose(m_c, m_b, radii))
         if any(v < 0 for v in pv):  # every plant has a negative power at that node
             return Outcome.NOT_PASSIVE, False
-        if all(_positive(v, cos_table) or _descartes(v, mat) for v in (pv, cv)):
+        if all(
+            _positive(v, cos_table) or _bernstein_positive(v, cos_table, bern)
+            or _descartes(v, mat)
+            for v in (pv, cv)
+        ):  # fmt: skip
             continue
         if b - a < Fraction(1, 2**40):
             power_ok = chi_ok = False
@@ -346,6 +353,58 @@ def local_outcome(
     if not power_ok:
         return Outcome.UNDECIDED, False
     return Outcome.PASSIVE, chi_ok
+
+
+@functools.cache
+def chebyshev_bernstein(n: int) -> tuple[tuple[fmpq, ...], ...]:
+    """``table[k][j]``: the ``j``-th Bernstein coefficient (degree ``n``, on ``[−1, 1]``) of
+    the Chebyshev polynomial ``T_k``, exact."""
+    out = []
+    for k in range(n + 1):
+        tk = fmpq_poly(chebyshev_t(k))
+        u = tk(fmpq_poly([-1, 2]))  # T_k(2u − 1), monomials in u on [0, 1]
+        a = [u.coeffs()[i] if i < len(u.coeffs()) else fmpq(0) for i in range(n + 1)]
+        out.append(
+            tuple(
+                sum((a[i] * fmpq(math.comb(j, i), math.comb(n, i)) for i in range(j + 1)), fmpq(0))
+                for j in range(n + 1)
+            )
+        )
+    return tuple(out)
+
+
+def chebyshev_t(k: int) -> list[int]:
+    """Integer coefficients (ascending) of ``T_k``."""
+    a, b = [1], [0, 1]
+    if k == 0:
+        return a
+    for _ in range(k - 1):
+        c = [0, *(2 * x for x in b)]
+        for i, x in enumerate(a):
+            c[i] -= x
+        a, b = b, c
+    return b
+
+
+def _bernstein_positive(
+    values: Sequence[arb], cos_table: Sequence[Sequence[arb]], table: Sequence[Sequence[fmpq]]
+) -> bool:
+    """Every Bernstein coefficient of the interpolant on ``[−1, 1]`` is ``> 0`` (the
+    polynomial is a positive combination of the nonnegative Bernstein basis)."""
+    n = len(values) - 1
+    coeffs = []
+    for k, row in enumerate(cos_table):
+        acc = arb(0)
+        for v, c in zip(values, row, strict=True):
+            acc += v * c
+        coeffs.append(acc * 2 / (n + 1) / (2 if k == 0 else 1))
+    for j in range(n + 1):
+        acc = arb(0)
+        for k in range(n + 1):
+            acc += coeffs[k] * table[k][j]
+        if not acc > 0:
+            return False
+    return True
 
 
 def _descartes(values: Sequence[arb], mat: Any) -> bool:

@@ -1,0 +1,121 @@
+"""State-space alias sums over a box (issue 26, item 4): the point values against the pole
+and residue route (`LocalPower`, itself checked against the exact per-plant pipeline), the
+derivatives against central differences, every sampled plant's power inside the mean-value
+enclosure, the exact Chebyshev-to-Bernstein table, and a box certified by the state-space
+route checked plant by plant with the ordinary verdict."""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction as F
+
+import pytest
+from flint import acb, arb, fmpq, fmpq_poly
+
+from seapass.exact.poly import as_poly
+from seapass.model.loop import SampledLoop
+from seapass.model.sea import SEA
+from seapass.outcome import Outcome
+from seapass.robust.sampled_local import (
+    LocalPower,
+    _enclose,
+    chebyshev_bernstein,
+    chebyshev_t,
+)
+from seapass.robust.sampled_plant import ball_of
+from seapass.robust.sampled_state import StatePower
+from seapass.robust.sampled_verdict import Setup, box_outcome
+from seapass.sampled.certified import precision
+from seapass.sampled.passivity import sampled_passivity
+
+OURS = dict(b=10, k1=1000, b1=300, kd=500, bd=300)
+LOOP = SampledLoop(period=0.002, delay=1, velocity_filter=50.0)
+
+
+def _setup() -> Setup:
+    return Setup(SEA(D1="k1 + b1*s", CA="kd + bd*s", values={**OURS, "m": None}), LOOP, ("m",))
+
+
+def _state(st: Setup, lo: F, hi: F, derive: bool = True) -> StatePower:
+    sp = StatePower(st.state, {"m": ball_of(lo, hi)}, st.period, 1 / st.period, derive=derive)
+    assert sp.ok
+    return sp
+
+
+def _value(x: object) -> acb:
+    return acb(getattr(x, "v", x))
+
+
+def _ka(st: Setup) -> tuple:
+    return as_poly(st.ka.num), as_poly(st.ka.den)
+
+
+@pytest.mark.parametrize("theta", [0.01, 0.4, 1.0, 2.5, 3.1])
+def test_state_space_sums_equal_the_pole_residue_sums_at_a_point(theta: float) -> None:
+    st = _setup()
+    m = F(102, 100)
+    with precision(128):
+        z = acb(0, theta).exp()
+        ss = _state(st, m, m, derive=False)
+        pr = LocalPower(st.plant, {"m": ball_of(m, m)}, st.period, st.sums_names, derive=False)
+        a, b = ss.sums_at(z), pr.sums_at(z)
+        for name in st.sums_names:
+            x, y = complex(_value(a[name]).mid()), complex(_value(b[name]).mid())
+            assert abs(x - y) <= 1e-20 + 1e-12 * abs(y), name
+        w1, w2 = (float(_value(loc.weight(z)).real.mid()) for loc in (ss, pr))
+        assert abs(w1 - w2) <= 1e-12 * abs(w2)
+
+
+@pytest.mark.parametrize("theta", [0.05, 1.0, 2.5])
+def test_state_space_derivative_matches_a_central_difference(theta: float) -> None:
+    st = _setup()
+    m, h = F(102, 100), F(1, 10**8)
+    with precision(256):
+        z = acb(0, theta).exp()
+        power, _ = _state(st, m, m).values(z, st.family, _ka(st))
+        up, _ = _state(st, m + h, m + h, derive=False).values(z, st.family, _ka(st))
+        down, _ = _state(st, m - h, m - h, derive=False).values(z, st.family, _ka(st))
+        fd = (up.v - down.v) / (2 * arb(fmpq(h.numerator, h.denominator)))
+        d = float(power.d[0].real.mid())
+    assert abs(d - float(fd.real.mid())) <= 1e-6 * abs(d)
+
+
+@pytest.mark.parametrize("x", [-0.95, -0.3, 0.4, 0.9, 0.999])
+def test_every_sampled_plant_is_inside_the_mean_value_enclosure(x: float) -> None:
+    st = _setup()
+    c, r = F(1), F(1, 2000)
+    with precision(128):
+        z = acb(0, arb(x).acos()).exp()
+        centre = _state(st, c, c, derive=False).values(z, st.family, _ka(st))
+        box = _state(st, c - r, c + r).values(z, st.family, _ka(st))
+        enc = [_enclose(centre[i], box[i], [ball_of(r, r)]) for i in range(2)]
+        for k in range(-10, 11):
+            m = c + r * F(k, 10)
+            point = _state(st, m, m, derive=False).values(z, st.family, _ka(st))
+            for i in range(2):
+                assert enc[i].contains(point[i].v.real), (k, i)
+
+
+@pytest.mark.parametrize("n", [3, 7, 12])
+def test_the_chebyshev_bernstein_table_reconstructs_the_chebyshev_polynomials(n: int) -> None:
+    table = chebyshev_bernstein(n)
+    for k in range(n + 1):
+        tk = fmpq_poly(chebyshev_t(k))
+        for u in (fmpq(0), fmpq(1, 3), fmpq(1, 2), fmpq(5, 7), fmpq(1)):
+            total = sum(
+                (table[k][j] * fmpq(math.comb(n, j)) * u**j * (1 - u) ** (n - j)
+                 for j in range(n + 1)),
+                fmpq(0),
+            )  # fmt: skip
+            assert total == tk(2 * u - 1)
+
+
+def test_a_box_certified_by_the_state_space_route_is_passive_plant_by_plant() -> None:
+    st = _setup()
+    lo, hi = F(9999, 10000), F(10001, 10000)
+    assert box_outcome(st, ((lo, hi),)) is Outcome.PASSIVE
+    sea = SEA(D1="k1 + b1*s", CA="kd + bd*s", values={**OURS, "m": 1.0})
+    for k in range(41):
+        m = float(lo + (hi - lo) * F(k, 40))
+        r = sampled_passivity(sea, loop=LOOP, values={"m": m}, continuous_gate=False)
+        assert r.outcome is Outcome.PASSIVE, m
