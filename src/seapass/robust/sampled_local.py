@@ -340,8 +340,8 @@ def local_outcome(
         if any(v < 0 for v in pv):  # every plant has a negative power at that node
             return Outcome.NOT_PASSIVE, False
         if all(
-            _positive(v, cos_table) or _bernstein_positive(v, cos_table, bern)
-            or _descartes(v, mat)
+            _positive(v, cos_table) or _lebesgue_positive(v, mat)
+            or _bernstein_positive(v, cos_table, bern)
             for v in (pv, cv)
         ):  # fmt: skip
             continue
@@ -407,11 +407,33 @@ def _bernstein_positive(
     return True
 
 
-def _descartes(values: Sequence[arb], mat: Any) -> bool:
-    """The interpolant (monomials in the local variable) is proven ``> 0`` by Descartes."""
-    col = mat * arb_mat([[v] for v in values])
-    poly = arb_poly([col[j, 0] for j in range(len(values))])
-    return sign_on([poly], Fraction(-1), Fraction(1), budget=40).sign is Sign.POSITIVE
+def _lebesgue_positive(values: Sequence[arb], mat: Any) -> bool:
+    """Every degree-``n`` polynomial through the node balls is ``> 0`` on ``[−1, 1]``.
+
+    Such a polynomial is the interpolant of the midpoints plus the interpolant of errors
+    ``|e_i| ≤ rad_i``, which is bounded by the Lebesgue constant of the Chebyshev nodes
+    times ``max rad_i``; ``Λ_n ≤ (2/π) log(n + 1) + 1`` (Rivlin [1]_, one more is added
+    for margin).  So Descartes on the midpoints' interpolant minus ``Λ·max rad`` decides,
+    with no amplification of the radii by the change of basis.
+
+    References
+    ----------
+    .. [1] T. J. Rivlin, "The Chebyshev Polynomials", Wiley, 1974, Theorem 1.2.
+    """
+    n = len(values) - 1
+    mids = [arb(v.mid()) for v in values]
+    rad = arb(0)
+    for v in values:
+        if not v.is_finite():
+            return False
+        r = arb(v.rad())  # exact points: the comparison is exact
+        if r > rad:
+            rad = r
+    lam = 2 * arb(n + 1).log() / arb.pi() + 2
+    col = mat * arb_mat([[v] for v in mids])
+    coeffs = [col[j, 0] for j in range(n + 1)]
+    coeffs[0] -= lam * rad
+    return sign_on([arb_poly(coeffs)], Fraction(-1), Fraction(1), budget=40).sign is Sign.POSITIVE
 
 
 def _positive(values: Sequence[arb], cos_table: Sequence[Sequence[arb]]) -> bool:

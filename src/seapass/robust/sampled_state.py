@@ -185,52 +185,50 @@ class StatePower(LocalPower):
         """Degree in ``x`` of the weight: the non-origin part of the common denominator."""
         return self.n - self.m0
 
+    def _matrices(self) -> None:
+        n = self.n
+        names = list(self.C)
+        self._names = names
+        self._phi = acb_mat(self.phi)
+        self._eye = acb_mat([[1 if i == j else 0 for j in range(n)] for i in range(n)])
+        self._b = acb_mat([[x] for x in self.b])
+        self._C = acb_mat([[acb(x) for x in self.C[k]] for k in names])
+        self._dC = [
+            acb_mat([[acb(x) for x in self.dC[k][i]] for k in names]) for i in range(self.k)
+        ]
+        self._dphi = [acb_mat(d) for d in self.dphi]
+        self._cb = self._C * self._b
+        self._dcb = [d * self._b for d in self._dC]
+
     def _at(self, z: acb) -> tuple[dict[str, Dual], Dual]:
         if self._cache is not None and self._cache[0] is z:
             return self._cache[1]
-        n, k = self.n, self.k
-        M = acb_mat(n, n)
-        for i in range(n):
-            for j in range(n):
-                M[i, j] = (z if i == j else acb(0)) - self.phi[i, j]
+        if not hasattr(self, "_names"):
+            self._matrices()
+        k, names = self.k, self._names
+        M = self._eye * z - self._phi
         try:
             inv = M.inv()
         except ZeroDivisionError:  # not proven invertible on the ball: nothing is known
             unknown = Dual(acb(arb(0, float("inf"))), [acb(arb(0, float("inf")))] * k)
-            out = ({name: unknown for name in self.C}, unknown)
+            out = ({name: unknown for name in names}, unknown)
             self._cache = (z, out)
             return out
-        x = [
-            sum((inv[i, j] * self.b[j] for j in range(n)), acb(0)) for i in range(n)
-        ]  # (zI − Φ)^{-1} B
-        dphi_x = [
-            [sum((acb(d[i, j]) * x[j] for j in range(n)), acb(0)) for i in range(n)]
-            for d in self.dphi
-        ]
+        x = inv * self._b  # (zI − Φ)^{-1} B
         half = self.T / 2
-        sums: dict[str, Dual] = {}
-        for name, C in self.C.items():
-            cx = sum((C[j] * x[j] for j in range(n)), acb(0))
-            cb = sum((C[j] * self.b[j] for j in range(n)), acb(0))
-            value = half * (2 * z * cx - cb)
-            grads = []
-            if k:
-                c_inv = [sum((C[j] * inv[j, i] for j in range(n)), acb(0)) for i in range(n)]
-                for i in range(k):
-                    dC = self.dC[name][i]
-                    dcx = sum((dC[j] * x[j] for j in range(n)), acb(0))
-                    chain = sum((c_inv[j] * dphi_x[i][j] for j in range(n)), acb(0))
-                    dcb = sum((dC[j] * self.b[j] for j in range(n)), acb(0))
-                    grads.append(half * (2 * z * (dcx + chain) - dcb))
-            sums[name] = Dual(value, grads)
+        value = (self._C * x) * (2 * z) - self._cb
+        grads = []
+        if k:
+            c_inv = self._C * inv
+            for i in range(k):
+                g = (self._dC[i] * x + c_inv * (self._dphi[i] * x)) * (2 * z) - self._dcb[i]
+                grads.append(g)
+        sums = {
+            name: Dual(half * value[r, 0], [half * g[r, 0] for g in grads])
+            for r, name in enumerate(names)
+        }
         det = M.det()
-        dets = []
-        for i in range(k):
-            tr = acb(0)
-            for a in range(n):
-                for b in range(n):
-                    tr += inv[a, b] * self.dphi[i][b, a]
-            dets.append(-det * tr)
+        dets = [-det * (inv * d).trace() for d in self._dphi]
         d = Dual(det, dets)
         u = z - 1
         origin = ((u * u.conjugate()).real) ** self.m0
