@@ -119,3 +119,15 @@ def test_a_box_certified_by_the_state_space_route_is_passive_plant_by_plant() ->
         m = float(lo + (hi - lo) * F(k, 40))
         r = sampled_passivity(sea, loop=LOOP, values={"m": m}, continuous_gate=False)
         assert r.outcome is Outcome.PASSIVE, m
+
+
+def test_a_one_per_mille_box_is_certified_and_every_sampled_plant_agrees() -> None:
+    from seapass.robust.sampled_verdict import robust_sampled_check
+
+    sea = SEA(D1="k1 + b1*s", CA="kd + bd*s", values={**OURS, "m": 1.0})
+    r = robust_sampled_check(sea, loop=LOOP, box={"m": (0.999, 1.001)}, budget=4)
+    assert r.outcome is Outcome.PASSIVE and r.boxes <= 4
+    for k in range(401):
+        m = 0.999 + 0.002 * k / 400
+        v = sampled_passivity(sea, loop=LOOP, values={"m": m}, continuous_gate=False)
+        assert v.outcome is Outcome.PASSIVE, m

@@ -32,7 +32,7 @@ from __future__ import annotations
 import functools
 import itertools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from fractions import Fraction
 from typing import Any
 
@@ -43,7 +43,7 @@ from ..sampled.alias import zeta_numerators
 from ..sampled.certified import Sign, interpolation_matrix, sign_on
 from .sampled_plant import ParametricPlant, Split, isolate
 
-__all__ = ["GEOMETRIC", "Dual", "LocalPower", "local_outcome"]
+__all__ = ["GEOMETRIC", "Dual", "LocalPower", "Part", "local_outcome"]
 
 GEOMETRIC = 20
 """Pieces ``[1 − 2^-k, 1 − 2^-(k+1)]`` (and their mirror images) the partition starts with."""
@@ -291,6 +291,10 @@ def _enclose(centre: Any, box: Any, radii: Sequence[arb]) -> arb:
     return out
 
 
+Part = tuple[LocalPower, LocalPower, Sequence[arb]]
+"""``(centre, box, radii)``: the dual numbers at a box's centre and over the box."""
+
+
 def local_outcome(
     centre: LocalPower,
     box: LocalPower,
@@ -301,12 +305,20 @@ def local_outcome(
     prec: int,
     *,
     budget: int = 64,
+    refine: Callable[[int], Sequence[Part]] | None = None,
+    levels: int = 0,
 ) -> tuple[Outcome, bool]:
     """Sign of ``P̃`` and positivity of ``M̃`` on ``[−1, 1]`` for every plant of the box.
 
     Returns ``(outcome of the power, M̃ > 0 proven)``: ``PASSIVE`` when ``P̃ > 0`` is
     proven everywhere, ``NOT_PASSIVE`` when some piece has ``P̃ < 0`` proven for every
-    plant, ``UNDECIDED`` when ``budget`` pieces did not settle it.
+    plant, ``UNDECIDED`` when ``budget`` pieces did not settle it (a piece counts once
+    per part it is decided on).
+
+    ``refine(level)`` (optional) returns ``(centre, box, radii)`` parts whose boxes cover
+    the box (finer with the level, up to ``levels``): a piece whose node enclosures are
+    wide is retried on the parts (each node's enclosure is the union of the parts'), so
+    the box is split for that piece of ``[−1, 1]`` only.
     """
     n = degree
     pi = arb.pi()
@@ -319,40 +331,64 @@ def local_outcome(
     # make the power tiny: each piece then holds values of one size
     ends = [Fraction(1) - Fraction(1, 2**k) for k in range(1, GEOMETRIC + 1)]
     cuts = [Fraction(-1), *(-e for e in reversed(ends)), Fraction(0), *ends, Fraction(1)]
-    stack = list(reversed(list(itertools.pairwise(cuts))))
+    stack = [(a, b, 0) for a, b in reversed(list(itertools.pairwise(cuts)))]
     pieces = 0
     power_ok, chi_ok = True, True
     while stack:
-        a, b = stack.pop()
-        pieces += 1
+        a, b, level = stack.pop()
+        parts = [(centre, box, radii)] if level == 0 or refine is None else refine(level)
+        pieces += len(parts)  # the work: one part on one piece
         if pieces > budget:
             return Outcome.UNDECIDED, False
         c = arb(fmpq((a + b).numerator, (a + b).denominator)) / 2
         h = arb(fmpq((b - a).numerator, (b - a).denominator)) / 2
-        pv, cv = [], []
-        for t in ts:
-            x = c + h * t
-            z = acb(0, x.acos()).exp()
-            p_c, m_c = centre.values(z, family, ka)
-            p_b, m_b = box.values(z, family, ka)
-            pv.append(_enclose(p_c, p_b, radii))
-            cv.append(_enclose(m_c, m_b, radii))
-        if any(v < 0 for v in pv):  # every plant has a negative power at that node
-            return Outcome.NOT_PASSIVE, False
-        if all(
-            _positive(v, cos_table) or _lebesgue_positive(v, mat)
-            or _bernstein_positive(v, cos_table, bern)
-            for v in (pv, cv)
-        ):  # fmt: skip
+        zs = [acb(0, (c + h * t).acos()).exp() for t in ts]
+        done, wide = True, 0.0
+        for part_c, part_b, part_r in parts:  # each plant is in one part: each must pass
+            pv, cv = [], []
+            for z in zs:
+                p_c, m_c = part_c.values(z, family, ka)
+                p_b, m_b = part_b.values(z, family, ka)
+                pv.append(_enclose(p_c, p_b, part_r))
+                cv.append(_enclose(m_c, m_b, part_r))
+            if level == 0 and any(v < 0 for v in pv):  # every plant: a negative power there
+                return Outcome.NOT_PASSIVE, False
+            if not all(
+                _positive(v, cos_table) or _lebesgue_positive(v, mat)
+                or _bernstein_positive(v, cos_table, bern)
+                for v in (pv, cv)
+            ):  # fmt: skip
+                done = False
+                wide = _spread(pv + cv)
+                break
+        if done:
+            continue
+        if refine is not None and level < levels and wide > WIDE:
+            stack.append((a, b, min(levels, level + (1 if wide < 10 * WIDE else 2))))
             continue
         if b - a < Fraction(1, 2**40):
             power_ok = chi_ok = False
             continue
         mid = (a + b) / 2
-        stack += [(mid, b), (a, mid)]
+        stack += [(mid, b, level), (a, mid, level)]
     if not power_ok:
         return Outcome.UNDECIDED, False
     return Outcome.PASSIVE, chi_ok
+
+
+WIDE = 0.05
+"""A node enclosure wider than this share of its value makes a piece split the box."""
+
+
+def _spread(values: Sequence[arb]) -> float:
+    """The largest relative radius of ``values`` (infinite for a ball around 0)."""
+    worst = 0.0
+    for v in values:
+        mid = abs(float(v.mid()))
+        if not v.is_finite() or mid == 0:
+            return math.inf
+        worst = max(worst, float(v.rad()) / mid)
+    return worst
 
 
 @functools.cache
