@@ -46,7 +46,7 @@ from .sampled_plant import ParametricPlant, Split, isolate
 __all__ = ["GEOMETRIC", "Dual", "LocalPower", "Part", "local_outcome"]
 
 GEOMETRIC = 20
-"""Pieces ``[1 − 2^-k, 1 − 2^-(k+1)]`` (and their mirror images) the partition starts with."""
+"""Pieces ``[1 − 2^-k, 1 − 2^-(k+1)]`` the partition starts with."""
 
 
 def _conj(x: Any) -> Any:
@@ -330,7 +330,9 @@ def local_outcome(
     # geometric pieces towards x = ±1, where the weight's factors (x_q − x) of slow poles
     # make the power tiny: each piece then holds values of one size
     ends = [Fraction(1) - Fraction(1, 2**k) for k in range(1, GEOMETRIC + 1)]
-    cuts = [Fraction(-1), *(-e for e in reversed(ends)), Fraction(0), *ends, Fraction(1)]
+    # towards x = −1 (a lightly damped mode near the Nyquist frequency) pieces are halved
+    # only where needed
+    cuts = [Fraction(-1), Fraction(-1, 2), Fraction(0), *ends, Fraction(1)]
     stack = [(a, b, 0) for a, b in reversed(list(itertools.pairwise(cuts)))]
     pieces = 0
     power_ok, chi_ok = True, True
