@@ -11,6 +11,8 @@ from fractions import Fraction as F
 
 import pytest
 from flint import acb, arb, fmpq, fmpq_poly
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from seapass.exact.poly import as_poly
 from seapass.model.loop import SampledLoop
@@ -131,3 +133,39 @@ def test_a_one_per_mille_box_is_certified_and_every_sampled_plant_agrees() -> No
         m = 0.999 + 0.002 * k / 400
         v = sampled_passivity(sea, loop=LOOP, values={"m": m}, continuous_gate=False)
         assert v.outcome is Outcome.PASSIVE, m
+
+
+@settings(max_examples=15, deadline=None)
+@given(
+    u=st.fractions(min_value=-1, max_value=1, max_denominator=1000),
+    x=st.floats(min_value=-0.999, max_value=0.9999),
+    b1=st.sampled_from([F(1), F(2)]),
+)
+def test_property_the_enclosure_of_a_two_parameter_box_holds_every_plant(
+    u: F, x: float, b1: F
+) -> None:
+    """m and b uncertain: the plant at (m, b) = centre + u·radius (each axis) is inside."""
+    sea = SEA(D1="k1 + b1*s", CA="kd + bd*s", values={**OURS, "m": None, "b": None})
+    stp = Setup(sea, LOOP, ("m", "b"))
+    c, r = (F(1), F(10)), (F(1, 1000) * b1, F(1, 100) * b1)
+    with precision(128):
+        z = acb(0, arb(x).acos()).exp()
+        ka = _ka(stp)
+
+        def power(lo: tuple, hi: tuple, derive: bool) -> tuple:
+            ball = {n: ball_of(a, b) for n, a, b in zip(("m", "b"), lo, hi, strict=True)}
+            sp = StatePower(stp.state, ball, stp.period, 1 / stp.period, derive=derive)
+            assert sp.ok
+            return sp.values(z, stp.family, ka)
+
+        centre = power(c, c, False)
+        box = power(
+            tuple(a - d for a, d in zip(c, r, strict=True)),
+            tuple(a + d for a, d in zip(c, r, strict=True)),
+            True,
+        )
+        radii = [ball_of(d, d) for d in r]
+        point = tuple(a + u * d for a, d in zip(c, r, strict=True))
+        at = power(point, point, False)
+        for i in range(2):
+            assert _enclose(centre[i], box[i], radii).contains(at[i].v.real)
