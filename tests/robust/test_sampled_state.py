@@ -6,6 +6,7 @@ route checked plant by plant with the ordinary verdict."""
 
 from __future__ import annotations
 
+import itertools
 import math
 from fractions import Fraction as F
 
@@ -169,3 +170,22 @@ def test_property_the_enclosure_of_a_two_parameter_box_holds_every_plant(
         at = power(point, point, False)
         for i in range(2):
             assert _enclose(centre[i], box[i], radii).contains(at[i].v.real)
+
+
+def test_a_three_parameter_box_is_certified_and_a_grid_of_its_plants_agrees() -> None:
+    from seapass.robust.sampled_verdict import robust_sampled_check
+
+    sea = SEA(D1="k1 + b1*s", CA="kd + bd*s", values={**OURS, "m": 1.0})
+    e = 1e-4
+    box = {
+        "m": (1 - e, 1 + e),
+        "b": (10 * (1 - e), 10 * (1 + e)),
+        "b1": (300 * (1 - e), 300 * (1 + e)),
+    }
+    r = robust_sampled_check(sea, loop=LOOP, box=box, budget=4)
+    assert r.outcome is Outcome.PASSIVE
+    grid = [-1.0, -0.5, 0.0, 0.5, 1.0]
+    for i, j, k in itertools.product(grid, grid, grid):
+        values = {"m": 1 + e * i, "b": 10 * (1 + e * j), "b1": 300 * (1 + e * k)}
+        v = sampled_passivity(sea, loop=LOOP, values=values, continuous_gate=False)
+        assert v.outcome is Outcome.PASSIVE, values
