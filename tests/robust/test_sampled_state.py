@@ -189,3 +189,17 @@ def test_a_three_parameter_box_is_certified_and_a_grid_of_its_plants_agrees() ->
         values = {"m": 1 + e * i, "b": 10 * (1 + e * j), "b1": 300 * (1 + e * k)}
         v = sampled_passivity(sea, loop=LOOP, values=values, continuous_gate=False)
         assert v.outcome is Outcome.PASSIVE, values
+
+
+def test_apd_a_ten_percent_mass_box_is_certified_and_its_plants_agree() -> None:
+    """A design without load feedback (D1 = k1, actuator-side PD): the sums it does not
+    need are not required to converge."""
+    from seapass.robust.sampled_verdict import robust_sampled_check
+
+    apd = SEA(D1="k1", CA="kd + bd*s", values=dict(m=1.0, b=10, k1=1000, kd=100, bd=5))
+    r = robust_sampled_check(apd, loop=LOOP, box={"m": (0.9, 1.1)}, budget=4)
+    assert r.outcome is Outcome.PASSIVE
+    for k in range(201):
+        m = 0.9 + 0.2 * k / 200
+        v = sampled_passivity(apd, loop=LOOP, values={"m": m}, continuous_gate=False)
+        assert v.outcome is Outcome.PASSIVE, m

@@ -165,6 +165,7 @@ class Setup:
         sums = needed_sums(self.ka.is_zero, self.kl.is_zero)
         self.sums_names = sums if "Sg" in sums else (*sums, "Sg")
         self.injection = (not self.kl.is_zero) and self.plant.alias_injection()
+        self.plant.check_sums(self.sums_names)
         self.state = StateData(self.plant, self.sums_names)
 
 
