@@ -29,8 +29,10 @@ for every plant of the box.  Only simple non-origin poles are handled (a multipl
 
 from __future__ import annotations
 
+import functools
 import itertools
-from collections.abc import Mapping, Sequence
+import math
+from collections.abc import Callable, Mapping, Sequence
 from fractions import Fraction
 from typing import Any
 
@@ -41,10 +43,10 @@ from ..sampled.alias import zeta_numerators
 from ..sampled.certified import Sign, interpolation_matrix, sign_on
 from .sampled_plant import ParametricPlant, Split, isolate
 
-__all__ = ["GEOMETRIC", "Dual", "LocalPower", "local_outcome"]
+__all__ = ["GEOMETRIC", "Dual", "LocalPower", "Part", "local_outcome"]
 
 GEOMETRIC = 20
-"""Pieces ``[1 − 2^-k, 1 − 2^-(k+1)]`` (and their mirror images) the partition starts with."""
+"""Pieces ``[1 − 2^-k, 1 − 2^-(k+1)]`` the partition starts with."""
 
 
 def _conj(x: Any) -> Any:
@@ -289,6 +291,10 @@ def _enclose(centre: Any, box: Any, radii: Sequence[arb]) -> arb:
     return out
 
 
+Part = tuple[LocalPower, LocalPower, Sequence[arb]]
+"""``(centre, box, radii)``: the dual numbers at a box's centre and over the box."""
+
+
 def local_outcome(
     centre: LocalPower,
     box: LocalPower,
@@ -299,12 +305,20 @@ def local_outcome(
     prec: int,
     *,
     budget: int = 64,
+    refine: Callable[[int], Sequence[Part]] | None = None,
+    levels: int = 0,
 ) -> tuple[Outcome, bool]:
     """Sign of ``P̃`` and positivity of ``M̃`` on ``[−1, 1]`` for every plant of the box.
 
     Returns ``(outcome of the power, M̃ > 0 proven)``: ``PASSIVE`` when ``P̃ > 0`` is
     proven everywhere, ``NOT_PASSIVE`` when some piece has ``P̃ < 0`` proven for every
-    plant, ``UNDECIDED`` when ``budget`` pieces did not settle it.
+    plant, ``UNDECIDED`` when ``budget`` pieces did not settle it (a piece counts once
+    per part it is decided on).
+
+    ``refine(level)`` (optional) returns ``(centre, box, radii)`` parts whose boxes cover
+    the box (finer with the level, up to ``levels``): a piece whose node enclosures are
+    wide is retried on the parts (each node's enclosure is the union of the parts'), so
+    the box is split for that piece of ``[−1, 1]`` only.
     """
     n = degree
     pi = arb.pi()
@@ -312,47 +326,152 @@ def local_outcome(
     ts = [th.cos() for th in nodes]
     cos_table = [[(k * th).cos() for th in nodes] for k in range(n + 1)]
     mat = interpolation_matrix(n, prec)
+    bern = chebyshev_bernstein(n)
     # geometric pieces towards x = ±1, where the weight's factors (x_q − x) of slow poles
     # make the power tiny: each piece then holds values of one size
     ends = [Fraction(1) - Fraction(1, 2**k) for k in range(1, GEOMETRIC + 1)]
-    cuts = [Fraction(-1), *(-e for e in reversed(ends)), Fraction(0), *ends, Fraction(1)]
-    stack = list(reversed(list(itertools.pairwise(cuts))))
+    # towards x = −1 (a lightly damped mode near the Nyquist frequency) pieces are halved
+    # only where needed
+    cuts = [Fraction(-1), Fraction(-1, 2), Fraction(0), *ends, Fraction(1)]
+    stack = [(a, b, 0) for a, b in reversed(list(itertools.pairwise(cuts)))]
     pieces = 0
     power_ok, chi_ok = True, True
     while stack:
-        a, b = stack.pop()
-        pieces += 1
+        a, b, level = stack.pop()
+        parts = [(centre, box, radii)] if level == 0 or refine is None else refine(level)
+        pieces += len(parts)  # the work: one part on one piece
         if pieces > budget:
             return Outcome.UNDECIDED, False
         c = arb(fmpq((a + b).numerator, (a + b).denominator)) / 2
         h = arb(fmpq((b - a).numerator, (b - a).denominator)) / 2
-        pv, cv = [], []
-        for t in ts:
-            x = c + h * t
-            z = acb(0, x.acos()).exp()
-            p_c, m_c = centre.values(z, family, ka)
-            p_b, m_b = box.values(z, family, ka)
-            pv.append(_enclose(p_c, p_b, radii))
-            cv.append(_enclose(m_c, m_b, radii))
-        if any(v < 0 for v in pv):  # every plant has a negative power at that node
-            return Outcome.NOT_PASSIVE, False
-        if all(_positive(v, cos_table) or _descartes(v, mat) for v in (pv, cv)):
+        zs = [acb(0, (c + h * t).acos()).exp() for t in ts]
+        done, wide = True, 0.0
+        for part_c, part_b, part_r in parts:  # each plant is in one part: each must pass
+            pv, cv = [], []
+            for z in zs:
+                p_c, m_c = part_c.values(z, family, ka)
+                p_b, m_b = part_b.values(z, family, ka)
+                pv.append(_enclose(p_c, p_b, part_r))
+                cv.append(_enclose(m_c, m_b, part_r))
+            if level == 0 and any(v < 0 for v in pv):  # every plant: a negative power there
+                return Outcome.NOT_PASSIVE, False
+            if not all(
+                _positive(v, cos_table) or _lebesgue_positive(v, mat)
+                or _bernstein_positive(v, cos_table, bern)
+                for v in (pv, cv)
+            ):  # fmt: skip
+                done = False
+                wide = _spread(pv + cv)
+                break
+        if done:
+            continue
+        if refine is not None and level < levels and wide > WIDE:
+            stack.append((a, b, min(levels, level + (1 if wide < 10 * WIDE else 2))))
             continue
         if b - a < Fraction(1, 2**40):
             power_ok = chi_ok = False
             continue
         mid = (a + b) / 2
-        stack += [(mid, b), (a, mid)]
+        stack += [(mid, b, level), (a, mid, level)]
     if not power_ok:
         return Outcome.UNDECIDED, False
     return Outcome.PASSIVE, chi_ok
 
 
-def _descartes(values: Sequence[arb], mat: Any) -> bool:
-    """The interpolant (monomials in the local variable) is proven ``> 0`` by Descartes."""
-    col = mat * arb_mat([[v] for v in values])
-    poly = arb_poly([col[j, 0] for j in range(len(values))])
-    return sign_on([poly], Fraction(-1), Fraction(1), budget=40).sign is Sign.POSITIVE
+WIDE = 0.05
+"""A node enclosure wider than this share of its value makes a piece split the box."""
+
+
+def _spread(values: Sequence[arb]) -> float:
+    """The largest relative radius of ``values`` (infinite for a ball around 0)."""
+    worst = 0.0
+    for v in values:
+        mid = abs(float(v.mid()))
+        if not v.is_finite() or mid == 0:
+            return math.inf
+        worst = max(worst, float(v.rad()) / mid)
+    return worst
+
+
+@functools.cache
+def chebyshev_bernstein(n: int) -> tuple[tuple[fmpq, ...], ...]:
+    """``table[k][j]``: the ``j``-th Bernstein coefficient (degree ``n``, on ``[−1, 1]``) of
+    the Chebyshev polynomial ``T_k``, exact."""
+    out = []
+    for k in range(n + 1):
+        tk = fmpq_poly(chebyshev_t(k))
+        u = tk(fmpq_poly([-1, 2]))  # T_k(2u − 1), monomials in u on [0, 1]
+        a = [u.coeffs()[i] if i < len(u.coeffs()) else fmpq(0) for i in range(n + 1)]
+        out.append(
+            tuple(
+                sum((a[i] * fmpq(math.comb(j, i), math.comb(n, i)) for i in range(j + 1)), fmpq(0))
+                for j in range(n + 1)
+            )
+        )
+    return tuple(out)
+
+
+def chebyshev_t(k: int) -> list[int]:
+    """Integer coefficients (ascending) of ``T_k``."""
+    a, b = [1], [0, 1]
+    if k == 0:
+        return a
+    for _ in range(k - 1):
+        c = [0, *(2 * x for x in b)]
+        for i, x in enumerate(a):
+            c[i] -= x
+        a, b = b, c
+    return b
+
+
+def _bernstein_positive(
+    values: Sequence[arb], cos_table: Sequence[Sequence[arb]], table: Sequence[Sequence[fmpq]]
+) -> bool:
+    """Every Bernstein coefficient of the interpolant on ``[−1, 1]`` is ``> 0`` (the
+    polynomial is a positive combination of the nonnegative Bernstein basis)."""
+    n = len(values) - 1
+    coeffs = []
+    for k, row in enumerate(cos_table):
+        acc = arb(0)
+        for v, c in zip(values, row, strict=True):
+            acc += v * c
+        coeffs.append(acc * 2 / (n + 1) / (2 if k == 0 else 1))
+    for j in range(n + 1):
+        acc = arb(0)
+        for k in range(n + 1):
+            acc += coeffs[k] * table[k][j]
+        if not acc > 0:
+            return False
+    return True
+
+
+def _lebesgue_positive(values: Sequence[arb], mat: Any) -> bool:
+    """Every degree-``n`` polynomial through the node balls is ``> 0`` on ``[−1, 1]``.
+
+    Such a polynomial is the interpolant of the midpoints plus the interpolant of errors
+    ``|e_i| ≤ rad_i``, which is bounded by the Lebesgue constant of the Chebyshev nodes
+    times ``max rad_i``; ``Λ_n ≤ (2/π) log(n + 1) + 1`` (Rivlin [1]_, one more is added
+    for margin).  So Descartes on the midpoints' interpolant minus ``Λ·max rad`` decides,
+    with no amplification of the radii by the change of basis.
+
+    References
+    ----------
+    .. [1] T. J. Rivlin, "The Chebyshev Polynomials", Wiley, 1974, Theorem 1.2.
+    """
+    n = len(values) - 1
+    mids = [arb(v.mid()) for v in values]
+    rad = arb(0)
+    for v in values:
+        if not v.is_finite():
+            return False
+        r = arb(v.rad())  # exact points: the comparison is exact
+        if r > rad:
+            rad = r
+    lam = 2 * arb(n + 1).log() / arb.pi() + 2
+    col = mat * arb_mat([[v] for v in mids])
+    coeffs = [col[j, 0] for j in range(n + 1)]
+    coeffs[0] -= lam * rad
+    return sign_on([arb_poly(coeffs)], Fraction(-1), Fraction(1), budget=40).sign is Sign.POSITIVE
 
 
 def _positive(values: Sequence[arb], cos_table: Sequence[Sequence[arb]]) -> bool:

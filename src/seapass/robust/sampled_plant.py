@@ -165,11 +165,20 @@ class ParametricPlant:
         }
         self.r = r
         self.modes = [p.den, d2.den]  # roots must have negative real parts
-        for name, f in self.summands.items():
-            dn, dd = f.degrees_in_s()
-            if dn >= 0 and dd - dn < 2 and name != "S4":
-                raise ModelError(f"the alias sum {name} diverges for this plant family")
+        self.divergent = frozenset(
+            name
+            for name, f in self.summands.items()
+            if name != "S4"
+            and f.degrees_in_s()[0] >= 0
+            and f.degrees_in_s()[1] - f.degrees_in_s()[0] < 2
+        )  # checked for the sums a controller needs (`check_sums`)
         self._factors: dict[tuple[str, ...], list[tuple[Split, int, bool]]] = {}
+
+    def check_sums(self, names: Sequence[str]) -> None:
+        """Raise `ModelError` if an alias sum of ``names`` diverges for this plant family."""
+        for name in names:
+            if name in self.divergent:
+                raise ModelError(f"the alias sum {name} diverges for this plant family")
 
     def _reflect(self, f: RatFunc) -> RatFunc:
         i = self.ctx.variable_to_index(S_NAME)
