@@ -1,0 +1,140 @@
+"""``rig sweep`` and ``rig impacts`` by design name: the paper's LP/Ours or any design file.
+
+Independent check: a design file whose controller is the rig's own Ours PD
+(``kd + bd*s`` at the rig's ``impacts.kd``, ``impacts.bd``), realized as a discrete
+controller at the rig's loop, gives the twin's built-in PD impacts exactly, and the
+same Eq. (10) response; a z controller runs too (without Eq. (10)).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from seapass.cli import main
+from seapass.errors import ParameterError
+from seapass.model.design_file import Design
+from seapass.rig.design_runs import named_design, rig_impacts, rig_sweep
+from seapass.rig.rigfile import load_rig, paper_rig
+
+OURS_AS_FILE = """name = "ours-pd"
+[model]
+D1 = "k1 + b1*s"
+CA = "kd + bd*s"
+[parameters]
+m = 1.0
+b = 10.0
+k1 = 1005.0
+b1 = 30.0
+kd = 1000.0
+bd = 25.0
+"""
+Z_FILE = """name = "zpd"
+[model]
+D1 = "k1 + b1*s"
+[parameters]
+m = 1.02
+b = 10.0
+k1 = 1005.0
+b1 = 30.0
+kd = 1000.0
+bd = 25.0
+[discrete]
+rate = 500.0
+CA = "kd + bd*500*(1 - z^-1)"
+[control]
+delay = 1
+"""
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    d = tmp_path_factory.mktemp("designs")
+    text = resources.files("seapass").joinpath("data/paper_rig.toml").read_text()
+    out = {"rig": d / "rig.toml", "ours": d / "ours.toml", "z": d / "z.toml", "none": d / "n.toml"}
+    out["rig"].write_text(text.replace("count = 10", "count = 3"), encoding="utf-8")
+    out["ours"].write_text(OURS_AS_FILE, encoding="utf-8")
+    out["z"].write_text(Z_FILE, encoding="utf-8")
+    out["none"].write_text(OURS_AS_FILE.replace('CA = "kd + bd*s"\n', "").replace(
+        "kd = 1000.0\nbd = 25.0\n", ""), encoding="utf-8")  # fmt: skip
+    return out
+
+
+def _cli(argv: list[str]) -> tuple[int, str, str]:
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(argv)
+    return code, out.getvalue(), err.getvalue()
+
+
+def test_the_design_of_ours_gives_the_twins_own_pd_impacts(files: dict[str, Path]) -> None:
+    rig = load_rig(files["rig"])
+    assert (rig.impacts.kd, rig.impacts.bd, rig.damper.k1, rig.damper.b1) == (1000, 25, 1005, 30)
+    own, file = rig_impacts(rig), rig_impacts(rig, design=files["ours"])
+    assert own.design is None and file.design == "ours-pd"
+    np.testing.assert_allclose(file.k_out, own.k_out, rtol=1e-9)
+    np.testing.assert_allclose(file.k_out_vs_b1, own.k_out_vs_b1, rtol=1e-9)
+    np.testing.assert_allclose(file.k_out_linear_vs_window, own.k_out_linear_vs_window, rtol=1e-9)
+    np.testing.assert_allclose(file.eq10_magnitude, own.eq10_magnitude, rtol=1e-9)
+    assert file.static_stiffness == pytest.approx(own.static_stiffness, rel=1e-12)
+    assert own.findings and file.findings == () and file.paper_k_out is None  # the paper's: Ours
+
+
+def test_a_z_controller_holds_the_output_without_eq10(files: dict[str, Path]) -> None:
+    res = rig_impacts(load_rig(files["rig"]), design=files["z"])
+    assert res.design == "zpd" and res.omega.size == res.eq10_magnitude.size == 0
+    assert res.static_stiffness is None and np.all(np.isfinite(res.k_out)) and res.k_out_mean > 0
+    json.dumps(res.to_dict(), allow_nan=False)  # strict JSON
+
+
+def test_cli_impacts_with_a_design_file(files: dict[str, Path], tmp_path: Path) -> None:
+    rig = str(files["rig"])
+    code, out, err = _cli(
+        ["rig", "impacts", "--rig", rig, "--design", str(files["ours"]), "--json"]
+    )
+    assert code == 0, err
+    d = json.loads(out)
+    own = json.loads(_cli(["rig", "impacts", "--rig", rig, "--json"])[1])
+    assert d["design"] == "ours-pd" and own["design"] is None and d["findings"] == []
+    assert d["k_out_mean"] == pytest.approx(own["k_out_mean"], rel=1e-9)
+    code, out, err = _cli(["rig", "impacts", "--rig", rig, "--design", str(files["z"]),
+                           "--out", str(tmp_path)])  # fmt: skip
+    assert code == 0, err
+    assert "design zpd: its controller holds the output" in out and "static none" in out
+    assert (tmp_path / "impacts.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize(
+    ("argv", "says"),
+    [
+        (["rig", "impacts", "--design", "nosuch.toml"], "'nosuch.toml' is neither ours nor"),
+        (["rig", "impacts", "--design", "LP"], "'LP' is neither ours nor a design file"),
+        (["rig", "impacts", "--design", "{none}"], "has no controller (C_A = C_L = 0)"),
+        (["rig", "sweep", "--gain", "kv"], "gain: give a design file"),
+        (["rig", "sweep", "--design", "XX"], "'XX' is neither LP, ours, both nor a design"),
+        (["rig", "sweep", "--kd-step", "0.001"], "gives more than 2000 gains"),
+    ],
+)
+def test_bad_input_is_one_error_line(files: dict[str, Path], argv: list[str], says: str) -> None:
+    code, out, err = _cli([a.replace("{none}", str(files["none"])) for a in argv])
+    assert code == 2 and out == ""
+    assert err.count("error:") == 1 and says in err, err
+
+
+def test_the_library_takes_names_paths_and_designs(files: dict[str, Path]) -> None:
+    assert named_design("both") == "both" and named_design("ours", allowed=("ours",)) == "ours"
+    design = named_design(files["ours"])
+    assert isinstance(design, Design) and named_design(design) is design
+    with pytest.raises(ParameterError, match="design: 'PD'") as info:
+        rig_sweep(paper_rig(), design="PD")
+    assert info.value.argument == "design"
+    res = rig_sweep(load_rig(files["rig"]), design=design, gain="kd", load_masses=[0.1],
+                    kd_max=2000.0, kd_step=1000.0)  # fmt: skip
+    (sweep,) = res.sweeps
+    assert sweep.design == "ours-pd" and list(sweep.kd) == [0.0, 1000.0, 2000.0]
