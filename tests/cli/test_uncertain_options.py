@@ -8,6 +8,7 @@ import json
 
 import pytest
 
+from helpers import design_text
 from seapass.analysis.passivity import is_passive
 from seapass.cli import main
 from seapass.cli.uncertain_options import CLI_BUDGET
@@ -111,19 +112,12 @@ def test_help_shows_uncertain_and_the_cli_budget_is_the_library_default() -> Non
         assert "--uncertain NAME=LO:HI" in out.getvalue() and "--uncertain" in out.getvalue()
 
 
-BOXED_DESIGN = """name = "lpbox"
-[model]
-D1 = "k1 + b1*s"
-CA = "kd + bd*s"
-[parameters]
-m = 1.0
-b = 10.0
-kd = 500.0
-bd = 25.0
-[plant]
-k1 = 1000.0
-b1 = 20.0
-"""
+BOXED_DESIGN = design_text(
+    "lpbox",
+    model={"D1": "k1 + b1*s", "CA": "kd + bd*s"},
+    parameters={"m": 1.0, "b": 10.0, "kd": 500.0, "bd": 25.0},
+    plant={"k1": 1000.0, "b1": 20.0},
+)
 
 
 @pytest.mark.parametrize(

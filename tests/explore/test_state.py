@@ -6,6 +6,7 @@ from pathlib import Path
 
 import pytest
 
+from helpers import design_text
 from seapass.explore.validation import check_state
 from seapass.model.design_file import load_design
 from seapass.model.loop import SampledLoop
@@ -65,26 +66,14 @@ def test_declared_plant_parameters_round_trip(tmp_path: Path) -> None:
     assert check_state({**view, "plant": []}).state.gains == ("kd", "kt")  # type: ignore[union-attr]
 
 
-BOXED = """
-name = "lpbox"
-[model]
-D1 = "k1"
-CL = "kd + bd*s"
-[parameters]
-m = 1.0
-b = 10.0
-kd = 500.0
-bd = 5.0
-[plant]
-k1 = 1000.0
-[uncertainty]
-m = [0.9, 1.1]
-b = [8.0, 12.0]
-[control]
-rate = 500.0
-delay = 1
-delay_time = 0.002
-"""
+BOXED = design_text(
+    "lpbox",
+    model={"D1": "k1", "CL": "kd + bd*s"},
+    parameters={"m": 1.0, "b": 10.0, "kd": 500.0, "bd": 5.0},
+    plant={"k1": 1000.0},
+    uncertainty={"m": [0.9, 1.1], "b": [8.0, 12.0]},
+    control={"rate": 500.0, "delay": 1, "delay_time": 0.002},
+)
 
 
 def _view(design: object, **changes: object):  # type: ignore[no-untyped-def]

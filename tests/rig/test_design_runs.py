@@ -8,69 +8,42 @@ same Eq. (10) response; a z controller runs too (without Eq. (10)).
 
 from __future__ import annotations
 
-import contextlib
-import io
 import json
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from seapass.cli import main
+from helpers import PAPER_RIG_TEXT, design_text, one_error, run_main
 from seapass.errors import ParameterError
 from seapass.model.design_file import Design
 from seapass.rig.design_runs import named_design, rig_impacts, rig_sweep
 from seapass.rig.rigfile import load_rig, paper_rig
 
-OURS_AS_FILE = """name = "ours-pd"
-[model]
-D1 = "k1 + b1*s"
-CA = "kd + bd*s"
-[parameters]
-m = 1.0
-b = 10.0
-k1 = 1005.0
-b1 = 30.0
-kd = 1000.0
-bd = 25.0
-"""
-Z_FILE = """name = "zpd"
-[model]
-D1 = "k1 + b1*s"
-[parameters]
-m = 1.02
-b = 10.0
-k1 = 1005.0
-b1 = 30.0
-kd = 1000.0
-bd = 25.0
-[discrete]
-rate = 500.0
-CA = "kd + bd*500*(1 - z^-1)"
-[control]
-delay = 1
-"""
+PLANT = {"m": 1.0, "b": 10.0, "k1": 1005.0, "b1": 30.0}  # the paper rig's k1, b1
+GAINS = {"kd": 1000.0, "bd": 25.0}  # its impacts.kd, impacts.bd
+OURS_AS_FILE = design_text(
+    "ours-pd", model={"D1": "k1 + b1*s", "CA": "kd + bd*s"}, parameters={**PLANT, **GAINS}
+)
+Z_FILE = design_text(
+    "zpd",
+    model={"D1": "k1 + b1*s"},
+    parameters={**PLANT, **GAINS},
+    discrete={"rate": 500.0, "CA": "kd + bd*500*(1 - z^-1)"},
+    control={"delay": 1},
+)
+NO_CONTROLLER = design_text("nc", model={"D1": "k1 + b1*s"}, parameters=PLANT)
 
 
 @pytest.fixture(scope="module")
 def files(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     d = tmp_path_factory.mktemp("designs")
-    text = resources.files("seapass").joinpath("data/paper_rig.toml").read_text()
     out = {"rig": d / "rig.toml", "ours": d / "ours.toml", "z": d / "z.toml", "none": d / "n.toml"}
-    out["rig"].write_text(text.replace("count = 10", "count = 3"), encoding="utf-8")
+    out["rig"].write_text(PAPER_RIG_TEXT.replace("count = 10", "count = 3"), encoding="utf-8")
     out["ours"].write_text(OURS_AS_FILE, encoding="utf-8")
     out["z"].write_text(Z_FILE, encoding="utf-8")
-    out["none"].write_text(OURS_AS_FILE.replace('CA = "kd + bd*s"\n', "").replace(
-        "kd = 1000.0\nbd = 25.0\n", ""), encoding="utf-8")  # fmt: skip
+    out["none"].write_text(NO_CONTROLLER, encoding="utf-8")
     return out
-
-
-def _cli(argv: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = main(argv)
-    return code, out.getvalue(), err.getvalue()
 
 
 def test_the_design_of_ours_gives_the_twins_own_pd_impacts(files: dict[str, Path]) -> None:
@@ -95,15 +68,15 @@ def test_a_z_controller_holds_the_output_without_eq10(files: dict[str, Path]) ->
 
 def test_cli_impacts_with_a_design_file(files: dict[str, Path], tmp_path: Path) -> None:
     rig = str(files["rig"])
-    code, out, err = _cli(
+    code, out, err = run_main(
         ["rig", "impacts", "--rig", rig, "--design", str(files["ours"]), "--json"]
     )
     assert code == 0, err
     d = json.loads(out)
-    own = json.loads(_cli(["rig", "impacts", "--rig", rig, "--json"])[1])
+    own = json.loads(run_main(["rig", "impacts", "--rig", rig, "--json"])[1])
     assert d["design"] == "ours-pd" and own["design"] is None and d["findings"] == []
     assert d["k_out_mean"] == pytest.approx(own["k_out_mean"], rel=1e-9)
-    code, out, err = _cli(["rig", "impacts", "--rig", rig, "--design", str(files["z"]),
+    code, out, err = run_main(["rig", "impacts", "--rig", rig, "--design", str(files["z"]),
                            "--out", str(tmp_path)])  # fmt: skip
     assert code == 0, err
     assert "design zpd: its controller holds the output" in out and "static none" in out
@@ -122,9 +95,7 @@ def test_cli_impacts_with_a_design_file(files: dict[str, Path], tmp_path: Path) 
     ],
 )
 def test_bad_input_is_one_error_line(files: dict[str, Path], argv: list[str], says: str) -> None:
-    code, out, err = _cli([a.replace("{none}", str(files["none"])) for a in argv])
-    assert code == 2 and out == ""
-    assert err.count("error:") == 1 and says in err, err
+    one_error([a.replace("{none}", str(files["none"])) for a in argv], says)
 
 
 def test_the_library_takes_names_paths_and_designs(files: dict[str, Path]) -> None:
