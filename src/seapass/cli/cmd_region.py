@@ -106,8 +106,8 @@ def run(args: argparse.Namespace) -> int:
         from .uncertain_options import run_robust_region
 
         units = (resolved.units.get(args.x), resolved.units.get(args.y))
-        xs = np.linspace(x_lo, x_hi, nx)
-        code = run_robust_region(args, xs, y_range, figure, units, file)
+        columns = np.linspace(x_lo, x_hi, nx)
+        code = run_robust_region(args, columns, y_range, figure, units, file)
         if code is not None:
             return code
     sea = resolved.sea
