@@ -187,6 +187,31 @@ def one_error(argv: list[str], *needles: str) -> str:
     return err
 
 
+def design_text(name: str, **tables: Mapping[str, Any]) -> str:
+    """A design file's TOML text: ``name`` and each table (``model={"D1": "k1"}``,
+    ``parameters={"m": 1.0}``, ``uncertainty={"m": [0.9, 1.1]}``, ...), in the given order.
+
+    >>> print(design_text("t", model={"D1": "k1"}, uncertainty={"m": [0.9, 1.1]}), end="")
+    name = "t"
+    [model]
+    D1 = "k1"
+    [uncertainty]
+    m = [0.9, 1.1]
+    """
+
+    def value(v: Any) -> str:
+        if isinstance(v, str):
+            return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        if isinstance(v, list | tuple):
+            return "[" + ", ".join(value(x) for x in v) + "]"
+        return repr(v)
+
+    lines = [f"name = {value(name)}"]
+    for table, items in tables.items():
+        lines += [f"[{table}]", *(f"{k} = {value(v)}" for k, v in items.items())]
+    return "\n".join(lines) + "\n"
+
+
 def write_file(folder: Path, text: str, name: str = "d.toml") -> Path:
     """``text`` written as ``folder/name`` (a design or rig file for a test)."""
     f = folder / name

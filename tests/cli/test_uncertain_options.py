@@ -8,6 +8,7 @@ import json
 
 import pytest
 
+from helpers import design_text
 from seapass.analysis.passivity import is_passive
 from seapass.cli import main
 from seapass.cli.uncertain_options import CLI_BUDGET
@@ -109,3 +110,46 @@ def test_help_shows_uncertain_and_the_cli_budget_is_the_library_default() -> Non
         with contextlib.redirect_stdout(out), pytest.raises(SystemExit):
             main([cmd, "--help"])
         assert "--uncertain NAME=LO:HI" in out.getvalue() and "--uncertain" in out.getvalue()
+
+
+BOXED_DESIGN = design_text(
+    "lpbox",
+    model={"D1": "k1 + b1*s", "CA": "kd + bd*s"},
+    parameters={"m": 1.0, "b": 10.0, "kd": 500.0, "bd": 25.0},
+    plant={"k1": 1000.0, "b1": 20.0},
+)
+
+
+@pytest.mark.parametrize(
+    ("argv", "boxed"),
+    [
+        (["check", "{f}", "--uncertain", "b=9:11"], False),
+        (["check", "{f}", "--robust"], True),
+        (["check", "{f}"], True),  # the file's [uncertainty]
+        (["check", "{f}"], False),  # no box: the plain check
+        (["bound", "kd", "{f}", "--uncertain", "b=9:11"], True),
+        (["bound", "kd", "{f}"], True),
+        (["bound", "kd", "{f}"], False),
+        (["region", "kd", "bd", "{f}", "--points", "3"], True),
+    ],
+)
+def test_a_robust_command_reads_its_design_file_once(argv, boxed, tmp_path, monkeypatch) -> None:
+    """Issue 21 (seams): the design file is read once, through the guarded reader."""
+    import seapass.files.toml as toml_files
+
+    path = tmp_path / "d.toml"
+    path.write_text(BOXED_DESIGN + ("[uncertainty]\nm = [0.9, 1.1]\n" if boxed else ""))
+    reads: list[str] = []
+    real = toml_files.read_text_file
+
+    def counting(p, *args, **kwargs):  # type: ignore[no-untyped-def]
+        reads.append(str(p))
+        return real(p, *args, **kwargs)
+
+    monkeypatch.setattr(toml_files, "read_text_file", counting)
+    code, out, err = _cli([a.replace("{f}", str(path)) for a in [*argv, "--json"]])
+    assert code == 0, err
+    assert reads == [str(path)]
+    d = json.loads(out)
+    robust = "--robust" in argv or "--uncertain" in argv or boxed
+    assert ("box" in d) is robust or argv[0] == "region"

@@ -319,6 +319,32 @@ def test_export_report_runs_analyze(page) -> None:
     assert r.status == 200 and "<html" in r.text().lower()
 
 
+def test_a_box_and_a_latency_in_the_url_reach_the_exported_file(page, browser, tmp_path) -> None:
+    """Issue 26: the view's [uncertainty] and delay_time survive the URL and "Export design"."""
+    from seapass.model.design_file import load_design
+
+    _show_lp_not_passive(page)  # LP, m = 1, kd = 2500: a controller to delay
+    hash_ = page.evaluate(
+        """() => window.seapass.encode(Object.assign({}, window.seapass.state(),
+             { uncertainty: {m: [0.9, 1.1]}, delay_time: 0.001 }))"""
+    )
+    other = browser.new_context(accept_downloads=True).new_page()
+    other.set_default_timeout(0)
+    other.goto(page.url.split("#")[0] + "#" + hash_)
+    other.wait_for_selector(IDLE, state="attached")
+    st = other.evaluate("window.seapass.state()")
+    assert st["delay_time"] == 0.001 and st["uncertainty"] == {"m": [0.9, 1.1]}
+    assert "latency 0.001 s" in other.inner_text("#verdict-delay")
+    with other.expect_download() as info:
+        other.click("#export-design")
+    path = tmp_path / info.value.suggested_filename
+    info.value.save_as(path)
+    design = load_design(path)
+    assert design.delay_time == 0.001 and dict(design.uncertainty) == {"m": (0.9, 1.1)}
+    assert design.values["kd"] == 2500 and design.CL == "kd"
+    other.context.close()
+
+
 def test_ctrl_c_stops_cleanly(explorer: Explorer, page) -> None:
     code, err = explorer.stop()
     assert code == 0, err

@@ -106,6 +106,17 @@ def test_export_design(client: TestClient) -> None:
         and 'CL = "kd"' in d["text"]
         and "rate = 500.0" in d["text"]
     )
+    boxed = {**LP, "uncertainty": {"m": [0.9, 1.1]}, "delay_time": 0.001}
+    d = _post(client, "/api/export/design", boxed).json()
+    assert (
+        d["ok"]
+        and "[uncertainty]\nm = [0.9, 1.1]" in d["text"]
+        and "delay_time = 0.001" in d["text"]
+    )
+    outside = {**boxed, "values": {**LP["values"], "m": 2.0}}  # the m slider left the box
+    for url, body in [("/api/export/design", outside), ("/api/export/report", {"state": outside})]:
+        d = _post(client, url, body).json()
+        assert not d["ok"] and list(d["errors"]) == ["uncertainty.m"], d
 
 
 @pytest.mark.parametrize(

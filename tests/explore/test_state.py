@@ -6,6 +6,7 @@ from pathlib import Path
 
 import pytest
 
+from helpers import design_text
 from seapass.explore.validation import check_state
 from seapass.model.design_file import load_design
 from seapass.model.loop import SampledLoop
@@ -63,3 +64,79 @@ def test_declared_plant_parameters_round_trip(tmp_path: Path) -> None:
     path.write_text(text, encoding="utf-8")
     assert load_design(path).plant == ("kt",)
     assert check_state({**view, "plant": []}).state.gains == ("kd", "kt")  # type: ignore[union-attr]
+
+
+BOXED = design_text(
+    "lpbox",
+    model={"D1": "k1", "CL": "kd + bd*s"},
+    parameters={"m": 1.0, "b": 10.0, "kd": 500.0, "bd": 5.0},
+    plant={"k1": 1000.0},
+    uncertainty={"m": [0.9, 1.1], "b": [8.0, 12.0]},
+    control={"rate": 500.0, "delay": 1, "delay_time": 0.002},
+)
+
+
+def _view(design: object, **changes: object):  # type: ignore[no-untyped-def]
+    import json
+
+    from seapass.explore.presets import design_state
+
+    raw = {**design_state(design), **changes}  # type: ignore[arg-type]
+    check = check_state(json.loads(json.dumps(raw)))  # as the browser sends it
+    assert check.state is not None, check.errors
+    return check.state
+
+
+def test_export_keeps_the_box_and_the_latency(tmp_path: Path) -> None:
+    """Issue 26: load → view → export → load gives the same SEA, box and delay_time."""
+    from seapass.delay.latency import latency_check
+    from seapass.explore.delay_panel import delay_panel
+    from seapass.explore.state import design_export
+
+    src = tmp_path / "lpbox.toml"
+    src.write_text(BOXED, encoding="utf-8")
+    first = load_design(src)
+    state = _view(first)
+    assert state.delay_time == 0.002 and state.to_json()["delay_time"] == 0.002
+    out = design_export(state)
+    assert out["ok"] and out["filename"] == "lpbox.toml"
+    again_path = tmp_path / "again.toml"
+    again_path.write_text(out["text"], encoding="utf-8")
+    again = load_design(again_path)
+    assert again.sea().exact_elements() == first.sea().exact_elements()
+    assert dict(again.values) == dict(first.values) and again.plant == first.plant
+    assert dict(again.uncertainty) == dict(first.uncertainty) == {"b": (8.0, 12.0), "m": (0.9, 1.1)}
+    assert again.delay_time == first.delay_time == 0.002 and again.loop == first.loop
+    # the delay panel judges the file's latency as latency_check does on the file
+    d = delay_panel(state)
+    ref = latency_check(again)
+    assert d["latency"] == 0.002 and d["latency_outcome"] == str(ref.outcome)
+    assert d["at_latency"] == (None if ref.at_latency is None else ref.at_latency.status)
+    # no latency and no box: the file has neither table
+    plain = design_export(_view(first, delay_time=None, uncertainty={}))
+    assert "[uncertainty]" not in plain["text"] and "delay_time" not in plain["text"]
+
+
+def test_export_refuses_a_value_outside_its_box_and_a_bad_latency_names_the_field() -> None:
+    from seapass.explore.state import design_export
+
+    first = load_design_text(BOXED)
+    out = design_export(_view(first, values={**first.values, "m": 2.0}))
+    assert not out["ok"] and list(out["errors"]) == ["uncertainty.m"]
+    assert "does not contain the file's value m = 2" in out["error"]
+    for bad, says in [(-0.1, "between 0 and 1000 s"), ("soon", "not a number")]:
+        check = check_state({**LP, "delay_time": bad})
+        assert check.state is None and says in check.errors["delay_time"]
+    taken = {"name": "d", "model": {"D1": "k1", "CL": "kd + delay_time*s"},
+             "values": {"m": 1, "b": 10, "k1": 1000, "kd": 100, "delay_time": 1.0}}  # fmt: skip
+    check = check_state({**taken, "delay_time": 0.002})
+    assert check.state is None and "the name is taken" in check.errors["delay_time"]
+    assert check_state({**taken, "delay_time": "off"}).state is not None
+
+
+def load_design_text(text: str):  # type: ignore[no-untyped-def]
+    import tomllib
+
+    from seapass.model.design_file import parse_design
+
+    return parse_design(tomllib.loads(text))

@@ -8,6 +8,7 @@ from .common import add_json_option, add_model_options, print_json, warn_unreali
 from .design_options import (
     add_design_argument,
     add_range_options,
+    design_file_from_args,
     design_from_args,
     ranges_from_args,
     unit_suffix,
@@ -59,9 +60,10 @@ def run(args: argparse.Namespace) -> int:
     from ..analysis.region import passive_intervals
     from ..exact.rounding import inward_text
 
-    if wants_box(args) and (code := run_robust_bound(args)) is not None:
+    file = design_file_from_args(args)  # read once, passed along
+    if wants_box(args, file) and (code := run_robust_bound(args, file)) is not None:
         return code  # a box: --uncertain, --robust, the file's [uncertainty]
-    resolved = design_from_args(args, {args.param: f"bound {args.param}"})
+    resolved = design_from_args(args, {args.param: f"bound {args.param}"}, file=file)
     lo, hi = resolved.range_of(
         args.param, ranges_from_args(args, [args.param], strict=False)[args.param]
     )

@@ -6,7 +6,12 @@ import argparse
 from typing import TYPE_CHECKING, Any
 
 from .common import add_json_option, add_model_options, print_json, warn_unrealizable
-from .design_options import add_design_argument, system_from_design_args, units_json
+from .design_options import (
+    add_design_argument,
+    design_file_from_args,
+    system_from_design_args,
+    units_json,
+)
 from .uncertain_options import add_uncertain_options, run_robust_check, wants_box
 
 if TYPE_CHECKING:  # the CLI starts fast: heavy modules load when a command runs
@@ -68,9 +73,10 @@ def run(args: argparse.Namespace) -> int:
     from ..analysis.indices import passivity_indices
     from ..delay.passivity import DelayPassivityResult, is_passive
 
-    if wants_box(args) and (code := run_robust_check(args)) is not None:
+    file = design_file_from_args(args)  # read once, passed along
+    if wants_box(args, file) and (code := run_robust_check(args, file)) is not None:
         return code  # a box: --uncertain, --robust, the file's [uncertainty]
-    system, resolved = system_from_design_args(args)
+    system, resolved = system_from_design_args(args, file=file)
     realizable = warn_unrealizable(system)
     result = is_passive(system)
     if isinstance(result, DelayPassivityResult):  # a delay exp(-NAME*s): certified, no indices

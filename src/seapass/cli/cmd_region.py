@@ -20,6 +20,7 @@ from .common import (
 from .design_options import (
     add_design_argument,
     add_range_options,
+    design_file_from_args,
     design_from_args,
     points_from_args,
     ranges_from_args,
@@ -85,7 +86,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.x == args.y:
         raise ParameterError("X and Y must be different parameters")
-    boxed = wants_box(args)  # --uncertain, --robust or the file's [uncertainty]
+    file = design_file_from_args(args)  # read once, passed along
+    boxed = wants_box(args, file)  # --uncertain, --robust or the file's [uncertainty]
     nx = points_from_args(args, "nx", ROBUST_POINTS if boxed else POINTS)
     if not 2 <= nx <= MAX_REGION_COLUMNS:
         raise ParameterError(f"--points {nx}: use between 2 and {MAX_REGION_COLUMNS} columns")
@@ -96,14 +98,16 @@ def run(args: argparse.Namespace) -> int:
         strict=False,
     )
     figure = plot_path(deprecated_alias(args, "out", "plot"), force=args.force)
-    resolved = design_from_args(args, {args.x: f"region X {args.x}", args.y: f"region Y {args.y}"})
+    labels = {args.x: f"region X {args.x}", args.y: f"region Y {args.y}"}
+    resolved = design_from_args(args, labels, file=file)
     x_lo, x_hi = resolved.range_of(args.x, given[args.x])
     y_range = resolved.range_of(args.y, given[args.y])
     if boxed:
         from .uncertain_options import run_robust_region
 
         units = (resolved.units.get(args.x), resolved.units.get(args.y))
-        code = run_robust_region(args, np.linspace(x_lo, x_hi, nx), y_range, figure, units)
+        columns = np.linspace(x_lo, x_hi, nx)
+        code = run_robust_region(args, columns, y_range, figure, units, file)
         if code is not None:
             return code
     sea = resolved.sea

@@ -9,7 +9,6 @@ import sys
 from typing import TYPE_CHECKING, Any
 
 from ..errors import ParameterError
-from ..files.limits import MAX_KD_GAINS_CLI
 from .common import (
     add_force_option,
     add_json_option,
@@ -38,6 +37,7 @@ _IMPACT_EPILOG = """\
 examples:
   seapass rig impacts --json
   seapass rig impacts --rig my_rig.toml --out results/
+  seapass rig impacts --design cascade.toml --json     # any design file's controller holds the output
 """
 _SHOW_EPILOG = """\
 examples:
@@ -167,6 +167,14 @@ def register(subparsers: Any) -> None:
         epilog=_IMPACT_EPILOG,
     )
     _common(im)
+    im.add_argument(
+        "--design",
+        default="ours",
+        metavar="ours|FILE",
+        help="the paper's Ours (the rig's impacts.kd, impacts.bd), or a design file whose "
+        "controller (continuous or [discrete]) holds the output on the twin, as in "
+        "'rig sweep --design FILE' (default ours)",
+    )
     im.set_defaults(func=_impacts)
 
     sh = sub.add_parser(
@@ -254,47 +262,16 @@ def _rig(args: argparse.Namespace) -> Rig:
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from ..rig.experiment import ExperimentResult, run_experiment
+    from ..rig.design_runs import rig_sweep
     from .progress import choose_progress
 
     rig = _rig(args)
     out = check_out_dir(args.out, files=("sweep.csv", "sweep.png", "sweep.pdf"), force=args.force)
-    if args.design not in ("LP", "ours", "both"):
-        from pathlib import Path
-
-        from ..model.design_file import load_design
-        from ..rig.design_sweep import run_design_sweeps
-
-        if not Path(args.design).is_file():
-            raise ParameterError(
-                f"--design {args.design!r} is neither LP, ours, both nor a design file"
-            )
-        design = load_design(args.design)
-        sweeps = run_design_sweeps(
-            rig, design, gain=args.gain, load_masses=args.load_mass, gain_max=args.kd_max,
-            gain_step=args.kd_step,
-        )  # fmt: skip
-        return _report_sweep(
-            args, ExperimentResult(rig_name=rig.name, sweeps=sweeps, findings=()), out
-        )
-    if args.gain is not None:
-        raise ParameterError("--gain needs --design FILE (LP and Ours sweep kd)")
-    designs = ["LP", "ours"] if args.design == "both" else [args.design]
-    kd_max = args.kd_max if args.kd_max is not None else rig.experiment.kd_max
-    kd_step = args.kd_step if args.kd_step is not None else rig.experiment.kd_step
-    if kd_max / kd_step > MAX_KD_GAINS_CLI:
-        raise ParameterError(
-            f"--kd-step {kd_step:g} gives more than {MAX_KD_GAINS_CLI} gains; use a larger step"
-        )
     with choose_progress(not args.no_progress and not args.json) as progress:
-        result = run_experiment(
-            rig,
-            designs=designs,
-            load_masses=args.load_mass,
-            kd_max=kd_max,
-            kd_step=kd_step,
-            progress=progress,
-        )
+        result = rig_sweep(
+            rig, design=args.design, gain=args.gain, load_masses=args.load_mass,
+            kd_max=args.kd_max, kd_step=args.kd_step, progress=progress,
+        )  # fmt: skip
     return _report_sweep(args, result, out)
 
 
@@ -341,13 +318,13 @@ def _gain(x: float | None, label: str, name: str = "kd") -> str:
 
 
 def _impacts(args: argparse.Namespace) -> int:
-    from ..rig.impacts import run_impacts
+    from ..rig.design_runs import rig_impacts
 
     rig = _rig(args)
     out = check_out_dir(
         args.out, files=("impacts.csv", "impacts.png", "impacts.pdf"), force=args.force
     )
-    result = run_impacts(rig)
+    result = rig_impacts(rig, design=args.design)
     if out is not None:
         from ..plot.rig import plot_impacts
 
@@ -359,10 +336,13 @@ def _impacts(args: argparse.Namespace) -> int:
         print_json(result.to_dict())
         return 0
     paper = "" if result.paper_k_out is None else "; paper {:g} ± {:g}".format(*result.paper_k_out)
+    static = "none" if result.static_stiffness is None else f"{result.static_stiffness:.0f}"
+    if result.design is not None:
+        print(f"design {result.design}: its controller holds the output on the twin")
     print(
         f"k_out = {result.k_out_mean:.0f} ± {result.k_out_std:.0f} N/m "
         f"({result.forces.size} impacts, read at {result.window * 1e3:g} ms{paper}; "
-        f"k1 = {result.k1:g}; static {result.static_stiffness:.0f})"
+        f"k1 = {result.k1:g}; static {static})"
     )
     if result.paper_k_out is None:
         by_b1 = zip(result.b1_values, result.k_out_vs_b1, strict=True)

@@ -39,6 +39,7 @@ __all__ = [
     "add_unit_option",
     "declared",
     "deprecated_flag",
+    "design_file_from_args",
     "design_from_args",
     "latency_message",
     "points_from_args",
@@ -172,19 +173,33 @@ def units_from_args(args: argparse.Namespace) -> dict[str, str]:
     return out
 
 
+def design_file_from_args(args: argparse.Namespace) -> Any:
+    """The command line's design file (``DESIGN.toml``), read and checked; None without one.
+
+    A command reads its file once with this and passes the `Design` along
+    (``file=`` of `design_from_args`, `system_from_design_args` and the robust
+    paths): the file is read through the guarded reader exactly once.
+    """
+    from ..model.design_file import load_design
+
+    path = getattr(args, "design", None)
+    return None if path is None else load_design(path)
+
+
 def design_from_args(
     args: argparse.Namespace,
     free: Mapping[str, str] | None = None,
     *,
     default_loop: Any = None,
+    file: Any = None,
 ) -> Any:
     """The [`ResolvedDesign`][seapass.model.resolve.ResolvedDesign] of the command line.
 
     ``free`` maps each free parameter to how it was given (``{"kd": "bound kd"}``);
     it must not also be given with ``--set``.  The loop options (if the command has
-    them) change the file's ``[control]``, else ``default_loop``.
+    them) change the file's ``[control]``, else ``default_loop``.  ``file``: the
+    design file already read (`design_file_from_args`); None reads ``args.design``.
     """
-    from ..model.design_file import load_design
     from ..model.resolve import resolve_design
     from .controller_options import (
         controller_given,
@@ -201,8 +216,7 @@ def design_from_args(
                 f"--set {name}: {name} is a free parameter here ({label}); do not also give "
                 "it a value"
             )
-    path = getattr(args, "design", None)
-    design = load_design(path) if path is not None else None
+    design = file if file is not None else design_file_from_args(args)
     plant = plant_from_args(args)
     if plant and design is not None:
         raise ParameterError("--plant: give hardware parameters in the design file's [plant]")
@@ -261,12 +275,13 @@ def latency_message(text: str) -> str:
     return text
 
 
-def system_from_design_args(args: argparse.Namespace) -> tuple[Any, Any]:
-    """The raw ``--Z`` impedance (and None), or the SEA of the design and flags (and its resolution)."""
+def system_from_design_args(args: argparse.Namespace, *, file: Any = None) -> tuple[Any, Any]:
+    """The raw ``--Z`` impedance (and None), or the SEA of the design and flags (and its
+    resolution); ``file`` as in `design_from_args`."""
     from ..model.sea import Impedance
 
     if getattr(args, "Z", None) is None:
-        resolved = design_from_args(args)
+        resolved = design_from_args(args, file=file)
         return resolved.sea, resolved
     from .controller_options import model_given
 

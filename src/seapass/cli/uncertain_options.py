@@ -152,19 +152,14 @@ def robust_design(args: argparse.Namespace, design: Any) -> Any:
     return design if box is None else dataclasses.replace(design, uncertainty=box.intervals)
 
 
-def wants_box(args: argparse.Namespace) -> bool:
+def wants_box(args: argparse.Namespace, file: Any = None) -> bool:
     """True when a box may apply: ``--uncertain``, ``--robust`` or a design file with
-    ``[uncertainty]`` (read once more; a bad file is reported by the command itself)."""
+    ``[uncertainty]`` (``file``: the design file the command read, or None for none)."""
     if getattr(args, "uncertain", None) or getattr(args, "robust", None) is not None:
         return True
     if getattr(args, "confidence", None) is not None:
         raise ParameterError("--confidence LEVEL applies to --robust RIGFILE; give the rig file")
-    path = getattr(args, "design", None)
-    if path is None:
-        return False
-    from ..model.design_file import load_design
-
-    return bool(load_design(path).uncertainty)
+    return file is not None and bool(file.uncertainty)
 
 
 def _raw(args: argparse.Namespace) -> dict[str, tuple[float, float]]:
@@ -185,7 +180,9 @@ def cli_text(exc: ParameterError) -> ParameterError:
     return ParameterError(msg.replace("drop the confidence", "drop --confidence"))
 
 
-def _box_and_model(args: argparse.Namespace, extra_free: dict[str, str]) -> tuple[Any, Any]:
+def _box_and_model(
+    args: argparse.Namespace, extra_free: dict[str, str], file: Any = None
+) -> tuple[Any, Any]:
     from ..model.sea import Impedance
 
     raw = _raw(args)
@@ -218,7 +215,7 @@ def _box_and_model(args: argparse.Namespace, extra_free: dict[str, str]) -> tupl
     else:
         from .design_options import design_from_args
 
-        resolved = design_from_args(args, {**extra_free, **labels})
+        resolved = design_from_args(args, {**extra_free, **labels}, file=file)
         system, design = resolved.sea, resolved.design
         warn_unrealizable(system)
     return system, box_from_args(args, system, design, free=extra_free)
@@ -232,14 +229,15 @@ def box_text(box: Any) -> str:
     return ", ".join(f"{k} in [{exact_text(a)}, {exact_text(b)}]" for k, (a, b) in items)
 
 
-def run_robust_check(args: argparse.Namespace) -> int | None:
+def run_robust_check(args: argparse.Namespace, file: Any = None) -> int | None:
     """``check --uncertain ...``: exit 0 passive for every plant, 1 not passive or undecided.
 
-    None when no source gives a box (the plain check runs).
+    None when no source gives a box (the plain check runs).  ``file``: the design
+    file the command read (`design_file_from_args`), passed along, not read again.
     """
     from ..robust.verdict import robust_check
 
-    system, box = _box_and_model(args, {})
+    system, box = _box_and_model(args, {}, file)
     if box is None:
         return None
     try:
@@ -260,16 +258,18 @@ def run_robust_check(args: argparse.Namespace) -> int | None:
     return 0 if result.passive else 1
 
 
-def run_robust_bound(args: argparse.Namespace) -> int | None:
-    """``bound PARAM --uncertain ...``: the robust passive set of PARAM (None: no box)."""
+def run_robust_bound(args: argparse.Namespace, file: Any = None) -> int | None:
+    """``bound PARAM --uncertain ...``: the robust passive set of PARAM (None: no box);
+    ``file`` as in `run_robust_check`."""
     from ..exact.rounding import enclosure_text, interval_text
     from ..robust.intervals import robust_passive_intervals
     from ..robust.verdict import Method
     from .design_options import design_from_args, ranges_from_args
 
     given = ranges_from_args(args, [args.param], strict=False)[args.param]
-    lo, hi = design_from_args(args, {args.param: f"bound {args.param}"}).range_of(args.param, given)
-    system, box = _box_and_model(args, {args.param: f"bound {args.param}"})
+    free = {args.param: f"bound {args.param}"}
+    lo, hi = design_from_args(args, free, file=file).range_of(args.param, given)
+    system, box = _box_and_model(args, free, file)
     if box is None:
         return None
     try:
@@ -298,10 +298,11 @@ def run_robust_region(
     y_range: tuple[float, float],
     figure: Any,
     units: tuple[str | None, str | None],
+    file: Any = None,
 ) -> int | None:
     """``region X Y --uncertain ...``: per column, the robust passive set of Y beside the nominal.
 
-    None when no source gives a box (the plain region runs).
+    None when no source gives a box (the plain region runs); ``file`` as in `run_robust_check`.
     """
     from ..exact.rounding import enclosure_text, exact_text, interval_text
     from ..robust.region import robust_passive_map
@@ -309,7 +310,7 @@ def run_robust_region(
     from .common import save_plot
 
     labels = {args.x: f"region X {args.x}", args.y: f"region Y {args.y}"}
-    system, box = _box_and_model(args, labels)
+    system, box = _box_and_model(args, labels, file)
     if box is None:
         return None
     try:

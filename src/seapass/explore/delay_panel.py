@@ -3,7 +3,8 @@
 A readout beside the continuous and sampled verdicts: the certified enclosure of ``τ*``
 of the current design with ``C_A`` and ``C_L`` delayed (``exp(-delay_time*s)``, as a
 design file's ``[control] delay_time`` means), the frequency and the kind of the loss, and
-whether the design is passive for every delay; a model with its own ``exp(-NAME*s)`` uses
+whether the design is passive for every delay, and with the view's loop latency
+(``delay_time``) whether every delay up to it is certified passive; a model with its own ``exp(-NAME*s)`` uses
 that delay.  Computed by [`latency_check`][seapass.delay.latency.latency_check] with the
 default ``rtol`` and a counted budget (`PANEL_BUDGET` pieces of the branch and bound), so
 the panel shows the same ``τ*`` as ``seapass.delay_margin``; what the budget does not
@@ -33,7 +34,8 @@ def delay_panel(state: ExploreState) -> dict[str, Any]:
     if state.model.get("CA", "0") == "0" and state.model.get("CL", "0") == "0":
         if not model_delays(sea):
             return {"analysed": False, "detail": "no controller (C_A = C_L = 0) to delay"}
-    c = latency_check(sea, budget=PANEL_BUDGET)
+    latency = state.delay_time or None  # 0 s: no latency, only tau*
+    c = latency_check(sea, latency=latency, budget=PANEL_BUDGET)
     m = c.margin
     star = m.tau_star
     return {
@@ -51,6 +53,8 @@ def delay_panel(state: ExploreState) -> dict[str, Any]:
         "detail": m.detail,
         "latency": c.latency,
         "at_latency": None if c.at_latency is None else c.at_latency.status,
+        "latency_outcome": str(c.outcome),  # every delay in [0, latency] (certified)
+        "latency_detail": c.detail,
         "evaluations": m.evaluations,
         "budget": PANEL_BUDGET,
     }

@@ -348,7 +348,7 @@ _PANELS: dict[str, tuple[Callable[..., dict[str, Any]], Callable[[ExploreState],
     "step": (_step, lambda s: s.key(extra=("load_mass", "step", "horizon"))),
     "witness": (_witness, lambda s: s.key()),
     "twoport": (_twoport, lambda s: s.key()),
-    "delay": (delay_panel, lambda s: s.key()),  # tau*: explore.delay_panel
+    "delay": (delay_panel, lambda s: s.key(extra=("delay_time",))),  # tau*: explore.delay_panel
     "robust": (robust_panel, robust_key),  # the box verdict (seapass.explore.robustview)
 }
 KINDS: tuple[str, ...] = tuple(_PANELS)

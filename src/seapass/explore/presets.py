@@ -35,6 +35,7 @@ def design_state(design: Design) -> dict[str, Any]:
         "velocity_filter": design.velocity_filter,
         "plant": list(design.plant),
         "uncertainty": {k: list(v) for k, v in design.uncertainty.items()},
+        "delay_time": design.delay_time,
     }
     if "kd" in design.values:
         state["gain"] = "kd"

@@ -47,6 +47,7 @@ from .panels import KINDS, REGION_CHUNK, REGION_RESOLUTIONS, check_rows
 from .pool import PanelPool
 from .presets import presets
 from .reports import ReportJobs
+from .state import design_export
 from .validation import check_state
 
 __all__ = ["MAX_BODY", "STATIC", "bind", "create_app", "graphical_session", "serve"]
@@ -206,9 +207,7 @@ def create_app(
             return JSONResponse(
                 {"ok": False, "errors": dict(check.errors), "error": "fix the marked fields"}
             )
-        return JSONResponse(
-            {"ok": True, "filename": f"{check.state.name}.toml", "text": check.state.design_toml()}
-        )
+        return JSONResponse(design_export(check.state))
 
     async def export_report(request: Request) -> Response:
         body = await _json_body(request)
@@ -219,10 +218,11 @@ def create_app(
             return JSONResponse(
                 {"ok": False, "errors": dict(check.errors), "error": "fix the marked fields"}
             )
+        exported = design_export(check.state)
+        if not exported["ok"]:
+            return JSONResponse(exported)
         try:
-            job = reports.start(
-                check.state.name, check.state.design_toml(), quick=bool(body.get("quick"))
-            )
+            job = reports.start(check.state.name, exported["text"], quick=bool(body.get("quick")))
         except RuntimeError as exc:
             return _error(str(exc), 409)
         return JSONResponse({"ok": True, "report": job.to_json()})

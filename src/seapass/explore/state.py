@@ -18,7 +18,8 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
-from ..errors import ParameterError
+from ..errors import ParameterError, SeapassError
+from ..files.limits import MAX_DELAY_SECONDS
 from ..model.design_file import Design, parse_design
 from ..model.experiment import PAPER_EXPERIMENT
 from ..model.loop import SampledLoop
@@ -30,6 +31,7 @@ __all__ = [
     "LIMITS",
     "ExploreState",
     "default_range",
+    "design_export",
     "slider_scale",
 ]
 
@@ -51,6 +53,7 @@ LIMITS: Mapping[str, Any] = MappingProxyType(
         "velocity_filter": (1e-3, 1e7),  # Hz
         "text": 2000,  # characters of one expression
         "title": 200,  # characters
+        "delay_time": (0.0, MAX_DELAY_SECONDS),  # s, the loop latency ([control] delay_time)
     }
 )
 
@@ -92,6 +95,10 @@ class ExploreState:
     uncertainty : mapping of str to (float, float)
         A box of uncertain parameters (a design file's ``[uncertainty]``): the
         ``robust`` panel's verdict ([`seapass.explore.robustview`][seapass.explore.robustview]).
+    delay_time : float or None
+        Loop latency [s] (a design file's ``[control] delay_time``; None: not stated):
+        the ``delay`` panel's verdict for every delay up to it
+        ([`seapass.explore.delay_panel`][seapass.explore.delay_panel]).
     """
 
     name: str
@@ -110,6 +117,7 @@ class ExploreState:
     new_parameters: tuple[str, ...] = field(default=(), compare=False)
     plant: tuple[str, ...] = ()
     uncertainty: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    delay_time: float | None = None
 
     def __post_init__(self) -> None:  # every panel looks these names up
         if len(set(self.region)) != 2 or not {self.gain, *self.region} <= {*self.ranges}:
@@ -165,10 +173,21 @@ class ExploreState:
             "new_parameters": list(self.new_parameters),
             "plant": list(self.plant),
             "uncertainty": {k: list(v) for k, v in self.uncertainty.items()},
+            "delay_time": self.delay_time,
         }
 
     def design(self) -> Design:
-        """The design file content of this view (ranges kept for the controller gains)."""
+        """The design file content of this view (ranges kept for the controller gains).
+
+        The box (``[uncertainty]``) and the loop latency (``[control] delay_time``) go
+        along, so the file decides the same robust and delayed questions as the view.
+
+        Raises
+        ------
+        FileFormatError
+            When the view does not make a design file, e.g. a value moved outside its
+            ``[uncertainty]`` interval (the message names ``uncertainty.NAME``).
+        """
         return Design(
             name=self.name,
             title=self.title,
@@ -184,6 +203,8 @@ class ExploreState:
             tune_mass=self.load_mass,
             loop=self.loop,
             plant=self.plant,
+            delay_time=self.delay_time,
+            uncertainty=dict(self.uncertainty),
         )
 
     def design_toml(self) -> str:
@@ -215,15 +236,39 @@ class ExploreState:
             f"horizon = {_toml_float(d.horizon)}",
             f"tune_mass = {_toml_float(self.load_mass)}",
         ]
-        if d.loop is not None:
+        if d.uncertainty:
+            lines += ["", "[uncertainty]"]
+            lines += [
+                f"{k} = [{_toml_float(lo)}, {_toml_float(hi)}]"
+                for k, (lo, hi) in d.uncertainty.items()
+            ]
+        control = {} if d.loop is None else dict(d.loop.to_table())
+        if d.delay_time is not None:
+            control["delay_time"] = d.delay_time
+        if control:
             lines += ["", "[control]"]
-            lines += [  # rate or period, delay, velocity filter: numbers (the method is Tustin)
-                f"{k} = {_toml_float(v) if isinstance(v, float) else v}"
-                for k, v in d.loop.to_table().items()
+            lines += [  # rate or period, delay, velocity filter, latency (the method is Tustin)
+                f"{k} = {_toml_value(v)}" for k, v in control.items()
             ]
         text = "\n".join(lines) + "\n"
-        parse_design(tomllib.loads(text))  # what we write must load
+        parse_design(tomllib.loads(text))  # what we write must load (nominal values in the box)
         return text
+
+
+def design_export(state: ExploreState) -> dict[str, Any]:
+    """The "Export design" answer: ``{"ok", "filename", "text"}`` or ``{"ok", "errors", "error"}``.
+
+    The file keeps the view's box and loop latency (`ExploreState.design_toml`); a view
+    that makes no design file (a value dragged outside its ``[uncertainty]`` interval)
+    is refused with the message under the field it names (``uncertainty.m``).
+    """
+    try:
+        text = state.design_toml()
+    except SeapassError as exc:
+        message = str(exc)
+        where = message.split(":", 1)[0] if ":" in message else "model"
+        return {"ok": False, "errors": {where: message}, "error": message}
+    return {"ok": True, "filename": f"{state.name}.toml", "text": text}
 
 
 def _toml_str(text: str) -> str:
@@ -232,3 +277,10 @@ def _toml_str(text: str) -> str:
 
 def _toml_float(value: float) -> str:
     return repr(float(value))
+
+
+def _toml_value(value: Any) -> str:
+    """A ``[control]`` value: float, whole number or text."""
+    if isinstance(value, str):
+        return _toml_str(value)
+    return _toml_float(value) if isinstance(value, float) else str(value)

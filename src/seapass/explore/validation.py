@@ -18,6 +18,7 @@ from typing import Any
 from ..errors import SeapassError
 from ..model.catalog import REFERENCE_VALUES
 from ..model.expr import STANDARD_SYMBOLS, parse_expression
+from ..model.latency import check_latency
 from .robustview import parse_box
 from .sliders import default_range, names_in, slider_gains
 from .state import (
@@ -226,6 +227,10 @@ def check_state(data: Any) -> StateCheck:
     )
 
     uncertainty = parse_box(data.get("uncertainty"), list(values), errors)  # the box panel
+    dt_raw = data.get("delay_time")  # the loop latency of the delay panel
+    conditions["delay_time"] = (
+        None if _optional(dt_raw) else _bounded(dt_raw, "delay_time", errors, "s")
+    )
     if errors:
         return StateCheck(state=None, errors=MappingProxyType(errors))
     name = (
@@ -264,13 +269,17 @@ def check_state(data: Any) -> StateCheck:
             uncertainty=MappingProxyType(uncertainty),
             **conditions,
         )
-        state.sea()
+        sea = state.sea()
         state.loop  # noqa: B018 - the filter below the Nyquist frequency of the period
     except SeapassError as exc:
         arg = exc.argument or ""
         if arg in ("period", "delay", "velocity_filter"):
             return StateCheck(state=None, errors=MappingProxyType({arg: str(exc)[len(arg) + 2 :]}))
         return StateCheck(state=None, errors=MappingProxyType({_field_of(str(exc)): str(exc)}))
+    try:  # as a design file's [control] delay_time: a controller to delay, no model delay
+        check_latency(state.delay_time, sea, key="delay_time")
+    except SeapassError as exc:
+        return StateCheck(state=None, errors=MappingProxyType({"delay_time": str(exc)}))
     return StateCheck(state=state, errors=MappingProxyType({}))
 
 

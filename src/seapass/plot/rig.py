@@ -128,7 +128,10 @@ def plot_impacts(result: ImpactResult, *, axes: Any = None) -> Any:
         ax_f.axhline(paper[0], color="k", linestyle="-.", linewidth=0.8, label="paper $k_{out}$")
     ax_f.set_xlabel("frequency $\\omega$ (rad/s)")
     ax_f.set_ylabel("$|F_L/X_L(j\\omega)|$ (N/m)")
-    ax_f.set_title(f"Ours, $k_d$={result.kd:g}, $b_d$={result.bd:g}")
+    if result.design is None:
+        ax_f.set_title(f"Ours, $k_d$={result.kd:g}, $b_d$={result.bd:g}")
+    else:  # a design file's controller (in z: no Eq. (10), the panel stays empty)
+        ax_f.set_title(f"design {result.design}")
     ax_w.loglog(
         result.windows * 1e3, result.k_out_vs_window, "o-", label="twin (friction, encoders)"
     )
@@ -136,9 +139,10 @@ def plot_impacts(result: ImpactResult, *, axes: Any = None) -> Any:
         result.windows * 1e3, result.k_out_linear_vs_window, "s--", label="linear, exact positions"
     )
     ax_w.axhline(result.k1, color="gray", linestyle=":", label="$k_1$")
-    ax_w.axhline(
-        result.static_stiffness, color="gray", linestyle="--", linewidth=0.8, label="static"
-    )
+    if result.static_stiffness is not None:
+        ax_w.axhline(
+            result.static_stiffness, color="gray", linestyle="--", linewidth=0.8, label="static"
+        )
     if paper is not None:
         ax_w.axhspan(
             paper[0] - paper[1],

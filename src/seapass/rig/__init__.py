@@ -8,6 +8,9 @@ nonlinear plant: friction, saturation, encoders), [`twin`][seapass.rig.twin]
 (batches of sampled closed loops on it), [`experiment`][seapass.rig.experiment],
 [`impacts`][seapass.rig.impacts], [`predictions`][seapass.rig.predictions] and
 [`findings`][seapass.rig.findings] (the paper's Section VI on the twin),
+[`design_sweep`][seapass.rig.design_sweep] (any design file's controller swept on the
+twin), [`design_runs`][seapass.rig.design_runs] (``rig sweep`` and ``rig impacts`` by
+design name: LP, Ours or a design file),
 [`log`][seapass.rig.log] (a logged run: the CSV loader, logs made on the twin),
 [`chirp`][seapass.rig.chirp] (the command to play on a bench to log such a run),
 [`moments`][seapass.rig.moments] and [`identify`][seapass.rig.identify] (fitting

@@ -17,10 +17,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ParameterError
 from ..files.csvtext import rows_csv
+from ..model.design_file import Design
 from ..model.display import html_card, short_repr
 from ..model.expr import S
 from ..model.sea import SEA
 from ..model.stiffness import derive_stiffness
+from ..sampled.controllers import DiscreteController
+from .design_sweep import design_loop
 from .findings import ExperimentFinding
 from .packaged import is_paper_hardware
 from .rigfile import Rig
@@ -55,7 +58,6 @@ def rig_stiffness_response(
     array adds the load-side carriage + load (``m_L s² + b_L s``), which the
     paper's massless port omits.  Axis: frequency.
     """
-    w = np.asarray(omega, dtype=float)
     vals = {
         "m": rig.actuator_mass,
         "b": rig.actuator_damping,
@@ -65,14 +67,30 @@ def rig_stiffness_response(
         "bd": float(bd),
     }
     sea = SEA(D1="k1 + b1*s", CA="kd + bd*s", values=vals, name="ours")
+    return _stiffness_response(rig, sea, omega, load_mass)[:2]
+
+
+def _stiffness_polys(sea: SEA) -> tuple[FloatArray, FloatArray]:
+    """Numerator and denominator coefficients (highest power first) of Eq. (10) of ``sea``."""
     expr = sea.numeric(derive_stiffness(sea).stiffness)
     num, den = sp.fraction(sp.cancel(sp.together(expr)))
     pn = np.array([float(c) for c in sp.Poly(num, S).all_coeffs()])
     pd = np.array([float(c) for c in sp.Poly(den, S).all_coeffs()])
+    return pn, pd
+
+
+def _stiffness_response(
+    rig: Rig, sea: SEA, omega: ArrayLike, load_mass: float
+) -> tuple[FloatArray, FloatArray, float | None]:
+    """``|F_L/X_L(jω)|`` of ``sea`` (massless port, and with the load side) and its static
+    value ``F_L/X_L(0)`` (None when it is not finite: integral action)."""
+    w = np.asarray(omega, dtype=float)
+    pn, pd = _stiffness_polys(sea)
     s = 1j * w
     k = np.polyval(pn, s) / np.polyval(pd, s)
     ml = rig.load_side_mass(load_mass)
-    return np.abs(k), np.abs(k + ml * s**2 + rig.load.viscous * s)
+    static = None if pd[-1] == 0 else abs(float(pn[-1] / pd[-1]))
+    return np.abs(k), np.abs(k + ml * s**2 + rig.load.viscous * s), static
 
 
 PAPER_K_OUT = (2292.0, 91.6)
@@ -95,7 +113,12 @@ class ImpactResult:
     unquantized twin; ``omega`` aligns with both ``eq10_*`` magnitudes.
     ``paper_k_out`` is the paper's measurement (`PAPER_K_OUT`) for the paper's
     bench and None for any other rig, whose ``findings`` are then empty: the
-    paper's claims are about its own bench.
+    paper's claims are about its own bench.  ``design`` is None for Ours (the rig's
+    ``impacts.kd``, ``impacts.bd``) or the name of the design file whose controller
+    held the output (``kd``, ``bd`` are then the rig's and unused; no findings; a
+    controller in z has no Eq. (10): ``omega`` and ``eq10_*`` are empty).
+    ``static_stiffness`` is ``F_L/X_L(0)`` of Eq. (10), None when not finite or
+    without Eq. (10).
     """
 
     kd: float
@@ -107,7 +130,7 @@ class ImpactResult:
     k_out_mean: float
     k_out_std: float
     k1: float
-    static_stiffness: float
+    static_stiffness: float | None
     b1_values: FloatArray
     k_out_vs_b1: FloatArray
     k_out_vs_b1_std: FloatArray
@@ -119,6 +142,7 @@ class ImpactResult:
     eq10_with_load: FloatArray
     findings: tuple[ExperimentFinding, ...]
     paper_k_out: tuple[float, float] | None = None
+    design: str | None = None
 
     def plot(self, *, axes: Any = None) -> Any:
         """Eq. (10) response, ``k_out`` against time scale and against ``b1``; three Axes."""
@@ -145,7 +169,7 @@ class ImpactResult:
                 f"{self.k_out_mean:.0f} ± {self.k_out_std:.0f} N/m ({self.forces.size} impacts)",
             ),
             ("read at", f"{self.window * 1e3:g} ms after onset"),
-            ("spring k1 / static", f"{self.k1:g} / {self.static_stiffness:.0f} N/m"),
+            ("spring k1 / static", f"{self.k1:g} / {_static_text(self.static_stiffness)} N/m"),
         ]
         if self.paper_k_out is not None:
             rows.append(("paper (its bench)", "{:g} ± {:g} N/m".format(*self.paper_k_out)))
@@ -162,6 +186,7 @@ class ImpactResult:
 
     def to_dict(self) -> dict[str, Any]:
         out: dict[str, Any] = {
+            "design": self.design,
             "kd": self.kd,
             "bd": self.bd,
             "load_mass": self.load_mass,
@@ -200,6 +225,10 @@ class ImpactResult:
         return out
 
 
+def _static_text(value: float | None) -> str:
+    return "none" if value is None else f"{value:.0f}"
+
+
 def impact_forces(rig: Rig, seed: int | None = None) -> FloatArray:
     """The step magnitudes of the ``[impacts]`` protocol [N], shape (count,)."""
     im = rig.impacts
@@ -226,14 +255,14 @@ def _checked_grid(
     return b1s, wins
 
 
-def _loop_options(rig: Rig) -> dict[str, Any]:
+def _loop_options(rig: Rig, design: Design | None = None) -> dict[str, Any]:
+    """The twin's options of an impact run: Ours' PD, or the design's controller."""
     im = rig.impacts
-    return {
-        "load_mass": im.load_mass,
-        "kp_actuator": im.kd,
-        "kv_actuator": im.bd,
-        "duration": im.duration,
-    }
+    out: dict[str, Any] = {"load_mass": im.load_mass, "duration": im.duration}
+    if design is None:
+        return {**out, "kp_actuator": im.kd, "kv_actuator": im.bd}
+    loop = design_loop(design, rig)  # one controller for every run (reset per run)
+    return {**out, "loop": loop, "controllers": [DiscreteController.for_loop(design.sea(), loop)]}
 
 
 def k_out_ratio(x: FloatArray, forces: FloatArray, tau: float, period: float) -> FloatArray:
@@ -247,20 +276,20 @@ def k_out_ratio(x: FloatArray, forces: FloatArray, tau: float, period: float) ->
     return np.where(d > 0, forces / safe, np.inf)
 
 
-def _displacements(rig: Rig, forces: FloatArray, b1s: FloatArray) -> FloatArray:
+def _displacements(
+    rig: Rig, forces: FloatArray, b1s: FloatArray, options: dict[str, Any]
+) -> FloatArray:
     """Encoder load displacement of every (b1 value, impact) run, axes (b1, impact, sample)."""
     nb, n = b1s.size, forces.size
-    res = simulate_loop(
-        rig, b1=np.repeat(b1s, n), load_force=np.tile(forces, nb), **_loop_options(rig)
-    )
+    res = simulate_loop(rig, b1=np.repeat(b1s, n), load_force=np.tile(forces, nb), **options)
     return (res.x_L_measured - res.x_L_measured[:, :1]).reshape(nb, n, -1)
 
 
-def _linear_by_window(rig: Rig, force: float, windows: FloatArray) -> FloatArray:
+def _linear_by_window(
+    rig: Rig, force: float, windows: FloatArray, options: dict[str, Any]
+) -> FloatArray:
     """``k_out`` of the friction-free, unquantized twin at each read-out time (one impact)."""
-    lin = simulate_loop(
-        rig, load_force=[force], friction=False, quantize=False, **_loop_options(rig)
-    )
+    lin = simulate_loop(rig, load_force=[force], friction=False, quantize=False, **options)
     xl = lin.x_L - lin.x_L[:, :1]
     f = np.array([force])
     return np.array([float(k_out_ratio(xl, f, w, rig.period)[0]) for w in windows])
@@ -268,7 +297,7 @@ def _linear_by_window(rig: Rig, force: float, windows: FloatArray) -> FloatArray
 
 def _paper_findings(
     rig: Rig,
-    stats: dict[str, float],
+    stats: dict[str, Any],
     windows: FloatArray,
     by_window: FloatArray,
     b1s: FloatArray,
@@ -299,9 +328,26 @@ def _paper_findings(
     )
 
 
+def _design_stiffness(
+    rig: Rig, design: Design, w: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray, float | None]:
+    """Eq. (10) of the design's model at the rig's ``m, b, k1, b1`` (those it uses); a
+    controller in z has none (empty arrays, no static value)."""
+    if design.discrete is not None:
+        empty = np.zeros(0)
+        return empty, empty, empty, None
+    sea = design.sea()
+    plant = {"m": rig.actuator_mass, "b": rig.actuator_damping,
+             "k1": rig.damper.k1, "b1": rig.damper.b1}  # fmt: skip
+    sea = sea.with_values(**{k: v for k, v in plant.items() if k in (*sea.parameters, "m", "b")})
+    mag, mag_l, static = _stiffness_response(rig, sea, w, rig.impacts.load_mass)
+    return w, mag, mag_l, static
+
+
 def run_impacts(
     rig: Rig,
     *,
+    design: Design | None = None,
     b1_values: ArrayLike | None = None,
     windows: ArrayLike | None = None,
     omega: ArrayLike | None = None,
@@ -311,16 +357,46 @@ def run_impacts(
 
     Each impact is a step of load force ``F_i`` (uniform in
     ``[force_min, force_max]``, drawn with ``impacts.seed``) applied to the
-    output held by Ours (``kd + bd s`` on the actuator, reference 0);
-    ``k_out,i = F_i / X_L(window)`` with ``X_L`` from the encoders.  The same
-    forces are replayed for each ``b1`` in ``b1_values`` and the ratio is read at
-    each time in ``windows``.  The paper's claims are checked only on the
-    paper's bench (see `ImpactResult`).
+    output held by Ours (``kd + bd s`` on the actuator, reference 0), or by the
+    controller of ``design``; ``k_out,i = F_i / X_L(window)`` with ``X_L`` from
+    the encoders.  The same forces are replayed for each ``b1`` in ``b1_values``
+    and the ratio is read at each time in ``windows``.  The paper's claims are
+    checked only on the paper's bench with Ours (see `ImpactResult`).
+
+    Parameters
+    ----------
+    rig : Rig
+        The twin and its ``[impacts]`` protocol.
+    design : Design, optional
+        A design file whose controller (continuous or in z, ``[discrete]``) holds the
+        output instead of Ours, realized at the rig's loop as ``rig sweep --design``
+        does ([`design_loop`][seapass.rig.design_sweep.design_loop]); its
+        controller parameters are the file's, the physical plant is the rig's.
+    b1_values, windows, omega : array_like, optional
+        Damping values of the ``b1`` study, read-out times [s] and the frequencies of
+        Eq. (10) [rad/s].
+    seed : int or None
+        Seed of the impact forces (default ``impacts.seed``).
+
+    Returns
+    -------
+    ImpactResult
+
+    Raises
+    ------
+    ParameterError
+        For bad ``b1_values`` or ``windows``, or a design without a controller.
     """
     im, k1 = rig.impacts, rig.damper.k1
+    if design is not None and design.discrete is None and design.CA == design.CL == "0":
+        raise ParameterError(
+            f"design: {design.name!r} has no controller (C_A = C_L = 0) to hold the output",
+            argument="design",
+        )
     forces = impact_forces(rig, seed)
     b1s, wins = _checked_grid(rig, b1_values, windows)
-    x = _displacements(rig, forces, b1s)
+    options = _loop_options(rig, design)
+    x = _displacements(rig, forces, b1s, options)
     k_b1 = k_out_ratio(x, forces, im.window, rig.period)  # (b1, impact)
     nominal = int(np.argmin(np.abs(b1s - rig.damper.b1)))
     k_nom = k_b1[nominal]
@@ -328,15 +404,19 @@ def run_impacts(
         [float(np.mean(k_out_ratio(x[nominal], forces, w, rig.period))) for w in wins]
     )
     w = np.logspace(0, 3, 200) if omega is None else np.asarray(omega, dtype=float)
-    mag, mag_l = rig_stiffness_response(rig, w, kd=im.kd, bd=im.bd, load_mass=im.load_mass)
+    if design is None:
+        mag, mag_l = rig_stiffness_response(rig, w, kd=im.kd, bd=im.bd, load_mass=im.load_mass)
+        static: float | None = k1 * im.kd / (k1 + im.kd) if im.kd > 0 else 0.0
+    else:
+        w, mag, mag_l, static = _design_stiffness(rig, design, w)
     n = forces.size
-    stats = {
+    stats: dict[str, Any] = {
         "mean": float(np.mean(k_nom)),
         "std": float(np.std(k_nom, ddof=1)) if n > 1 else 0.0,
-        "static": k1 * im.kd / (k1 + im.kd) if im.kd > 0 else 0.0,
+        "static": static,
     }
     means = k_b1.mean(axis=1)
-    paper = is_paper_hardware(rig)
+    paper = is_paper_hardware(rig) and design is None
     return ImpactResult(
         kd=im.kd,
         bd=im.bd,
@@ -347,16 +427,17 @@ def run_impacts(
         k_out_mean=stats["mean"],
         k_out_std=stats["std"],
         k1=k1,
-        static_stiffness=stats["static"],
+        static_stiffness=static,
         b1_values=b1s,
         k_out_vs_b1=means,
         k_out_vs_b1_std=k_b1.std(axis=1, ddof=1) if n > 1 else np.zeros(b1s.size),
         windows=wins,
         k_out_vs_window=vs_win,
-        k_out_linear_vs_window=_linear_by_window(rig, float(forces[0]), wins),
+        k_out_linear_vs_window=_linear_by_window(rig, float(forces[0]), wins, options),
         omega=w,
         eq10_magnitude=mag,
         eq10_with_load=mag_l,
         findings=_paper_findings(rig, stats, wins, vs_win, b1s, means) if paper else (),
         paper_k_out=PAPER_K_OUT if paper else None,
+        design=None if design is None else design.name,
     )

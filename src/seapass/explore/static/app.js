@@ -24,6 +24,7 @@
     { key: "period", label: "period", unit: "s", lo: 1e-4, hi: 0.1, scale: "log", optional: true },
     { key: "delay", label: "delay", unit: "smp", lo: 0, hi: 10, scale: "lin", integer: true },
     { key: "velocity_filter", label: "filter", unit: "Hz", lo: 1, hi: 1e4, scale: "log", optional: true },
+    { key: "delay_time", label: "latency", unit: "s", lo: 1e-5, hi: 0.1, scale: "log", optional: true },
   ];
 
   function round4(v) { return v === 0 ? 0 : parseFloat(v.toPrecision(4)); }
@@ -41,18 +42,20 @@
     for (const [k, v] of Object.entries(st.values)) q.set("p." + k, v);
     for (const [k, r] of Object.entries(st.ranges)) q.set("r." + k, r.join(","));
     q.set("gain", st.gain); q.set("region", st.region.join(","));
-    for (const c of CONDITIONS) q.set(c.key, st[c.key] === null ? "off" : st[c.key]);
+    for (const c of CONDITIONS) q.set(c.key, st[c.key] === null || st[c.key] === undefined ? "off" : st[c.key]);
+    for (const [k, r] of Object.entries(st.uncertainty || {})) q.set("u." + k, r.join(","));
     return q.toString();
   }
 
   function decode(hash) {
     const q = new URLSearchParams(hash.replace(/^#/, ""));
     if (!q.has("D1") && !q.has("D2")) return null;
-    const st = { model: {}, values: {}, ranges: {} };
+    const st = { model: {}, values: {}, ranges: {}, uncertainty: {} };
     for (const [k, v] of q) {
       if (["D1", "D2", "CA", "CL"].includes(k)) st.model[k] = v;
       else if (k.startsWith("p.")) st.values[k.slice(2)] = v;
       else if (k.startsWith("r.")) st.ranges[k.slice(2)] = v.split(",");
+      else if (k.startsWith("u.")) st.uncertainty[k.slice(2)] = v.split(",").map(Number);
       else if (k === "region") st.region = v.split(",");
       else st[k] = v;
     }
@@ -357,16 +360,20 @@
         (d.simulation ? ` The response grows ×${fmt(d.simulation.growth_factor, 3)} from the first to the last quarter.` : "");
     },
     delay(d) {
-      // tau* from the server, ends rounded outward (d.shown): every delay up to the lower end is certified passive
-      if (!d.analysed) { setVerdict($("#verdict-delay"), "off", "not analysed", d.detail); return; }
-      if (!d.passive_at_zero) { setVerdict($("#verdict-delay"), "notpassive", "none", "not passive even without delay"); return; }
-      if (d.delay_independent) { setVerdict($("#verdict-delay"), "passive", "∞", "passive for every delay (exact)"); return; }
+      // tau* from the server, ends rounded outward (d.shown): every delay up to the lower end is certified passive;
+      // with a loop latency (d.latency) the verdict is the server's for every delay up to it
+      const el = $("#verdict-delay");
+      if (!d.analysed) { setVerdict(el, "off", "not analysed", d.detail); return; }
+      const at = d.latency ? `; latency ${fmt(d.latency, 4)} s: ${d.latency_outcome === "passive" ? "every delay up to it certified passive" : d.latency_outcome === "not_passive" ? "not passive" : "undecided"}` : "";
+      const show = (cls, value, why) => setVerdict(el, d.latency && cls === "passive" && d.latency_outcome !== "passive" ? (d.latency_outcome === "not_passive" ? "notpassive" : "off") : cls, value, why + at);
+      if (!d.passive_at_zero) { show("notpassive", "none", "not passive even without delay"); return; }
+      if (d.delay_independent) { show("passive", "∞", "passive for every delay (exact)"); return; }
       if (d.outcome !== "passive" || d.shown === null) {
-        setVerdict($("#verdict-delay"), "off", "undecided", (d.shown ? `τ* ≤ ${d.shown[1]} s; ` : "") + d.detail); return;
+        show("off", "undecided", (d.shown ? `τ* ≤ ${d.shown[1]} s; ` : "") + d.detail); return;
       }
-      if (d.tau_star[1] === 0) { setVerdict($("#verdict-delay"), "notpassive", "0", "τ* = 0 (exact): every delay > 0 breaks passivity (" + d.loss + ")"); return; }
+      if (d.tau_star[1] === 0) { show("notpassive", "0", "τ* = 0 (exact): every delay > 0 breaks passivity (" + d.loss + ")"); return; }
       const where = d.loss === "interior" ? `at ω = ${fmt(d.frequency, 5)} rad/s` : d.loss === "low_frequency" ? "as ω → 0" : "at arbitrarily high frequencies";
-      setVerdict($("#verdict-delay"), "passive", `${d.shown[0]} s`, `τ* ∈ [${d.shown[0]}, ${d.shown[1]}] s; lost ${where} (${d.loss})`);
+      show("passive", `${d.shown[0]} s`, `τ* ∈ [${d.shown[0]}, ${d.shown[1]}] s; lost ${where} (${d.loss})`);
     },
     twoport(d) {
       const words = { passive: ["passive", "absolutely stable"], not_passive: ["notpassive", "not absolutely stable"], undecided: ["off", "undecided"] }[d.outcome];
