@@ -131,6 +131,9 @@ BOXED_DESIGN = design_text(
         (["bound", "kd", "{f}"], True),
         (["bound", "kd", "{f}"], False),
         (["region", "kd", "bd", "{f}", "--points", "3"], True),
+        (["twoport", "check", "{f}"], True),
+        (["twoport", "check", "{f}"], False),
+        (["twoport", "bound", "kd", "{f}", "--range", "0:2000"], True),
     ],
 )
 def test_a_robust_command_reads_its_design_file_once(argv, boxed, tmp_path, monkeypatch) -> None:

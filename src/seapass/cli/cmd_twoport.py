@@ -22,7 +22,12 @@ from .common import (
     warn,
     warn_unrealizable,
 )
-from .design_options import add_range_options, points_from_args, ranges_from_args
+from .design_options import (
+    add_range_options,
+    design_file_from_args,
+    points_from_args,
+    ranges_from_args,
+)
 from .uncertain_options import add_uncertain_options, box_text, wants_box
 
 EXAMPLE = """examples:
@@ -177,12 +182,14 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
 
 
 def _sea(
-    args: argparse.Namespace, free: tuple[str, ...], labels: dict[str, str] | None = None
+    args: argparse.Namespace,
+    free: tuple[str, ...],
+    labels: dict[str, str] | None = None,
+    file: Any = None,
 ) -> Any:
     """The SEA of DESIGN (with --set overrides) or of the model options; ``free`` left free
-    (``labels``: how each was given, for messages)."""
+    (``labels``: how each was given, for messages; ``file``: DESIGN already read)."""
     labels = {n: n for n in free} | (labels or {})
-    from ..model.design_file import load_design
 
     elements = any(getattr(args, e) not in (None, "0") for e in ("D1", "D2", "CA", "CL"))
     if args.design is not None:
@@ -190,7 +197,7 @@ def _sea(
             raise ParameterError(
                 "give either DESIGN or the model elements --D1/--D2/--CA/--CL, not both"
             )
-        sea = load_design(args.design).sea()
+        sea = (file if file is not None else design_file_from_args(args)).sea()
         over = values_from_args(args)
         for name in free:
             if name in over:
@@ -213,9 +220,13 @@ def _sea(
 
 
 def two_port_from_args(
-    args: argparse.Namespace, free: tuple[str, ...] = (), labels: dict[str, str] | None = None
+    args: argparse.Namespace,
+    free: tuple[str, ...] = (),
+    labels: dict[str, str] | None = None,
+    file: Any = None,
 ) -> Any:
-    """The `TwoPort` of the command line: DESIGN, the model options, or --Z11..--Z22 [--form]."""
+    """The `TwoPort` of the command line: DESIGN, the model options, or --Z11..--Z22 [--form]
+    (``file``: DESIGN already read by `design_file_from_args`)."""
     labels = {n: n for n in free} | (labels or {})
     from ..ports.twoport import TwoPort, two_port
 
@@ -248,14 +259,16 @@ def two_port_from_args(
             raise
     if args.form is not None:
         raise ParameterError("--form applies to a matrix given with --Z11 --Z12 --Z21 --Z22")
-    sea = _sea(args, free, labels)
+    sea = _sea(args, free, labels, file)
     warn_unrealizable(sea)
     return two_port(sea)
 
 
-def _robust_two_port(args: argparse.Namespace, free: tuple[str, ...] = ()) -> tuple[Any, Any]:
-    """``(TwoPort, box)`` of a command line that may give a box (box None: no source gives one)."""
-    from ..model.design_file import load_design
+def _robust_two_port(
+    args: argparse.Namespace, free: tuple[str, ...] = (), file: Any = None
+) -> tuple[Any, Any]:
+    """``(TwoPort, box)`` of a command line that may give a box (box None: no source gives
+    one); ``file``: DESIGN already read."""
     from ..robust.box import parse_uncertain
     from .uncertain_options import box_from_args
 
@@ -269,9 +282,8 @@ def _robust_two_port(args: argparse.Namespace, free: tuple[str, ...] = ()) -> tu
             "uncertain"
         )
     labels = {**{n: n for n in free}, **{n: f"--uncertain {n}" for n in raw}}
-    tp = two_port_from_args(args, (*free, *raw), labels)
-    design = load_design(args.design) if args.design is not None else None
-    return tp, box_from_args(args, tp, design, free=free)
+    tp = two_port_from_args(args, (*free, *raw), labels, file)
+    return tp, box_from_args(args, tp, file, free=free)
 
 
 def _bands(bands: Any) -> str:
@@ -282,10 +294,11 @@ def run_check(args: argparse.Namespace) -> int:
     from ..ports.check import check_two_port
     from ..ports.stability import eta_text
 
-    if wants_box(args) and (code := _run_robust_check(args)) is not None:
+    file = design_file_from_args(args)  # read once, passed along
+    if wants_box(args, file) and (code := _run_robust_check(args, file)) is not None:
         return code  # a box: --uncertain, --robust, the file's [uncertainty]
     figure = plot_path(args.plot, force=args.force)
-    tp = two_port_from_args(args)
+    tp = two_port_from_args(args, file=file)
     result = check_two_port(tp, witness=not args.no_witness)
     stab = result.stability
     if figure is not None:
@@ -318,12 +331,12 @@ def run_check(args: argparse.Namespace) -> int:
     return 0 if result.absolutely_stable else 1
 
 
-def _run_robust_check(args: argparse.Namespace) -> int | None:
+def _run_robust_check(args: argparse.Namespace, file: Any) -> int | None:
     """``twoport check --uncertain ...``: exit 0 absolutely stable for every plant, else 1."""
     from ..robust.twoport import robust_two_port_check
 
     figure = plot_path(args.plot, force=args.force)
-    tp, box = _robust_two_port(args)
+    tp, box = _robust_two_port(args, file=file)
     if box is None:
         return None
     result = robust_two_port_check(tp, box=box, budget=args.budget)
@@ -349,11 +362,11 @@ def _run_robust_check(args: argparse.Namespace) -> int | None:
     return 0 if result.absolutely_stable else 1
 
 
-def _run_robust_bound(args: argparse.Namespace, lo: float, hi: float) -> int | None:
+def _run_robust_bound(args: argparse.Namespace, lo: float, hi: float, file: Any) -> int | None:
     from ..exact.rounding import enclosure_text, interval_text
     from ..robust.portbound import robust_port_intervals
 
-    tp, box = _robust_two_port(args, (args.param,))
+    tp, box = _robust_two_port(args, (args.param,), file)
     if box is None:
         return None
     result = robust_port_intervals(
@@ -381,9 +394,10 @@ def run_bound(args: argparse.Namespace) -> int:
     from ..ports.bound import port_intervals
 
     lo, hi = parse_range(args.range)
-    if wants_box(args) and (code := _run_robust_bound(args, lo, hi)) is not None:
+    file = design_file_from_args(args)  # read once, passed along
+    if wants_box(args, file) and (code := _run_robust_bound(args, lo, hi, file)) is not None:
         return code
-    tp = two_port_from_args(args, free=(args.param,))
+    tp = two_port_from_args(args, free=(args.param,), file=file)
     result = port_intervals(tp, args.param, lo, hi, criterion=args.criterion)
     if args.json:
         print_json(result.to_dict())
