@@ -93,8 +93,11 @@ def test_simulate_runs_the_sampled_loop(zfile: Path) -> None:
     # at rest: k1 (x_L − x_A) = 20 N and k1 (x_L − x_A) = K_A(1) x_A = kd x_A
     want = 20.0 / 1005.0 + 20.0 / 2000.0
     assert d["final_x_L"] == pytest.approx(want, rel=1e-4)
+    assert d["metrics"]["target"] == pytest.approx(want, rel=1e-4)  # the statics of the loop
+    assert d["metrics"]["status"] == "settled" and d["metrics"]["overshoot"] is None
     code, out, err = cli(["simulate", str(zfile), "--load-mass", "2", "--horizon", "1"])
     assert code == 0 and "sampled loop at 500 Hz (delay 1): stable" in out
+    assert "settling time: " in out and "overshoot: " in out
 
 
 @pytest.mark.parametrize(
