@@ -93,14 +93,17 @@ def test_simulate_runs_the_sampled_loop(zfile: Path) -> None:
     # at rest: k1 (x_L − x_A) = 20 N and k1 (x_L − x_A) = K_A(1) x_A = kd x_A
     want = 20.0 / 1005.0 + 20.0 / 2000.0
     assert d["final_x_L"] == pytest.approx(want, rel=1e-4)
+    assert d["metrics"]["target"] == pytest.approx(want, rel=1e-4)  # the statics of the loop
+    assert d["metrics"]["status"] == "settled" and d["metrics"]["overshoot"] is None
     code, out, err = cli(["simulate", str(zfile), "--load-mass", "2", "--horizon", "1"])
     assert code == 0 and "sampled loop at 500 Hz (delay 1): stable" in out
+    assert "settling time: " in out and "overshoot: " in out
 
 
 @pytest.mark.parametrize(
     "argv",
     [["check"], ["bound", "kd"], ["region", "kd", "bd"], ["plot", "bode"], ["witness"],
-     ["delay-margin", "tau"], ["twoport", "check"], ["tune"]],
+     ["delay-margin", "tau"], ["twoport", "check"]],
     ids=lambda a: a[0],
 )  # fmt: skip
 def test_continuous_analyses_refuse_with_one_error_line(argv: list[str], zfile: Path) -> None:
@@ -182,3 +185,39 @@ def test_sweep_refuses_a_z_design(zfile: Path, tmp_path: Path) -> None:
         code == 2 and "error: the batch sweep (continuous-time kernels) needs a continuous" in err
     )
     assert err.count("error:") == 1
+
+
+def test_tune_a_z_design_end_to_end(zfile: Path) -> None:
+    # kd over the file's [ranges]; every candidate certified in the 500 Hz loop (delay 1)
+    code, out, err = cli(["tune", str(zfile), "--tune", "kd", "--maxiter", "3", "--popsize", "4",
+                          "--load-mass", "1", "--mass-policy", "tune", "--horizon", "2",
+                          "--step", "0.05", "--seed", "1", "--no-progress", "--json"])  # fmt: skip
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["sampled_passive"] is True and d["feasible"] is True
+    kd = d["gains"]["kd"]
+    code, out, err = cli(["sampled", "check", str(zfile), "--set", f"kd={kd!r}", "--json"])
+    assert code == 0, err
+    assert json.loads(out)["passive"] is True and json.loads(out)["delay"] == 1
+    code, out, err = cli(["simulate", str(zfile), "--set", f"kd={kd!r}", "--load-mass", "1",
+                          "--step", "0.05", "--horizon", "2", "--json"])  # fmt: skip
+    assert code == 0, err
+    assert json.loads(out)["metrics"]["settling_time"] == pytest.approx(d["objective"], rel=1e-9)
+    code, out, err = cli(["tune", str(zfile), "--tune", "kd", "--maxiter", "2", "--popsize", "3",
+                          "--load-mass", "1", "--mass-policy", "tune", "--horizon", "1",
+                          "--step", "0.05", "--no-progress"])  # fmt: skip
+    assert code == 0, err
+    assert "passive in the sampled loop at T = 0.002 s (delay 1, controller in z" in out
+    assert "--continuous drops it" not in err
+
+
+@pytest.mark.parametrize(
+    ("argv", "words"),
+    [([], "--tune bd: a controller in z has no default box"),
+     (["--tune", "b1=0:50", "--allow-plant"], "b1 is not a gain of the controller in z")],
+)  # fmt: skip
+def test_tune_a_z_design_bad_input(zfile: Path, argv: list[str], words: str) -> None:
+    code, out, err = cli(["tune", str(zfile), *argv, "--no-progress"])
+    assert code == 2 and out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ") and words in lines[0]

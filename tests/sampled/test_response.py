@@ -106,3 +106,59 @@ def test_an_unstable_loop_is_a_result_cut_at_divergence() -> None:
     r = sampled_response(hot, loop=LOOP, load_mass=1.0, scenario=Step(0.01), horizon=100.0)
     assert not r.stable and r.spectral_radius > 1
     assert r.time.size < 50_001 and np.all(np.isfinite(r.x_L))
+
+
+def _fine_load_motion(res: object, sub: int) -> tuple[np.ndarray, np.ndarray]:
+    """``x_L`` on a grid ``sub`` times finer than the samples, the force held (scipy ZOH)."""
+    from scipy.signal import cont2discrete
+
+    m, b, k1, b1, ml = VALS["m"], VALS["b"], VALS["k1"], VALS["b1"], 1.0
+    A = np.array([[0, 1, 0, 0], [-k1 / m, -(b + b1) / m, k1 / m, b1 / m], [0, 0, 0, 1],
+                  [k1 / ml, b1 / ml, -k1 / ml, -b1 / ml]])  # fmt: skip
+    B = np.array([[0.0], [1 / m], [0.0], [0.0]])
+    h = LOOP.period / sub
+    Ad, Bd, *_ = cont2discrete((A, B, np.eye(4), np.zeros((4, 1))), h, method="zoh")
+    x, t, xl = np.zeros(4), [0.0], [0.0]
+    for k, f in enumerate(res.f_A[:-1]):  # type: ignore[attr-defined]
+        for j in range(sub):
+            x = Ad @ x + Bd[:, 0] * f
+            t.append((k * sub + j + 1) * h)
+            xl.append(x[2])
+    return np.array(t), np.array(xl)
+
+
+def test_metrics_agree_with_an_independent_fine_scipy_run() -> None:
+    # the python-control loop gives the same held force; scipy's ZOH plant at T/40 gives
+    # x_L between the instants; settling = the last fine instant outside the 2 % band
+    res = sampled_response(SEA_Z, loop=LOOP, load_mass=1.0, scenario=Step(0.02), horizon=1.5)
+    met = res.metrics()
+    sys = _python_control_loop(1.0, LOOP.period, 0)
+    u = np.zeros((3, res.time.size))
+    u[0], u[1] = 0.02, 0.02
+    fr = control.forced_response(sys, T=res.time, U=u)
+    assert np.allclose(fr.outputs[1], res.x_L, rtol=1e-9, atol=1e-12)
+    sub = 40
+    t, xl = _fine_load_motion(res, sub)
+    assert np.allclose(xl[::sub], res.x_L, rtol=1e-8, atol=1e-12)
+    outside = np.flatnonzero(np.abs(xl - 0.02) > 0.02 * 0.02)
+    t_fine = t[outside[-1] + 1]
+    assert met.settled and met.settling_time is not None
+    assert abs(met.settling_time - t_fine) <= LOOP.period / sub
+    # the true settling falls between the instants: not a multiple of T
+    assert abs(met.settling_time / LOOP.period - round(met.settling_time / LOOP.period)) > 1e-6
+    assert met.overshoot == pytest.approx((xl.max() - 0.02) / 0.02, abs=1e-4)
+    assert met.peak_force == pytest.approx(np.abs(res.f_A).max())
+    assert met.final_error == pytest.approx(abs(res.x_L[-1] - 0.02))
+    # energy: exact ∫ f_A dx_A with the force held
+    assert met.energy == pytest.approx(float(np.sum(res.f_A[:-1] * np.diff(res.x_A))))
+
+
+def test_metrics_of_other_scenarios_and_divergence() -> None:
+    fs = sampled_response(SEA_Z, loop=LOOP, load_mass=1.0, scenario=ForceStep(10.0), horizon=4.0)
+    met = fs.metrics()
+    assert met.settled and met.target == pytest.approx(fs.x_L[-1], rel=1e-9)
+    assert met.overshoot is None
+    hot = SEA(D1="k1 + b1*s", values={**VALS, "kd": 4e5}, discrete=ZC)
+    r = sampled_response(hot, loop=LOOP, load_mass=1.0, scenario=Step(0.01), horizon=100.0)
+    assert str(r.metrics().status) == "unstable"
+    assert r.simulation().diverged

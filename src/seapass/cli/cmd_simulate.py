@@ -160,6 +160,7 @@ def run(args: argparse.Namespace) -> int:
 def _run_sampled(args: argparse.Namespace, resolved: Any, figure: Any) -> int:
     """``simulate`` of a controller given in z: the sampled loop at the controller's rate."""
     from ..sampled.response import sampled_response
+    from ..sim.metrics import overshoot_text
 
     r = sampled_response(
         resolved.sea,
@@ -180,5 +181,12 @@ def _run_sampled(args: argparse.Namespace, resolved: Any, figure: Any) -> int:
     )
     print(f"final x_L: {d['final_x_L']:.6g} m (target {d['target']:g} m), "
           f"error {d['final_error']:.3e} m")  # fmt: skip
-    print(f"peak actuator force: {d['peak_force']:.6g} N over {d['samples']} samples")
+    met = d["metrics"]
+    ts = met["settling_time"]
+    print(f"status: {met['status']}; settling time: {'-' if ts is None else f'{ts:.6g} s'} "
+          "(on the exact motion between the samples)")  # fmt: skip
+    if met["overshoot"] is not None:
+        print(f"overshoot: {overshoot_text(met['overshoot'])} of the step")
+    print(f"peak actuator force: {d['peak_force']:.6g} N over {d['samples']} samples, "
+          f"energy: {met['energy']:.6g} J")  # fmt: skip
     return 0

@@ -312,7 +312,14 @@ def run(args: argparse.Namespace) -> int:
         print_json({**result.to_dict(), **({"units": units} if units else {})})
     else:
         _print_text(result, units)
-    if file is not None and file.loop is not None and opts.loop is not None and args.period is None:
+    z_design = result.sea.discrete is not None  # its loop is its own: --continuous cannot drop it
+    if (
+        file is not None
+        and file.loop is not None
+        and opts.loop is not None
+        and args.period is None
+        and not z_design
+    ):
         print(
             f"note: passivity also required at the design file's {file.loop.rate:g} Hz "
             "([control]); --continuous drops it",
@@ -356,7 +363,12 @@ def _print_text(result: TuningResult, units: Mapping[str, str] | None = None) ->
     if how and result.passivity is not None:
         verdicts += f" [{result.passivity.outcome}]"
     loop = result.options.loop
-    if result.sampled_passive is not None and loop is not None:
+    if result.sea.discrete is not None and loop is not None:  # a controller in z
+        verdicts = (
+            f"passive in the sampled loop at T = {loop.period:g} s (delay {loop.delay}, "
+            f"controller in z, certified): {'yes' if result.sampled_passive else 'NO'}"
+        )
+    elif result.sampled_passive is not None and loop is not None:
         verdicts += (
             f"; passive at T = {loop.period:g} s: {'yes' if result.sampled_passive else 'NO'}"
         )

@@ -19,7 +19,7 @@ with safety, for hardware or the twin).
 
 May import: ``seapass.lazy``, [`seapass.errors`][seapass.errors], [`seapass.progress`][seapass.progress], ``seapass.outcome``, [`seapass.files`][seapass.files],
 [`seapass.exact`][seapass.exact], [`seapass.model`][seapass.model], [`seapass.analysis`][seapass.analysis],
-[`seapass.sim`][seapass.sim] (its scenarios).
+[`seapass.sim`][seapass.sim] (its scenarios, results and tracking metrics).
 """
 
 from __future__ import annotations

@@ -12,6 +12,13 @@ are exact up to rounding; stability is the spectral radius of the one-period tra
 matrix of the whole loop ([`coupled_closed_loop`][seapass.sampled.coupling.coupled_closed_loop]).
 Supported plants are those of the coupled check: ``D1 = k1 + b1 s``, ``D2 = k2 + b2 s``.
 
+The tracking metrics ([`SampledResponse.metrics`][seapass.sampled.response.SampledResponse.metrics]:
+settling time, overshoot, final error, force, energy) are those of
+[`tracking_metrics`][seapass.sim.metrics.tracking_metrics], computed by the same function on
+[`SampledResponse.simulation`][seapass.sampled.response.SampledResponse.simulation]: the plant
+driven by the held force, whose exact solution between the instants is known, so the
+settling time is that of the continuous load motion, not only of its samples.
+
 References
 ----------
 .. [1] G. F. Franklin, J. D. Powell, M. Workman, *Digital Control of Dynamic
@@ -34,6 +41,7 @@ from ..model.experiment import PAPER_EXPERIMENT
 from ..model.expr import finite_number
 from ..model.loop import SampledLoop
 from ..model.sea import SEA
+from ..sim.metrics import TrackingMetrics, tracking_metrics
 from ..sim.scenarios import (
     ForceImpulse,
     ForceStep,
@@ -43,6 +51,7 @@ from ..sim.scenarios import (
     Trajectory,
     reference_values,
 )
+from ..sim.simulate import SimulationResult
 from .controllers import DiscreteController
 from .coupling import coupled_closed_loop, coupled_plant
 
@@ -63,6 +72,16 @@ class SampledResponse:
     target : float
         Final load reference (m).
     scenario : Scenario
+    plant_A, plant_B : ndarray, shapes (4, 4) and (4, 2)
+        The continuous plant with its load mass, ``ẋ = A x + B (f_A, f_ext)``.
+    f_ext : ndarray, shape (N + 1,)
+        External force held from each instant on (N).
+    statics : ndarray, shape (6,) or None
+        ``(n_A(1), d_A(1), n_L(1), d_L(1), k1, k2)``: the controller's numerators and
+        denominators at ``z = 1`` and the springs, from which the rest position under a
+        constant external force is found (None: not computed).
+    periods : int
+        Periods asked for; fewer samples than ``periods + 1`` mean the run diverged.
     """
 
     time: np.ndarray
@@ -75,9 +94,16 @@ class SampledResponse:
     spectral_radius: float
     target: float
     scenario: Any = field(default=None)
+    plant_A: np.ndarray = field(default_factory=lambda: np.zeros((4, 4)), repr=False)
+    plant_B: np.ndarray = field(default_factory=lambda: np.zeros((4, 2)), repr=False)
+    f_ext: np.ndarray | None = field(default=None, repr=False)
+    statics: np.ndarray | None = field(default=None, repr=False)
+    periods: int = 0
 
     def __post_init__(self) -> None:
-        for name in ("time", "x_A", "v_A", "x_L", "v_L", "f_A"):
+        if self.f_ext is None:
+            object.__setattr__(self, "f_ext", np.zeros(np.shape(self.time)))
+        for name in ("time", "x_A", "v_A", "x_L", "v_L", "f_A", "plant_A", "plant_B", "f_ext"):
             arr = np.array(getattr(self, name), dtype=float)
             arr.flags.writeable = False
             object.__setattr__(self, name, arr)
@@ -91,6 +117,88 @@ class SampledResponse:
     def final_error(self) -> float:
         """``x_L`` at the end minus the target (m)."""
         return float(self.x_L[-1] - self.target)
+
+    def simulation(self) -> SimulationResult:
+        """This response as a [`SimulationResult`][seapass.sim.simulate.SimulationResult].
+
+        Its ``system`` is the plant alone, driven by the held inputs ``(f_A, 0, f_ext)``
+        (the input slots of ``θ_A``, ``θ_L``, ``f_ext``), so
+        [`state_at`][seapass.sim.simulate.SimulationResult.state_at] is the exact load
+        motion between the instants.  ``stable`` is ``spectral_radius < 1`` and the run
+        counts as diverged when it was cut; ``poles`` is empty (the loop's are in z).
+        ``energy`` is exact (the force is constant over each period); ``positive_work``
+        is the trapezoidal rule on the instants.
+        """
+        from ..model.realization import ClosedLoop
+
+        A, B = self.plant_A, self.plant_B
+        m_l = 1.0 / B[3, 1]
+        C, D = np.zeros((7, 4)), np.zeros((7, 3))
+        C[:4, :4] = np.eye(4)
+        D[4, 0] = 1.0
+        k1, b1 = A[3, 0] * m_l, A[3, 1] * m_l
+        C[5] = [-k1, -b1, k1, b1]  # f_D1 = D1 (x_L − x_A)
+        C[6], D[6, 2] = A[3], B[3, 1]
+        B3 = np.column_stack([B[:, 0], np.zeros(4), B[:, 1]])
+        sys = ClosedLoop(A=A, B=B3, C=C, D=D, states=("x_A", "v_A", "x_L", "v_L"),
+                         load_mass=m_l, relaxed=np.eye(4))  # fmt: skip
+        f_ext = np.zeros(self.time.size) if self.f_ext is None else self.f_ext
+        u = np.column_stack([self.f_A, np.zeros(self.time.size), f_ext])
+        x = np.column_stack([self.x_A, self.v_A, self.x_L, self.v_L])
+        diverged = self.time.size < self.periods + 1
+        target, scale, has_step = self._target()
+        power = self.f_A * self.v_A
+        t = self.time
+        return SimulationResult(
+            time=t, x_A=self.x_A, v_A=self.v_A, x_L=self.x_L, v_L=self.v_L, f_A=self.f_A,
+            energy=float(np.sum(self.f_A[:-1] * np.diff(self.x_A))),
+            positive_work=float(np.trapezoid(np.maximum(power, 0.0), t)) if t.size > 1 else 0.0,
+            stable=self.stable and not diverged, marginal=False, diverged=diverged,
+            poles=np.zeros(0, dtype=complex), target=target, scale=scale, has_step=has_step,
+            system=sys, scenario=self.scenario, states=x, inputs=u,
+            slopes=np.zeros((max(t.size - 1, 0), 3)),
+        )  # fmt: skip
+
+    def _target(self) -> tuple[float, float, bool]:
+        """Settling target, the motion size the band refers to, and whether it is a step."""
+        sc = self.scenario
+        if isinstance(sc, LoadDisplaced):
+            return 0.0, abs(float(sc.displacement)), True
+        if isinstance(sc, Step | Trajectory):
+            return self.target, abs(self.target), abs(self.target) > 0
+        target = 0.0
+        if isinstance(sc, ForceStep) and self.statics is not None:
+            n_a, d_a, n_l, d_l, k1, k2 = (float(v) for v in self.statics)
+            # rest, unknowns (x_A, x_L, u_A, u_L): K(1) = n/d with d = 0 for an integrator
+            M = np.array([[-k1, k1, 1.0, 1.0], [k1, -k1 - k2, 0.0, 0.0],
+                          [n_a, 0.0, d_a, 0.0], [0.0, n_l, 0.0, d_l]])  # fmt: skip
+            try:
+                target = float(np.linalg.solve(M, [0.0, -float(sc.force), 0.0, 0.0])[1])
+            except np.linalg.LinAlgError:
+                target = 0.0
+        scale = abs(target - float(self.x_L[0]))
+        if scale == 0.0:
+            scale = float(np.max(np.abs(self.x_L - target), initial=0.0))
+        return target, scale, False
+
+    def metrics(self, *, tolerance: float = 0.02) -> TrackingMetrics:
+        """Settling time, overshoot, final error, peak force and energy of this response.
+
+        [`tracking_metrics`][seapass.sim.metrics.tracking_metrics] of
+        [`simulation`][seapass.sampled.response.SampledResponse.simulation]: the settling
+        time is located on the exact load motion between the instants.
+
+        Examples
+        --------
+        >>> from seapass.model.zcontroller import ZController
+        >>> sea = SEA(D1="k1 + b1*s", values=dict(m=1, b=10, k1=1000, b1=20, kd=500),
+        ...           discrete=ZController(CL="kd", rate=1000.0))
+        >>> met = sampled_response(sea, loop=SampledLoop(rate=1000.0), load_mass=1.0,
+        ...                        horizon=2.0).metrics()
+        >>> str(met.status), round(met.settling_time, 4), round(met.overshoot, 3)
+        ('settled', 1.9312, 0.801)
+        """
+        return tracking_metrics(self.simulation(), tolerance=tolerance)
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -106,6 +214,7 @@ class SampledResponse:
             "final_error": self.final_error,
             "peak_force": float(np.abs(self.f_A).max()),
             "scenario": type(self.scenario).__name__ if self.scenario is not None else None,
+            "metrics": self.metrics().to_dict(),
         }
 
     def plot(self, *, ax: Any = None) -> Any:
@@ -227,7 +336,7 @@ def sampled_response(
     x, inputs, target = _setup(scenario if scenario is not None else Step(), m_l)
     ctrl.reset()
     pending: deque[float] = deque([0.0] * loop.delay)
-    states, forces = [x.copy()], []
+    states, forces, external = [x.copy()], [], []
     bound = 1e12 * max(1.0, float(np.abs(x).max()), abs(target))  # diverged: stop there
     for k in range(n):
         ta, tl, f_ext = inputs(k * T)
@@ -235,12 +344,17 @@ def sampled_response(
         pending.append(u)
         applied = pending.popleft()
         forces.append(applied)
+        external.append(f_ext)
         x = Ad @ x + Bd @ np.array([applied, f_ext])
         states.append(x.copy())
         if not float(np.abs(x).max()) < bound:
             break
     forces.append(forces[-1] if forces else 0.0)
+    external.append(external[-1] if external else 0.0)
     s = np.array(states)
+    ka, kl = ctrl.transfer_functions()
+    statics = np.array([float(sum(ka.num)), float(sum(ka.den)), float(sum(kl.num)),
+                        float(sum(kl.den)), k1, k2])  # fmt: skip
     return SampledResponse(
         time=np.arange(len(states)) * T,
         x_A=s[:, 0],
@@ -252,4 +366,9 @@ def sampled_response(
         spectral_radius=rho,
         target=target,
         scenario=scenario if scenario is not None else Step(),
+        plant_A=A,
+        plant_B=B,
+        f_ext=np.array(external),
+        statics=statics,
+        periods=n,
     )

@@ -12,7 +12,9 @@ exact, certified at a fixed continuous delay, or certified for every plant in a 
 case over a design's masses or the tuning mass, and the step response at each),
 [`search`][seapass.tuning.search] (differential evolution with a seed, its progress
 and a clean Ctrl-C), [`optimize`][seapass.tuning.optimize] (`tune`, the
-step-response entry point) and [`result`][seapass.tuning.result] (its `TuningResult`); the interaction-control objectives
+step-response entry point), [`sampled_design`][seapass.tuning.sampled_design] (its path
+for a controller given in z: certified sampled passivity, the sampled step response) and
+[`result`][seapass.tuning.result] (its `TuningResult`); the interaction-control objectives
 in [`objectives`][seapass.tuning.objectives] (rendering fidelity, force bandwidth,
 Z-width), their entry point [`interaction`][seapass.tuning.interaction]
 (`tune_objective`, constrained and unconstrained) and its result in

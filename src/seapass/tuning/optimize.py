@@ -153,6 +153,13 @@ def tune(
     problem, constraint = constrained_problem(
         design, tune, opts, values, allow_plant=allow_plant, uncertain=uncertain, budget=budget
     )
+    if problem.sea.discrete is not None:  # a controller in z: the sampled loop, certified
+        result = _tune_z(design, tune, problem, uncertain, progress, callback)
+        for message in result.warnings:
+            warnings.warn(message, TuningWarning, stacklevel=2)
+        if throw and not result.feasible:
+            raise NotPassiveError(f"tuning {problem.name}: {'; '.join(result.warnings)}")
+        return result
     bounds = narrowed_box(problem) if constraint.kind is ConstraintKind.EXACT else dict(problem.box)
     if problem.options.loop is not None:  # fail now on what the sampled analysis refuses
         _sampled_verdict(problem, problem.candidate(sum(bounds[g]) / 2 for g in problem.gains))
@@ -205,6 +212,27 @@ def tune(
 
 
 _nominal_tune = tune  # the function itself (inside it, ``tune`` is the argument)
+
+
+def _tune_z(
+    design: DesignLike,
+    tune: BoxLike | None,
+    problem: TuningProblem,
+    uncertain: Mapping[str, Any] | None,
+    progress: ProgressLike,
+    callback: Callable[[int, float], None] | None,
+) -> TuningResult:
+    """`tune` of a design whose controller is given in z (`seapass.tuning.sampled_design`)."""
+    from .sampled_design import check_sampled_boxes, tune_sampled
+
+    if uncertain:
+        raise ParameterError(
+            "uncertain: robust tuning of a controller in z is not available", argument="uncertain"
+        )
+    ranges = dict(getattr(design, "ranges", None) or {})  # a file's explicit [ranges] only
+    given = dict(tune) if isinstance(tune, Mapping) else {}
+    check_sampled_boxes(problem, given, ranges)
+    return tune_sampled(problem, progress=progress, callback=callback)
 
 
 def narrowed_box(problem: TuningProblem) -> dict[str, tuple[float, float]]:

@@ -1,0 +1,122 @@
+"""`tune` of a design whose controller is given in z (``seapass.tuning.sampled_design``).
+
+Independent cross-checks: the tuned gains are certified again by ``sampled_passivity``;
+the settling time is recomputed by a loop written here (scipy's ZOH plant at T/40, the
+PD difference equation by hand, the force one sample late) and read off the fine grid.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.signal import cont2discrete
+
+import seapass
+from seapass.errors import ParameterError, TuningWarning
+from seapass.model.design_file import load_design
+from seapass.model.loop import SampledLoop
+from seapass.sampled.passivity import sampled_passivity
+from seapass.sampled.response import sampled_response
+from seapass.sim.scenarios import Step
+from seapass.tuning.sampled_design import sampled_loop_of
+
+PLANT = {"m": 1.02, "b": 10.0, "k1": 1005.0, "b1": 30.0}
+RATE, STEP, HORIZON = 500.0, 0.05, 2.0
+FILE = """
+name = "zpd"
+[model]
+D1 = "k1 + b1*s"
+[parameters]
+m = 1.02
+b = 10.0
+k1 = 1005.0
+b1 = 30.0
+kd = 2000.0
+bd = 25.0
+{ranges}
+[discrete]
+rate = 500.0
+CA = "kd + bd*500*(1 - z^-1)"
+[control]
+delay = 1
+"""
+RANGES = "[ranges]\nkd = [0.0, 4000.0]\nbd = [0.0, 100.0]"
+FAST = dict(maxiter=3, popsize=4, masses=[1.0], horizon=HORIZON, step=STEP, seed=2)
+
+
+def _design(tmp_path: Path, ranges: str = RANGES) -> seapass.Design:
+    p = tmp_path / "zpd.toml"
+    p.write_text(FILE.format(ranges=ranges), encoding="utf-8")
+    return load_design(p)
+
+
+def _independent_settling(kd: float, bd: float, sub: int = 40) -> float:
+    """The 2 % settling time of the sampled PD loop (delay 1), by hand on a fine grid."""
+    m, b, k1, b1, ml = PLANT["m"], PLANT["b"], PLANT["k1"], PLANT["b1"], 1.0
+    A = np.array([[0, 1, 0, 0], [-k1 / m, -(b + b1) / m, k1 / m, b1 / m], [0, 0, 0, 1],
+                  [k1 / ml, b1 / ml, -k1 / ml, -b1 / ml]])  # fmt: skip
+    B = np.array([[0.0], [1 / m], [0.0], [0.0]])
+    T = 1.0 / RATE
+    Ad, Bd, *_ = cont2discrete((A, B, np.eye(4), np.zeros((4, 1))), T / sub, method="zoh")
+    x, e_prev, u_prev = np.zeros(4), 0.0, 0.0
+    xl = [0.0]
+    for _ in range(round(HORIZON * RATE)):
+        e = STEP - x[0]  # K_A acts on θ_A − x_A; K_L = 0
+        u = kd * e + bd * RATE * (e - e_prev)
+        e_prev, applied, u_prev = e, u_prev, u  # one sample of computational delay
+        for _ in range(sub):
+            x = Ad @ x + Bd[:, 0] * applied
+            xl.append(x[2])
+    xl_a = np.array(xl)
+    out = np.flatnonzero(np.abs(xl_a - STEP) > 0.02 * STEP)
+    return (out[-1] + 1) * T / sub
+
+
+def test_tuned_z_design_is_certified_settles_as_computed_and_beats_the_start(
+    tmp_path: Path,
+) -> None:
+    design = _design(tmp_path)
+    r = seapass.tune(design, loop=design.loop, **FAST)
+    assert sorted(r.gains) == ["bd", "kd"] and r.feasible
+    assert r.sampled_passive is True and r.passive is True
+    loop = SampledLoop(rate=RATE, delay=1)
+    assert r.options.loop == loop
+    again = sampled_passivity(r.sea, loop=loop)  # certified again at the tuned values
+    assert again.passive and str(again.outcome) == "passive"
+    assert r.metrics.settling_time == pytest.approx(r.objective)
+    want = _independent_settling(r.gains["kd"], r.gains["bd"])
+    assert abs(r.objective - want) <= 1.0 / RATE / 40
+    start = sampled_response(design.sea(), loop=loop, load_mass=1.0, scenario=Step(STEP),
+                             horizon=HORIZON).metrics()  # fmt: skip
+    assert start.settling_time is not None and r.objective < start.settling_time
+    assert r.sampled_checks >= 1 and r.passivity_checks == 0
+
+
+def test_itae_objective_and_the_default_loop(tmp_path: Path) -> None:
+    design = _design(tmp_path)
+    with pytest.warns(TuningWarning, match="upper edge"):
+        r = seapass.tune(design, tune={"kd": None}, objective="itae", **FAST)
+    assert r.options.loop == SampledLoop(rate=RATE)  # no loop given: the controller's rate
+    assert r.sampled_passive and 0 < r.objective
+
+
+def test_bad_input_names_the_argument(tmp_path: Path) -> None:
+    bare = _design(tmp_path, ranges="")
+    with pytest.raises(ParameterError, match="no default box") as exc:
+        seapass.tune(bare, **FAST)
+    assert exc.value.argument == "tune"
+    r = seapass.tune(bare, tune={"kd": (0.0, 3000.0)}, **FAST)  # a box given: fine
+    assert r.sampled_passive
+    with pytest.raises(ParameterError, match="not a gain of the controller in z"):
+        seapass.tune(_design(tmp_path), tune={"b1": (0.0, 50.0)}, allow_plant=True, **FAST)
+    with pytest.raises(ParameterError, match="1000 Hz"):
+        seapass.tune(_design(tmp_path), loop=SampledLoop(rate=1000.0), **FAST)
+    with pytest.raises(ParameterError, match="not given in z"):
+        sampled_loop_of(
+            seapass.tuning.problem.resolve_problem(
+                seapass.SEA(D1="k1", CA="kd", values={"m": 1, "b": 1, "k1": 1, "kd": 1}),
+                None, seapass.tuning.problem.TuningOptions(),
+            )
+        )  # fmt: skip
