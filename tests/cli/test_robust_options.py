@@ -149,10 +149,22 @@ def test_bad_input_is_one_error_line(files: dict[str, Path], tmp_path: Path) -> 
 
 
 def test_sampled_check_decides_the_fitted_box_with_the_robust_sampled_verdict(
-    files: dict[str, Path],
+    files: dict[str, Path], monkeypatch: pytest.MonkeyPatch
 ) -> None:
+    from seapass.robust import sampled_verdict
+
+    monkeypatch.setattr(sampled_verdict, "PIECES", 150)  # less work per sub-box: counted
     code, out, err = _cli(
-        ["sampled", "check", str(files["ours"]), "--robust", str(files["fitted"]), "--json"]
+        [
+            "sampled",
+            "check",
+            str(files["ours"]),
+            "--robust",
+            str(files["fitted"]),
+            "--budget",
+            "1",
+            "--json",
+        ]
     )
     d = json.loads(out)
     assert d["robust"] is True and d["sampled"] is True and set(d["box"]) == {"m", "b", "b1"}
