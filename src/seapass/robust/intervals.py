@@ -45,6 +45,7 @@ from ..model.display import Shown, html_card, short_repr
 from ..model.expr import symbol, to_fraction
 from ..model.sea import SEA, Impedance
 from ..outcome import Outcome
+from . import pieces
 from .box import UncertainBox, uncertain_box
 from .verdict import DEFAULT_BUDGET, Method, robust_check
 
@@ -107,7 +108,7 @@ class RobustIntervals:
             "RobustIntervals",
             {
                 "param": self.param,
-                "intervals": Shown(_text(self.intervals)),
+                "intervals": Shown(pieces.text(self.intervals)),
                 "method": str(self.method),
             },
         )
@@ -115,34 +116,10 @@ class RobustIntervals:
     def _repr_html_(self) -> str:
         rows = [("search range", f"[{self.lo:g}, {self.hi:g}]")]
         rows += [(k, f"[{a:g}, {b:g}]") for k, (a, b) in self.box.intervals.items()]
-        rows += [("passive for every plant", _text(self.intervals))]
+        rows += [("passive for every plant", pieces.text(self.intervals))]
         if self.method is not Method.EXACT:
-            rows.append(("outer enclosure", _text(self.outer)))
+            rows.append(("outer enclosure", pieces.text(self.outer)))
         return html_card(f"Robust passive set of {self.param}", rows)
-
-
-def _text(ivs: tuple[tuple[float, float], ...]) -> str:
-    return ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in ivs) or "[] (nowhere)"
-
-
-def _down(x: Fraction) -> float:
-    f = float(x)
-    return f if Fraction(f) <= x else math.nextafter(f, -math.inf)
-
-
-def _up(x: Fraction) -> float:
-    f = float(x)
-    return f if Fraction(f) >= x else math.nextafter(f, math.inf)
-
-
-def _merge(pieces: list[tuple[Fraction, Fraction]]) -> list[tuple[Fraction, Fraction]]:
-    out: list[tuple[Fraction, Fraction]] = []
-    for a, b in sorted(pieces):
-        if out and a <= out[-1][1]:
-            out[-1] = (out[-1][0], max(out[-1][1], b))
-        else:
-            out.append((a, b))
-    return out
 
 
 def _poly_in(expr: sp.Expr, x: sp.Symbol) -> fmpq_poly:
@@ -174,13 +151,13 @@ def _g_critical(
         out.append(sp.resultant(f, h, y))
     lo, hi = ep.rational(g_box[0]), ep.rational(g_box[1])
     crit: set[tuple[Fraction, Fraction]] = set()
-    pieces: dict[sp.Expr, None] = {}
+    in_g: dict[sp.Expr, None] = {}
     for e in out:
         e = sp.expand(e)
         if e.has(x):
             for f, _m in sp.factor_list(sp.Poly(e, x, domain="QQ"))[1]:
-                pieces.setdefault(f.monic().as_expr(), None)
-    for e in pieces:
+                in_g.setdefault(f.monic().as_expr(), None)
+    for e in in_g:
         q = _poly_in(e, x)
         if q.degree() == 1:
             r = ep.to_fraction(-q[0] / q[1])
@@ -197,12 +174,12 @@ def _g_critical(
 
 
 def _strictly_above(x: Fraction) -> float:
-    f = _up(x)
+    f = pieces.up(x)
     return math.nextafter(f, math.inf) if Fraction(f) == x else f
 
 
 def _strictly_below(x: Fraction) -> float:
-    f = _down(x)
+    f = pieces.down(x)
     return math.nextafter(f, -math.inf) if Fraction(f) == x else f
 
 
@@ -241,16 +218,22 @@ def _exact(
     for run in runs:
         first, last = run[0], run[-1]
         a_f = (
-            _strictly_above(first[0]) if first[0] in bad and first[0] != first[1] else _up(first[0])
+            _strictly_above(first[0])
+            if first[0] in bad and first[0] != first[1]
+            else pieces.up(first[0])
         )
-        b_f = _strictly_below(last[1]) if last[1] in bad and last[0] != last[1] else _down(last[1])
+        b_f = (
+            _strictly_below(last[1])
+            if last[1] in bad and last[0] != last[1]
+            else pieces.down(last[1])
+        )
         if first[0] == lo:
-            a_f = _up(lo)
+            a_f = pieces.up(lo)
         if last[1] == hi:
-            b_f = _down(hi)
+            b_f = pieces.down(hi)
         if a_f <= b_f:
             inner.append((a_f, b_f))
-        outer.append((_down(first[3]), _up(last[4])))
+        outer.append((pieces.down(first[3]), pieces.up(last[4])))
     return RobustIntervals(
         param=g,
         lo=float(lo),
@@ -285,7 +268,7 @@ def _certified(
             for c, d in ivs
             if max(a, c, lo) <= min(b, d, hi)
         ]
-        outer = _merge(new)
+        outer = pieces.merge(new)
 
     for plant in [*corners, box.center()]:
         cut(plant)
@@ -296,8 +279,8 @@ def _certified(
     while queue and seen < MAX_SEGMENTS:
         a, b = queue.pop(0)
         if not any(c <= a and b <= d for c, d in outer):
-            pieces = [(max(a, c), min(b, d)) for c, d in outer if max(a, c) < min(b, d)]
-            queue += pieces
+            inside = [(max(a, c), min(b, d)) for c, d in outer if max(a, c) < min(b, d)]
+            queue += inside
             continue
         seen += 1
         seg = {**box.intervals, g: (float(a), float(b))}
@@ -316,8 +299,12 @@ def _certified(
         lo=float(lo),
         hi=float(hi),
         box=box,
-        intervals=tuple((_up(a), _down(b)) for a, b in _merge(inner) if _up(a) <= _down(b)),
-        outer=tuple((_down(a), _up(b)) for a, b in outer),
+        intervals=tuple(
+            (pieces.up(a), pieces.down(b))
+            for a, b in pieces.merge(inner)
+            if pieces.up(a) <= pieces.down(b)
+        ),
+        outer=tuple((pieces.down(a), pieces.up(b)) for a, b in outer),
         method=Method.CERTIFIED,
     )
 

@@ -42,6 +42,7 @@ from ..outcome import Outcome
 from ..ports.bound import Criterion, criterion_of, port_intervals
 from ..ports.stability import as_two_port
 from ..ports.twoport import TwoPort
+from . import pieces
 from .box import UncertainBox, uncertain_box
 from .twoport import port_fixed_values, robust_port_verdict
 from .verdict import DEFAULT_BUDGET, Method
@@ -112,40 +113,16 @@ class RobustPortIntervals:
             {
                 "param": self.param,
                 "criterion": self.criterion.value,
-                "intervals": Shown(_text(self.intervals)),
+                "intervals": Shown(pieces.text(self.intervals)),
             },
         )
 
     def _repr_html_(self) -> str:
         rows = [("search range", f"[{self.lo:g}, {self.hi:g}]")]
         rows += [(k, f"[{a:g}, {b:g}]") for k, (a, b) in self.box.intervals.items()]
-        rows += [(f"{self.criterion.label} for every plant", _text(self.intervals))]
-        rows.append(("outer enclosure", _text(self.outer)))
+        rows += [(f"{self.criterion.label} for every plant", pieces.text(self.intervals))]
+        rows.append(("outer enclosure", pieces.text(self.outer)))
         return html_card(f"Robust set of {self.param} ({self.criterion.label})", rows)
-
-
-def _text(ivs: tuple[tuple[float, float], ...]) -> str:
-    return ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in ivs) or "[] (nowhere)"
-
-
-def _down(x: Fraction) -> float:
-    f = float(x)
-    return f if Fraction(f) <= x else math.nextafter(f, -math.inf)
-
-
-def _up(x: Fraction) -> float:
-    f = float(x)
-    return f if Fraction(f) >= x else math.nextafter(f, math.inf)
-
-
-def _merge(pieces: list[tuple[Fraction, Fraction]]) -> list[tuple[Fraction, Fraction]]:
-    out: list[tuple[Fraction, Fraction]] = []
-    for a, b in sorted(pieces):
-        if out and a <= out[-1][1]:
-            out[-1] = (out[-1][0], max(out[-1][1], b))
-        else:
-            out.append((a, b))
-    return out
 
 
 def robust_port_intervals(
@@ -234,7 +211,7 @@ def robust_port_intervals(
             (Fraction(math.nextafter(a, -math.inf)), Fraction(math.nextafter(b, math.inf)))
             for a, b in (*pi.intervals, *pi.undecided)
         ]
-        outer = _merge(
+        outer = pieces.merge(
             [
                 (max(a, c, lo_q), min(b, d, hi_q))
                 for a, b in outer
@@ -272,7 +249,11 @@ def robust_port_intervals(
         lo=float(lo_q),
         hi=float(hi_q),
         box=checked,
-        intervals=tuple((_up(a), _down(b)) for a, b in _merge(inner) if _up(a) <= _down(b)),
-        outer=tuple((_down(a), _up(b)) for a, b in outer),
+        intervals=tuple(
+            (pieces.up(a), pieces.down(b))
+            for a, b in pieces.merge(inner)
+            if pieces.up(a) <= pieces.down(b)
+        ),
+        outer=tuple((pieces.down(a), pieces.up(b)) for a, b in outer),
         segments=seen,
     )
