@@ -160,9 +160,7 @@ class GainModel:
             default=0,
         )
 
-    def duals(
-        self, box: Sequence[tuple[Fraction, Fraction]], offset: int
-    ) -> list[list[Dual]]:
+    def duals(self, box: Sequence[tuple[Fraction, Fraction]], offset: int) -> list[list[Dual]]:
         """``F`` over the gain ``box`` as Dual coefficients: the ball over the box and the
         exact slopes at derivative slots ``offset + i`` (slots before are plant slots)."""
         k = offset + len(self.gains)
