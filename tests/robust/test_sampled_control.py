@@ -81,3 +81,17 @@ def test_cli_sampled_check_with_a_gain_interval(capsys) -> None:
     code = main(["sampled", "check", ours, "--uncertain", "kd=3100:3120", "--json"])
     out = json.loads(capsys.readouterr().out)
     assert out["status"] == "not_passive" and out["worst"]["values"]["kd"] > EDGE
+
+
+def test_cli_sampled_bound_of_a_gain_over_a_plant_box_has_a_certified_inner_set(capsys) -> None:
+    from helpers import EXAMPLES
+
+    argv = ["sampled", "bound", "kd", str(EXAMPLES / "ours.toml"), "--range", "kd=400:500"]
+    argv += ["--uncertain", "m=1:1.0001", "--budget", "6", "--json"]
+    assert main(argv) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["intervals"] == [[400.0, 500.0]] and out["outer"] == [[400.0, 500.0]]
+    for kd in (400.0, 450.0, 500.0):  # the inner set is passive by the plain verdict
+        for m in (1.0, 1.00005, 1.0001):
+            v = sampled_passivity(_ours(), loop=LOOP, values={"kd": kd, "m": m})
+            assert v.outcome is Outcome.PASSIVE
