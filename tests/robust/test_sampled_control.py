@@ -95,3 +95,13 @@ def test_cli_sampled_bound_of_a_gain_over_a_plant_box_has_a_certified_inner_set(
         for m in (1.0, 1.00005, 1.0001):
             v = sampled_passivity(_ours(), loop=LOOP, values={"kd": kd, "m": m})
             assert v.outcome is Outcome.PASSIVE
+
+
+def test_two_gains_in_the_box_are_certified_and_the_plain_verdict_agrees() -> None:
+    box = {"kd": (400.0, 450.0), "bd": (299.0, 300.0)}
+    r = robust_sampled_check(_ours(), loop=LOOP, box=box, budget=4)
+    assert r.outcome is Outcome.PASSIVE
+    for i in range(5):
+        for j in range(5):
+            values = {"kd": 400.0 + 12.5 * i, "bd": 299.0 + 0.25 * j}
+            assert sampled_passivity(_ours(), loop=LOOP, values=values).passive, values

@@ -20,9 +20,10 @@ over gain-free denominators.
 
 *Representation (checked exactly at ``1 + 2·#gains + 1`` points)*: the reduced
 ``(K_A, K_L)`` and hidden modes are computed exactly at a reference point ``g0``, at
-``g0 ± h e_i`` and at ``g0 + h Σ e_i``; the denominators and hidden modes must be
+``g0 + h e_i``, ``g0 + 2h e_i`` and ``g0 + h Σ e_i`` (``g0`` the box's low corner, never
+below it); the denominators and hidden modes must be
 identical at all of them, and the numerators must equal the affine model
-``N(g) = N(g0) + Σ (g_i − g0_i) S_i`` at every point (the checks at ``g0 − h e_i`` and
+``N(g) = N(g0) + Σ (g_i − g0_i) S_i`` at every point (the checks at ``g0 + 2h e_i`` and
 the mixed point would catch a non-affine implementation).  An affine combination of
 numerators that share the reduced denominator's cofactor keeps it, so
 ``K(g) = N(g)/D`` for every ``g`` with one fixed denominator ``D``.
@@ -136,7 +137,7 @@ class GainModel:
             if k2 != key:
                 raise ParameterError(_NOT_AFFINE, argument="box")
             self.slopes.append([(a - b) / _q(h[i]) for a, b in zip(got, base, strict=True)])
-            points.append(tuple(g0[j] - (h[j] if j == i else 0) for j in range(len(gains))))
+            points.append(tuple(g0[j] + (2 * h[j] if j == i else 0) for j in range(len(gains))))
         points.append(tuple(g0[j] + h[j] for j in range(len(gains))))
         for p in points:
             got, k2, _ = at(p)
