@@ -2,7 +2,16 @@
 
 `robust_sampled_check` decides whether the sampled-data design (continuous SEA, digital
 controller at period ``T``, ZOH) is passive for *every* plant of a box of plant
-parameters (``m``, ``b``, ``k1``, ``b1`` ...; the deployed controller is fixed).
+parameters (``m``, ``b``, ``k1``, ``b1`` ...) and controller gains (``kd``, ``bd`` ...).
+
+Gains: the discrete controller is an exact affine map of gains that enter the controllers'
+numerators affinely ([`seapass.robust.sampled_control`][seapass.robust.sampled_control],
+checked exactly, else `ParameterError`); the gains are extra dual-number variables, so
+every quantity that depends on a gain (the controller family in ``P̃``, ``n_A`` in
+``M̃``) carries its derivative; the controller's denominators do not depend on the gains,
+so neither do its own modes nor the leading coefficient of ``χ`` (the stability argument
+below holds over gains too); the continuous gate ``robust_check`` runs over the same box,
+gains included.
 
 Method: branch and bound over the parameter box.  In each sub-box the alias sums of every
 plant are enclosed at once ([`seapass.robust.sampled_plant`][seapass.robust.sampled_plant]:
@@ -363,7 +372,7 @@ def robust_sampled_check(
     loop : SampledLoop
         Period, delay, velocity filter and discretization of the digital controller.
     box : mapping or UncertainBox
-        Uncertain *plant* parameters, ``{"m": (0.9, 1.1)}``.
+        Uncertain plant parameters and controller gains, ``{"m": (0.9, 1.1), "kd": (400, 500)}``.
     budget : int, default 4
         Sub-boxes the branch and bound may examine; when they run out the answer is
         ``undecided``, never passive.
