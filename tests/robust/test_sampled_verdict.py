@@ -102,8 +102,9 @@ def test_box_outcome_never_certifies_a_box_holding_a_failing_plant() -> None:
 
 
 def test_bad_input_is_refused() -> None:
-    with pytest.raises(ParameterError, match="not a plant parameter"):
-        robust_sampled_check(_ours(m=1.0), loop=LOOP, box={"kd": (1, 2)})
+    with pytest.raises(ParameterError, match="nonlinearly"):  # a gain is taken when affine
+        sea = SEA(D1="k1 + b1*s", CA="kd*bd + bd*s", values=dict(m=1, b=10, k1=1000, b1=300))
+        robust_sampled_check(sea, loop=LOOP, box={"kd": (1, 2), "bd": (1, 2)})
     with pytest.raises(ParameterError, match="budget"):
         robust_sampled_check(_ours(), loop=LOOP, box={"m": (0.9, 1.1)}, budget=0)
     with pytest.raises(ParameterError, match="positive"):

@@ -2,7 +2,16 @@
 
 `robust_sampled_check` decides whether the sampled-data design (continuous SEA, digital
 controller at period ``T``, ZOH) is passive for *every* plant of a box of plant
-parameters (``m``, ``b``, ``k1``, ``b1`` ...; the deployed controller is fixed).
+parameters (``m``, ``b``, ``k1``, ``b1`` ...) and controller gains (``kd``, ``bd`` ...).
+
+Gains: the discrete controller is an exact affine map of gains that enter the controllers'
+numerators affinely ([`seapass.robust.sampled_control`][seapass.robust.sampled_control],
+checked exactly, else `ParameterError`); the gains are extra dual-number variables, so
+every quantity that depends on a gain (the controller family in ``P̃``, ``n_A`` in
+``M̃``) carries its derivative; the controller's denominators do not depend on the gains,
+so neither do its own modes nor the leading coefficient of ``χ`` (the stability argument
+below holds over gains too); the continuous gate ``robust_check`` runs over the same box,
+gains included.
 
 Method: branch and bound over the parameter box.  In each sub-box the alias sums of every
 plant are enclosed at once ([`seapass.robust.sampled_plant`][seapass.robust.sampled_plant]:
@@ -27,7 +36,7 @@ from __future__ import annotations
 
 import itertools
 from collections import deque
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from types import MappingProxyType
@@ -47,6 +56,7 @@ from ..sampled.passivity import check_values, sampled_passivity
 from ..sampled.power import family_degree
 from ..sampled.verdict import MAX_POWER_DEGREE, needed_sums, point_family
 from .box import UncertainBox, uncertain_box
+from .sampled_control import GainModel, GainPower
 from .sampled_local import Dual, local_outcome
 from .sampled_plant import ParametricPlant, ball_of
 from .sampled_state import StateData, StatePower
@@ -149,24 +159,58 @@ class RobustSampledResult:
 
 
 class Setup:
-    """Everything a box decision needs that does not depend on the box."""
+    """Everything a box decision needs that does not depend on the box.
 
-    def __init__(self, sea: SEA, loop: SampledLoop, names: tuple[str, ...]) -> None:
+    ``names`` are the plant parameters of the box, ``gains`` its controller gains (the
+    derivative slots are ``names`` then ``gains``; `GainModel` holds the controller).
+    """
+
+    def __init__(
+        self,
+        sea: SEA,
+        loop: SampledLoop,
+        names: tuple[str, ...],
+        gains: tuple[str, ...] = (),
+        gain_box: Box = (),
+    ) -> None:
         self.plant = ParametricPlant(sea, names)
         self.sea, self.loop = sea, loop
-        self.names = names
-        nominal = sea.with_values(**{n: 1.0 for n in names if sea.values.get(n) is None})
+        self.names = (*names, *gains)
+        self.offset = len(names)
+        plant_values = {n: 1.0 for n in names if sea.values.get(n) is None}
+        nominal = sea.with_values(
+            **plant_values, **{g: float(lo) for g, (lo, _hi) in zip(gains, gain_box, strict=True)}
+        )
+        self.model = GainModel(sea, loop, gains, gain_box, plant_values) if gains else None
         controller = DiscreteController.for_loop(nominal, loop)
         self.ka, self.kl, hidden = controller_parts(controller, loop.delay)
         self.period = loop.exact_period
         self.family = point_family(self.ka, self.kl)
-        self.no_control = bool(self.ka.is_zero and self.kl.is_zero)
+        ka_zero, kl_zero = bool(self.ka.is_zero), bool(self.kl.is_zero)
+        if self.model is not None:  # zero for every gain of the box, not only at one
+            ka_zero, kl_zero = self.model.zero(3), self.model.zero(2)
+        self.no_control = ka_zero and kl_zero
         self.open_stable = _open_modes_stable(self.ka, self.kl, hidden)
-        sums = needed_sums(self.ka.is_zero, self.kl.is_zero)
+        sums = needed_sums(ka_zero, kl_zero)
         self.sums_names = sums if "Sg" in sums else (*sums, "Sg")
-        self.injection = (not self.kl.is_zero) and self.plant.alias_injection()
+        self.injection = (not kl_zero) and self.plant.alias_injection()
         self.plant.check_sums(self.sums_names)
         self.state = StateData(self.plant, self.sums_names)
+
+    def powers(self, box: Box, mid: Sequence[Fraction], sigma: Fraction) -> tuple[Any, Any]:
+        """``(centre, box)`` powers of ``box`` around its point ``mid`` (the plant and, with
+        gains, the controller: exact at ``mid``, Dual over the box)."""
+        point = {n: ball_of(c, c) for n, c in zip(self.names, mid, strict=True)}
+        ball = {n: ball_of(lo, hi) for n, (lo, hi) in zip(self.names, box, strict=True)}
+        c = StatePower(self.state, point, self.period, sigma, derive=False)
+        b = StatePower(self.state, ball, self.period, sigma)
+        if self.model is None:
+            return c, b
+        k = self.offset
+        return (
+            GainPower(c, self.model.exact(mid[k:]), 0),
+            GainPower(b, self.model.duals(box[k:], k), len(box)),
+        )
 
 
 def _sigma(setup: Setup) -> Fraction:
@@ -212,17 +256,16 @@ def box_outcome(setup: Setup, box: Box, *, prec: int = BOX_PRECISION) -> Outcome
     if at_centre.outcome is not Outcome.PASSIVE:
         return Outcome.UNDECIDED  # the caller verifies the centre itself
     with precision(prec):
-        point = {n: ball_of(c, c) for n, c in zip(setup.names, centre, strict=True)}
         sigma = _sigma(setup)
-        local_c = StatePower(setup.state, point, setup.period, sigma, derive=False)
-        local_b = StatePower(setup.state, ball, setup.period, sigma)
+        local_c, local_b = setup.powers(box, centre, sigma)
         if not (local_c.ok and local_b.ok):
             return Outcome.UNDECIDED
         radii = [
             ball_of(r, r)
             for r in (max(c - lo, hi - c) for c, (lo, hi) in zip(centre, box, strict=True))
         ]
-        degree = local_c.degree + 1 + family_degree(setup.family)[0] + 2
+        fdeg = family_degree(setup.family)[0] if setup.model is None else setup.model.degree()
+        degree = local_c.degree + 1 + fdeg + 2
         if degree > MAX_POWER_DEGREE:
             raise ParameterError("the power polynomial's degree exceeds the supported maximum")
         ka = (as_poly(setup.ka.num), as_poly(setup.ka.den))
@@ -256,10 +299,7 @@ def _parts(setup: Setup, box: Box, sigma: Fraction, k: int) -> list[Any]:
     out = []
     for cell in itertools.product(*axes):
         mid = [(lo + hi) / 2 for lo, hi in cell]
-        point = {n: ball_of(c, c) for n, c in zip(setup.names, mid, strict=True)}
-        ball = {n: ball_of(lo, hi) for n, (lo, hi) in zip(setup.names, cell, strict=True)}
-        c = StatePower(setup.state, point, setup.period, sigma, derive=False)
-        b = StatePower(setup.state, ball, setup.period, sigma)
+        c, b = setup.powers(tuple(cell), mid, sigma)
         if not (c.ok and b.ok):
             return [_NOWHERE]
         radii = [ball_of((hi - lo) / 2, (hi - lo) / 2) for lo, hi in cell]
@@ -332,7 +372,7 @@ def robust_sampled_check(
     loop : SampledLoop
         Period, delay, velocity filter and discretization of the digital controller.
     box : mapping or UncertainBox
-        Uncertain *plant* parameters, ``{"m": (0.9, 1.1)}``.
+        Uncertain plant parameters and controller gains, ``{"m": (0.9, 1.1), "kd": (400, 500)}``.
     budget : int, default 4
         Sub-boxes the branch and bound may examine; when they run out the answer is
         ``undecided``, never passive.
@@ -365,16 +405,20 @@ def robust_sampled_check(
             f"budget must be an integer in [1, {MAX_SAMPLED_BUDGET}], got {budget!r}",
             argument="budget",
         )
-    names = ubox.names
+    control = {str(x) for k in ("CA", "CL") for x in getattr(sea, k).free_symbols}
+    plant_names = tuple(n for n in ubox.names if n not in control)
+    gains = tuple(n for n in ubox.names if n in control)
+    names = (*plant_names, *gains)  # the derivative slots: plant parameters, then gains
     free = [p for p in sea.free_parameters if p not in names]
     if free:
         raise ParameterError("sampled passivity needs values for: " + ", ".join(free))
     sea = sea.with_values(**{n: None for n in names if n in sea.values})
-    whole: Box = tuple(ubox.exact())
+    exact_box = dict(zip(ubox.names, ubox.exact(), strict=True))
+    whole: Box = tuple(exact_box[n] for n in names)
     for (lo, hi), n in zip(whole, names, strict=True):
         check_values(sea.with_values(**{n: float(lo)}))
         check_values(sea.with_values(**{n: float(hi)}))
-    setup = Setup(sea, loop, names)
+    setup = Setup(sea, loop, plant_names, gains, whole[len(plant_names) :])
 
     def result(
         outcome: Outcome, worst: WorstCase | None, n: int, share: float, detail: str
