@@ -262,49 +262,29 @@ def _certified(
             (Fraction(math.nextafter(a, -math.inf)), Fraction(math.nextafter(b, math.inf)))
             for a, b in pi.intervals
         ]
-        new = [
-            (max(a, c, lo), min(b, d, hi))
-            for a, b in outer
-            for c, d in ivs
-            if max(a, c, lo) <= min(b, d, hi)
-        ]
-        outer = pieces.merge(new)
+        outer = pieces.intersect(outer, ivs)  # outer stays inside [lo, hi]
 
     for plant in [*corners, box.center()]:
         cut(plant)
-    width = Fraction(rtol) * max(abs(lo), abs(hi), Fraction(1))
-    inner: list[tuple[Fraction, Fraction]] = []
-    queue = list(outer)
-    seen = 0
-    while queue and seen < MAX_SEGMENTS:
-        a, b = queue.pop(0)
-        if not any(c <= a and b <= d for c, d in outer):
-            inside = [(max(a, c), min(b, d)) for c, d in outer if max(a, c) < min(b, d)]
-            queue += inside
-            continue
-        seen += 1
+
+    def decide(a: Fraction, b: Fraction) -> bool:
         seg = {**box.intervals, g: (float(a), float(b))}
         r = robust_check(system, box=seg, values=dict(fixed), budget=budget)
-        if r.outcome is Outcome.PASSIVE:
-            inner.append((a, b))
-            continue
         if r.worst is not None:
             cut({k: v for k, v in r.worst.values.items() if k != g})
-        if b - a > width:
-            mid = Fraction(float((a + b) / 2))
-            if a < mid < b:
-                queue += [(a, mid), (mid, b)]
+        return r.outcome is Outcome.PASSIVE
+
+    width = Fraction(rtol) * max(abs(lo), abs(hi), Fraction(1))
+    inner, _seen = pieces.bisect_inner(
+        lambda: outer, decide, width=width, max_segments=MAX_SEGMENTS
+    )
     return RobustIntervals(
         param=g,
         lo=float(lo),
         hi=float(hi),
         box=box,
-        intervals=tuple(
-            (pieces.up(a), pieces.down(b))
-            for a, b in pieces.merge(inner)
-            if pieces.up(a) <= pieces.down(b)
-        ),
-        outer=tuple((pieces.down(a), pieces.up(b)) for a, b in outer),
+        intervals=pieces.as_floats(pieces.merge(inner), inward=True),
+        outer=pieces.as_floats(outer, inward=False),
         method=Method.CERTIFIED,
     )
 

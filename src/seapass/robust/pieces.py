@@ -14,9 +14,21 @@ inner set, outward for an outer set); `text`.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from fractions import Fraction
 
-__all__ = ["Pieces", "as_floats", "down", "intersect", "merge", "minus", "text", "up", "widen"]
+__all__ = [
+    "Pieces",
+    "as_floats",
+    "bisect_inner",
+    "down",
+    "intersect",
+    "merge",
+    "minus",
+    "text",
+    "up",
+    "widen",
+]
 
 Pieces = list[tuple[Fraction, Fraction]]
 """Closed intervals ``[lo, hi]`` with exact ends."""
@@ -86,3 +98,42 @@ def as_floats(pieces: Pieces, *, inward: bool) -> tuple[tuple[float, float], ...
     if inward:
         return tuple((up(a), down(b)) for a, b in pieces if up(a) <= down(b))
     return tuple((down(a), up(b)) for a, b in pieces)
+
+
+def bisect_inner(
+    outer: Callable[[], Pieces],
+    decide: Callable[[Fraction, Fraction], bool],
+    *,
+    width: Fraction,
+    max_segments: int,
+) -> tuple[Pieces, int]:
+    """The certified inner set of a robust gain set, by bisection of its outer set.
+
+    ``outer()`` is the current outer set (``decide`` may shrink it, e.g. by a verified
+    worst plant); ``decide(a, b)`` is True when the whole segment ``[a, b]`` is certified.
+    Segments not certified are halved (at a double) down to ``width``; at most
+    ``max_segments`` are decided.  Returns the certified segments and how many were decided.
+
+    >>> inner, n = bisect_inner(lambda: [(Fraction(0), Fraction(4))],
+    ...                         lambda a, b: b <= 3, width=Fraction(1), max_segments=20)
+    >>> merge(inner), n
+    ([(Fraction(0, 1), Fraction(3, 1))], 5)
+    """
+    inner: Pieces = []
+    queue = list(outer())
+    seen = 0
+    while queue and seen < max_segments:
+        a, b = queue.pop(0)
+        current = outer()
+        if not any(c <= a and b <= d for c, d in current):  # the outer set shrank meanwhile
+            queue += [(max(a, c), min(b, d)) for c, d in current if max(a, c) < min(b, d)]
+            continue
+        seen += 1
+        if decide(a, b):
+            inner.append((a, b))
+            continue
+        if b - a > width:
+            mid = Fraction(float((a + b) / 2))
+            if a < mid < b:
+                queue += [(a, mid), (mid, b)]
+    return inner, seen

@@ -211,49 +211,29 @@ def robust_port_intervals(
             (Fraction(math.nextafter(a, -math.inf)), Fraction(math.nextafter(b, math.inf)))
             for a, b in (*pi.intervals, *pi.undecided)
         ]
-        outer = pieces.merge(
-            [
-                (max(a, c, lo_q), min(b, d, hi_q))
-                for a, b in outer
-                for c, d in ivs
-                if max(a, c, lo_q) <= min(b, d, hi_q)
-            ]
-        )
+        outer = pieces.intersect(outer, ivs)  # outer stays inside [lo, hi]
 
     for plant in [*corners, checked.center()]:
         cut(plant)
-    width = Fraction(rtol) * max(abs(lo_q), abs(hi_q), Fraction(1))
-    inner: list[tuple[Fraction, Fraction]] = []
-    queue = list(outer)
-    seen = 0
-    while queue and seen < MAX_PORT_SEGMENTS:
-        a, b = queue.pop(0)
-        if not any(c <= a and b <= d for c, d in outer):  # the outer set shrank meanwhile
-            queue += [(max(a, c), min(b, d)) for c, d in outer if max(a, c) < min(b, d)]
-            continue
-        seen += 1
+
+    def decide(a: Fraction, b: Fraction) -> bool:
         seg = UncertainBox(intervals={**checked.intervals, param: (float(a), float(b))})
         v = robust_port_verdict(free_tp, seg, fixed, crit, budget)
-        if v.outcome is Outcome.PASSIVE:
-            inner.append((a, b))
-            continue
         if v.worst is not None:
             cut({k: x for k, x in v.worst.values.items() if k != param})
-        if b - a > width:
-            mid = Fraction(float((a + b) / 2))
-            if a < mid < b:
-                queue += [(a, mid), (mid, b)]
+        return v.outcome is Outcome.PASSIVE
+
+    width = Fraction(rtol) * max(abs(lo_q), abs(hi_q), Fraction(1))
+    inner, seen = pieces.bisect_inner(
+        lambda: outer, decide, width=width, max_segments=MAX_PORT_SEGMENTS
+    )
     return RobustPortIntervals(
         param=param,
         criterion=crit,
         lo=float(lo_q),
         hi=float(hi_q),
         box=checked,
-        intervals=tuple(
-            (pieces.up(a), pieces.down(b))
-            for a, b in pieces.merge(inner)
-            if pieces.up(a) <= pieces.down(b)
-        ),
-        outer=tuple((pieces.down(a), pieces.up(b)) for a, b in outer),
+        intervals=pieces.as_floats(pieces.merge(inner), inward=True),
+        outer=pieces.as_floats(outer, inward=False),
         segments=seen,
     )
