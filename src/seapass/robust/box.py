@@ -15,6 +15,7 @@ where it enters seapass:
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -91,6 +92,13 @@ class UncertainBox:
 
     def center(self) -> dict[str, float]:
         return {k: (lo + hi) / 2 for k, (lo, hi) in self.intervals.items()}
+
+    def corners(self) -> list[dict[str, float]]:
+        """The ``2^k`` corners of the box (a degenerate side gives repeated corners)."""
+        return [
+            dict(zip(self.names, c, strict=True))
+            for c in itertools.product(*self.intervals.values())
+        ]
 
     def to_dict(self) -> dict[str, list[float]]:
         return {k: [lo, hi] for k, (lo, hi) in self.intervals.items()}

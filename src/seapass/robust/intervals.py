@@ -249,35 +249,21 @@ def _certified(
     system: SEA | Impedance, g: str, lo: Fraction, hi: Fraction, box: UncertainBox,
     fixed: Mapping[str, float], rtol: float, budget: int,
 ) -> RobustIntervals:  # fmt: skip
-    names = box.names
-    corners = [dict(zip(names, c, strict=True)) for c in itertools.product(*box.intervals.values())]
-    outer: list[tuple[Fraction, Fraction]] = [(lo, hi)]
 
-    def cut(plant: Mapping[str, float]) -> None:
-        """Intersect the outer set with the exact passive set of ``g`` at ``plant``."""
-        nonlocal outer
-        pi = passive_intervals(system, g, float(lo), float(hi), values={**fixed, **plant})
-        # the ends of passive_intervals are rounded to nearest: widen by one ulp
-        ivs = [
-            (Fraction(math.nextafter(a, -math.inf)), Fraction(math.nextafter(b, math.inf)))
-            for a, b in pi.intervals
-        ]
-        outer = pieces.intersect(outer, ivs)  # outer stays inside [lo, hi]
+    def exact_set(plant: Mapping[str, float]) -> tuple[tuple[float, float], ...]:
+        values = {**fixed, **plant}
+        return passive_intervals(system, g, float(lo), float(hi), values=values).intervals
 
-    for plant in [*corners, box.center()]:
-        cut(plant)
-
-    def decide(a: Fraction, b: Fraction) -> bool:
+    def verdict(a: Fraction, b: Fraction) -> tuple[bool, dict[str, float] | None]:
         seg = {**box.intervals, g: (float(a), float(b))}
         r = robust_check(system, box=seg, values=dict(fixed), budget=budget)
-        if r.worst is not None:
-            cut({k: v for k, v in r.worst.values.items() if k != g})
-        return r.outcome is Outcome.PASSIVE
+        worst = None if r.worst is None else {k: v for k, v in r.worst.values.items() if k != g}
+        return r.outcome is Outcome.PASSIVE, worst
 
-    width = Fraction(rtol) * max(abs(lo), abs(hi), Fraction(1))
-    inner, _seen = pieces.bisect_inner(
-        lambda: outer, decide, width=width, max_segments=MAX_SEGMENTS
-    )
+    inner, outer, _seen = pieces.robust_gain_set(
+        lo, hi, plants=[*box.corners(), box.center()], exact_set=exact_set, verdict=verdict,
+        width=Fraction(rtol) * max(abs(lo), abs(hi), Fraction(1)), max_segments=MAX_SEGMENTS,
+    )  # fmt: skip
     return RobustIntervals(
         param=g,
         lo=float(lo),

@@ -14,7 +14,7 @@ inner set, outward for an outer set); `text`.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from fractions import Fraction
 
 __all__ = [
@@ -25,6 +25,7 @@ __all__ = [
     "intersect",
     "merge",
     "minus",
+    "robust_gain_set",
     "text",
     "up",
     "widen",
@@ -137,3 +138,47 @@ def bisect_inner(
             if a < mid < b:
                 queue += [(a, mid), (mid, b)]
     return inner, seen
+
+
+Plant = Mapping[str, float]
+
+
+def robust_gain_set(
+    lo: Fraction,
+    hi: Fraction,
+    *,
+    plants: Sequence[Plant],
+    exact_set: Callable[[Plant], Sequence[tuple[float, float]]],
+    verdict: Callable[[Fraction, Fraction], tuple[bool, Plant | None]],
+    width: Fraction,
+    max_segments: int,
+) -> tuple[Pieces, Pieces, int]:
+    """Certified inner and outer sets of a gain over a box of plants: ``(inner, outer, n)``.
+
+    The outer set starts as ``[lo, hi]`` and is cut by the set of the gain at each plant
+    of ``plants`` and at every worst plant ``verdict`` returns (``exact_set``: its ends
+    rounded to doubles, so each is widened by one double); ``verdict(a, b)`` decides the
+    segment ``[a, b]`` times the box (True: certified) and may name a failing plant.  The
+    inner set comes from `bisect_inner`; ``n`` segments were decided.
+    """
+    outer: Pieces = [(lo, hi)]
+
+    def cut(plant: Plant) -> None:
+        nonlocal outer
+        ivs = [
+            (Fraction(math.nextafter(a, -math.inf)), Fraction(math.nextafter(b, math.inf)))
+            for a, b in exact_set(plant)
+        ]
+        outer = intersect(outer, ivs)  # outer stays inside [lo, hi]
+
+    for plant in plants:
+        cut(plant)
+
+    def decide(a: Fraction, b: Fraction) -> bool:
+        passive, worst = verdict(a, b)
+        if worst is not None:
+            cut(worst)
+        return passive
+
+    inner, seen = bisect_inner(lambda: outer, decide, width=width, max_segments=max_segments)
+    return inner, outer, seen

@@ -26,8 +26,6 @@ and **outward** for ``outer``.
 
 from __future__ import annotations
 
-import itertools
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from fractions import Fraction
@@ -196,37 +194,24 @@ def robust_port_intervals(
     free_tp = tp.with_values(**{param: None})
     checked = uncertain_box(free_tp, raw)
     fixed = port_fixed_values(free_tp, checked, free=(param,))
-    names = checked.names
-    corners = [
-        dict(zip(names, c, strict=True)) for c in itertools.product(*checked.intervals.values())
-    ]
-    outer: list[tuple[Fraction, Fraction]] = [(lo_q, hi_q)]
 
-    def cut(plant: Mapping[str, float]) -> None:
-        nonlocal outer
+    def exact_set(plant: Mapping[str, float]) -> tuple[tuple[float, float], ...]:
         pi = port_intervals(
             free_tp, param, float(lo_q), float(hi_q), criterion=crit, values={**fixed, **plant}
         )
-        ivs = [  # ends rounded inward by port_intervals: widen by one ulp
-            (Fraction(math.nextafter(a, -math.inf)), Fraction(math.nextafter(b, math.inf)))
-            for a, b in (*pi.intervals, *pi.undecided)
-        ]
-        outer = pieces.intersect(outer, ivs)  # outer stays inside [lo, hi]
+        return (*pi.intervals, *pi.undecided)  # ends rounded inward
 
-    for plant in [*corners, checked.center()]:
-        cut(plant)
-
-    def decide(a: Fraction, b: Fraction) -> bool:
+    def verdict(a: Fraction, b: Fraction) -> tuple[bool, dict[str, float] | None]:
         seg = UncertainBox(intervals={**checked.intervals, param: (float(a), float(b))})
         v = robust_port_verdict(free_tp, seg, fixed, crit, budget)
-        if v.worst is not None:
-            cut({k: x for k, x in v.worst.values.items() if k != param})
-        return v.outcome is Outcome.PASSIVE
+        worst = None if v.worst is None else {k: x for k, x in v.worst.values.items() if k != param}
+        return v.outcome is Outcome.PASSIVE, worst
 
-    width = Fraction(rtol) * max(abs(lo_q), abs(hi_q), Fraction(1))
-    inner, seen = pieces.bisect_inner(
-        lambda: outer, decide, width=width, max_segments=MAX_PORT_SEGMENTS
-    )
+    inner, outer, seen = pieces.robust_gain_set(
+        lo_q, hi_q, plants=[*checked.corners(), checked.center()], exact_set=exact_set,
+        verdict=verdict, width=Fraction(rtol) * max(abs(lo_q), abs(hi_q), Fraction(1)),
+        max_segments=MAX_PORT_SEGMENTS,
+    )  # fmt: skip
     return RobustPortIntervals(
         param=param,
         criterion=crit,

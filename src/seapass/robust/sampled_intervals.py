@@ -39,7 +39,6 @@ Two cases:
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections import deque
 from collections.abc import Mapping
@@ -425,9 +424,7 @@ def continuous_sets(
 
 def corners(box: UncertainBox) -> list[dict[str, float]]:
     """The centre of the box, then its corners."""
-    names = box.names
-    out = [box.center()]
-    out += [dict(zip(names, c, strict=True)) for c in itertools.product(*box.intervals.values())]
+    out = [box.center(), *box.corners()]
     seen: list[dict[str, float]] = []
     for p in out:
         if p not in seen:

@@ -32,7 +32,6 @@ References
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -129,9 +128,7 @@ def _cheap_plants(box: UncertainBox) -> list[dict[str, float]]:
     """The centre and (up to 3 parameters) the corners of the box: cheap exact checks."""
     plants = [box.center()]
     if len(box.names) <= 3:
-        plants += [
-            dict(zip(box.names, c, strict=True)) for c in itertools.product(*box.intervals.values())
-        ]
+        plants += box.corners()
     return plants
 
 
