@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from typing import Any
 
 from ..errors import CompilerError, ParameterError, SeapassError
@@ -10,12 +11,26 @@ from ..files.limits import MAX_RTOL, MIN_RTOL, check_rtol
 from .common import add_force_option, add_json_option, announce, check_out_dir, print_json
 from .uncertain_options import add_robust_options, robust_design
 
+DEFAULT_ENVELOPE_BUDGET = 16  # seapass.export.robust_envelope.DEFAULT_ENVELOPE_BUDGET (tested)
+
 EXAMPLE = """examples:
   seapass export c examples/ours.toml --out firmware/
   seapass export c examples/ours.toml --out firmware/ --hardware-delay 1 --verify
   seapass export c design.toml --out firmware/ --force-limit 120 --set-gains --tunable kd
   seapass export c design.toml --out firmware/ --force   # replace files seapass did not write
   seapass export c examples/ours.toml --out firmware/ --latency 0.002   # tau* must cover it
+  seapass export c design.toml --out firmware/ --set-gains --robust --budget 24
+  seapass export c design.toml --out firmware/ --set-gains --robust fitted_rig.toml
+
+With --robust, every gain the guards accept is certified sampled passive (at the
+[control] rate, delay and velocity filter) for every plant of the box (the design's
+[uncertainty], or RIGFILE's fitted intervals): the certified inner set of 'seapass sampled
+bound GAIN --uncertain ...' intersected with the nominal and the continuous robust
+envelopes, rounded inward. --budget counts that work (sub-intervals per gain); when a
+gain's value is left undecided (or fails at a plant) nothing is written, unless
+--robust-fallback pin (fix that gain; certified when the design at its gains is) or
+--robust-fallback nominal (the nominal-plant envelope, marked NOT certified for the box
+in the header, the JSON and a warning).
 
 With a loop latency ([control] delay_time or --latency), the design's passivity delay
 margin tau* (C_A and C_L delayed) must cover it: every delay up to the latency certified
@@ -37,6 +52,10 @@ _OPTIONS = {
     "hardware_delay": "--hardware-delay",
     "latency: must be": "--latency: must be",
     "see sampled_passive_bound": "see 'seapass sampled bound'",
+    "robust_budget": "--budget",
+    "robust_fallback='pin'": "--robust-fallback pin",
+    "robust_fallback='nominal'": "--robust-fallback nominal",
+    "robust_fallback=": "--robust-fallback ",
 }
 
 
@@ -113,7 +132,23 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
         help="compile the files with the system C compiler and compare them with the Python "
         "controller on 10,000 steps",
     )
-    add_robust_options(c.add_argument_group("robust (the guards hold for every plant in a box)"))
+    box = c.add_argument_group("robust (the guards hold for every plant in a box)")
+    add_robust_options(box)
+    box.add_argument(
+        "--budget",
+        type=int,
+        metavar="N",
+        help="with --robust: sub-intervals of each tunable gain (and sub-boxes of the "
+        "design's own check) the certification may examine, counted, never timed; what is "
+        f"left undecided is refused (default: {DEFAULT_ENVELOPE_BUDGET})",
+    )
+    box.add_argument(
+        "--robust-fallback",
+        choices=("pin", "nominal"),
+        help="with --robust, when a gain's value is not certified for the box: 'pin' fixes "
+        "that gain at its value (certified when the design at its gains is); 'nominal' keeps "
+        "the nominal-plant envelope, marked NOT certified for the box (default: refuse)",
+    )
     add_force_option(c)
     c.add_argument(
         "--no-progress",
@@ -139,6 +174,9 @@ def run_c(args: argparse.Namespace) -> int:
     robust = args.robust is not None  # --robust [RIGFILE]: the box's gain envelope in the guards
     if args.confidence is not None and not args.robust:
         raise ParameterError("--confidence LEVEL applies to --robust RIGFILE; give the rig file")
+    if not robust and (args.budget is not None or args.robust_fallback is not None):
+        raise ParameterError("--budget and --robust-fallback apply to --robust; add --robust")
+    budget = DEFAULT_ENVELOPE_BUDGET if args.budget is None else args.budget
     check_out_dir(args.out, files=(HEADER, SOURCE), force=args.force)
     if args.verify and find_c_compiler() is None:  # before anything is written
         raise CompilerError("--verify needs a C compiler: none found (set CC or install gcc)")
@@ -157,6 +195,8 @@ def run_c(args: argparse.Namespace) -> int:
                 force=args.force,
                 latency=args.latency,
                 robust=robust,
+                robust_budget=budget,
+                robust_fallback=args.robust_fallback,
             )
     except SeapassError as exc:
         text = str(exc)
@@ -165,6 +205,9 @@ def run_c(args: argparse.Namespace) -> int:
         raise type(exc)(text) from None
     for path in (res.header, res.source):
         announce(path)
+    if res.deployment.robust is not None:  # a fallback's warnings, also with --json
+        for w in res.deployment.robust.warnings:
+            print(f"warning: NOT CERTIFIED FOR EVERY PLANT OF THE BOX: {w}", file=sys.stderr)
     ver = verify_c(res) if args.verify else None
     ok = ver is None or ver.ok
     if args.json:
@@ -205,6 +248,9 @@ def _print_summary(res: Any, ver: Any, ok: bool) -> None:
             print(f"  {g.name} = {g.nominal:g}")
     for note in dep.notes:
         print(f"  note: {note}")
+    if dep.robust is not None:
+        for line in dep.robust.banner():
+            print(f"  {line}")
     if res.latency is not None:
         from ..export.latency import latency_banner
 

@@ -30,6 +30,7 @@ from .ctext import C_KEYWORDS, c_code, c_comment, c_identifier, c_number, c_stri
 from .deployment import Deployment, plan_deployment
 from .latency import latency_banner, latency_guard
 from .realization import FilterSpec
+from .robust_envelope import DEFAULT_ENVELOPE_BUDGET
 
 __all__ = [
     "C_KEYWORDS",
@@ -227,6 +228,8 @@ def _banner(dep: Deployment) -> list[str]:
             "  intervals prove nothing about moving two gains together).",
         ]
     lines += [f"  note: {n}" for n in dep.notes]
+    if dep.robust is not None:
+        lines += ["", *dep.robust.banner()]
     return lines
 
 
@@ -264,6 +267,7 @@ def render_c(dep: Deployment, latency: LatencyCheck | None = None) -> dict[str, 
         "velocity_filter": c_literal(Fraction(vf) if vf else 0),
         "force_limit": c_literal(dep.force_limit),
         "certified": dep.certified,
+        "robust": None if dep.robust is None else dep.robust.certified,
         "set_gains": dep.set_gains,
         "gains": [
             {
@@ -303,6 +307,8 @@ def export_c(
     force: bool = False,
     latency: float | None = None,
     robust: bool = False,
+    robust_budget: int = DEFAULT_ENVELOPE_BUDGET,
+    robust_fallback: str | None = None,
 ) -> ExportResult:
     """Write ``seapass_ctrl.h`` and ``seapass_ctrl.c`` for the deployed controller of ``design``.
 
@@ -321,7 +327,9 @@ def export_c(
         Directory to write into (created if missing).  Existing files of these
         names are replaced only if seapass wrote them and they are unchanged
         ([`seapass.files.owned`][seapass.files.owned]), or with ``force``.
-    force_limit, hardware_delay, set_gains, tunable, allow_nonpassive, rtol, progress, robust
+    force_limit, hardware_delay, set_gains, tunable, allow_nonpassive, rtol, progress
+        See [`plan_deployment`][seapass.export.deployment.plan_deployment].
+    robust, robust_budget, robust_fallback
         See [`plan_deployment`][seapass.export.deployment.plan_deployment].
     force : bool
         Replace existing files of these names even if seapass did not write them.
@@ -363,6 +371,8 @@ def export_c(
         rtol=rtol,
         progress=as_progress(progress, where="export_c"),
         robust=robust,
+        robust_budget=robust_budget,
+        robust_fallback=robust_fallback,
     )
     files = render_c(dep, lag)
     for t in targets:

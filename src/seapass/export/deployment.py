@@ -26,7 +26,12 @@ from ..progress import ProgressLike, as_progress
 from ..sampled.controllers import DiscreteController, filter_pole
 from .envelope import GainEnvelope, certify_gains, sampled_verdict
 from .realization import FilterSpec, realize
-from .robust_envelope import robust_envelopes
+from .robust_envelope import (
+    DEFAULT_ENVELOPE_BUDGET,
+    RobustEnvelope,
+    check_envelope_options,
+    robust_envelopes,
+)
 
 __all__ = ["Deployment", "plan_deployment"]
 
@@ -59,6 +64,10 @@ class Deployment(LoopAttributes):
         The sampled-data check passed (False only with ``allow_nonpassive``).
     verdict : str
         The check's one-line finding.
+    notes : tuple of str
+    robust : RobustEnvelope or None
+        With ``robust=True``: what was certified for every plant of the box (the guards'
+        gain sets, the warnings of a fallback).
     """
 
     design: Design
@@ -72,6 +81,7 @@ class Deployment(LoopAttributes):
     certified: bool
     verdict: str
     notes: tuple[str, ...] = field(default=())
+    robust: RobustEnvelope | None = None
 
     @property
     def period(self) -> Fraction:
@@ -121,6 +131,7 @@ class Deployment(LoopAttributes):
             "filters": len(self.filters),
             "states": sum(f.order for f in self.filters),
             "notes": list(self.notes),
+            "robust": None if self.robust is None else self.robust.to_dict(),
         }
 
     def in_certified_set(self, gains: Mapping[str, float]) -> bool:
@@ -145,6 +156,8 @@ def plan_deployment(
     rtol: float = 1e-6,
     progress: ProgressLike = None,
     robust: bool = False,
+    robust_budget: int = DEFAULT_ENVELOPE_BUDGET,
+    robust_fallback: str | None = None,
 ) -> Deployment:
     """Decide the deployed controller of ``design`` and certify its envelope.
 
@@ -173,8 +186,17 @@ def plan_deployment(
         gain's certified bound a task inside it (default: none; ``True``/``False``
         still work for one release).
     robust : bool, default False
-        Narrow the envelope to the design's ``uncertainty`` box
+        Narrow the envelope to the design's ``uncertainty`` box: every gain the guards
+        accept certified sampled passive (at the loop's rate, delay and velocity filter)
+        for every plant of the box
         ([`robust_envelopes`][seapass.export.robust_envelope.robust_envelopes]).
+    robust_budget : int, default 16
+        Work of that certification: sub-intervals of each tunable gain, sub-boxes of the
+        design's own check; what it leaves undecided is refused, never allowed.
+    robust_fallback : {None, "pin", "nominal"}
+        When a gain's value is not in its certified robust set: refuse (None), pin the gain
+        to its value (``"pin"``, certified when the design is) or keep the nominal-plant
+        envelope marked NOT certified for the box (``"nominal"``).
 
     Raises
     ------
@@ -190,6 +212,10 @@ def plan_deployment(
             "sampling rate: add [control] rate = 500.0 (Hz) to the design file"
         )
     check_rtol(rtol)  # before the (slow) certification
+    if robust:
+        check_envelope_options(robust_budget, robust_fallback)
+    elif robust_budget != DEFAULT_ENVELOPE_BUDGET or robust_fallback is not None:
+        raise ParameterError("robust_budget and robust_fallback need robust=True")
     period, delay = loop.period, loop.delay
     if (
         not isinstance(hardware_delay, int)
@@ -226,9 +252,11 @@ def plan_deployment(
         )
     shown = as_progress(progress, where="plan_deployment")
     envelopes, notes = certify_gains(design, names, rtol=rtol, progress=shown)
-    if robust:  # every plant of the box: the robust gain envelope in the guards
-        envelopes, more = robust_envelopes(design, envelopes)
-        notes = (*notes, *more)
+    box_envelope = None
+    if robust:  # every plant of the box: the robust sampled gain envelope in the guards
+        envelopes, box_envelope = robust_envelopes(
+            design, envelopes, budget=robust_budget, fallback=robust_fallback, progress=shown
+        )
     return Deployment(
         design=design,
         loop=loop,
@@ -241,6 +269,7 @@ def plan_deployment(
         certified=bool(verdict.passive),
         verdict=verdict.detail,
         notes=notes,
+        robust=box_envelope,
     )
 
 
