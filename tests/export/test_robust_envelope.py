@@ -157,9 +157,9 @@ def test_a_gain_just_outside_the_outer_set_fails_at_a_plant(plan: Deployment) ->
     assert Outcome.NOT_PASSIVE in verdicts
     assert ev.failing  # and every failing plant reported is verified by the plain verdict
     for w in ev.failing:
-        r = sampled_passivity(sea.with_values(**w["values"]), loop=plan.loop)
+        r = sampled_passivity(sea.with_values(**w.values), loop=plan.loop)
         assert r.outcome is Outcome.NOT_PASSIVE and not plan.in_certified_set(
-            {"kd": w["values"]["kd"]}
+            {"kd": w.values["kd"]}
         )
 
 

@@ -51,7 +51,7 @@ from ..robust.box import UncertainBox, uncertain_box
 from ..robust.intervals import robust_passive_intervals
 from ..robust.pieces import text
 from ..robust.sampled_intervals import DEFAULT_INTERVAL_BUDGET, RobustSampledIntervals
-from ..robust.verdict import DEFAULT_BUDGET, robust_check
+from ..robust.verdict import DEFAULT_BUDGET, WorstCase, robust_check
 from .envelope import GainEnvelope, inward_interval
 
 __all__ = [
@@ -99,7 +99,7 @@ class RobustGain:
         The continuous robust interval containing the value (inward).
     inner, outer, undecided : tuple of (float, float)
         Of [`robust_sampled_intervals`][seapass.robust.sampled_intervals.robust_sampled_intervals].
-    failing : tuple of dict
+    failing : tuple of WorstCase
         Verified failing plants (``values`` includes the gain).
     budget_used : int
     """
@@ -111,7 +111,7 @@ class RobustGain:
     inner: tuple[Interval, ...] = ()
     outer: tuple[Interval, ...] = ()
     undecided: tuple[Interval, ...] = ()
-    failing: tuple[dict[str, Any], ...] = ()
+    failing: tuple[WorstCase, ...] = ()
     budget_used: int = 0
 
     def to_dict(self) -> dict[str, Any]:
@@ -122,7 +122,7 @@ class RobustGain:
             "inner": [list(iv) for iv in self.inner],
             "outer": [list(iv) for iv in self.outer],
             "undecided": [list(iv) for iv in self.undecided],
-            "failing": list(self.failing),
+            "failing": [w.to_dict() for w in self.failing],
             "budget_used": self.budget_used,
         }
 
@@ -356,7 +356,7 @@ def _gain(
             inner=() if res is None else res.intervals,
             outer=() if res is None else res.outer,
             undecided=() if res is None else res.undecided,
-            failing=() if res is None else tuple(w.to_dict() for w in res.failing),
+            failing=() if res is None else res.failing,
             budget_used=0 if res is None else res.budget_used,
         )
 
