@@ -6,6 +6,8 @@ controller as exact difference equations), [`envelope`][seapass.export.envelope]
 [`deployment`][seapass.export.deployment] (the two together with saturation and
 the delay line: everything decided before a file is written), [`latency`][seapass.export.latency]
 (the guard that the delay margin τ* covers the loop latency ``[control] delay_time``),
+[`robust_envelope`][seapass.export.robust_envelope] (``robust=True``: the guards certified
+at the sampled rate for every plant of a box),
 [`c_code`][seapass.export.c_code] (``seapass_ctrl.h`` / ``seapass_ctrl.c`` from
 Jinja2 templates shipped in ``export/templates``), [`ctext`][seapass.export.ctext]
 (the one escaping of user text into C: comments, strings, identifiers) and

@@ -383,7 +383,10 @@ def _refusal(
     """Why ``env``'s value has no certified robust sampled piece, and what to do."""
     head = f"refusing a robust export of {design.name!r}: {env.name} = {env.nominal:g}"
     if res is None:
-        why = "has no certified sampled interval at the nominal plant to search"
+        why = (
+            "leaves nothing to search: its nominal sampled interval and its continuous robust "
+            "interval meet only at the value"
+        )
     elif not any(a <= env.nominal <= b for a, b in res.outer):
         why = "is not sampled passive for every plant of the box (outside the certified outer set)"
     else:
