@@ -276,6 +276,20 @@ def robust_envelopes(
     ----------
     J. E. Colgate and G. G. Schenkel, "Passivity of a class of sampled-data systems",
     J. Robotic Systems 14(1), 1997.
+
+    Examples
+    --------
+    Without tunable gains the design at its gains is certified for the box:
+
+    >>> from seapass.model.design_file import parse_design
+    >>> d = parse_design({"name": "ours", "model": {"D1": "k1 + b1*s", "CA": "kd + bd*s"},
+    ...     "parameters": {"m": 1.0, "b": 10.0, "k1": 1000.0, "b1": 300.0, "kd": 500.0,
+    ...                    "bd": 300.0},
+    ...     "control": {"rate": 500.0, "delay": 1, "velocity_filter": 50.0},
+    ...     "uncertainty": {"m": [0.9999, 1.0001]}})
+    >>> envelopes, robust = robust_envelopes(d, (), budget=4)
+    >>> robust.certified, robust.sampled.split(" (")[0]
+    (True, "passive at the design's gains")
     """
     check_envelope_options(budget, fallback)
     box = design_box(design)
