@@ -12,8 +12,22 @@ NAMES = "m b k1 k2 b1 b2 kd bd ki s w"
 
 
 @pytest.fixture(scope="module")
-def rows():
-    return {r.paper.name: r for r in build_tables()}
+def built():
+    return build_tables()  # ~8 s of CPU: once for this module
+
+
+@pytest.fixture(scope="module")
+def rows(built):
+    return {r.paper.name: r for r in built}
+
+
+@pytest.fixture
+def built_once(monkeypatch, built):
+    """``seapass tables`` here formats the module's rows instead of deriving them again (the
+    command's own derivation runs end to end in ``tests/cli/test_golden.py``)."""
+    import seapass.paper.tables
+
+    monkeypatch.setattr(seapass.paper.tables, "build_tables", lambda **_: list(built))
 
 
 # name: (stiffness_agrees, eq4_agrees, polynomial agrees, bound status, exact condition)
@@ -60,7 +74,7 @@ def test_proposed_is_passive_beyond_the_papers_bound(rows):
     assert ce["kd"] > ((b + bd) ** 2 + b * b1 + b1 * bd) / (2 * m)
 
 
-def test_cli_json_rows_parse_with_sympify(capsys):
+def test_cli_json_rows_parse_with_sympify(capsys, built_once):
     assert main(["tables", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert [d["name"] for d in data] == [
@@ -109,7 +123,7 @@ def test_cli_json_rows_parse_with_sympify(capsys):
 
 
 @pytest.mark.parametrize("fmt", ["markdown", "latex", "text"])
-def test_formats_and_plots(capsys, tmp_path, fmt):
+def test_formats_and_plots(capsys, tmp_path, fmt, built_once):
     args = ["tables", "--format", fmt]
     if fmt == "markdown":
         args += ["--plots", str(tmp_path)]
