@@ -5,29 +5,28 @@ import json
 import pytest
 import sympy as sp
 
+import seapass.paper.tables
 from seapass.cli import main
-from seapass.paper.tables import build_tables
+from seapass.paper.tables import PAPER_ROWS, build_tables
 
 NAMES = "m b k1 k2 b1 b2 kd bd ki s w"
 
 
 @pytest.fixture(scope="module")
-def built():
-    return build_tables()  # ~8 s of CPU: once for this module
+def rows(paper_tables):
+    return {r.paper.name: r for r in paper_tables}
 
 
-@pytest.fixture(scope="module")
-def rows(built):
-    return {r.paper.name: r for r in built}
+def test_the_shared_rows_are_what_build_tables_derives(paper_tables):
+    assert [r.paper.name for r in paper_tables] == [r.name for r in PAPER_ROWS]
+    assert build_tables is seapass.paper.tables.build_tables  # not a patched stand-in
 
 
 @pytest.fixture
-def built_once(monkeypatch, built):
-    """``seapass tables`` here formats the module's rows instead of deriving them again (the
+def built_once(monkeypatch, paper_tables):
+    """``seapass tables`` here formats the session's rows instead of deriving them again (the
     command's own derivation runs end to end in ``tests/cli/test_golden.py``)."""
-    import seapass.paper.tables
-
-    monkeypatch.setattr(seapass.paper.tables, "build_tables", lambda **_: list(built))
+    monkeypatch.setattr(seapass.paper.tables, "build_tables", lambda **_: list(paper_tables))
 
 
 # name: (stiffness_agrees, eq4_agrees, polynomial agrees, bound status, exact condition)
