@@ -47,3 +47,12 @@ def _assert_same_rows(a, b) -> None:
 def assert_same_rows():
     """``assert_same_rows(a, b)``: two Arrow tables have the same columns and values (NaN = NaN)."""
     return _assert_same_rows
+
+
+@pytest.fixture(scope="session")
+def paper_tables():
+    """Tables I and II from `seapass.paper.tables.build_tables`, derived once per test process
+    (~8 s of CPU); tests of their formatting and wording share them."""
+    from seapass.paper.tables import build_tables
+
+    return build_tables()

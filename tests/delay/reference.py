@@ -14,6 +14,7 @@ balls of ``seapass.delay``:
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 
@@ -23,6 +24,13 @@ from scipy.optimize import minimize_scalar
 
 
 def _numeric(expr: sp.Expr, values: dict[str, float], tau: float) -> Callable:
+    return _lambdified(expr, tuple(sorted(values.items())), float(tau))
+
+
+@functools.lru_cache(maxsize=256)
+def _lambdified(expr: sp.Expr, items: tuple[tuple[str, float], ...], tau: float) -> Callable:
+    # cached: a refinement evaluates the same element hundreds of times, one point at a time
+    values = dict(items)
     s = sp.Symbol("s")
     subs = {}
     for a in expr.atoms(sp.Function):

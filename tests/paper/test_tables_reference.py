@@ -5,15 +5,28 @@ import json
 import pytest
 import sympy as sp
 
+import seapass.paper.tables
 from seapass.cli import main
-from seapass.paper.tables import build_tables
+from seapass.paper.tables import PAPER_ROWS, build_tables
 
 NAMES = "m b k1 k2 b1 b2 kd bd ki s w"
 
 
 @pytest.fixture(scope="module")
-def rows():
-    return {r.paper.name: r for r in build_tables()}
+def rows(paper_tables):
+    return {r.paper.name: r for r in paper_tables}
+
+
+def test_the_shared_rows_are_what_build_tables_derives(paper_tables):
+    assert [r.paper.name for r in paper_tables] == [r.name for r in PAPER_ROWS]
+    assert build_tables is seapass.paper.tables.build_tables  # not a patched stand-in
+
+
+@pytest.fixture
+def built_once(monkeypatch, paper_tables):
+    """``seapass tables`` here formats the session's rows instead of deriving them again (the
+    command's own derivation runs end to end in ``tests/cli/test_golden.py``)."""
+    monkeypatch.setattr(seapass.paper.tables, "build_tables", lambda **_: list(paper_tables))
 
 
 # name: (stiffness_agrees, eq4_agrees, polynomial agrees, bound status, exact condition)
@@ -60,7 +73,7 @@ def test_proposed_is_passive_beyond_the_papers_bound(rows):
     assert ce["kd"] > ((b + bd) ** 2 + b * b1 + b1 * bd) / (2 * m)
 
 
-def test_cli_json_rows_parse_with_sympify(capsys):
+def test_cli_json_rows_parse_with_sympify(capsys, built_once):
     assert main(["tables", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert [d["name"] for d in data] == [
@@ -109,7 +122,7 @@ def test_cli_json_rows_parse_with_sympify(capsys):
 
 
 @pytest.mark.parametrize("fmt", ["markdown", "latex", "text"])
-def test_formats_and_plots(capsys, tmp_path, fmt):
+def test_formats_and_plots(capsys, tmp_path, fmt, built_once):
     args = ["tables", "--format", fmt]
     if fmt == "markdown":
         args += ["--plots", str(tmp_path)]

@@ -8,6 +8,7 @@ import itertools
 
 import numpy as np
 import pytest
+import sympy as sp
 
 from seapass.errors import NotPassiveError, ParameterError
 from seapass.model.sea import SEA
@@ -32,16 +33,82 @@ def _exact_verdicts(tp: TwoPort, values: dict[str, float]) -> tuple[bool, bool]:
     return stab, matrix_passivity(m).outcome is Outcome.PASSIVE
 
 
-@pytest.mark.slow  # 2,025 exact two-port verdicts (about 15 s of CPU)
+def _float_violations(sea: SEA, box: dict, n: int = 10_000) -> tuple[int, int]:
+    """(not absolutely stable, not passive) counts over the box's corners and ``n`` random
+    plants, by numpy alone (no exact arithmetic, nothing of ``seapass.ports``' deciders): a
+    400-point frequency grid of ``Z(jω)`` (Llewellyn's inequalities; the Hermitian part
+    positive semidefinite), the poles off the origin by batched companion eigenvalues, and
+    the residue matrix of the simple pole at ``s = 0`` (symmetric positive semidefinite)."""
+    names = sorted(box)
+    tp = two_port(sea.with_values(**dict.fromkeys(names)))
+    s, syms = sp.Symbol("s"), [sp.Symbol(k) for k in names]
+    fixed = {k: sp.nsimplify(v) for k, v in tp.values.items() if v is not None}
+    entries = [  # plain symbols, the fixed values in exactly
+        sp.cancel(e.xreplace({x: fixed.get(x.name, sp.Symbol(x.name)) for x in e.free_symbols}))
+        for e in tp.entries
+    ]
+    zf = [sp.lambdify([s, *syms], e, "numpy") for e in entries]
+    den = sp.lcm_list([sp.fraction(e)[1] for e in entries])
+    den_s = sp.Poly(den, s)
+    assert den_s.eval(0) == 0 and sp.Poly(sp.quo(den, s), s).eval(0) != 0  # one pole at 0
+    reduced = sp.Poly(sp.quo(den, s), s).all_coeffs()
+    coef = [sp.lambdify(syms, c, "numpy") for c in reduced]
+    res = [sp.lambdify(syms, sp.cancel(s * e).subs(s, 0), "numpy") for e in entries]
+
+    rng = np.random.default_rng(26)
+    lo = np.array([box[k][0] for k in names])
+    hi = np.array([box[k][1] for k in names])
+    corners = np.array(list(itertools.product(*[box[k] for k in names])))
+    pts = np.vstack([corners, lo + (hi - lo) * rng.random((n, len(names)))])
+    w = np.logspace(-3, 5, 400)[:, None]
+    unstable = np.zeros(len(pts), bool)
+    active = np.zeros(len(pts), bool)
+    for chunk in np.array_split(np.arange(len(pts)), max(1, len(pts) // 2000)):
+        cols = [pts[chunk, i][None, :] for i in range(len(names))]
+        z11, z12, z21, z22 = (np.broadcast_to(f(1j * w, *cols), (len(w), len(chunk))) for f in zf)
+        assert all(np.isfinite(z).all() for z in (z11, z12, z21, z22))  # a NaN would pass
+        r11, r22 = z11.real, z22.real
+        p = z12 * z21
+        herm = (z12 + np.conj(z21)) / 2
+        tol = 1e-9 * (np.abs(z11) * np.abs(z22) + np.abs(p) + 1.0)
+        llew = (r11 < -1e-9 * np.abs(z11)) | (r22 < -1e-9 * np.abs(z22))
+        llew |= 2 * r11 * r22 - p.real - np.abs(p) < -tol
+        psd = (r11 < -1e-9 * np.abs(z11)) | (r22 < -1e-9 * np.abs(z22))
+        psd |= r11 * r22 - np.abs(herm) ** 2 < -tol
+        c = np.array([np.broadcast_to(f(*pts[chunk].T), (len(chunk),)) for f in coef]).T
+        comp = np.zeros((len(chunk), c.shape[1] - 1, c.shape[1] - 1))
+        comp[:, 0, :] = -c[:, 1:] / c[:, :1]
+        comp[:, 1:, :-1] += np.eye(c.shape[1] - 2)
+        rhp = (np.linalg.eigvals(comp).real > -1e-9).any(axis=1)
+        k = [np.broadcast_to(f(*pts[chunk].T), (len(chunk),)) for f in res]
+        bad_res = (k[0] < -1e-12) | (k[3] < -1e-12) | (k[0] * k[3] - k[1] * k[2] < -1e-9)
+        bad_res |= np.abs(k[1] - k[2]) > 1e-9 * (np.abs(k[1]) + np.abs(k[2]) + 1)
+        unstable[chunk] = llew.any(axis=0) | rhp
+        active[chunk] = psd.any(axis=0) | rhp | bad_res
+    return int(unstable.sum()), int(active.sum())
+
+
 def test_dense_exact_sampling_never_contradicts_a_robust_verdict() -> None:
     box = {"m": (0.9, 1.1), "b": (8.0, 12.0)}
     r = robust_two_port_check(SEA_KL, box=box)
     assert r.stability.outcome is Outcome.PASSIVE and r.passivity.outcome is Outcome.PASSIVE
     assert r.to_dict()["status"] == "passive" and r.worst is None
+    # 10,004 plants (corners in) by the float method, vectorised
+    assert _float_violations(SEA_KL, box) == (0, 0)
+    # and 81 of them (a 9 x 9 grid, corners in) by the ordinary exact verdict, one by one
     tp = two_port(SEA_KL)
-    ms, bs = np.linspace(0.9, 1.1, 45), np.linspace(8.0, 12.0, 45)  # 2,025 plants, corners in
-    for m, b in itertools.product(ms, bs):
+    for m, b in itertools.product(np.linspace(0.9, 1.1, 9), np.linspace(8.0, 12.0, 9)):
         assert _exact_verdicts(tp, {"m": float(m), "b": float(b)}) == (True, True), (m, b)
+
+
+def test_the_float_sampling_finds_the_failures_of_a_box_declared_not_passive() -> None:
+    # the float method can fail: it sees the plants the robust verdict rejects (kl = 1500)
+    sea, box = SEA_KL.with_values(kl=1500.0), {"m": (0.8, 1.2), "b": (8.0, 12.0)}
+    r = robust_two_port_check(sea, box=box)
+    assert r.stability.outcome is Outcome.NOT_PASSIVE
+    assert r.passivity.outcome is Outcome.NOT_PASSIVE
+    unstable, active = _float_violations(sea, box, n=2000)
+    assert unstable > 0 and active > 0
 
 
 def test_worst_plant_is_verified_by_the_exact_verdict() -> None:
