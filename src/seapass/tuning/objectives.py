@@ -47,7 +47,7 @@ ranked below every candidate that is.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from enum import StrEnum
 from typing import Any
@@ -72,6 +72,7 @@ __all__ = [
     "squash",
     "static_gain",
     "stiffness_gain",
+    "target_rational",
 ]
 
 DEFAULT_BANDWIDTH_BAND = (1e-2, 1e5)
@@ -310,6 +311,26 @@ class ObjectiveFunction:
         stiffness: str | None = None,
         stiffness_box: tuple[float, float] | None = None,
     ) -> None:
+        self._common(spec, sea, gains, loop, stiffness, stiffness_box)
+        self._elements = sea.exact_elements()
+        self._fixed = exact_values(
+            {k: v for k, v in sea.values.items() if k not in self.full_gains}
+        )
+        self._stability = [
+            closed_loop_factory(sea, self.full_gains, load_mass=float(m)) for m in load_masses
+        ]
+        self._set_band(*spec.frequency_band)
+
+    def _common(
+        self,
+        spec: InteractionObjective,
+        sea: SEA,
+        gains: Sequence[str],
+        loop: SampledLoop | None,
+        stiffness: str | None,
+        stiffness_box: tuple[float, float] | None,
+    ) -> None:
+        """The attributes every objective function has (continuous or in z)."""
         self.spec = spec
         self.kind = Interaction(spec.kind)
         self.sea = sea
@@ -321,19 +342,17 @@ class ObjectiveFunction:
         self.bounds_run = 0
         self._zwidths: dict[tuple[float, ...], float] = {}
         self.full_gains = self.gains + ((stiffness,) if stiffness else ())
-        self._elements = sea.exact_elements()
-        self._fixed = exact_values(
-            {k: v for k, v in sea.values.items() if k not in self.full_gains}
-        )
-        self._stability = [
-            closed_loop_factory(sea, self.full_gains, load_mass=float(m)) for m in load_masses
-        ]
-        lo, hi = spec.frequency_band
+        self.nyquist: float | None = None  # a controller in z: pi/T (rad/s)
+
+    def _set_band(self, lo: float, hi: float) -> None:
+        """The search frequencies and the target on them."""
+        spec = self.spec
+        self.band = (float(lo), float(hi))
         self.omega = log_frequencies(lo, hi, spec.points)
         self._target: np.ndarray | None = None
         self.target_expression: _Rat | None = None
         if self.kind is Interaction.RENDERING:
-            self.target_expression = _target(str(spec.target), sea)
+            self.target_expression = target_rational(str(spec.target), self.sea)
             self._target = response_at(self.target_expression, self.omega)
             if np.any(self._target == 0) or not np.all(np.isfinite(self._target)):
                 raise ParameterError(
@@ -384,24 +403,14 @@ class ObjectiveFunction:
             return False
         return True
 
-    def rendering_error(
-        self, full: Sequence[float], omega: np.ndarray | None = None
-    ) -> tuple[float, float]:
-        """``(worst relative error, its frequency)`` over the band (``omega``: other grid)."""
-        if self.target_expression is None:
-            raise ParameterError("rendering_error needs a rendering objective with a target")
-        w = self.omega if omega is None else omega
-        target = response_at(self.target_expression, w) if omega is not None else self._target
-        assert target is not None
-        rendered = response_at(self.stiffness_tf(full), w)
-        err = np.abs(rendered - target) / np.abs(target)
-        if not np.all(np.isfinite(err)):
-            return math.inf, float(w[int(np.argmax(~np.isfinite(err)))])
-        i = int(np.argmax(err))
-        return float(err[i]), float(w[i])
+    def stiffness_response(self, full: Sequence[float], omega: np.ndarray) -> np.ndarray:
+        """The rendered stiffness ``F_L/X_L(jω)`` of the candidate ``full`` (complex)."""
+        return response_at(self.stiffness_tf(full), omega)
 
-    def force_bandwidth(self, full: Sequence[float], omega: np.ndarray | None = None) -> float:
-        """The −3 dB force bandwidth (rad/s), nan when the clamped loop is not stable."""
+    def force_magnitude(self, full: Sequence[float]) -> Callable[[np.ndarray], np.ndarray] | float:
+        """``ω ↦ |G(jω)/G(0)|`` of the clamped-load force, or a number when there is no
+        such curve: nan (the clamped loop is not stable, or ``G(0)`` is infinite), 0
+        (``G(0) = 0``)."""
         g = self.force_tf(full)
         den = _floats(g[1])
         if den.size > 1 and float(np.max(np.roots(den).real)) >= 0:
@@ -411,10 +420,33 @@ class ObjectiveFunction:
             return 0.0
         if not math.isfinite(dc):
             return math.nan
+        return lambda w: np.abs(response_at(g, w)) / abs(dc)
+
+    def rendering_error(
+        self, full: Sequence[float], omega: np.ndarray | None = None
+    ) -> tuple[float, float]:
+        """``(worst relative error, its frequency)`` over the band (``omega``: other grid)."""
+        if self.target_expression is None:
+            raise ParameterError("rendering_error needs a rendering objective with a target")
+        w = self.omega if omega is None else omega
+        target = response_at(self.target_expression, w) if omega is not None else self._target
+        assert target is not None
+        rendered = self.stiffness_response(full, w)
+        err = np.abs(rendered - target) / np.abs(target)
+        if not np.all(np.isfinite(err)):
+            return math.inf, float(w[int(np.argmax(~np.isfinite(err)))])
+        i = int(np.argmax(err))
+        return float(err[i]), float(w[i])
+
+    def force_bandwidth(self, full: Sequence[float], omega: np.ndarray | None = None) -> float:
+        """The −3 dB force bandwidth (rad/s), nan when the clamped loop is not stable."""
+        curve = self.force_magnitude(full)
+        if not callable(curve):
+            return float(curve)
         w = self.omega if omega is None else omega
 
         def low(x: np.ndarray) -> np.ndarray:
-            return np.abs(response_at(g, x)) <= HALF_POWER * abs(dc)
+            return curve(x) <= HALF_POWER
 
         below = low(w)
         if not below.any():
@@ -467,7 +499,7 @@ class ObjectiveFunction:
         return self.force_bandwidth(x)
 
 
-def _target(text: str, sea: SEA) -> _Rat:
+def target_rational(text: str, sea: SEA) -> _Rat:
     """The target as an exact rational function of ``s`` at the design's values."""
     allowed = (*sea.parameters, *(k for k in sea.values if k not in sea.parameters))
     try:
