@@ -212,9 +212,8 @@ def test_rational_plant_agrees_with_python_control_c2d_and_a_fine_run(delay: int
 
 
 def test_rational_plant_stability_is_the_spectral_radius_of_the_whole_loop() -> None:
-    from seapass.sampled.coupling import coupled_closed_loop
-
     from seapass.sampled.controllers import DiscreteController, controller_state_space
+    from seapass.sampled.coupling import coupled_closed_loop
 
     acl = coupled_closed_loop(SEA_R, loop=LOOP, env_mass=1.5)
     order = controller_state_space(DiscreteController.for_loop(SEA_R, LOOP), 0)[0].shape[0]

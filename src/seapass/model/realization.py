@@ -367,18 +367,20 @@ def plant_realization(
                 f"{key} needs values for {', '.join(missing)}; give them, "
                 f"e.g. values={{{missing[0]!r}: 1.0}}"
             )
-        num, den = exact[key].evaluate(env)
+        pn, pd = exact[key].evaluate(env)
         nums[key] = (
-            np.array([float(c) for c in reversed(num.coeffs())] or [0.0]),
-            np.array([float(c) for c in reversed(den.coeffs())]),
+            np.array([float(c) for c in reversed(pn.coeffs())] or [0.0]),
+            np.array([float(c) for c in reversed(pd.coeffs())]),
         )
     m, b = (float(nums[k][0][-1] / nums[k][1][-1]) for k in ("m", "b"))
     if m <= 0:
         raise ParameterError(f"actuator mass m must be positive, got {m:g}")
     elems: dict[str, _Element | None] = {}
     for key in ("D1", "D2"):
-        num, den = nums[key]
-        elems[key] = None if not np.any(num) else _realize(num, den, f"{key} = {getattr(sea, key)}")
+        fnum, fden = nums[key]
+        elems[key] = (
+            None if not np.any(fnum) else _realize(fnum, fden, f"{key} = {getattr(sea, key)}")
+        )
     none = _Controller(np.zeros(2), np.zeros(2), np.zeros((0, 0)), np.zeros((0, 2)), np.zeros(0))
     loop = _assemble(m, b, load_mass, elems, none)
     B = np.array(loop.B)

@@ -55,8 +55,8 @@ from ..sim.scenarios import (
 )
 from ..sim.simulate import SimulationResult
 from .controllers import DiscreteController
-from .plantloop import discrete_plant, loop_matrix
 from .plant import numeric_element
+from .plantloop import discrete_plant, loop_matrix
 
 __all__ = ["SampledResponse", "sampled_response"]
 

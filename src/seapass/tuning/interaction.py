@@ -54,8 +54,6 @@ from .objectives import (
     stiffness_gain,
 )
 from .optimize import narrowed_box
-from .sampled_design import check_sampled_boxes, sampled_loop_of
-from .sampled_objectives import SampledChecks, SampledObjectiveFunction
 from .problem import (
     BoxLike,
     DesignLike,
@@ -65,6 +63,8 @@ from .problem import (
     design_parts,
     resolve_problem,
 )
+from .sampled_design import check_sampled_boxes, sampled_loop_of
+from .sampled_objectives import SampledChecks, SampledObjectiveFunction
 from .search import differential_search, snap_to_edges
 
 __all__ = ["ObjectiveCost", "tune_objective"]
@@ -80,7 +80,7 @@ class ObjectiveCost:
     best), 2 when a load mass destabilizes it, 3 when the objective has no value."""
 
     def __init__(
-        self, fn: ObjectiveFunction, checks: ConstraintChecks, *, constrained: bool
+        self, fn: ObjectiveFunction, checks: ConstraintChecks | SampledChecks, *, constrained: bool
     ) -> None:
         self.fn = fn
         self.checks = checks
@@ -321,7 +321,7 @@ def _z_problems(
 def _search(
     problem: TuningProblem,
     fn: ObjectiveFunction,
-    checks: ConstraintChecks,
+    checks: ConstraintChecks | SampledChecks,
     bounds: Mapping[str, tuple[float, float]],
     constrained: bool,
     progress: Any,

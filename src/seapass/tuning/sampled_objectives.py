@@ -49,6 +49,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -63,8 +64,6 @@ from ..sampled.plantloop import DiscretePlant, discrete_plant, loop_matrix
 from .objectives import Interaction, InteractionObjective, ObjectiveFunction
 
 __all__ = ["SampledChecks", "SampledObjectiveFunction", "zoh_pulse_transfer"]
-
-_Poly = np.ndarray  # descending float coefficients
 
 
 def _floats(p: object) -> np.ndarray:
@@ -115,7 +114,7 @@ def _at(phi: np.ndarray, gamma: np.ndarray, c: np.ndarray, z: np.ndarray) -> np.
     return out
 
 
-def _poly_at(coeffs: Sequence[float], zinv: np.ndarray) -> np.ndarray:
+def _poly_at(coeffs: Sequence[Any], zinv: np.ndarray) -> np.ndarray:
     """``Σ c_i z^{-i}`` (ascending powers of ``z^-1``)."""
     return np.polyval(np.array([float(c) for c in coeffs])[::-1], zinv)
 
@@ -204,7 +203,7 @@ class SampledObjectiveFunction(ObjectiveFunction):
                     np.polymul(delta, d2)),
         }  # fmt: skip
         self._zoh = zoh_pulse_transfer([d1, n1], delta, T)  # G_P, G_a of the clamped plant
-        self._grids: dict[tuple[float, ...], dict[str, np.ndarray]] = {}
+        self._grids: dict[bytes, dict[str, np.ndarray]] = {}
 
     # ---------------------------------------------------------------- the loop pieces
 
@@ -215,7 +214,7 @@ class SampledObjectiveFunction(ObjectiveFunction):
 
     def _grid(self, omega: np.ndarray) -> dict[str, np.ndarray]:
         """The plant's responses on ``omega`` (they do not depend on the gains: cached)."""
-        key = tuple(float(w) for w in omega[:: max(1, omega.size // 8)]) + (omega.size,)
+        key = omega.tobytes()
         if key not in self._grids:
             s = 1j * omega
             out = {k: np.polyval(n, s) / np.polyval(d, s) for k, (n, d) in self._rationals.items()}
