@@ -107,7 +107,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     lg.add_argument("--continuous", action="store_true",
                     help="ignore the design file's [control]: continuous passivity only")  # fmt: skip
     add_unit_option(p)
-    add_uncertain_options(p)
+    add_uncertain_options(
+        p, budget=None, boxes="boxes of the certified test per candidate (default 5000; a "
+        "controller in z: sub-boxes of the robust sampled verdict, default 4)",
+    )  # fmt: skip
     s = p.add_argument_group("the step response (default: the file's [simulation], else the paper's experiment: 10 kg, 0.5 m, 10 s)")  # fmt: skip
     s.add_argument("--load-mass", type=float, metavar="KG", help="tuning load mass m_L [kg]")
     s.add_argument("--mass-policy", choices=("worst", "tune"),
@@ -272,7 +275,7 @@ def run(args: argparse.Namespace) -> int:
         uncertain = parse_uncertain(args.uncertain)
     for name in sorted(set(uncertain) & set(values_from_args(args))):
         raise ParameterError(f"--set {name}: {name} is uncertain (--uncertain {name}); give one")
-    if args.budget < 1:
+    if args.budget is not None and args.budget < 1:
         raise ParameterError(f"--budget must be a positive integer, got {args.budget}")
     design, file, values = _design(args, boxes, uncertain)
     opts = options_from_args(args, file)
@@ -364,9 +367,14 @@ def _print_text(result: TuningResult, units: Mapping[str, str] | None = None) ->
         verdicts += f" [{result.passivity.outcome}]"
     loop = result.options.loop
     if result.sea.discrete is not None and loop is not None:  # a controller in z
+        over = ""
+        if c is not None and c.kind is ConstraintKind.BOX and c.box is not None:
+            over = ", for every plant with " + ", ".join(
+                f"{k} in [{a:g}, {b:g}]" for k, (a, b) in c.box.intervals.items()
+            )
         verdicts = (
             f"passive in the sampled loop at T = {loop.period:g} s (delay {loop.delay}, "
-            f"controller in z, certified): {'yes' if result.sampled_passive else 'NO'}"
+            f"controller in z, certified{over}): {'yes' if result.sampled_passive else 'NO'}"
         )
     elif result.sampled_passive is not None and loop is not None:
         verdicts += (

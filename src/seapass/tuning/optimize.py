@@ -154,7 +154,9 @@ def tune(
         design, tune, opts, values, allow_plant=allow_plant, uncertain=uncertain, budget=budget
     )
     if problem.sea.discrete is not None:  # a controller in z: the sampled loop, certified
-        result = _tune_z(design, tune, problem, uncertain, progress, callback)
+        result = _tune_z(design, tune, problem, constraint, progress, callback)
+        if constraint.kind is ConstraintKind.BOX:  # the nominal z-tune, same plant and budget
+            result = _with_nominal(result, design, problem, constraint, opts, values, allow_plant)
         for message in result.warnings:
             warnings.warn(message, TuningWarning, stacklevel=2)
         if throw and not result.feasible:
@@ -195,15 +197,7 @@ def tune(
         generations=int(found.nit), constraint=constraint,
     )  # fmt: skip
     if constraint.kind is ConstraintKind.BOX:  # the nominal tune, same plant and budget
-        fixed = {n: float(problem.sea.values[n] or 0) for n in constraint.box.names}  # type: ignore[union-attr]
-        with warnings.catch_warnings():  # the nominal run's own notes are not this result's
-            warnings.simplefilter("ignore", TuningWarning)
-            nominal = _nominal_tune(design, tune=dict(problem.box), options=opts,
-                                    values={**(values or {}), **fixed}, allow_plant=allow_plant)  # fmt: skip
-        if result.feasible and (not nominal.feasible or result.objective < nominal.objective):
-            alt = verify(problem, x, bounds=bounds, cost=best, generations=nominal.generations)
-            nominal = alt if alt.feasible else nominal  # the robust gains are nominal ones too
-        result = replace(result, nominal=nominal)
+        result = _with_nominal(result, design, problem, constraint, opts, values, allow_plant)
     for message in result.warnings:
         warnings.warn(message, TuningWarning, stacklevel=2)
     if throw and not result.feasible:
@@ -214,25 +208,54 @@ def tune(
 _nominal_tune = tune  # the function itself (inside it, ``tune`` is the argument)
 
 
+def _with_nominal(
+    result: TuningResult,
+    design: DesignLike,
+    problem: TuningProblem,
+    constraint: PassivityConstraint,
+    opts: TuningOptions,
+    values: Mapping[str, float] | None,
+    allow_plant: bool,
+) -> TuningResult:
+    """``result`` (robust, over a box) with the nominal tune of the same budget beside it:
+    the plant at its nominal values, the same boxes (``robustness_cost``)."""
+    assert constraint.box is not None
+    fixed = {n: float(problem.sea.values[n] or 0) for n in constraint.box.names}
+    with warnings.catch_warnings():  # the nominal run's own notes are not this result's
+        warnings.simplefilter("ignore", TuningWarning)
+        nominal = _nominal_tune(design, tune=dict(problem.box), options=opts,
+                                values={**(values or {}), **fixed}, allow_plant=allow_plant)  # fmt: skip
+    if result.feasible and (not nominal.feasible or result.objective < nominal.objective):
+        x = [result.gains[g] for g in problem.gains]  # the robust gains are nominal ones too
+        if problem.sea.discrete is not None:
+            from .sampled_design import verify_sampled
+
+            alt = verify_sampled(problem, x, bounds=result.bounds, cost=result.cost,
+                                 generations=nominal.generations)  # fmt: skip
+        else:
+            alt = verify(problem, x, bounds=result.bounds, cost=result.cost,
+                         generations=nominal.generations)  # fmt: skip
+        nominal = alt if alt.feasible else nominal
+    return replace(result, nominal=nominal)
+
+
 def _tune_z(
     design: DesignLike,
     tune: BoxLike | None,
     problem: TuningProblem,
-    uncertain: Mapping[str, Any] | None,
+    constraint: PassivityConstraint,
     progress: ProgressLike,
     callback: Callable[[int, float], None] | None,
 ) -> TuningResult:
-    """`tune` of a design whose controller is given in z (`seapass.tuning.sampled_design`)."""
+    """`tune` of a design whose controller is given in z (`seapass.tuning.sampled_design`);
+    over a box, every candidate is certified by the robust sampled verdict."""
     from .sampled_design import check_sampled_boxes, tune_sampled
 
-    if uncertain:
-        raise ParameterError(
-            "uncertain: robust tuning of a controller in z is not available", argument="uncertain"
-        )
     ranges = dict(getattr(design, "ranges", None) or {})  # a file's explicit [ranges] only
     given = dict(tune) if isinstance(tune, Mapping) else {}
     check_sampled_boxes(problem, given, ranges)
-    return tune_sampled(problem, progress=progress, callback=callback)
+    box = constraint if constraint.kind is ConstraintKind.BOX else None
+    return tune_sampled(problem, progress=progress, callback=callback, constraint=box)
 
 
 def narrowed_box(problem: TuningProblem) -> dict[str, tuple[float, float]]:
