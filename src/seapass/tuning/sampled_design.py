@@ -208,8 +208,9 @@ def verify_sampled(
         sampled: Any = _verdict(problem, x)
         if constraint is not None:
             robust = constraint.verdict(x)
+            detail = f"{constraint.label}: {robust.detail}"
             sampled = SimpleNamespace(outcome=robust.outcome, passive=robust.passive,
-                                      period=sampled.period, detail=robust.detail, reason="")  # fmt: skip
+                                      period=sampled.period, detail=detail, reason="")  # fmt: skip
     except (SeapassError, ArithmeticError, ValueError) as exc:
         raise ParameterError(f"{problem.name}: no sampled verdict at {gains}: {exc}") from None
     runs = []
@@ -223,8 +224,6 @@ def verify_sampled(
     )
     if sampled.outcome is Outcome.UNDECIDED:
         notes.append("the sampled verdict is undecided: counted as not passive")
-    if robust is not None and not robust.passive and constraint is not None:
-        notes.append(f"not certified {constraint.label}: {robust.detail}")
     on_bound = problem.on_bound(gains)
     notes += [edge_note(problem, name, gains[name], edge) for name, edge in on_bound.items()]
     return TuningResult(
