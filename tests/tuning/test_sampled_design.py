@@ -178,3 +178,32 @@ def test_robust_z_tune_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -
     assert main([*argv[:4], "--uncertain", "m=1.0201:1.0199", "--no-progress"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: ") and err.count("\n") == 1
+
+
+def test_latency_in_whole_samples_is_certified_in_the_longer_loop(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from seapass.cli import main
+
+    design = _design(tmp_path)
+    r = seapass.tune(design, tune={"kd": (0.0, 4000.0)}, loop=design.loop, delay_time=0.004,
+                     **ROBUST)  # fmt: skip
+    longer = SampledLoop(rate=RATE, delay=3)  # the file's one sample and two more
+    assert r.options.loop == longer and r.sampled_passive
+    assert sampled_passivity(r.sea, loop=longer).passive  # certified again, independently
+    res = sampled_response(r.sea, loop=longer, load_mass=1.0, scenario=Step(STEP), horizon=1.0)
+    assert r.metrics.settling_time == pytest.approx(res.metrics().settling_time)
+    with pytest.raises(ParameterError, match="whole periods") as exc:
+        seapass.tune(design, tune={"kd": (0.0, 4000.0)}, delay_time=0.003, **ROBUST)
+    assert exc.value.argument == "delay_time"
+    sea = seapass.SEA(D1="k1", CA="kd", values={"m": 1, "b": 1, "k1": 100, "kd": 1})
+    with pytest.raises(ParameterError, match="design file's \\[control\\] delay_time"):
+        seapass.tune(sea, tune={"kd": (0.0, 10.0)}, delay_time=0.001, **ROBUST)
+    f = str(tmp_path / "zpd.toml")
+    for extra, words in ((["--delay-time", "0.003"], "--delay-time: a controller given in z "
+                          "at 500 Hz takes a loop latency only in whole periods"),
+                         (["--objective", "force-bandwidth", "--delay-time", "0.002"],
+                          "--delay-time works with --objective settling or itae")):  # fmt: skip
+        assert main(["tune", f, "--tune", "kd=0:4000", *extra, "--no-progress"]) == 2
+        out, err = capsys.readouterr()
+        assert out == "" and err.startswith(f"error: {words}") and err.count("\n") == 1

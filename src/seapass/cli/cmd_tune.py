@@ -106,6 +106,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
                           period_help="also require passivity under sampled-data control with period T [s] (default: the design file's [control], else none)")  # fmt: skip
     lg.add_argument("--continuous", action="store_true",
                     help="ignore the design file's [control]: continuous passivity only")  # fmt: skip
+    lg.add_argument("--delay-time", type=float, metavar="SECONDS",
+                    help="loop latency replacing the design file's [control] delay_time; a "
+                    "controller in z: a whole number of periods, each one more sample of "
+                    "delay in the certified sampled loop (default: the file's, else none)")  # fmt: skip
     add_unit_option(p)
     add_uncertain_options(
         p, budget=None, boxes="boxes of the certified test per candidate (default 5000; a "
@@ -295,6 +299,11 @@ def run(args: argparse.Namespace) -> int:
                 f"--uncertain and --robust work with --objective settling or itae, "
                 f"not {args.objective}"
             )
+        if args.delay_time is not None:
+            raise ParameterError(
+                f"--delay-time works with --objective settling or itae, not {args.objective} "
+                "(its objectives are those of the delay-free design)"
+            )
         return run_objective(args, design, boxes, values, opts)
     with warnings.catch_warnings(), choose_progress(not args.no_progress) as progress, box_words():
         warnings.simplefilter("ignore", TuningWarning)  # printed below, once, as lines
@@ -307,6 +316,7 @@ def run(args: argparse.Namespace) -> int:
             allow_plant=args.allow_plant,
             uncertain=uncertain or None,
             budget=args.budget if uncertain else None,
+            delay_time=args.delay_time,
         )
     for message in result.warnings:
         warn(cli_words(message))
@@ -412,6 +422,10 @@ def box_words() -> Iterator[None]:
     try:
         yield
     except ParameterError as exc:
+        if exc.argument == "delay_time":
+            from .design_options import latency_message
+
+            raise ParameterError(latency_message(str(exc))) from None
         if "box" in str(exc) or exc.argument in ("box", "loop"):
             raise ParameterError(box_text(str(exc))) from None
         raise

@@ -40,6 +40,7 @@ from ..analysis.passivity import is_passive
 from ..analysis.region import passive_intervals
 from ..errors import NotPassiveError, ParameterError, SeapassDeprecationWarning, TuningWarning
 from ..model.sea import SEA
+from ..model.zcontroller import discrete_loop
 from ..progress import ProgressLike, as_progress
 from ..sampled.passivity import SampledPassivityResult, sampled_passivity
 from .constraints import (
@@ -76,6 +77,7 @@ def tune(
     allow_plant: bool = False,
     uncertain: Mapping[str, Any] | None = None,
     budget: int | None = None,
+    delay_time: float | None = None,
     **changes: Any,
 ) -> TuningResult:
     """Tune the gains of ``design`` for the best passive step response.
@@ -122,6 +124,12 @@ def tune(
         [`constrained_problem`][seapass.tuning.constraints.constrained_problem].
     budget : int, optional
         Budget of the certified delay or box test (undecided counts as not passive).
+    delay_time : float, optional
+        A loop latency [s] replacing the design file's ``[control] delay_time`` (a
+        [`Design`][seapass.model.design_file.Design] only).  For a controller given in z
+        it must be a whole number of periods: each adds one sample to the sampled loop's
+        delay, where every candidate is certified
+        ([`latency_loop`][seapass.tuning.sampled_design.latency_loop]).
     **changes
         Any field of `TuningOptions`, replacing the one in ``options``, e.g.
         ``objective="itae"``, ``loop=SampledLoop(period=0.002)``, ``seed=3``.
@@ -150,6 +158,8 @@ def tune(
     (True, ['bd', 'kd'])
     """
     opts = (options or TuningOptions()).replace(**changes)
+    if delay_time is not None:
+        design, opts = _with_latency(design, opts, delay_time)
     problem, constraint = constrained_problem(
         design, tune, opts, values, allow_plant=allow_plant, uncertain=uncertain, budget=budget
     )
@@ -206,6 +216,29 @@ def tune(
 
 
 _nominal_tune = tune  # the function itself (inside it, ``tune`` is the argument)
+
+
+def _with_latency(
+    design: DesignLike, opts: TuningOptions, delay_time: float
+) -> tuple[DesignLike, TuningOptions]:
+    """The design (continuous: its ``[control] delay_time``) or the loop (a controller in z:
+    whole samples) with the loop latency ``delay_time``."""
+    from ..model.design_file import Design
+    from .problem import design_parts
+    from .sampled_design import latency_loop
+
+    zc = design_parts(design)[1].discrete
+    if zc is not None:
+        loop = discrete_loop(zc, opts.loop)
+        return design, opts.replace(loop=latency_loop(loop, delay_time))
+    if not isinstance(design, Design):
+        raise ParameterError(
+            "delay_time: a loop latency replaces a design file's [control] delay_time; for "
+            "another design put the delay in the model, e.g. CA='(kd + bd*s)*exp(-tau*s)' "
+            "with values={'tau': 0.001}",
+            argument="delay_time",
+        )
+    return replace(design, delay_time=delay_time), opts
 
 
 def _with_nominal(

@@ -49,7 +49,13 @@ from .problem import Objective, TuningProblem
 from .result import TuningResult
 from .search import differential_search, snap_to_edges
 
-__all__ = ["SampledCandidateCost", "sampled_loop_of", "sampled_step", "tune_sampled"]
+__all__ = [
+    "SampledCandidateCost",
+    "latency_loop",
+    "sampled_loop_of",
+    "sampled_step",
+    "tune_sampled",
+]
 
 
 def sampled_loop_of(problem: TuningProblem) -> SampledLoop:
@@ -58,6 +64,39 @@ def sampled_loop_of(problem: TuningProblem) -> SampledLoop:
     if zc is None:
         raise ParameterError(f"{problem.name}: its controller is not given in z")
     return problem.options.loop or SampledLoop(rate=float(zc.rate))
+
+
+def latency_loop(loop: SampledLoop, delay_time: float) -> SampledLoop:
+    """``loop`` with a loop latency of ``delay_time`` seconds added, in whole samples.
+
+    The certified sampled verdict of a controller given in z takes a delay only as whole
+    periods (``loop.delay``), so a latency ``n T`` adds ``n`` samples; any other latency
+    is refused.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``delay_time``: negative, not finite, or not a whole number of periods.
+
+    Examples
+    --------
+    >>> latency_loop(SampledLoop(rate=500.0, delay=1), 0.004).delay
+    3
+    """
+    from ..model.latency import check_delay_time
+
+    tau = check_delay_time(delay_time)
+    T = loop.period
+    n = round(tau / T)
+    if abs(tau - n * T) > 1e-9 * max(T, tau):
+        raise ParameterError(
+            f"delay_time: a controller given in z at {loop.rate:g} Hz takes a loop latency "
+            f"only in whole periods (delay_time = n*{T:g} s adds n samples to the loop's "
+            f"delay); {tau:g} s is {tau / T:.6g} periods: give a whole number of periods "
+            "or 0",
+            argument="delay_time",
+        )
+    return loop.replace(delay=loop.delay + n)
 
 
 def sampled_step(
