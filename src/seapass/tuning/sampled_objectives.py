@@ -48,7 +48,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -119,15 +118,15 @@ def _poly_at(coeffs: Sequence[Any], zinv: np.ndarray) -> np.ndarray:
     return np.polyval(np.array([float(c) for c in coeffs])[::-1], zinv)
 
 
-@dataclass
 class SampledChecks:
     """The certified sampled verdicts of the candidates of a z-design (cached, counted);
     the constraint of [`tune_objective`][seapass.tuning.interaction.tune_objective] there."""
 
-    candidate: Callable[[Sequence[float]], SEA]
-    loop: SampledLoop
-    sampled: dict[tuple[float, ...], bool] = field(default_factory=dict)
-    continuous: dict[tuple[float, ...], bool] = field(default_factory=dict)  # none: in z
+    def __init__(self, *, candidate: Callable[[Sequence[float]], SEA], loop: SampledLoop) -> None:
+        self.candidate = candidate
+        self.loop = loop
+        self.sampled: dict[tuple[float, ...], bool] = {}
+        self.continuous: dict[tuple[float, ...], bool] = {}  # none: the controller is in z
 
     def outcome(self, x: Sequence[float]) -> Outcome:
         """The certified verdict at ``x`` (an error is undecided)."""
