@@ -262,7 +262,12 @@ class ObjectiveTuningResult:
             (f"{self.kind.label} (passive)", value_text(self.kind, c.value, self.unit)),
             ("unconstrained optimum", value_text(self.kind, u.value, self.unit)),
             ("passivity cost", value_text(self.kind, self.passivity_cost, self.unit)),
-            ("passive (exact)", "yes" if c.outcome.passive else "no"),
+            (
+                "passive (sampled, certified)"
+                if self.sea.discrete is not None
+                else "passive (exact)",
+                "yes" if c.outcome.passive else "no",
+            ),
             ("load masses [kg]", ", ".join(f"{m:g}" for m in self.load_masses)),
         ]
         verdict = "feasible" if self.feasible else "not feasible: " + ", ".join(self.violations)
