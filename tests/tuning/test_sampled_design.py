@@ -207,3 +207,14 @@ def test_latency_in_whole_samples_is_certified_in_the_longer_loop(
         assert main(["tune", f, "--tune", "kd=0:4000", *extra, "--no-progress"]) == 2
         out, err = capsys.readouterr()
         assert out == "" and err.startswith(f"error: {words}") and err.count("\n") == 1
+
+
+def test_latency_on_a_design_that_is_not_a_file_is_one_error_line(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    from seapass.cli import main
+
+    assert main(["tune", "LP", "--delay-time", "0.001", "--quick", "--no-progress"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1
+    assert "put the delay in the model, e.g. --CA '(kd + bd*s)*exp(-tau*s)' --set tau=0.001" in err

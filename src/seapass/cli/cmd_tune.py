@@ -425,7 +425,10 @@ def box_words() -> Iterator[None]:
         if exc.argument == "delay_time":
             from .design_options import latency_message
 
-            raise ParameterError(latency_message(str(exc))) from None
+            text = latency_message(str(exc)).replace("CA='", "--CA '")
+            raise ParameterError(
+                text.replace(" with values={'tau': 0.001}", " --set tau=0.001")
+            ) from None
         if "box" in str(exc) or exc.argument in ("box", "loop"):
             raise ParameterError(box_text(str(exc))) from None
         raise
