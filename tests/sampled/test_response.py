@@ -10,6 +10,7 @@ from __future__ import annotations
 import control
 import numpy as np
 import pytest
+from scipy.integrate import solve_ivp
 
 from seapass.errors import ModelError, ParameterError
 from seapass.model.loop import SampledLoop
@@ -95,10 +96,9 @@ def test_results_and_bad_input() -> None:
         sampled_response(SEA_Z, loop=SampledLoop(rate=1000.0), load_mass=1.0)
     with pytest.raises(ParameterError, match="limit"):
         sampled_response(SEA_Z, loop=LOOP, load_mass=1.0, horizon=1e9)
-    lead = SEA(D1="k1/(1 + s)", values={k: v for k, v in VALS.items() if k != "b1"},
-               discrete=ZC)  # fmt: skip
-    with pytest.raises(ModelError, match="k \\+ b\\*s only"):
-        sampled_response(lead, loop=LOOP, load_mass=1.0, horizon=0.1)
+    inerter = SEA(D1="k1 + b1*s + mi*s**2", values={**VALS, "mi": 0.1}, discrete=ZC)
+    with pytest.raises(ModelError, match="improper with 2 more zeros"):
+        sampled_response(inerter, loop=LOOP, load_mass=1.0, horizon=0.1)
 
 
 def test_an_unstable_loop_is_a_result_cut_at_divergence() -> None:
@@ -162,3 +162,65 @@ def test_metrics_of_other_scenarios_and_divergence() -> None:
     r = sampled_response(hot, loop=LOOP, load_mass=1.0, scenario=Step(0.01), horizon=100.0)
     assert str(r.metrics().status) == "unstable"
     assert r.simulation().diverged
+
+
+# a rational transmission (a spring with a lead network) and a filtered damper to ground
+RATIONAL = {"m": 1.02, "b": 10.0, "k1": 1005.0, "b2": 4.0, "kd": 800.0, "bd": 20.0, "kl": 300.0}
+SEA_R = SEA(D1="k1*(1 + s/40)/(1 + s/400)", D2="b2*s/(1 + s/200)", values=RATIONAL,
+            discrete=ZC)  # fmt: skip
+
+
+def _python_control_rational_plant(load_mass: float) -> control.InputOutputSystem:
+    """The rational plant joined by python-control from its own blocks (written here)."""
+    m, b, k1, b2 = (RATIONAL[k] for k in ("m", "b", "k1", "b2"))
+    act = control.tf([1.0], [m, b, 0.0], inputs="fa_net", outputs="xa")
+    load = control.tf([1.0], [load_mass, 0.0, 0.0], inputs="fl_net", outputs="xl")
+    d1 = control.tf([k1 / 40, k1], [1 / 400, 1.0], inputs="dx", outputs="f1")
+    d2 = control.tf([b2, 0.0], [1 / 200, 1.0], inputs="xl", outputs="f2")
+    blocks = [
+        act, load, d1, d2,
+        control.summing_junction(["xl", "-xa"], "dx"),
+        control.summing_junction(["fa", "f1"], "fa_net"),
+        control.summing_junction(["fe", "-f1", "-f2"], "fl_net"),
+    ]  # fmt: skip
+    return control.interconnect(blocks, inplist=["fa", "fe"], outlist=["xa", "xl"])
+
+
+@pytest.mark.parametrize("delay", [0, 1])
+def test_rational_plant_agrees_with_python_control_c2d_and_a_fine_run(delay: int) -> None:
+    loop = LOOP.replace(delay=delay)
+    res = sampled_response(SEA_R, loop=loop, load_mass=1.5, scenario=Step(0.02), horizon=0.4)
+    assert res.time.size == 201 and res.plant_A.shape == (6, 6)  # 4 + one state each
+    T = loop.period
+    plant = control.sample_system(control.ss(_python_control_rational_plant(1.5)), T, "zoh")
+    # the held force res.f_A through python-control's ZOH plant gives the same samples
+    fr = control.forced_response(plant, T=res.time, U=np.vstack([res.f_A, 0 * res.f_A]))
+    assert np.allclose(fr.outputs[0], res.x_A, rtol=1e-7, atol=1e-11)
+    assert np.allclose(fr.outputs[1], res.x_L, rtol=1e-7, atol=1e-11)
+    # and an ODE solver on the continuous plant, the force held over each period
+    cont = control.ss(_python_control_rational_plant(1.5))
+    A, B, C = (np.asarray(x) for x in (cont.A, cont.B, cont.C))
+    x, xl = np.zeros(A.shape[0]), [0.0]
+    for k in range(60):  # the first 60 periods, counted
+        f = B[:, 0] * res.f_A[k]
+        x = solve_ivp(lambda _t, y, f=f: A @ y + f, (0.0, T), x, rtol=1e-11, atol=1e-14).y[:, -1]
+        xl.append(float(C[1] @ x))
+    assert np.allclose(xl, res.x_L[:61], rtol=1e-6, atol=1e-10)
+    assert res.stable and abs(res.x_L[-1]) > 0.01
+    met = res.metrics()  # the metrics run on the exact inter-sample motion of the plant
+    assert met.peak_force == pytest.approx(float(np.abs(res.f_A).max()))
+
+
+def test_rational_plant_stability_is_the_spectral_radius_of_the_whole_loop() -> None:
+    from seapass.sampled.controllers import DiscreteController, controller_state_space
+    from seapass.sampled.coupling import coupled_closed_loop
+
+    acl = coupled_closed_loop(SEA_R, loop=LOOP, env_mass=1.5)
+    order = controller_state_space(DiscreteController.for_loop(SEA_R, LOOP), 0)[0].shape[0]
+    assert acl.shape[0] == 6 + order  # plant with two element states, then the controller
+    r = sampled_response(SEA_R, loop=LOOP, load_mass=1.5, horizon=0.2)
+    assert r.spectral_radius == pytest.approx(float(np.max(np.abs(np.linalg.eigvals(acl)))))
+    d = LoadDisplaced(0.01)
+    rest = sampled_response(SEA_R, loop=LOOP, load_mass=1.5, scenario=d, horizon=0.01)
+    assert rest.plant_states is not None  # the elements at rest: D1 not deflected, D2 is
+    assert rest.plant_states[0, 4] == 0.0 and rest.plant_states[0, 5] == pytest.approx(5e-5)

@@ -120,3 +120,101 @@ def test_bad_input_names_the_argument(tmp_path: Path) -> None:
                 None, seapass.tuning.problem.TuningOptions(),
             )
         )  # fmt: skip
+
+
+NARROW = {"m": (1.0199, 1.0201)}  # about 1e-4 relative: what the robust sampled verdict certifies
+ROBUST = dict(maxiter=1, popsize=2, masses=[1.0], horizon=1.0, step=STEP, seed=0)
+
+
+def test_robust_z_tune_is_certified_over_the_box_and_beside_the_nominal(tmp_path: Path) -> None:
+    design = _design(tmp_path)
+    r = seapass.tune(design, tune={"kd": (0.0, 4000.0)}, loop=design.loop, uncertain=NARROW,
+                     budget=2, **ROBUST)  # fmt: skip
+    c = r.constraint
+    assert c is not None and str(c.kind) == "box" and c.loop == SampledLoop(rate=RATE, delay=1)
+    assert r.feasible and r.passive and str(r.passivity.outcome) == "passive"  # type: ignore[union-attr]
+    # independent: the point verdict at plants spread over the box, the ends included
+    for m in np.linspace(*NARROW["m"], 5):
+        assert sampled_passivity(r.sea.with_values(m=float(m)), loop=c.loop).passive
+    assert r.nominal is not None and r.nominal.constraint is None  # the nominal z-tune: no box
+    assert r.nominal.sampled_passive
+    assert r.robustness_cost is not None and r.robustness_cost >= 0
+    assert r.robustness_cost == pytest.approx(r.objective - r.nominal.objective)
+    d = r.to_dict()
+    assert d["constraint"]["box"] == {"m": [1.0199, 1.0201]} and d["certified"] == "passive"
+
+
+def test_robust_z_tune_counts_undecided_as_not_passive(tmp_path: Path) -> None:
+    design = _design(tmp_path)
+    with pytest.warns(
+        TuningWarning,
+        match="certified in the sampled loop at T = 0.002 s for every plant with m in",
+    ):
+        r = seapass.tune(design, tune={"kd": (0.0, 4000.0)}, loop=design.loop,
+                         uncertain={"m": (0.3, 1.02)}, budget=1, **ROBUST)  # fmt: skip
+    assert not r.feasible and "sampled passivity" in r.violations
+    assert str(r.passivity.outcome) == "undecided"  # type: ignore[union-attr]
+    with pytest.raises(ParameterError, match="tuned"):
+        seapass.tune(design, tune={"kd": (0.0, 4000.0)}, uncertain={"kd": (1.0, 2.0)}, **ROBUST)
+
+
+def test_robust_z_tune_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    import json
+
+    from seapass.cli import main
+
+    f = str(tmp_path / "zpd.toml")
+    _design(tmp_path)
+    argv = ["tune", f, "--tune", "kd=0:4000", "--uncertain", "m=1.0199:1.0201", "--budget", "2",
+            "--maxiter", "1", "--popsize", "2", "--horizon", "1", "--load-mass", "1",
+            "--mass-policy", "tune", "--step", str(STEP), "--no-progress"]  # fmt: skip
+    assert main([*argv, "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["constraint"]["kind"] == "box" and d["certified"] == "passive"
+    assert d["robustness_cost"] >= 0 and d["nominal"] is not None and d["robust"] == d["objective"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "for every plant with m in [1.0199, 1.0201]): yes" in out and "robustness cost" in out
+    assert main([*argv[:4], "--uncertain", "m=1.0201:1.0199", "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and err.count("\n") == 1
+
+
+def test_latency_in_whole_samples_is_certified_in_the_longer_loop(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from seapass.cli import main
+
+    design = _design(tmp_path)
+    r = seapass.tune(design, tune={"kd": (0.0, 4000.0)}, loop=design.loop, delay_time=0.004,
+                     **ROBUST)  # fmt: skip
+    longer = SampledLoop(rate=RATE, delay=3)  # the file's one sample and two more
+    assert r.options.loop == longer and r.sampled_passive
+    assert sampled_passivity(r.sea, loop=longer).passive  # certified again, independently
+    res = sampled_response(r.sea, loop=longer, load_mass=1.0, scenario=Step(STEP), horizon=1.0)
+    assert r.metrics.settling_time == pytest.approx(res.metrics().settling_time)
+    with pytest.raises(ParameterError, match="whole periods") as exc:
+        seapass.tune(design, tune={"kd": (0.0, 4000.0)}, delay_time=0.003, **ROBUST)
+    assert exc.value.argument == "delay_time"
+    sea = seapass.SEA(D1="k1", CA="kd", values={"m": 1, "b": 1, "k1": 100, "kd": 1})
+    with pytest.raises(ParameterError, match="design file's \\[control\\] delay_time"):
+        seapass.tune(sea, tune={"kd": (0.0, 10.0)}, delay_time=0.001, **ROBUST)
+    f = str(tmp_path / "zpd.toml")
+    for extra, words in ((["--delay-time", "0.003"], "--delay-time: a controller given in z "
+                          "at 500 Hz takes a loop latency only in whole periods"),
+                         (["--objective", "force-bandwidth", "--delay-time", "0.002"],
+                          "--delay-time works with --objective settling or itae")):  # fmt: skip
+        assert main(["tune", f, "--tune", "kd=0:4000", *extra, "--no-progress"]) == 2
+        out, err = capsys.readouterr()
+        assert out == "" and err.startswith(f"error: {words}") and err.count("\n") == 1
+
+
+def test_latency_on_a_design_that_is_not_a_file_is_one_error_line(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    from seapass.cli import main
+
+    assert main(["tune", "LP", "--delay-time", "0.001", "--quick", "--no-progress"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1
+    assert "put the delay in the model, e.g. --CA '(kd + bd*s)*exp(-tau*s)' --set tau=0.001" in err

@@ -106,8 +106,15 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
                           period_help="also require passivity under sampled-data control with period T [s] (default: the design file's [control], else none)")  # fmt: skip
     lg.add_argument("--continuous", action="store_true",
                     help="ignore the design file's [control]: continuous passivity only")  # fmt: skip
+    lg.add_argument("--delay-time", type=float, metavar="SECONDS",
+                    help="loop latency replacing the design file's [control] delay_time; a "
+                    "controller in z: a whole number of periods, each one more sample of "
+                    "delay in the certified sampled loop (default: the file's, else none)")  # fmt: skip
     add_unit_option(p)
-    add_uncertain_options(p)
+    add_uncertain_options(
+        p, budget=None, boxes="boxes of the certified test per candidate (default 5000; a "
+        "controller in z: sub-boxes of the robust sampled verdict, default 4)",
+    )  # fmt: skip
     s = p.add_argument_group("the step response (default: the file's [simulation], else the paper's experiment: 10 kg, 0.5 m, 10 s)")  # fmt: skip
     s.add_argument("--load-mass", type=float, metavar="KG", help="tuning load mass m_L [kg]")
     s.add_argument("--mass-policy", choices=("worst", "tune"),
@@ -272,7 +279,7 @@ def run(args: argparse.Namespace) -> int:
         uncertain = parse_uncertain(args.uncertain)
     for name in sorted(set(uncertain) & set(values_from_args(args))):
         raise ParameterError(f"--set {name}: {name} is uncertain (--uncertain {name}); give one")
-    if args.budget < 1:
+    if args.budget is not None and args.budget < 1:
         raise ParameterError(f"--budget must be a positive integer, got {args.budget}")
     design, file, values = _design(args, boxes, uncertain)
     opts = options_from_args(args, file)
@@ -292,6 +299,11 @@ def run(args: argparse.Namespace) -> int:
                 f"--uncertain and --robust work with --objective settling or itae, "
                 f"not {args.objective}"
             )
+        if args.delay_time is not None:
+            raise ParameterError(
+                f"--delay-time works with --objective settling or itae, not {args.objective} "
+                "(its objectives are those of the delay-free design)"
+            )
         return run_objective(args, design, boxes, values, opts)
     with warnings.catch_warnings(), choose_progress(not args.no_progress) as progress, box_words():
         warnings.simplefilter("ignore", TuningWarning)  # printed below, once, as lines
@@ -304,6 +316,7 @@ def run(args: argparse.Namespace) -> int:
             allow_plant=args.allow_plant,
             uncertain=uncertain or None,
             budget=args.budget if uncertain else None,
+            delay_time=args.delay_time,
         )
     for message in result.warnings:
         warn(cli_words(message))
@@ -364,9 +377,14 @@ def _print_text(result: TuningResult, units: Mapping[str, str] | None = None) ->
         verdicts += f" [{result.passivity.outcome}]"
     loop = result.options.loop
     if result.sea.discrete is not None and loop is not None:  # a controller in z
+        over = ""
+        if c is not None and c.kind is ConstraintKind.BOX and c.box is not None:
+            over = ", for every plant with " + ", ".join(
+                f"{k} in [{a:g}, {b:g}]" for k, (a, b) in c.box.intervals.items()
+            )
         verdicts = (
             f"passive in the sampled loop at T = {loop.period:g} s (delay {loop.delay}, "
-            f"controller in z, certified): {'yes' if result.sampled_passive else 'NO'}"
+            f"controller in z, certified{over}): {'yes' if result.sampled_passive else 'NO'}"
         )
     elif result.sampled_passive is not None and loop is not None:
         verdicts += (
@@ -404,6 +422,13 @@ def box_words() -> Iterator[None]:
     try:
         yield
     except ParameterError as exc:
+        if exc.argument == "delay_time":
+            from .design_options import latency_message
+
+            text = latency_message(str(exc)).replace("CA='", "--CA '")
+            raise ParameterError(
+                text.replace(" with values={'tau': 0.001}", " --set tau=0.001")
+            ) from None
         if "box" in str(exc) or exc.argument in ("box", "loop"):
             raise ParameterError(box_text(str(exc))) from None
         raise

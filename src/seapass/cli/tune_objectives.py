@@ -62,7 +62,8 @@ def run_objective(
     from ..tuning.objectives import InteractionObjective
     from .progress import choose_progress
 
-    if args.objective == "zwidth" and opts.loop is None:
+    in_z = getattr(_sea_of(design), "discrete", None) is not None  # runs at its own rate
+    if args.objective == "zwidth" and opts.loop is None and not in_z:
         raise ParameterError(
             "--objective zwidth needs the loop rate: give --period T or a design file "
             "with a [control] rate"
@@ -86,13 +87,18 @@ def run_objective(
     else:
         print_objective(result)
     loop = getattr(design, "loop", None)
-    if loop is not None and opts.loop is not None and args.period is None:
+    if loop is not None and opts.loop is not None and args.period is None and not in_z:
         print(
             f"note: passivity also required at the design file's {loop.rate:g} Hz "
             "([control]); --continuous drops it",
             file=sys.stderr,
         )
     return 0 if result.feasible else 1
+
+
+def _sea_of(design: Any) -> Any:
+    """The SEA of a design, catalog name or model (None for a catalog name)."""
+    return design if not hasattr(design, "sea") or not callable(design.sea) else design.sea()
 
 
 def print_objective(result: ObjectiveTuningResult) -> None:
@@ -105,7 +111,13 @@ def print_objective(result: ObjectiveTuningResult) -> None:
     at = f" (worst at {c.at:.4g} rad/s)" if c.at is not None else ""
     print(f"{kind.label}: {value_text(kind, c.value, unit)}{at}")
     verdict = f"passive: {'yes' if c.outcome.passive else 'NO'}"
-    if c.sampled_outcome is not None and result.options.loop is not None:
+    loop = result.options.loop
+    if result.sea.discrete is not None and loop is not None:  # a controller in z
+        verdict = (
+            f"passive in the sampled loop at T = {loop.period:g} s (delay {loop.delay}, "
+            f"controller in z, certified): {'yes' if c.outcome.passive else 'NO'}"
+        )
+    elif c.sampled_outcome is not None and result.options.loop is not None:
         verdict += f"; passive at T = {result.options.loop.period:g} s: "
         verdict += "yes" if c.sampled_outcome.passive else "NO"
     stable = "yes" if c.stable else "NO"

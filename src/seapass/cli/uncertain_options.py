@@ -48,7 +48,7 @@ CLI_BUDGET = 5000  # seapass.robust.verdict.DEFAULT_BUDGET (a test keeps them eq
 def add_uncertain_options(
     p: argparse.ArgumentParser,
     *,
-    budget: int = CLI_BUDGET,
+    budget: int | None = CLI_BUDGET,
     verdict: str = "the verdict then holds for every value in the box (exact for one, "
     "certified for several)",
     boxes: str = "boxes the certified branch and bound may examine (several --uncertain)",

@@ -28,6 +28,7 @@ __all__ = [
     "ClosedLoop",
     "closed_loop",
     "closed_loop_factory",
+    "plant_realization",
     "unrealizable_controllers",
 ]
 
@@ -325,6 +326,70 @@ def closed_loop(
         elems[key] = _realize(num, den, f"{key} = {expr}")
     ctrl = _Controller.of(controller_realization(sea, values=values))
     return _assemble(m, b, load_mass, elems, ctrl)
+
+
+def plant_realization(
+    sea: SEA, *, load_mass: float, values: Mapping[str, float] | None = None
+) -> ClosedLoop:
+    """The plant alone (no controller) with a load mass, driven by the actuator force.
+
+    The same realization as [`closed_loop`][seapass.model.realization.closed_loop] (any
+    rational ``D1``, ``D2`` with at most one derivative: ``p0 + p1 s`` + a strictly proper
+    part in controllable canonical form), with the controller left out: the input slot
+    ``theta_A`` of the result carries the actuator force ``f_A`` (N), ``theta_L`` does
+    nothing and ``f_ext`` is the external force on the load.  A controller given in ``z``
+    is allowed (it is not part of the plant), so the sampled loop can run on this.
+
+    Raises
+    ------
+    ParameterError
+        For a non-positive load mass or mass ``m``, or a plant parameter without a value.
+    UnrealizableError
+        For ``D1`` or ``D2`` with two derivatives or more (an inerter needs accelerations).
+
+    Examples
+    --------
+    >>> p = plant_realization(SEA(D1="k1*(1 + s/50)/(1 + s/500)", D2="b2*s",
+    ...                           values=dict(m=1, b=10, k1=1000, b2=2)), load_mass=2.0)
+    >>> p.states, p.B[:, 0].tolist()
+    (('x_A', 'v_A', 'x_L', 'v_L', 'D1_z0'), [0.0, 1.0, 0.0, 0.0, 0.0])
+    """
+    from .elements import exact_values
+
+    load_mass = finite_number(load_mass, "load mass m_L", positive=True)
+    env = exact_values({**sea.values, **(values or {})})
+    exact = sea.exact_elements()
+    nums: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    for key in ("m", "b", "D1", "D2"):
+        missing = sorted(exact[key].parameters() - set(env))
+        if missing:
+            raise ParameterError(
+                f"{key} needs values for {', '.join(missing)}; give them, "
+                f"e.g. values={{{missing[0]!r}: 1.0}}"
+            )
+        pn, pd = exact[key].evaluate(env)
+        nums[key] = (
+            np.array([float(c) for c in reversed(pn.coeffs())] or [0.0]),
+            np.array([float(c) for c in reversed(pd.coeffs())]),
+        )
+    m, b = (float(nums[k][0][-1] / nums[k][1][-1]) for k in ("m", "b"))
+    if m <= 0:
+        raise ParameterError(f"actuator mass m must be positive, got {m:g}")
+    elems: dict[str, _Element | None] = {}
+    for key in ("D1", "D2"):
+        fnum, fden = nums[key]
+        elems[key] = (
+            None if not np.any(fnum) else _realize(fnum, fden, f"{key} = {getattr(sea, key)}")
+        )
+    none = _Controller(np.zeros(2), np.zeros(2), np.zeros((0, 0)), np.zeros((0, 2)), np.zeros(0))
+    loop = _assemble(m, b, load_mass, elems, none)
+    B = np.array(loop.B)
+    B[:, 0], B[1, 0] = 0.0, 1.0 / m  # the force enters the actuator's momentum only
+    D = np.zeros((7, 3))
+    D[4, 0] = 1.0  # f_A is the input itself
+    D[6] = loop.D[6]
+    return ClosedLoop(A=loop.A, B=B, C=loop.C, D=D, states=loop.states,
+                      load_mass=load_mass, relaxed=loop.relaxed)  # fmt: skip
 
 
 def _joint_coefficients(

@@ -13,7 +13,8 @@ numeric controllers); the certified sampled-data passivity analysis:
 functions of one parameter, branch and bound), [`bound`][seapass.sampled.bound] (certified
 passive sets of one parameter), [`region`][seapass.sampled.region] (Z-width maps);
 [`coupling`][seapass.sampled.coupling] (the digital loop coupled to passive environments,
-a simulation check), [`response`][seapass.sampled.response] (the sampled loop's time
+a simulation check), [`plantloop`][seapass.sampled.plantloop] (the sampled loop in state
+space, any rational plant), [`response`][seapass.sampled.response] (the sampled loop's time
 response, for controllers given in z) and [`runtime`][seapass.sampled.runtime] (a fixed-rate control loop
 with safety, for hardware or the twin).
 

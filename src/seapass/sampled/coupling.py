@@ -18,7 +18,7 @@ from ..errors import ModelError, ParameterError
 from ..model.expr import S
 from ..model.loop import SampledLoop
 from ..model.sea import SEA
-from .controllers import DiscreteController, controller_state_space
+from .controllers import DiscreteController
 
 __all__ = [
     "CoupledCheck",
@@ -85,43 +85,24 @@ def coupled_closed_loop(
     controller: DiscreteController | None = None,
     _plant: tuple[float, ...] | None = None,
 ) -> np.ndarray:
-    """Closed-loop transition matrix over one period (plant states first: x_A, v_A, x_L, v_L).
+    """Closed-loop transition matrix over one period (plant states first: x_A, v_A, x_L, v_L,
+    then the states of ``D1`` and ``D2``, then the controller's).
 
-    The controller is its one minimal realization
+    Any rational ``D1``, ``D2`` with at most one derivative
+    ([`discrete_plant`][seapass.sampled.plantloop.discrete_plant]).  The controller is its
+    one minimal realization
     ([`controller_state_space`][seapass.sampled.controllers.controller_state_space]) followed by
     the loop's delay; ``controller`` (a `DiscreteController`) skips re-discretizing it.
+    ``_plant`` is ignored (kept for callers of the former ``k + b s`` plant).
     """
-    from scipy.linalg import expm
+    from .plantloop import discrete_plant, loop_matrix
 
     if not env_mass > 0:
         raise ParameterError(f"env_mass must be positive, got {env_mass!r}")
-    m, b, k1, b1, k2, b2 = _plant or coupled_plant(sea)
-    me, ke, be = float(env_mass), float(env_stiffness), float(env_damping)
-    A = np.array(
-        [
-            [0.0, 1.0, 0.0, 0.0],
-            [-k1 / m, -(b + b1) / m, k1 / m, b1 / m],
-            [0.0, 0.0, 0.0, 1.0],
-            [k1 / me, b1 / me, -(k1 + k2 + ke) / me, -(b1 + b2 + be) / me],
-        ]
-    )
-    B = np.array([[0.0], [1.0 / m], [0.0], [0.0]])
-    period = loop.period
-    big = np.zeros((5, 5))
-    big[:4, :4], big[:4, 4:] = A * period, B * period
-    E = expm(big)
-    Ad, Bd = E[:4, :4], E[:4, 4:]
+    plant = discrete_plant(sea, loop.period, load_mass=float(env_mass),
+                           env_stiffness=float(env_stiffness), env_damping=float(env_damping))  # fmt: skip
     ctrl = controller or DiscreteController.for_loop(sea, loop)
-    Ak, Bk, Ck, Dk = controller_state_space(ctrl, loop.delay)
-    cy = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]])
-    nk = Ak.shape[0]
-    out = np.zeros((4 + nk, 4 + nk))
-    # u = −(Ck ξ + Dk y), y = (x_A, x_L); ξ⁺ = Ak ξ + Bk y
-    out[:4, :4] = Ad - Bd @ Dk.reshape(1, 2) @ cy
-    out[:4, 4:] = -Bd @ Ck.reshape(1, nk)
-    out[4:, :4] = Bk @ cy
-    out[4:, 4:] = Ak
-    return out
+    return loop_matrix(plant, ctrl, loop.delay)
 
 
 def coupled_check(
@@ -168,7 +149,6 @@ def worst_sampled_environment(
     ms = np.logspace(-3, 1, 13) if masses is None else np.atleast_1d(masses)
     ks = np.r_[0.0, np.logspace(1, 5, 13)] if stiffnesses is None else np.atleast_1d(stiffnesses)
     ctrl = DiscreteController.for_loop(sea, loop)
-    params = coupled_plant(sea)
     best: CoupledCheck | None = None
     for me in ms:
         for ke in ks:
@@ -179,7 +159,6 @@ def worst_sampled_environment(
                 env_stiffness=float(ke),
                 env_damping=damping,
                 controller=ctrl,
-                _plant=params,
             )
             if best is None or c.spectral_radius > best.spectral_radius:
                 best = c

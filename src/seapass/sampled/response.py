@@ -10,7 +10,9 @@ the force, which is applied ``loop.delay`` samples later and held (ZOH) over the
 The plant with its load mass is discretized exactly (matrix exponential), so the samples
 are exact up to rounding; stability is the spectral radius of the one-period transition
 matrix of the whole loop ([`coupled_closed_loop`][seapass.sampled.coupling.coupled_closed_loop]).
-Supported plants are those of the coupled check: ``D1 = k1 + b1 s``, ``D2 = k2 + b2 s``.
+Any rational ``D1``, ``D2`` with at most one derivative is supported (the plant of
+[`discrete_plant`][seapass.sampled.plantloop.discrete_plant]: their internal states are
+plant states).
 
 The tracking metrics ([`SampledResponse.metrics`][seapass.sampled.response.SampledResponse.metrics]:
 settling time, overshoot, final error, force, energy) are those of
@@ -53,7 +55,8 @@ from ..sim.scenarios import (
 )
 from ..sim.simulate import SimulationResult
 from .controllers import DiscreteController
-from .coupling import coupled_closed_loop, coupled_plant
+from .plant import numeric_element
+from .plantloop import discrete_plant, loop_matrix
 
 __all__ = ["SampledResponse", "sampled_response"]
 
@@ -72,16 +75,20 @@ class SampledResponse:
     target : float
         Final load reference (m).
     scenario : Scenario
-    plant_A, plant_B : ndarray, shapes (4, 4) and (4, 2)
-        The continuous plant with its load mass, ``ẋ = A x + B (f_A, f_ext)``.
+    plant_A, plant_B : ndarray, shapes (n, n) and (n, 2)
+        The continuous plant with its load mass, ``ẋ = A x + B (f_A, f_ext)`` (states
+        ``x_A, v_A, x_L, v_L`` first, then those of ``D1`` and ``D2``).
     f_ext : ndarray, shape (N + 1,)
         External force held from each instant on (N).
     statics : ndarray, shape (6,) or None
-        ``(n_A(1), d_A(1), n_L(1), d_L(1), k1, k2)``: the controller's numerators and
-        denominators at ``z = 1`` and the springs, from which the rest position under a
+        ``(n_A(1), d_A(1), n_L(1), d_L(1), D1(0), D2(0))``: the controller's numerators
+        and denominators at ``z = 1`` and the static stiffnesses, from which the rest position under a
         constant external force is found (None: not computed).
     periods : int
         Periods asked for; fewer samples than ``periods + 1`` mean the run diverged.
+    plant : ClosedLoop or None
+        The plant's realization (`plant_realization`; None: the ``k + b s`` plant of
+        ``plant_A``); ``plant_states`` its whole state at the instants, shape (N + 1, n).
     """
 
     time: np.ndarray
@@ -99,6 +106,8 @@ class SampledResponse:
     f_ext: np.ndarray | None = field(default=None, repr=False)
     statics: np.ndarray | None = field(default=None, repr=False)
     periods: int = 0
+    plant: Any = field(default=None, repr=False)
+    plant_states: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         if self.f_ext is None:
@@ -132,19 +141,26 @@ class SampledResponse:
         from ..model.realization import ClosedLoop
 
         A, B = self.plant_A, self.plant_B
-        m_l = 1.0 / B[3, 1]
-        C, D = np.zeros((7, 4)), np.zeros((7, 3))
-        C[:4, :4] = np.eye(4)
-        D[4, 0] = 1.0
-        k1, b1 = A[3, 0] * m_l, A[3, 1] * m_l
-        C[5] = [-k1, -b1, k1, b1]  # f_D1 = D1 (x_L − x_A)
-        C[6], D[6, 2] = A[3], B[3, 1]
-        B3 = np.column_stack([B[:, 0], np.zeros(4), B[:, 1]])
-        sys = ClosedLoop(A=A, B=B3, C=C, D=D, states=("x_A", "v_A", "x_L", "v_L"),
-                         load_mass=m_l, relaxed=np.eye(4))  # fmt: skip
+        if self.plant is not None:
+            sys = self.plant
+        else:  # the former k + b s plant, from its matrices
+            m_l = 1.0 / B[3, 1]
+            C, D = np.zeros((7, 4)), np.zeros((7, 3))
+            C[:4, :4] = np.eye(4)
+            D[4, 0] = 1.0
+            k1, b1 = A[3, 0] * m_l, A[3, 1] * m_l
+            C[5] = [-k1, -b1, k1, b1]  # f_D1 = D1 (x_L − x_A)
+            C[6], D[6, 2] = A[3], B[3, 1]
+            B3 = np.column_stack([B[:, 0], np.zeros(4), B[:, 1]])
+            sys = ClosedLoop(A=A, B=B3, C=C, D=D, states=("x_A", "v_A", "x_L", "v_L"),
+                             load_mass=m_l, relaxed=np.eye(4))  # fmt: skip
         f_ext = np.zeros(self.time.size) if self.f_ext is None else self.f_ext
         u = np.column_stack([self.f_A, np.zeros(self.time.size), f_ext])
-        x = np.column_stack([self.x_A, self.v_A, self.x_L, self.v_L])
+        x = (
+            np.asarray(self.plant_states)
+            if self.plant_states is not None
+            else np.column_stack([self.x_A, self.v_A, self.x_L, self.v_L])
+        )
         diverged = self.time.size < self.periods + 1
         target, scale, has_step = self._target()
         power = self.f_A * self.v_A
@@ -237,15 +253,18 @@ class SampledResponse:
         )
 
 
-def _setup(scenario: Scenario, load_mass: float) -> tuple[np.ndarray, Any, float]:
-    """Initial plant state, ``t -> (θ_A, θ_L, f_ext)`` and the target."""
-    x0 = np.zeros(4)
+def _setup(
+    scenario: Scenario, load_mass: float, relaxed: np.ndarray
+) -> tuple[np.ndarray, Any, float]:
+    """Initial plant state, ``t -> (θ_A, θ_L, f_ext)`` and the target (``relaxed``: the
+    plant's map from a configuration to its state with the elements at rest)."""
+    x0 = np.zeros(relaxed.shape[0])
     if isinstance(scenario, Step):
         ra, rl = reference_values(scenario.apply_to, scenario.size)
         return x0, lambda t: (ra, rl, 0.0), float(scenario.size)
     if isinstance(scenario, LoadDisplaced):  # the spring relaxed: both at the displacement
         x0[0] = x0[2] = scenario.displacement
-        return x0, lambda t: (0.0, 0.0, 0.0), 0.0
+        return relaxed @ x0, lambda t: (0.0, 0.0, 0.0), 0.0
     if isinstance(scenario, ForceImpulse):
         x0[3] = scenario.impulse / load_mass
         return x0, lambda t: (0.0, 0.0, 0.0), 0.0
@@ -279,7 +298,7 @@ def sampled_response(
     sea : SEA
         The design (a controller in ``z`` is run as is; ``CA``/``CL`` are discretized as
         [`DiscreteController.for_loop`][seapass.sampled.controllers.DiscreteController.for_loop]
-        does).  ``D1 = k1 + b1 s`` and ``D2 = k2 + b2 s``.
+        does).  ``D1``, ``D2``: any rational function with at most one derivative.
     loop : SampledLoop
         Period and computational delay.
     load_mass : float
@@ -305,7 +324,6 @@ def sampled_response(
     >>> r.stable, r.time.size
     (True, 2001)
     """
-    from scipy.linalg import expm
 
     m_l = finite_number(load_mass, "load mass m_L", positive=True)
     horizon = PAPER_EXPERIMENT.horizon if horizon is None else horizon
@@ -317,23 +335,13 @@ def sampled_response(
             f"horizon {horizon:g} s is {n} periods of {T:g} s; the limit is {MAX_SIM_STEPS}"
         )
     ctrl = controller or DiscreteController.for_loop(sea, loop)
-    m, b, k1, b1, k2, b2 = coupled_plant(sea)
-    A = np.array(
-        [
-            [0.0, 1.0, 0.0, 0.0],
-            [-k1 / m, -(b + b1) / m, k1 / m, b1 / m],
-            [0.0, 0.0, 0.0, 1.0],
-            [k1 / m_l, b1 / m_l, -(k1 + k2) / m_l, -(b1 + b2) / m_l],
-        ]
-    )
-    B = np.array([[0.0, 0.0], [1.0 / m, 0.0], [0.0, 0.0], [0.0, 1.0 / m_l]])
-    big = np.zeros((6, 6))
-    big[:4, :4], big[:4, 4:] = A * T, B * T
-    E = expm(big)
-    Ad, Bd = E[:4, :4], E[:4, 4:]
-    acl = coupled_closed_loop(sea, loop=loop, env_mass=m_l, controller=ctrl)
+    plant = discrete_plant(sea, T, load_mass=m_l)
+    Ad, Bd = plant.Phi, plant.Gamma
+    acl = loop_matrix(plant, ctrl, loop.delay)
     rho = float(np.max(np.abs(np.linalg.eigvals(acl))))
-    x, inputs, target = _setup(scenario if scenario is not None else Step(), m_l)
+    x, inputs, target = _setup(
+        scenario if scenario is not None else Step(), m_l, np.asarray(plant.continuous.relaxed)
+    )
     ctrl.reset()
     pending: deque[float] = deque([0.0] * loop.delay)
     states, forces, external = [x.copy()], [], []
@@ -354,7 +362,7 @@ def sampled_response(
     s = np.array(states)
     ka, kl = ctrl.transfer_functions()
     statics = np.array([float(sum(ka.num)), float(sum(ka.den)), float(sum(kl.num)),
-                        float(sum(kl.den)), k1, k2])  # fmt: skip
+                        float(sum(kl.den)), _static(sea, "D1"), _static(sea, "D2")])  # fmt: skip
     return SampledResponse(
         time=np.arange(len(states)) * T,
         x_A=s[:, 0],
@@ -366,9 +374,18 @@ def sampled_response(
         spectral_radius=rho,
         target=target,
         scenario=scenario if scenario is not None else Step(),
-        plant_A=A,
-        plant_B=B,
+        plant_A=plant.continuous.A,
+        plant_B=np.column_stack([plant.continuous.B[:, 0], plant.continuous.B[:, 2]]),
         f_ext=np.array(external),
         statics=statics,
         periods=n,
+        plant=plant.continuous,
+        plant_states=s,
     )
+
+
+def _static(sea: SEA, key: str) -> float:
+    """``D(0)`` of a plant element (inf for a pole at 0)."""
+    num, den = numeric_element(sea, key)
+    d0 = den(0)
+    return float(num(0) / d0) if d0 != 0 else math.inf

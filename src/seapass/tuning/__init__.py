@@ -15,8 +15,11 @@ and a clean Ctrl-C), [`optimize`][seapass.tuning.optimize] (`tune`, the
 step-response entry point), [`sampled_design`][seapass.tuning.sampled_design] (its path
 for a controller given in z: certified sampled passivity, the sampled step response) and
 [`result`][seapass.tuning.result] (its `TuningResult`); the interaction-control objectives
-in [`objectives`][seapass.tuning.objectives] (rendering fidelity, force bandwidth,
-Z-width), their entry point [`interaction`][seapass.tuning.interaction]
+(what to optimize: [`objective_spec`][seapass.tuning.objective_spec]) in
+[`objectives`][seapass.tuning.objectives] (rendering fidelity, force bandwidth,
+Z-width) and, for a controller given in z, in
+[`sampled_objectives`][seapass.tuning.sampled_objectives] (the sampled loop's own
+responses, certified sampled passivity), their entry point [`interaction`][seapass.tuning.interaction]
 (`tune_objective`, constrained and unconstrained) and its result in
 [`objective_result`][seapass.tuning.objective_result].
 

@@ -38,18 +38,23 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from dataclasses import replace as dc_replace
 from enum import StrEnum
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 from ..analysis.passivity import PassivityResult, is_passive
 from ..delay.passivity import DelayPassivityResult, delayed_passivity
 from ..delay.structure import check_tau, controller_delay
 from ..errors import ParameterError, SeapassError
 from ..model.delayatom import model_delays
+from ..model.loop import SampledLoop
 from ..model.sea import SEA
 from ..model.symbolic import Delay
 from ..outcome import Outcome
 from ..robust.box import UncertainBox, uncertain_box
 from ..robust.verdict import RobustResult, robust_check
+
+if TYPE_CHECKING:
+    from ..robust.sampled_verdict import RobustSampledResult
+
 from .problem import (
     BoxLike,
     DesignLike,
@@ -70,7 +75,7 @@ __all__ = [
     "rounded_gains",
 ]
 
-Verdict = PassivityResult | DelayPassivityResult | RobustResult
+Verdict: TypeAlias = "PassivityResult | DelayPassivityResult | RobustResult | RobustSampledResult"
 
 LATENCY = "delay_time"
 """The attribute of a design file's loop latency, ``[control] delay_time`` in seconds: it
@@ -109,6 +114,10 @@ class PassivityConstraint:
     budget : int or None
         Budget of the certified test (ball evaluations of the delay test, boxes of the
         robust branch and bound); None: the test's default.
+    loop : SampledLoop or None
+        A controller given in z: the box is decided in its sampled loop by
+        [`robust_sampled_check`][seapass.robust.sampled_verdict.robust_sampled_check]
+        (sub-boxes, default 4; no continuous gate: the controller exists only in z).
     """
 
     kind: ConstraintKind
@@ -118,6 +127,7 @@ class PassivityConstraint:
     tau: float | None = None
     box: UncertainBox | None = None
     budget: int | None = None
+    loop: SampledLoop | None = None
 
     def design(self, x: Sequence[float]) -> SEA:
         """The design with the tuned gains set to ``x`` (the delay kept)."""
@@ -130,6 +140,14 @@ class PassivityConstraint:
             if self.budget is None:
                 return delayed_passivity(sea)
             return delayed_passivity(sea, budget=self.budget)
+        if self.kind is ConstraintKind.BOX and self.loop is not None:
+            from ..robust.sampled_verdict import DEFAULT_SAMPLED_BUDGET, robust_sampled_check
+
+            assert self.box is not None
+            return robust_sampled_check(
+                sea, loop=self.loop, box=self.box, continuous_gate=False,
+                budget=DEFAULT_SAMPLED_BUDGET if self.budget is None else self.budget,
+            )  # fmt: skip
         if self.kind is ConstraintKind.BOX:
             assert self.box is not None
             if self.budget is None:
@@ -151,7 +169,10 @@ class PassivityConstraint:
             return f"certified at {self.delay} = {self.tau:g} s"
         if self.kind is ConstraintKind.BOX and self.box is not None:
             span = ", ".join(f"{k} in [{a:g}, {b:g}]" for k, (a, b) in self.box.intervals.items())
-            return f"certified for every plant with {span}"
+            where = (
+                "" if self.loop is None else f" in the sampled loop at T = {self.loop.period:g} s"
+            )
+            return f"certified{where} for every plant with {span}"
         return "exact"
 
     def to_dict(self) -> dict[str, Any]:
@@ -292,6 +313,12 @@ def constrained_problem(
             tau=tau, budget=budget,
         )  # fmt: skip
         return dc_replace(problem, sea=delay_free(problem.sea)), constraint
+    zc = problem.sea.discrete
+    if box is not None and zc is not None:  # a controller in z: the robust sampled verdict
+        return problem, PassivityConstraint(
+            kind=ConstraintKind.BOX, sea=problem.sea, gains=problem.gains, box=box,
+            budget=budget, loop=loop or SampledLoop(rate=float(zc.rate)),
+        )  # fmt: skip
     if box is not None:
         if loop is not None:
             raise ParameterError(

@@ -63,6 +63,8 @@ from .problem import (
     design_parts,
     resolve_problem,
 )
+from .sampled_design import check_sampled_boxes, sampled_loop_of
+from .sampled_objectives import SampledChecks, SampledObjectiveFunction
 from .search import differential_search, snap_to_edges
 
 __all__ = ["ObjectiveCost", "tune_objective"]
@@ -78,7 +80,7 @@ class ObjectiveCost:
     best), 2 when a load mass destabilizes it, 3 when the objective has no value."""
 
     def __init__(
-        self, fn: ObjectiveFunction, checks: ConstraintChecks, *, constrained: bool
+        self, fn: ObjectiveFunction, checks: ConstraintChecks | SampledChecks, *, constrained: bool
     ) -> None:
         self.fn = fn
         self.checks = checks
@@ -172,8 +174,9 @@ def tune_objective(
     opts = (options or TuningOptions()).replace(**changes)
     stiffness: str | None = None
     stiff_box: tuple[float, float] | None = None
+    z_design = design_parts(design)[1].discrete is not None
     if kind is Interaction.ZWIDTH:
-        if opts.loop is None:
+        if opts.loop is None and not z_design:
             raise ParameterError(
                 "the zwidth objective needs the loop rate: give options.loop "
                 "(e.g. SampledLoop(period=0.002)) or a design file with a [control] rate",
@@ -195,18 +198,28 @@ def tune_objective(
         design.load_masses if isinstance(design, Design) else (problem.options.load_mass,)
     )
     masses = tuple(float(m) for m in masses)
-    fn = ObjectiveFunction(
-        spec, problem.sea, problem.gains, load_masses=masses, loop=problem.options.loop,
-        stiffness=stiffness, stiffness_box=stiff_box,
-    )  # fmt: skip
-    checks = ConstraintChecks(full)
+    checks: ConstraintChecks | SampledChecks
+    if z_design:  # a controller in z: its sampled loop, certified (sampled_objectives)
+        full, problem = _z_problems(design, tune, full, problem, stiffness)
+        fn: ObjectiveFunction = SampledObjectiveFunction(
+            spec, problem.sea, problem.gains, load_masses=masses, loop=problem.options.loop,
+            stiffness=stiffness, stiffness_box=stiff_box,
+        )  # fmt: skip
+        checks = SampledChecks(candidate=full.candidate, loop=sampled_loop_of(full))
+    else:
+        fn = ObjectiveFunction(
+            spec, problem.sea, problem.gains, load_masses=masses, loop=problem.options.loop,
+            stiffness=stiffness, stiffness_box=stiff_box,
+        )  # fmt: skip
+        checks = ConstraintChecks(full)
     shown = as_progress(progress, where="tune_objective")
     box = dict(problem.box)
-    bounds = narrowed_box(problem) if kind is not Interaction.ZWIDTH and problem.gains else box
+    narrow = kind is not Interaction.ZWIDTH and problem.gains and not z_design
+    bounds = narrowed_box(problem) if narrow else box
     con_x, con_cost = _search(problem, fn, checks, bounds, True, shown)
     unc_x, unc_cost = _search(problem, fn, checks, box, False, shown)
-    con = _optimum(fn, full, con_x, con_cost)
-    unc = _optimum(fn, full, unc_x, unc_cost)
+    con = _optimum(fn, full, con_x, con_cost, checks)
+    unc = _optimum(fn, full, unc_x, unc_cost, checks)
     # each optimum is a candidate of the other problem when it qualifies for it
     if unc.passive and unc.stable and _better(kind, unc.value, con.value):
         con = replace(unc, evaluations=con.evaluations, generations=con.generations)
@@ -281,10 +294,34 @@ def _zwidth_problems(
     return full, searched, stiffness, full.box[stiffness]
 
 
+def _z_problems(
+    design: DesignLike,
+    tune: BoxLike | None,
+    full: TuningProblem,
+    problem: TuningProblem,
+    stiffness: str | None,
+) -> tuple[TuningProblem, TuningProblem]:
+    """The problems of a controller in z with its loop (the controller's rate unless the
+    options give one): every tuned gain named in the z-expressions with an explicit box."""
+    ranges = dict(getattr(design, "ranges", None) or {})  # a file's explicit [ranges] only
+    given = dict(tune) if isinstance(tune, Mapping) else {}
+    if stiffness is not None and stiffness not in ranges:
+        raise ParameterError(
+            f"{stiffness}: a controller in z has no default box; give the stiffness gain "
+            f"{stiffness}'s box in the design file's [ranges]",
+            argument="tune",
+        )
+    check_sampled_boxes(full, {**given, **({stiffness: full.box[stiffness]} if stiffness else {})},
+                        ranges)  # fmt: skip
+    loop = sampled_loop_of(full)
+    full = replace(full, options=replace(full.options, loop=loop))
+    return full, replace(problem, options=replace(problem.options, loop=loop))
+
+
 def _search(
     problem: TuningProblem,
     fn: ObjectiveFunction,
-    checks: ConstraintChecks,
+    checks: ConstraintChecks | SampledChecks,
     bounds: Mapping[str, tuple[float, float]],
     constrained: bool,
     progress: Any,
@@ -303,11 +340,16 @@ def _search(
 
 
 def _optimum(
-    fn: ObjectiveFunction, full: TuningProblem, x: tuple[float, ...], cost: ObjectiveCost
+    fn: ObjectiveFunction,
+    full: TuningProblem,
+    x: tuple[float, ...],
+    cost: ObjectiveCost,
+    checks: ConstraintChecks | SampledChecks,
 ) -> ObjectiveOptimum:
-    """The verified optimum at ``x``: the objective on a denser grid, exact verdicts."""
+    """The verified optimum at ``x``: the objective on a denser grid, exact verdicts (a
+    controller in z: the certified sampled verdict is both)."""
     at = None
-    dense = log_frequencies(*fn.spec.frequency_band, min(4 * fn.spec.points, MAX_FREQUENCY_POINTS))
+    dense = log_frequencies(*fn.band, min(4 * fn.spec.points, MAX_FREQUENCY_POINTS))
     try:
         if fn.kind is Interaction.RENDERING:
             value, at = fn.rendering_error(x, dense)
@@ -319,9 +361,12 @@ def _optimum(
         value = math.nan
     point = fn.full(x, value)
     sea = full.candidate(point)
-    outcome = is_passive(sea).outcome
     sampled = None
-    if full.options.loop is not None:
+    if isinstance(checks, SampledChecks):
+        outcome = sampled = checks.outcome(point)
+    else:
+        outcome = is_passive(sea).outcome
+    if full.options.loop is not None and sampled is None:
         try:
             sampled = sampled_passivity(sea, loop=full.options.loop).outcome
         except (SeapassError, ArithmeticError, ValueError):
@@ -344,7 +389,8 @@ def _violations(
     if not opt.outcome.passive:
         violations.append("passivity")
         notes.append(f"no passive gains found in the box: the best is {opt.outcome}")
-    if opt.sampled_outcome is not None and not opt.sampled_outcome.passive:
+    in_z = fn.nyquist is not None  # the one verdict is the sampled one
+    if opt.sampled_outcome is not None and not opt.sampled_outcome.passive and not in_z:
         violations.append("sampled passivity")
         notes.append(f"the best gains are {opt.sampled_outcome} under sampled-data control")
     if not opt.stable:
@@ -357,8 +403,14 @@ def _violations(
         v = opt.gains[name]
         if hi - v <= 0.01 * (hi - lo) or (v - lo <= 0.01 * (hi - lo) and lo != 0):
             notes.append(f"{name} = {v:.6g} is at an edge of its box [{lo:g}, {hi:g}]")
-    top = fn.spec.frequency_band[1]
-    if fn.kind is Interaction.FORCE_BANDWIDTH and opt.value >= top * (1 - 1e-9):
+    top = fn.band[1]
+    if fn.kind is Interaction.FORCE_BANDWIDTH and opt.value >= top * (1 - 1e-9) and in_z:
+        notes.append(
+            f"the sampled force response stays above -3 dB up to {top:g} rad/s, just below "
+            f"the Nyquist frequency {fn.nyquist:g} rad/s of the controller's rate: the "
+            "bandwidth shown is that top"
+        )
+    elif fn.kind is Interaction.FORCE_BANDWIDTH and opt.value >= top * (1 - 1e-9):
         notes.append(
             f"the force response stays above -3 dB up to the band's top {top:g} rad/s "
             "(a biproper force transfer never falls off): the bandwidth shown is that top; "

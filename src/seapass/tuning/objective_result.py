@@ -21,7 +21,6 @@ from .objectives import (
     InteractionObjective,
     ObjectiveFunction,
     response_at,
-    static_gain,
 )
 from .problem import ResolvedTuning
 
@@ -194,6 +193,7 @@ class ObjectiveTuningResult:
             "sampled_checks": self.sampled_checks,
             "budget_exhausted": self.budget_exhausted,
             "period": None if o.loop is None else o.loop.period,
+            "controller_in_z": self.sea.discrete is not None,
             "seed": o.seed,
             "maxiter": o.maxiter,
             "popsize": o.popsize,
@@ -221,6 +221,9 @@ class ObjectiveTuningResult:
         lo, hi = (
             self.objective.frequency_band if self.kind is not Interaction.ZWIDTH else (0.1, 1e4)
         )
+        if fn.nyquist is not None:  # a controller in z: its responses end at the Nyquist
+            lo, hi = fn.omega[0], min(hi, fn.omega[-1] if self.kind is not Interaction.ZWIDTH
+                                      else 0.999 * fn.nyquist)  # fmt: skip
         w = log_frequencies(lo, hi, points)
         curves: dict[str, np.ndarray] = {}
         for label, opt in (
@@ -229,10 +232,10 @@ class ObjectiveTuningResult:
         ):
             full = tuple(opt.gains[g] for g in fn.full_gains)
             if self.kind is Interaction.FORCE_BANDWIDTH:
-                g = fn.force_tf(full)
-                curves[label] = np.abs(response_at(g, w)) / max(abs(static_gain(g)), 1e-300)
+                curve = fn.force_magnitude(full)
+                curves[label] = curve(w) if callable(curve) else np.full(w.size, float(curve))
             else:
-                curves[label] = np.abs(response_at(fn.stiffness_tf(full), w))
+                curves[label] = np.abs(fn.stiffness_response(full, w))
         if self.kind is Interaction.RENDERING and fn.target_expression is not None:
             curves["target"] = np.abs(response_at(fn.target_expression, w))
         return {"omega": w, "curves": curves, "kind": str(self.kind), "unit": self.unit}
@@ -259,7 +262,12 @@ class ObjectiveTuningResult:
             (f"{self.kind.label} (passive)", value_text(self.kind, c.value, self.unit)),
             ("unconstrained optimum", value_text(self.kind, u.value, self.unit)),
             ("passivity cost", value_text(self.kind, self.passivity_cost, self.unit)),
-            ("passive (exact)", "yes" if c.outcome.passive else "no"),
+            (
+                "passive (sampled, certified)"
+                if self.sea.discrete is not None
+                else "passive (exact)",
+                "yes" if c.outcome.passive else "no",
+            ),
             ("load masses [kg]", ", ".join(f"{m:g}" for m in self.load_masses)),
         ]
         verdict = "feasible" if self.feasible else "not feasible: " + ", ".join(self.violations)

@@ -47,21 +47,25 @@ ranked below every candidate that is.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass
-from enum import StrEnum
-from typing import Any
+from collections.abc import Callable, Sequence
 
 import numpy as np
 from flint import fmpq_poly
 
-from ..analysis.freqresp import check_points, log_frequencies
+from ..analysis.freqresp import log_frequencies
 from ..errors import ExpressionError, ParameterError, SeapassError, SymbolicLimitError
 from ..model.elements import exact_values
-from ..model.expr import exact_expression, finite_number
+from ..model.expr import exact_expression
 from ..model.loop import SampledLoop
 from ..model.realization import closed_loop_factory
 from ..model.sea import SEA
+from .objective_spec import (
+    DEFAULT_BANDWIDTH_BAND,
+    Interaction,
+    InteractionObjective,
+    squash,
+    stiffness_gain,
+)
 
 __all__ = [
     "DEFAULT_BANDWIDTH_BAND",
@@ -72,161 +76,11 @@ __all__ = [
     "squash",
     "static_gain",
     "stiffness_gain",
+    "target_rational",
 ]
 
-DEFAULT_BANDWIDTH_BAND = (1e-2, 1e5)
-"""Frequencies (rad/s) searched for the force bandwidth when no band is given."""
 HALF_POWER = 1.0 / math.sqrt(2.0)
 _BISECTIONS = 40
-
-
-class Interaction(StrEnum):
-    """The interaction-control objectives (see the module docstring)."""
-
-    RENDERING = "rendering"
-    FORCE_BANDWIDTH = "force-bandwidth"
-    ZWIDTH = "zwidth"
-
-    @property
-    def maximize(self) -> bool:
-        """True for the force bandwidth and the Z-width, False for the rendering error."""
-        return self is not Interaction.RENDERING
-
-    @property
-    def label(self) -> str:
-        return {
-            Interaction.RENDERING: "worst relative rendering error",
-            Interaction.FORCE_BANDWIDTH: "force bandwidth (clamped load, -3 dB)",
-            Interaction.ZWIDTH: "largest passive virtual stiffness",
-        }[self]
-
-
-@dataclass(frozen=True, kw_only=True)
-class InteractionObjective:
-    """What to optimize, for [`tune_objective`][seapass.tuning.interaction.tune_objective].
-
-    Attributes
-    ----------
-    kind : Interaction or str
-        ``"rendering"``, ``"force-bandwidth"`` or ``"zwidth"``.
-    target : str, optional
-        The target stiffness ``F_L/X_L`` (rendering only, required), safe text in ``s``
-        and the design's parameters, e.g. ``"1000 + 5*s"`` or ``"kv + bv*s"``.
-    band : (float, float), optional
-        Frequencies ``(lo, hi)`` in rad/s, ``0 < lo < hi``: the band of the rendering
-        error (required) or the search band of the force bandwidth (default
-        `DEFAULT_BANDWIDTH_BAND`).
-    points : int, default 200
-        Log-spaced frequencies on the band.
-    stiffness : str, optional
-        Z-width only: the virtual-stiffness gain (default: ``kv``, else ``kd``, else the
-        first controller gain).
-    max_boxes : int, default 2000
-        Z-width only: the branch-and-bound budget per candidate (boxes, counted).
-    rtol : float, default 1e-3
-        Z-width only: the relative width of the stiffness bound's edge enclosure.
-    load_masses : tuple of float, optional
-        Load masses (kg) every candidate must be stable with; default the design
-        file's ``[simulation] load_masses``, else the tuning load mass.
-    """
-
-    kind: Interaction | str
-    target: str | None = None
-    band: tuple[float, float] | None = None
-    points: int = 200
-    stiffness: str | None = None
-    max_boxes: int = 2000
-    rtol: float = 1e-3
-    load_masses: tuple[float, ...] | None = None
-
-    def __post_init__(self) -> None:
-        try:
-            object.__setattr__(self, "kind", Interaction(str(self.kind).lower()))
-        except ValueError:
-            choices = ", ".join(o.value for o in Interaction)
-            raise ParameterError(f"kind must be one of {choices}, got {self.kind!r}") from None
-        if self.band is not None:
-            object.__setattr__(self, "band", _band(self.band))
-        check_points(self.points)
-        if self.kind is Interaction.RENDERING:
-            if not self.target or not str(self.target).strip():
-                raise ParameterError(
-                    "target: the rendering objective needs a target stiffness, "
-                    "e.g. target='1000 + 5*s'",
-                    argument="target",
-                )
-            if self.band is None:
-                raise ParameterError(
-                    "band: the rendering objective needs a band (lo, hi) in rad/s, "
-                    "e.g. band=(1, 100)",
-                    argument="band",
-                )
-        b = self.max_boxes
-        if isinstance(b, bool) or not isinstance(b, int) or b < 1:
-            raise ParameterError(f"max_boxes must be an integer >= 1, got {b!r}")
-        if not 0 < finite_number(self.rtol, "rtol") <= 1e-2:
-            raise ParameterError(f"rtol must be in (0, 1e-2], got {self.rtol!r}")
-        if self.load_masses is not None:
-            masses = tuple(finite_number(m, "load_masses", positive=True) for m in self.load_masses)
-            if not masses:
-                raise ParameterError("load_masses must not be empty")
-            object.__setattr__(self, "load_masses", masses)
-
-    @property
-    def frequency_band(self) -> tuple[float, float]:
-        """The band, or the default search band of the force bandwidth."""
-        return self.band or DEFAULT_BANDWIDTH_BAND
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "kind": str(self.kind),
-            "target": self.target,
-            "band": list(self.frequency_band) if self.kind is not Interaction.ZWIDTH else None,
-            "points": self.points,
-            "stiffness": self.stiffness,
-            "max_boxes": self.max_boxes if self.kind is Interaction.ZWIDTH else None,
-        }
-
-
-def _band(band: Any) -> tuple[float, float]:
-    try:
-        lo, hi = band
-    except (TypeError, ValueError):
-        raise ParameterError(f"band: expected (lo, hi) in rad/s, got {band!r}") from None
-    lo, hi = finite_number(lo, "band lower end"), finite_number(hi, "band upper end")
-    if not 0 < lo < hi:
-        raise ParameterError(
-            f"band: need 0 < lo < hi (rad/s), got ({lo:g}, {hi:g})", argument="band"
-        )
-    return (lo, hi)
-
-
-def stiffness_gain(sea: SEA, candidates: Sequence[str], given: str | None = None) -> str:
-    """The virtual-stiffness gain of the Z-width objective (see `InteractionObjective`)."""
-    if given is not None:
-        if given not in sea.parameters:
-            raise ParameterError(
-                f"stiffness: {given!r} is not a parameter of the design ({', '.join(sea.parameters)})",
-                argument="stiffness",
-            )
-        return given
-    for name in ("kv", "kd"):
-        if name in candidates:
-            return name
-    if not candidates:
-        raise ParameterError(
-            "stiffness: the design has no controller gain to map", argument="stiffness"
-        )
-    return candidates[0]
-
-
-def squash(value: float, kind: Interaction) -> float:
-    """The objective as a cost in ``[0, 1)``, smaller is better (monotone in ``value``)."""
-    if not math.isfinite(value):
-        return 1.0 if (value > 0) != kind.maximize else 0.0
-    if kind.maximize:
-        return 1.0 / (1.0 + max(value, 0.0))
-    return value / (1.0 + value)
 
 
 # ------------------------------------------------------------------ exact rational helpers
@@ -310,6 +164,26 @@ class ObjectiveFunction:
         stiffness: str | None = None,
         stiffness_box: tuple[float, float] | None = None,
     ) -> None:
+        self._common(spec, sea, gains, loop, stiffness, stiffness_box)
+        self._elements = sea.exact_elements()
+        self._fixed = exact_values(
+            {k: v for k, v in sea.values.items() if k not in self.full_gains}
+        )
+        self._stability = [
+            closed_loop_factory(sea, self.full_gains, load_mass=float(m)) for m in load_masses
+        ]
+        self._set_band(*spec.frequency_band)
+
+    def _common(
+        self,
+        spec: InteractionObjective,
+        sea: SEA,
+        gains: Sequence[str],
+        loop: SampledLoop | None,
+        stiffness: str | None,
+        stiffness_box: tuple[float, float] | None,
+    ) -> None:
+        """The attributes every objective function has (continuous or in z)."""
         self.spec = spec
         self.kind = Interaction(spec.kind)
         self.sea = sea
@@ -321,19 +195,17 @@ class ObjectiveFunction:
         self.bounds_run = 0
         self._zwidths: dict[tuple[float, ...], float] = {}
         self.full_gains = self.gains + ((stiffness,) if stiffness else ())
-        self._elements = sea.exact_elements()
-        self._fixed = exact_values(
-            {k: v for k, v in sea.values.items() if k not in self.full_gains}
-        )
-        self._stability = [
-            closed_loop_factory(sea, self.full_gains, load_mass=float(m)) for m in load_masses
-        ]
-        lo, hi = spec.frequency_band
+        self.nyquist: float | None = None  # a controller in z: pi/T (rad/s)
+
+    def _set_band(self, lo: float, hi: float) -> None:
+        """The search frequencies and the target on them."""
+        spec = self.spec
+        self.band = (float(lo), float(hi))
         self.omega = log_frequencies(lo, hi, spec.points)
         self._target: np.ndarray | None = None
         self.target_expression: _Rat | None = None
         if self.kind is Interaction.RENDERING:
-            self.target_expression = _target(str(spec.target), sea)
+            self.target_expression = target_rational(str(spec.target), self.sea)
             self._target = response_at(self.target_expression, self.omega)
             if np.any(self._target == 0) or not np.all(np.isfinite(self._target)):
                 raise ParameterError(
@@ -384,24 +256,14 @@ class ObjectiveFunction:
             return False
         return True
 
-    def rendering_error(
-        self, full: Sequence[float], omega: np.ndarray | None = None
-    ) -> tuple[float, float]:
-        """``(worst relative error, its frequency)`` over the band (``omega``: other grid)."""
-        if self.target_expression is None:
-            raise ParameterError("rendering_error needs a rendering objective with a target")
-        w = self.omega if omega is None else omega
-        target = response_at(self.target_expression, w) if omega is not None else self._target
-        assert target is not None
-        rendered = response_at(self.stiffness_tf(full), w)
-        err = np.abs(rendered - target) / np.abs(target)
-        if not np.all(np.isfinite(err)):
-            return math.inf, float(w[int(np.argmax(~np.isfinite(err)))])
-        i = int(np.argmax(err))
-        return float(err[i]), float(w[i])
+    def stiffness_response(self, full: Sequence[float], omega: np.ndarray) -> np.ndarray:
+        """The rendered stiffness ``F_L/X_L(jω)`` of the candidate ``full`` (complex)."""
+        return response_at(self.stiffness_tf(full), omega)
 
-    def force_bandwidth(self, full: Sequence[float], omega: np.ndarray | None = None) -> float:
-        """The −3 dB force bandwidth (rad/s), nan when the clamped loop is not stable."""
+    def force_magnitude(self, full: Sequence[float]) -> Callable[[np.ndarray], np.ndarray] | float:
+        """``ω ↦ |G(jω)/G(0)|`` of the clamped-load force, or a number when there is no
+        such curve: nan (the clamped loop is not stable, or ``G(0)`` is infinite), 0
+        (``G(0) = 0``)."""
         g = self.force_tf(full)
         den = _floats(g[1])
         if den.size > 1 and float(np.max(np.roots(den).real)) >= 0:
@@ -411,10 +273,33 @@ class ObjectiveFunction:
             return 0.0
         if not math.isfinite(dc):
             return math.nan
+        return lambda w: np.abs(response_at(g, w)) / abs(dc)
+
+    def rendering_error(
+        self, full: Sequence[float], omega: np.ndarray | None = None
+    ) -> tuple[float, float]:
+        """``(worst relative error, its frequency)`` over the band (``omega``: other grid)."""
+        if self.target_expression is None:
+            raise ParameterError("rendering_error needs a rendering objective with a target")
+        w = self.omega if omega is None else omega
+        target = response_at(self.target_expression, w) if omega is not None else self._target
+        assert target is not None
+        rendered = self.stiffness_response(full, w)
+        err = np.abs(rendered - target) / np.abs(target)
+        if not np.all(np.isfinite(err)):
+            return math.inf, float(w[int(np.argmax(~np.isfinite(err)))])
+        i = int(np.argmax(err))
+        return float(err[i]), float(w[i])
+
+    def force_bandwidth(self, full: Sequence[float], omega: np.ndarray | None = None) -> float:
+        """The −3 dB force bandwidth (rad/s), nan when the clamped loop is not stable."""
+        curve = self.force_magnitude(full)
+        if not callable(curve):
+            return float(curve)
         w = self.omega if omega is None else omega
 
         def low(x: np.ndarray) -> np.ndarray:
-            return np.abs(response_at(g, x)) <= HALF_POWER * abs(dc)
+            return curve(x) <= HALF_POWER
 
         below = low(w)
         if not below.any():
@@ -467,7 +352,7 @@ class ObjectiveFunction:
         return self.force_bandwidth(x)
 
 
-def _target(text: str, sea: SEA) -> _Rat:
+def target_rational(text: str, sea: SEA) -> _Rat:
     """The target as an exact rational function of ``s`` at the design's values."""
     allowed = (*sea.parameters, *(k for k in sea.values if k not in sea.parameters))
     try:

@@ -40,6 +40,7 @@ from ..analysis.passivity import is_passive
 from ..analysis.region import passive_intervals
 from ..errors import NotPassiveError, ParameterError, SeapassDeprecationWarning, TuningWarning
 from ..model.sea import SEA
+from ..model.zcontroller import discrete_loop
 from ..progress import ProgressLike, as_progress
 from ..sampled.passivity import SampledPassivityResult, sampled_passivity
 from .constraints import (
@@ -76,6 +77,7 @@ def tune(
     allow_plant: bool = False,
     uncertain: Mapping[str, Any] | None = None,
     budget: int | None = None,
+    delay_time: float | None = None,
     **changes: Any,
 ) -> TuningResult:
     """Tune the gains of ``design`` for the best passive step response.
@@ -122,6 +124,12 @@ def tune(
         [`constrained_problem`][seapass.tuning.constraints.constrained_problem].
     budget : int, optional
         Budget of the certified delay or box test (undecided counts as not passive).
+    delay_time : float, optional
+        A loop latency [s] replacing the design file's ``[control] delay_time`` (a
+        [`Design`][seapass.model.design_file.Design] only).  For a controller given in z
+        it must be a whole number of periods: each adds one sample to the sampled loop's
+        delay, where every candidate is certified
+        ([`latency_loop`][seapass.tuning.sampled_design.latency_loop]).
     **changes
         Any field of `TuningOptions`, replacing the one in ``options``, e.g.
         ``objective="itae"``, ``loop=SampledLoop(period=0.002)``, ``seed=3``.
@@ -150,11 +158,15 @@ def tune(
     (True, ['bd', 'kd'])
     """
     opts = (options or TuningOptions()).replace(**changes)
+    if delay_time is not None:
+        design, opts = _with_latency(design, opts, delay_time)
     problem, constraint = constrained_problem(
         design, tune, opts, values, allow_plant=allow_plant, uncertain=uncertain, budget=budget
     )
     if problem.sea.discrete is not None:  # a controller in z: the sampled loop, certified
-        result = _tune_z(design, tune, problem, uncertain, progress, callback)
+        result = _tune_z(design, tune, problem, constraint, progress, callback)
+        if constraint.kind is ConstraintKind.BOX:  # the nominal z-tune, same plant and budget
+            result = _with_nominal(result, design, problem, constraint, opts, values, allow_plant)
         for message in result.warnings:
             warnings.warn(message, TuningWarning, stacklevel=2)
         if throw and not result.feasible:
@@ -195,15 +207,7 @@ def tune(
         generations=int(found.nit), constraint=constraint,
     )  # fmt: skip
     if constraint.kind is ConstraintKind.BOX:  # the nominal tune, same plant and budget
-        fixed = {n: float(problem.sea.values[n] or 0) for n in constraint.box.names}  # type: ignore[union-attr]
-        with warnings.catch_warnings():  # the nominal run's own notes are not this result's
-            warnings.simplefilter("ignore", TuningWarning)
-            nominal = _nominal_tune(design, tune=dict(problem.box), options=opts,
-                                    values={**(values or {}), **fixed}, allow_plant=allow_plant)  # fmt: skip
-        if result.feasible and (not nominal.feasible or result.objective < nominal.objective):
-            alt = verify(problem, x, bounds=bounds, cost=best, generations=nominal.generations)
-            nominal = alt if alt.feasible else nominal  # the robust gains are nominal ones too
-        result = replace(result, nominal=nominal)
+        result = _with_nominal(result, design, problem, constraint, opts, values, allow_plant)
     for message in result.warnings:
         warnings.warn(message, TuningWarning, stacklevel=2)
     if throw and not result.feasible:
@@ -214,25 +218,77 @@ def tune(
 _nominal_tune = tune  # the function itself (inside it, ``tune`` is the argument)
 
 
+def _with_latency(
+    design: DesignLike, opts: TuningOptions, delay_time: float
+) -> tuple[DesignLike, TuningOptions]:
+    """The design (continuous: its ``[control] delay_time``) or the loop (a controller in z:
+    whole samples) with the loop latency ``delay_time``."""
+    from ..model.design_file import Design
+    from .problem import design_parts
+    from .sampled_design import latency_loop
+
+    zc = design_parts(design)[1].discrete
+    if zc is not None:
+        loop = discrete_loop(zc, opts.loop)
+        return design, opts.replace(loop=latency_loop(loop, delay_time))
+    if not isinstance(design, Design):
+        raise ParameterError(
+            "delay_time: a loop latency replaces a design file's [control] delay_time; for "
+            "another design put the delay in the model, e.g. CA='(kd + bd*s)*exp(-tau*s)' "
+            "with values={'tau': 0.001}",
+            argument="delay_time",
+        )
+    return replace(design, delay_time=delay_time), opts
+
+
+def _with_nominal(
+    result: TuningResult,
+    design: DesignLike,
+    problem: TuningProblem,
+    constraint: PassivityConstraint,
+    opts: TuningOptions,
+    values: Mapping[str, float] | None,
+    allow_plant: bool,
+) -> TuningResult:
+    """``result`` (robust, over a box) with the nominal tune of the same budget beside it:
+    the plant at its nominal values, the same boxes (``robustness_cost``)."""
+    assert constraint.box is not None
+    fixed = {n: float(problem.sea.values[n] or 0) for n in constraint.box.names}
+    with warnings.catch_warnings():  # the nominal run's own notes are not this result's
+        warnings.simplefilter("ignore", TuningWarning)
+        nominal = _nominal_tune(design, tune=dict(problem.box), options=opts,
+                                values={**(values or {}), **fixed}, allow_plant=allow_plant)  # fmt: skip
+    if result.feasible and (not nominal.feasible or result.objective < nominal.objective):
+        x = [result.gains[g] for g in problem.gains]  # the robust gains are nominal ones too
+        if problem.sea.discrete is not None:
+            from .sampled_design import verify_sampled
+
+            alt = verify_sampled(problem, x, bounds=result.bounds, cost=result.cost,
+                                 generations=nominal.generations)  # fmt: skip
+        else:
+            alt = verify(problem, x, bounds=result.bounds, cost=result.cost,
+                         generations=nominal.generations)  # fmt: skip
+        nominal = alt if alt.feasible else nominal
+    return replace(result, nominal=nominal)
+
+
 def _tune_z(
     design: DesignLike,
     tune: BoxLike | None,
     problem: TuningProblem,
-    uncertain: Mapping[str, Any] | None,
+    constraint: PassivityConstraint,
     progress: ProgressLike,
     callback: Callable[[int, float], None] | None,
 ) -> TuningResult:
-    """`tune` of a design whose controller is given in z (`seapass.tuning.sampled_design`)."""
+    """`tune` of a design whose controller is given in z (`seapass.tuning.sampled_design`);
+    over a box, every candidate is certified by the robust sampled verdict."""
     from .sampled_design import check_sampled_boxes, tune_sampled
 
-    if uncertain:
-        raise ParameterError(
-            "uncertain: robust tuning of a controller in z is not available", argument="uncertain"
-        )
     ranges = dict(getattr(design, "ranges", None) or {})  # a file's explicit [ranges] only
     given = dict(tune) if isinstance(tune, Mapping) else {}
     check_sampled_boxes(problem, given, ranges)
-    return tune_sampled(problem, progress=progress, callback=callback)
+    box = constraint if constraint.kind is ConstraintKind.BOX else None
+    return tune_sampled(problem, progress=progress, callback=callback, constraint=box)
 
 
 def narrowed_box(problem: TuningProblem) -> dict[str, tuple[float, float]]:

@@ -41,7 +41,7 @@ from ..sampled.passivity import SampledPassivityResult, sampled_passivity
 from ..sampled.response import SampledResponse, sampled_response
 from ..sim.metrics import Settling, TrackingMetrics, tracking_metrics
 from ..sim.scenarios import Step
-from .constraints import rounded_gains
+from .constraints import PassivityConstraint, rounded_gains
 from .cost import CONSTRAINT_UNITS, UNSTABLE_UNITS, cost_unit, limit_penalty, objective_value
 from .limits import edge_note, limit_violations
 from .masses import MassRun
@@ -49,7 +49,13 @@ from .problem import Objective, TuningProblem
 from .result import TuningResult
 from .search import differential_search, snap_to_edges
 
-__all__ = ["SampledCandidateCost", "sampled_loop_of", "sampled_step", "tune_sampled"]
+__all__ = [
+    "SampledCandidateCost",
+    "latency_loop",
+    "sampled_loop_of",
+    "sampled_step",
+    "tune_sampled",
+]
 
 
 def sampled_loop_of(problem: TuningProblem) -> SampledLoop:
@@ -58,6 +64,39 @@ def sampled_loop_of(problem: TuningProblem) -> SampledLoop:
     if zc is None:
         raise ParameterError(f"{problem.name}: its controller is not given in z")
     return problem.options.loop or SampledLoop(rate=float(zc.rate))
+
+
+def latency_loop(loop: SampledLoop, delay_time: float) -> SampledLoop:
+    """``loop`` with a loop latency of ``delay_time`` seconds added, in whole samples.
+
+    The certified sampled verdict of a controller given in z takes a delay only as whole
+    periods (``loop.delay``), so a latency ``n T`` adds ``n`` samples; any other latency
+    is refused.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``delay_time``: negative, not finite, or not a whole number of periods.
+
+    Examples
+    --------
+    >>> latency_loop(SampledLoop(rate=500.0, delay=1), 0.004).delay
+    3
+    """
+    from ..model.latency import check_delay_time
+
+    tau = check_delay_time(delay_time)
+    T = loop.period
+    n = round(tau / T)
+    if abs(tau - n * T) > 1e-9 * max(T, tau):
+        raise ParameterError(
+            f"delay_time: a controller given in z at {loop.rate:g} Hz takes a loop latency "
+            f"only in whole periods (delay_time = n*{T:g} s adds n samples to the loop's "
+            f"delay); {tau:g} s is {tau / T:.6g} periods: give a whole number of periods "
+            "or 0",
+            argument="delay_time",
+        )
+    return loop.replace(delay=loop.delay + n)
 
 
 def sampled_step(
@@ -83,8 +122,11 @@ class SampledCandidateCost:
     """The search cost of a gain vector of a z-design (callable); as
     [`CandidateCost`][seapass.tuning.cost.CandidateCost] with the sampled loop."""
 
-    def __init__(self, problem: TuningProblem) -> None:
+    def __init__(
+        self, problem: TuningProblem, constraint: PassivityConstraint | None = None
+    ) -> None:
         self.problem = problem
+        self.constraint = constraint
         self.unit = cost_unit(problem.options)
         self.best = math.inf
         self.evaluations = 0
@@ -93,6 +135,9 @@ class SampledCandidateCost:
     def passive(self, x: tuple[float, ...]) -> bool:
         """Certified sampled-passive (cached); undecided or an error is not passive."""
         if x not in self.verdicts:
+            if self.constraint is not None:  # over a box: the robust sampled verdict
+                self.verdicts[x] = self.constraint.passive(x)
+                return self.verdicts[x]
             try:
                 self.verdicts[x] = _verdict(self.problem, x).passive
             except (SeapassError, ArithmeticError, ValueError):
@@ -153,12 +198,18 @@ def tune_sampled(
     *,
     progress: ProgressLike = None,
     callback: Callable[[int, float], None] | None = None,
+    constraint: PassivityConstraint | None = None,
 ) -> TuningResult:
     """Tune a z-design: see the module docstring.  ``outcome`` and ``sampled_outcome`` of
-    the result are both the certified sampled verdict (there is no continuous one)."""
+    the result are both the certified sampled verdict (there is no continuous one).
+
+    ``constraint``: a box of uncertain plants (``kind == "box"`` with the loop): every
+    candidate that could become the best must be passive for every plant of the box by the
+    robust sampled verdict within the constraint's budget (undecided: not passive); the
+    step response is that of the nominal plant."""
     bounds = dict(problem.box)
     _verdict(problem, [sum(bounds[g]) / 2 for g in problem.gains])  # refused input fails now
-    cost = SampledCandidateCost(problem)
+    cost = SampledCandidateCost(problem, constraint)
     found = differential_search(
         cost,
         [bounds[g] for g in problem.gains],
@@ -171,7 +222,7 @@ def tune_sampled(
     x = rounded_gains(x, [bounds[g] for g in problem.gains], cost.passive)
     return verify_sampled(
         problem, x, bounds=bounds, cost=best, evaluations=cost.evaluations,
-        generations=int(found.nit), checks=len(cost.verdicts),
+        generations=int(found.nit), checks=len(cost.verdicts), constraint=constraint,
     )  # fmt: skip
 
 
@@ -184,13 +235,21 @@ def verify_sampled(
     evaluations: int = 0,
     generations: int = 0,
     checks: int = 0,
+    constraint: PassivityConstraint | None = None,
 ) -> TuningResult:
-    """Everything about the gains ``x`` of a z-design: the certified sampled verdict, the
-    sampled step responses and metrics at every load mass, the limits."""
+    """Everything about the gains ``x`` of a z-design: the certified sampled verdict (over
+    the constraint's box: the robust one), the sampled step responses and metrics at every
+    load mass, the limits."""
     opts = problem.options
     gains = dict(zip(problem.gains, x, strict=True))
+    robust: Any = None
     try:
-        sampled = _verdict(problem, x)
+        sampled: Any = _verdict(problem, x)
+        if constraint is not None:
+            robust = constraint.verdict(x)
+            detail = f"{constraint.label}: {robust.detail}"
+            sampled = SimpleNamespace(outcome=robust.outcome, passive=robust.passive,
+                                      period=sampled.period, detail=detail, reason="")  # fmt: skip
     except (SeapassError, ArithmeticError, ValueError) as exc:
         raise ParameterError(f"{problem.name}: no sampled verdict at {gains}: {exc}") from None
     runs = []
@@ -225,8 +284,9 @@ def verify_sampled(
         generations=generations,
         sea=problem.candidate(x),
         options=replace(opts, loop=sampled_loop_of(problem)),
-        passivity=None,
-        sampled=sampled,
+        passivity=robust,
+        sampled=None if robust is not None else sampled,
+        constraint=constraint,
         warnings=tuple(notes),
         per_mass=tuple(runs),
     )
