@@ -230,6 +230,8 @@ def test_design_file_discrete_table() -> None:
         ('CL = "kd*s"\n', "discrete.CL: 'kd*s' uses s"),
         ("period = 0.002\n", "discrete.rate: give the controller's rate"),
         ('CL = "kq"\n', "discrete.CL: no value for kq; give it, add kq to"),
+        ("[control]\ndelay_time = 0.004\n", "control.delay_time: the controllers are given "
+         "in z; state the loop latency in samples as [control] delay"),
     ],
 )  # fmt: skip
 def test_design_file_bad_discrete(extra: str, words: str) -> None:

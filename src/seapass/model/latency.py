@@ -139,6 +139,11 @@ def check_latency(delay_time: Any, sea: SEA, *, key: str = "control.delay_time")
             f"{key}: the model already has a delay exp(-{model_delays(sea)[0]}*s); give the "
             "latency once, either as delay_time or in the model"
         )
+    if tau > 0 and sea.discrete is not None:  # the z-controllers run in a sampled loop
+        raise FileFormatError(
+            f"{key}: the controllers are given in z; state the loop latency in samples as "
+            "[control] delay (a latency of n periods is delay = n)"
+        )
     if tau > 0 and all(sea.exact_elements()[k].is_zero for k in _DELAYED):
         raise FileFormatError(f"{key}: the model has no controller (CA, CL) to delay")
     return tau
