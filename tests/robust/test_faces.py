@@ -56,7 +56,9 @@ def test_divide_out_and_split_top_are_exact_identities(
     assert _eval(q, (tq, pq)) * (pq - cq) == _eval(f, (tq, pq))
     up = divide_out(f, 1, cq, upper=True)
     assert up is not None and _eval(up, (tq, pq)) == -_eval(q, (tq, pq))
-    top, rest = split_top(f)
+    parts = split_top(f)
+    assert parts is not None
+    top, rest = parts
     e = f.shape[0] - 1
     assert _eval(top, (tq, pq)) * tq**e + (1 - tq) * _eval(rest, (tq, pq)) == _eval(f, (tq, pq))
     assert _eval(at_value(f, 1, cq), (tq, pq)) == 0
