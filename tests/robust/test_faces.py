@@ -112,12 +112,14 @@ LP_DAMPED = SEA(D1="k1 + b1*s", CL="kd", values=dict(m=1, b=10, k1=1000, kd=500,
 _S = sp.Symbol("s")
 
 
-def _coefficient_functions(names: tuple[str, ...]) -> tuple[list[Any], list[Any]]:
-    """Ascending coefficients of N and D in s of LP_DAMPED as functions of ``names``
+def _coefficient_functions(
+    names: tuple[str, ...], system: SEA = LP_DAMPED
+) -> tuple[list[Any], list[Any]]:
+    """Ascending coefficients of N and D in s of ``system`` as functions of ``names``
     (the other parameters at their values), straight from the model."""
-    z = load_impedance(LP_DAMPED.with_values(**dict.fromkeys(names)))
+    z = load_impedance(system.with_values(**dict.fromkeys(names)))
     num, den = sp.fraction(sp.cancel(sp.together(z)))
-    fixed = {symbol(k): sp.Rational(v) for k, v in LP_DAMPED.values.items() if k not in names}
+    fixed = {symbol(k): sp.Rational(v) for k, v in system.values.items() if k not in names}
     syms = [symbol(n) for n in names]
 
     def fns(p: sp.Expr) -> list[Any]:
@@ -127,10 +129,12 @@ def _coefficient_functions(names: tuple[str, ...]) -> tuple[list[Any], list[Any]
     return fns(num), fns(den)
 
 
-def _grid_passive(names: tuple[str, ...], plants: np.ndarray) -> np.ndarray:
+def _grid_passive(
+    names: tuple[str, ...], plants: np.ndarray, system: SEA = LP_DAMPED
+) -> np.ndarray:
     """Vectorised float check, independent of the robust kernel: Re Z(jω) ≥ 0 on a dense
     log grid of ω and no pole in the open right half-plane, for each row of ``plants``."""
-    nf, df = _coefficient_functions(names)
+    nf, df = _coefficient_functions(names, system)
     cols = [plants[:, i] for i in range(len(names))]
     ones = np.ones(len(plants))
     nc = np.stack([np.broadcast_to(f(*cols) * ones, ones.shape) for f in nf])
@@ -220,3 +224,39 @@ def test_a_condition_zero_only_where_two_faces_meet_is_proven_off_the_corner(exp
     assert r.outcome is Outcome.PASSIVE and "blowing up a corner" in r.detail, r.detail
     grid = itertools.product(np.geomspace(1e-6, 1, 6), np.geomspace(1e-6, 2, 6))
     assert all(is_passive(z, values={"a": float(a), "c": float(c)}).passive for a, c in grid)
+
+
+OURS = SEA(D1="k1 + b1*s", CA="kd + bd*s", values=dict(m=1, b=10, k1=1000, b1=300, kd=1708, bd=300))
+
+
+@pytest.mark.parametrize(
+    ("system", "box", "passive"),
+    [
+        (LP_DAMPED, {"b1": (0.0, 50.0), "k1": (800.0, 1200.0), "m": (0.5, 2.0)}, True),
+        (LP_DAMPED, {"b": (5.0, 20.0), "b1": (0.0, 50.0), "m": (0.5, 2.0)}, True),
+        (OURS, {"b1": (0.0, 50.0), "bd": (0.0, 100.0)}, True),
+        (LP_DAMPED, {"b1": (0.0, 50.0), "kd": (100.0, 900.0)}, False),
+    ],
+)
+def test_more_boxes_from_a_zero_damper_are_decided_and_sampling_agrees(
+    system: SEA, box: dict[str, tuple[float, float]], passive: bool
+) -> None:
+    """Boxes that were undecided (the real part off the face b1 = 0 failed at its corner):
+    decided now, and 1,000+ plants (geometric towards the faces at 0) agree."""
+    r = robust_check(system, box=box)
+    names = tuple(sorted(box))
+    k = int(np.ceil(1100 ** (1 / len(names))))  # points per axis: 1,100+ plants in all
+    axes = [
+        np.concatenate([[0.0], np.geomspace(1e-6 * hi, hi, k - 1)])
+        if lo == 0
+        else np.linspace(lo, hi, k)
+        for lo, hi in (box[n] for n in names)
+    ]
+    plants = np.array(list(itertools.product(*axes)))
+    ok = _grid_passive(names, plants, system)
+    if passive:
+        assert r.outcome is Outcome.PASSIVE and "corner" in r.detail, r.detail
+        assert len(plants) >= 1000 and ok.all()
+    else:
+        assert r.outcome is Outcome.NOT_PASSIVE and r.worst is not None
+        assert not is_passive(system, values=dict(r.worst.values)).passive and not ok.all()
