@@ -13,7 +13,12 @@ uncertain parameters in a box:
   exact Bernstein branch and bound ([`seapass.robust.bernstein`][seapass.robust.bernstein])
   with one counted budget.  No vertex reasoning: the conditions are polynomial,
   not multi-affine, in the parameters (the mass enters quadratically), so the worst
-  plant can lie inside the box.
+  plant can lie inside the box.  A condition that is zero, not negative, where the
+  structure changes is handled apart: a face of the box is decided as a box with one
+  parameter fewer and the condition replaced by quotients off it
+  ([`seapass.robust.faces`][seapass.robust.faces]); where such faces meet at a corner,
+  the faces through it are decided first and the condition is proven off them by
+  blowing the corner up ([`seapass.robust.corners`][seapass.robust.corners]).
 
 A negative verdict carries a **worst case**: a point of the box (and, when the
 real part fails, a frequency) at which the ordinary exact test
