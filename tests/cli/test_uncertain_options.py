@@ -156,3 +156,30 @@ def test_a_robust_command_reads_its_design_file_once(argv, boxed, tmp_path, monk
     d = json.loads(out)
     robust = "--robust" in argv or "--uncertain" in argv or boxed
     assert ("box" in d) is robust or argv[0] == "region"
+
+
+def test_check_decides_a_box_whose_faces_meet_at_a_lossless_corner() -> None:
+    """LP with a damper: b in [0, 20] x b1 in [0, 50] is not passive (on b = 0), with a worst
+    plant the plain check rejects; b1 in [0, 50] x m in [0.5, 2] is passive (a corner blow-up);
+    both were undecided before."""
+    lp = ["--D1", "k1 + b1*s", "--CL", "kd", "--set", "k1=1000", "--set", "kd=500"]
+    argv = [
+        "check",
+        *lp,
+        "--set",
+        "m=1",
+        "--uncertain",
+        "b=0:20",
+        "--uncertain",
+        "b1=0:50",
+        "--json",
+    ]
+    code, out, _err = _cli(argv)
+    d = json.loads(out)
+    assert code == 1 and d["status"] == "not_passive" and d["worst"]["values"]["b"] == 0
+    plain = ["check", *lp, "--set", "m=1"]
+    plain += [f"--set={k}={v!r}" for k, v in d["worst"]["values"].items()]
+    assert _cli(plain)[0] == 1
+    argv = ["check", *lp, "--set", "b=10", "--uncertain", "b1=0:50", "--uncertain", "m=0.5:2"]
+    code, out, _err = _cli(argv)
+    assert code == 0 and "passive for every plant" in out and "corner" in out

@@ -21,7 +21,7 @@ import pytest
 
 from seapass.cli import main
 from seapass.errors import NotPassiveError, ParameterError
-from seapass.export import compile_c, find_c_compiler, render_c
+from seapass.export import compile_c, find_c_compiler, render_c, robust_envelope
 from seapass.export.c_code import HEADER, SOURCE, ExportResult
 from seapass.export.deployment import Deployment, plan_deployment
 from seapass.export.envelope import inward_interval
@@ -56,7 +56,7 @@ BOX = "[uncertainty]\nm = [0.9999, 1.0001]\n"
 PLANTS = (0.9999, 1.0, 1.0001)  # the corners and the centre of the box
 BUDGET = 8
 
-# a wide box for the refusals before any sampled work (continuous verdict undecided)
+# a wide box for the refusals before any sampled work (continuous verdict not certified)
 WIDE = """
 name = "ours-box"
 [model]
@@ -286,13 +286,24 @@ def test_ctrl_c_during_the_certification_writes_nothing(
     assert code == 130 and "interrupted" in err and not (tmp_path / "o").exists()
 
 
-def test_a_design_not_robustly_passive_in_continuous_time_is_refused(tmp_path: Path) -> None:
+def test_a_design_not_robustly_passive_in_continuous_time_is_refused(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     wide = tmp_path / "wide.toml"
-    # a box down to b = 0 and b1 = 0 together: the degree of Re Z drops twice at that corner,
-    # and the verdict is undecided, which a robust export must refuse as it refuses not_passive
+    # a box down to b = 0 and b1 = 0 together: the degree of Re Z drops twice at that corner;
+    # the corner blow-up proves it passive with its 35 boxes, so with a budget of 8 the
+    # verdict is undecided, which a robust export must refuse as it refuses not_passive
     wide.write_text(WIDE + "[uncertainty]\nb1 = [0.0, 40.0]\nb = [0.0, 10.0]\nm = [0.9, 1.1]\n")
-    if robust_check(load_design(wide).sea(), box=dict(load_design(wide).uncertainty)).passive:
-        pytest.fail("the wide box was meant to be undecided")
+    verdict = robust_check(
+        load_design(wide).sea(), box=dict(load_design(wide).uncertainty), budget=8
+    )
+    if verdict.outcome is not Outcome.UNDECIDED:
+        pytest.fail("the wide box was meant to be undecided with a budget of 8")
+    monkeypatch.setattr(
+        robust_envelope,
+        "robust_check",
+        lambda sea, *, box, budget: robust_check(sea, box=box, budget=8),
+    )
     with pytest.raises(NotPassiveError, match="refusing a robust export"):
         plan_deployment(load_design(wide), force_limit=100.0, set_gains=True, robust=True)
 

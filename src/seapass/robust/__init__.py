@@ -7,7 +7,10 @@ multivariate polynomial on a box and a certified branch and bound with a counted
 budget), [`family`][seapass.robust.family] (the positive-real conditions of a
 family of impedances as polynomials in the uncertain parameters),
 [`verdict`][seapass.robust.verdict] (`robust_check`: passive for every plant in
-the box, a verified worst-case plant, or undecided),
+the box, a verified worst-case plant, or undecided; faces where the structure changes
+in [`faces`][seapass.robust.faces], corners where they meet blown up into charts in
+[`corners`][seapass.robust.corners], the exact test at points of the box in
+[`witness`][seapass.robust.witness]),
 [`intervals`][seapass.robust.intervals] (robust passive intervals of a gain),
 [`region`][seapass.robust.region] (robust passive regions over two gains, beside the
 nominal one), [`api`][seapass.robust.api] (``is_passive`` and ``passive_intervals`` with ``box=``),

@@ -17,16 +17,25 @@ is replaced by sufficient conditions that hold strictly on the closed box:
   off the face (the first rule) and ``Q_R > 0`` on ``[0, 1] × box`` give ``Q > 0`` off
   the face for ``t < 1`` and ``Q(1) = c_d > 0``.
 
+Where two such faces meet, or where the condition vanishes on the face only at an edge
+(``Re Z``'s numerator at ``t = 1`` and ``b1 = 0``), the quotients are not enough: the
+condition is zero at a corner and negative nowhere, but no quotient is positive on the
+whole closed box.  [`seapass.robust.corners`][seapass.robust.corners] then blows the
+corner up; the substitutions it needs live here (`shift_axis`, `blow_axis`), each an
+exact identity of polynomials.
+
 Everything is exact rational arithmetic on the dense coefficient arrays of
 [`seapass.robust.bernstein`][seapass.robust.bernstein].
 """
 
 from __future__ import annotations
 
-import numpy as np
-from flint import fmpq
+from math import comb
 
-__all__ = ["at_value", "divide_out", "split_top"]
+import numpy as np
+from flint import fmpq, fmpz
+
+__all__ = ["at_value", "blow_axis", "divide_out", "evaluate", "shift_axis", "split_top"]
 
 
 def at_value(coeffs: np.ndarray, axis: int, c: fmpq) -> np.ndarray:
@@ -102,3 +111,61 @@ def _over_one_minus_t(rest: np.ndarray) -> np.ndarray:
     for j in range(n - 1, 0, -1):
         q.append(rest[j] + q[-1])
     return -np.stack(q[::-1])
+
+
+def evaluate(coeffs: np.ndarray, point: tuple[fmpq, ...]) -> fmpq:
+    """The exact value of ``coeffs`` at ``point`` (one coordinate per axis).
+
+    >>> from seapass.robust.bernstein import from_terms
+    >>> f = from_terms({(1, 1): fmpq(2), (0, 0): fmpq(-1)}, 2)  # 2uv - 1
+    >>> print(evaluate(f, (fmpq(1, 2), fmpq(3))))
+    2
+    """
+    acc = coeffs
+    for axis in range(len(point) - 1, -1, -1):
+        acc = at_value(acc, axis, point[axis])
+    return fmpq(next(iter(np.asarray(acc, dtype=object).flat)))
+
+
+def shift_axis(coeffs: np.ndarray, axis: int, c: fmpq, d: int) -> np.ndarray:
+    """``coeffs`` with ``v = c + d·y`` substituted along ``axis`` (``d = ±1``): the same
+    polynomial in the local coordinate ``y`` that is 0 at ``v = c`` (Taylor shift).
+
+    >>> from seapass.robust.bernstein import from_terms
+    >>> f = from_terms({(2,): fmpq(1)}, 1)  # v², v = 1 - y: 1 - 2y + y²
+    >>> print(*shift_axis(f, 0, fmpq(1), -1).flat)
+    1 -2 1
+    """
+    a = np.moveaxis(coeffs, axis, 0)
+    n = a.shape[0] - 1
+    out = []
+    for k in range(n + 1):
+        acc = a[k] * 0
+        for j in range(k, n + 1):
+            acc = acc + a[j] * (fmpz(comb(j, k)) * c ** (j - k))
+        out.append(acc * (d**k))
+    return np.moveaxis(np.stack(out), 0, axis)
+
+
+def blow_axis(coeffs: np.ndarray, main: int, axis: int, scale: fmpq) -> np.ndarray:
+    """``coeffs`` with ``y_axis = scale·y_main·σ`` substituted (``σ`` takes the place of
+    ``y_axis``): one chart of the blow-up of the corner ``y_main = y_axis = 0``.
+
+    >>> from seapass.robust.bernstein import from_terms
+    >>> f = from_terms({(1, 0): fmpq(1), (0, 1): fmpq(1)}, 2)  # u + w, w = 2uσ: u + 2uσ
+    >>> g = blow_axis(f, 0, 1, fmpq(2))
+    >>> print(g[1, 0], g[1, 1])
+    1 2
+    """
+    n_main, n_axis = coeffs.shape[main], coeffs.shape[axis]
+    shape = list(coeffs.shape)
+    shape[main] = n_main + n_axis - 1
+    out = np.full(shape, fmpq(0), dtype=object)
+    for idx in np.ndindex(*coeffs.shape):
+        c = coeffs[idx]
+        if c == 0:
+            continue
+        new = list(idx)
+        new[main] = idx[main] + idx[axis]
+        out[tuple(new)] = out[tuple(new)] + c * scale ** idx[axis]
+    return out

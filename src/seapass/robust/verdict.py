@@ -13,7 +13,12 @@ uncertain parameters in a box:
   exact Bernstein branch and bound ([`seapass.robust.bernstein`][seapass.robust.bernstein])
   with one counted budget.  No vertex reasoning: the conditions are polynomial,
   not multi-affine, in the parameters (the mass enters quadratically), so the worst
-  plant can lie inside the box.
+  plant can lie inside the box.  A condition that is zero, not negative, where the
+  structure changes is handled apart: a face of the box is decided as a box with one
+  parameter fewer and the condition replaced by quotients off it
+  ([`seapass.robust.faces`][seapass.robust.faces]); where such faces meet at a corner,
+  the faces through it are decided first and the condition is proven off them by
+  blowing the corner up ([`seapass.robust.corners`][seapass.robust.corners]).
 
 A negative verdict carries a **worst case**: a point of the box (and, when the
 real part fails, a frequency) at which the ordinary exact test
@@ -40,7 +45,6 @@ import numpy as np
 from flint import fmpq
 
 from ..analysis.critical import CriticalValue, critical_polynomials_in, critical_values_in
-from ..analysis.passivity import PassivityResult, is_passive
 from ..analysis.region import passive_intervals
 from ..errors import NotPassiveError, ParameterError
 from ..exact import poly as ep
@@ -50,30 +54,16 @@ from ..model.sea import SEA, Impedance, exact_values
 from ..outcome import Outcome
 from .bernstein import BoxSign, positive_on_box
 from .box import UncertainBox, uncertain_box
+from .corners import CornerSign, positive_off_faces
 from .faces import divide_out, split_top
 from .family import Condition, ConditionKind, family_conditions, fixed_values
 from .result import Method, RobustResult, WorstCase
+from .witness import as_floats, failing, inside_near, with_values, worst_at
 
 __all__ = ["DEFAULT_BUDGET", "Method", "RobustResult", "WorstCase", "robust_check"]
 
 DEFAULT_BUDGET = 5000
 """Boxes the certified branch and bound may examine (all conditions together)."""
-
-
-def _test(
-    system: SEA | Impedance, fixed: Mapping[str, float], at: Mapping[str, float]
-) -> PassivityResult:
-    return is_passive(system, values={**fixed, **at})
-
-
-def _worst(
-    system: SEA | Impedance, fixed: Mapping[str, float], at: Mapping[str, float]
-) -> WorstCase | None:
-    """The exact test at ``at``: a `WorstCase` when not passive there."""
-    res = _test(system, fixed, at)
-    if res.passive:
-        return None
-    return WorstCase(values=dict(at), frequency=res.omega, result=res)
 
 
 def _irrational_critical_values(
@@ -138,7 +128,7 @@ def _one_parameter(
     (name,) = box.names
     lo, hi = box.intervals[name]
     if lo == hi:
-        w = _worst(system, fixed, {name: lo})
+        w = worst_at(system, fixed, {name: lo})
         out = Outcome.PASSIVE if w is None else Outcome.NOT_PASSIVE
         return RobustResult(
             outcome=out, box=box, worst=w, method=Method.EXACT, detail="a single plant"
@@ -166,7 +156,7 @@ def _one_parameter(
         candidates.append((a + b) / 2)
         candidates += [c for c in pi.critical_values if a <= c <= b]
     for c in candidates:
-        w = _worst(system, fixed, {name: c})
+        w = worst_at(system, fixed, {name: c})
         if w is not None:
             return RobustResult(
                 outcome=Outcome.NOT_PASSIVE,
@@ -183,37 +173,6 @@ def _one_parameter(
         method=Method.EXACT,
         detail="the passive set has a gap, but no failing plant was found in it",
     )
-
-
-def _as_floats(names: tuple[str, ...], point: tuple[fmpq, ...]) -> dict[str, float]:
-    return {n: float(ep.to_fraction(q)) for n, q in zip(names, point, strict=True)}
-
-
-def _with_values(system: SEA | Impedance, values: Mapping[str, float]) -> SEA | Impedance:
-    if isinstance(system, SEA):
-        return system.with_values(**values)
-    return Impedance(expr=system.expr, values={**system.values, **values})
-
-
-def _inside_near(
-    system: SEA | Impedance,
-    fixed: Mapping[str, float],
-    box: UncertainBox,
-    at: dict[str, float],
-) -> tuple[WorstCase | None, dict[str, float]]:
-    """A failing plant near ``at`` inside the box: the coordinates of ``at`` on a face moved
-    towards the centre by ``2^-k`` of the width (a condition that is zero on a face and
-    negative just inside it); ``(None, at)`` when every one is passive."""
-    center = box.center()
-    for k in range(1, 9):
-        near = {
-            n: v + (center[n] - v) * 2.0 ** (1 - k) if v in box.intervals[n] else v
-            for n, v in at.items()
-        }
-        w = _worst(system, fixed, near)
-        if w is not None:
-            return w, near
-    return None, at
 
 
 Face = tuple[int, bool]  # (axis of the Bernstein region, upper end)
@@ -253,17 +212,97 @@ def _face(
     name = box.names[face[0] - 1]
     value = box.intervals[name][1 if face[1] else 0]
     rest = {k: v for k, v in box.intervals.items() if k != name}
-    at_face = _with_values(system, {name: value})
+    at_face = with_values(system, {name: value})
     fixed_face = {**fixed, name: value}
     if not rest:
-        w = _worst(at_face, fixed_face, {})
-        return RobustResult(
+        w = worst_at(at_face, fixed_face, {})
+        r = RobustResult(
             outcome=Outcome.PASSIVE if w is None else Outcome.NOT_PASSIVE, box=box, worst=w
         )
-    sub = UncertainBox(intervals=rest)
-    if len(rest) == 1:
-        return _one_parameter(at_face, sub, fixed_face, budget)
-    return _certified(at_face, sub, fixed_face, budget)
+    elif len(rest) == 1:
+        r = _one_parameter(at_face, UncertainBox(intervals=rest), fixed_face, budget)
+    else:
+        r = _certified(at_face, UncertainBox(intervals=rest), fixed_face, budget)
+    if r.worst is None:
+        return r
+    # the face's worst plant, with the face's own coordinate (a plant of the whole box)
+    merged = {**r.worst.values, name: value}
+    worst = WorstCase(
+        values={n: merged[n] for n in box.names if n in merged},
+        frequency=r.worst.frequency,
+        result=r.worst.result,
+    )
+    return RobustResult(
+        outcome=r.outcome, box=r.box, worst=worst, method=r.method, boxes=r.boxes, detail=r.detail
+    )
+
+
+def _corner(
+    system: SEA | Impedance,
+    box: UncertainBox,
+    fixed: Mapping[str, float],
+    root: Condition,
+    point: tuple[fmpq, ...],
+    region: list[tuple[fmpq, fmpq]],
+    faces: list[Face],
+    decided: set[Face],
+    budget: int,
+) -> tuple[RobustResult | None, int]:
+    """A condition zero at a passive plant ``point`` that no quotient proves: decide the
+    faces of the box through ``point`` (a face of a face is a corner), then prove the
+    condition off all faces decided apart by blowing up its corners
+    ([`seapass.robust.corners`][seapass.robust.corners]).  ``(None, boxes)`` when proven;
+    else the verdict (not passive with a verified plant, or undecided)."""
+    ends = [(a, point[a] == region[a][1]) for a in range(1, len(region))]
+    ends = [(a, up) for a, up in ends if region[a][0] < region[a][1] and point[a] in region[a]]
+    through = [f for f in ends if f in faces] or ends
+    used = 0
+    for face in through:
+        if face not in faces:
+            faces.append(face)
+        if face in decided:
+            continue
+        r = _face(system, box, fixed, face, budget - used)
+        used += r.boxes
+        decided.add(face)
+        if r.outcome is not Outcome.PASSIVE:
+            out = RobustResult(
+                outcome=r.outcome,
+                box=box,
+                worst=r.worst,
+                boxes=used,
+                detail=f"on a face: {r.detail}",
+            )
+            return out, used
+    if used >= budget:
+        return RobustResult(
+            outcome=Outcome.UNDECIDED, box=box, boxes=used, detail="budget exhausted on faces"
+        ), used
+    search = positive_off_faces(root.coeffs, region, faces, budget=budget - used)
+    used += search.boxes
+    if search.sign is CornerSign.PROVEN:
+        return None, used
+    if search.sign is CornerSign.BUDGET or search.point is None:
+        return RobustResult(
+            outcome=Outcome.UNDECIDED,
+            box=box,
+            boxes=used,
+            detail=f"budget of {budget} boxes exhausted proving the {root.label} positive "
+            "off the faces of the box",
+        ), used
+    at = as_floats(box.names, search.point[1:])
+    w = worst_at(system, fixed, at)
+    if w is None:
+        w, at = inside_near(system, fixed, box, at)
+    if w is None:
+        return RobustResult(
+            outcome=Outcome.UNDECIDED,
+            box=box,
+            boxes=used,
+            detail=f"the {root.label} is not positive at {at}, where the plant is passive "
+            f"({search.sign} after blowing up {search.charts} chart(s) of a corner)",
+        ), used
+    return failing(w, at, root, search.point, box, used), used
 
 
 def _certified(
@@ -272,7 +311,7 @@ def _certified(
     fam = family_conditions(system, box)
     center = box.center()
     if fam.generic_failure:
-        w = _worst(system, fixed, center)
+        w = worst_at(system, fixed, center)
         if w is not None:
             return RobustResult(
                 outcome=Outcome.NOT_PASSIVE,
@@ -286,10 +325,15 @@ def _certified(
     region = [(fmpq(0), fmpq(1)), *((ep.rational(a), ep.rational(b)) for a, b in box.exact())]
     used = 0
     # real part last: it is the costliest, and stability failures are the plainer witnesses
-    pending = sorted(fam.conditions, key=lambda c: c.kind == ConditionKind.REAL_PART)
+    roots = sorted(fam.conditions, key=lambda c: c.kind == ConditionKind.REAL_PART)
+    pending = [(c, i) for i, c in enumerate(roots)]  # (condition, index of its root)
+    resolved: set[int] = set()  # roots proven off the faces by blowing up their corners
     faces: list[Face] = []
+    decided: set[Face] = set()
     while pending:
-        cond = pending.pop(0)
+        cond, root = pending.pop(0)
+        if root in resolved:
+            continue
         search = positive_on_box(cond.coeffs, region, budget=budget - used)
         used += search.boxes
         if search.sign is BoxSign.PROVEN:
@@ -302,8 +346,8 @@ def _certified(
                 detail=f"budget of {budget} boxes exhausted proving the {cond.label} positive",
             )
         assert search.point is not None
-        at = _as_floats(box.names, search.point[1:])
-        w = _worst(system, fixed, at)
+        at = as_floats(box.names, search.point[1:])
+        w = worst_at(system, fixed, at)
         split = None if w is not None else _off_face(cond, search.point, region)
         if split is not None:
             # zero, not negative, on a face where the structure changes: prove the condition
@@ -315,33 +359,25 @@ def _certified(
                 if cond.label.endswith("(off a face)")
                 else (f"{cond.label} (off a face)")
             )
-            pending[:0] = [Condition(kind=cond.kind, label=off_label, coeffs=c) for c in split[1]]
+            pending[:0] = [
+                (Condition(kind=cond.kind, label=off_label, coeffs=c), root) for c in split[1]
+            ]
             continue
         if w is None:
-            w, at = _inside_near(system, fixed, box, at)
-        if w is None:
-            return RobustResult(
-                outcome=Outcome.UNDECIDED,
-                box=box,
-                boxes=used,
-                detail=f"the {cond.label} is not positive at {at}, where the plant is passive "
-                "(a boundary case)",
+            w, at = inside_near(system, fixed, box, at)
+        if w is None:  # zero at a corner of faces: decide them, blow the corner up
+            r, n = _corner(
+                system, box, fixed, roots[root], search.point, region, faces, decided, budget - used
             )
-        if cond.kind is ConditionKind.REAL_PART and w.frequency is None:
-            t = search.point[0]
-            if t < 1:
-                w = WorstCase(
-                    values=w.values, frequency=math.sqrt(float(t / (1 - t))), result=w.result
-                )
-        return RobustResult(
-            outcome=Outcome.NOT_PASSIVE,
-            box=box,
-            worst=w,
-            boxes=used,
-            detail=f"not passive at {', '.join(f'{k}={v:.6g}' for k, v in at.items())}: "
-            f"{w.result.detail}",
-        )
+            used += n
+            if r is None:
+                resolved.add(root)
+                continue
+            return r
+        return failing(w, at, cond, search.point, box, used)
     for face in faces:
+        if face in decided:
+            continue
         r = _face(system, box, fixed, face, budget - used)
         used += r.boxes
         if r.outcome is not Outcome.PASSIVE:
@@ -353,6 +389,8 @@ def _certified(
                 detail=f"on a face: {r.detail}",
             )
     on_faces = f", off {len(faces)} face(s) of the box decided apart" if faces else ""
+    if resolved:
+        on_faces += f" ({len(resolved)} condition(s) proven off them by blowing up a corner)"
     return RobustResult(
         outcome=Outcome.PASSIVE,
         box=box,
