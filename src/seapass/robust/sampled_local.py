@@ -42,6 +42,7 @@ from ..outcome import Outcome
 from ..sampled.alias import zeta_numerators
 from ..sampled.certified import Sign, interpolation_matrix, sign_on
 from .sampled_plant import ParametricPlant, Split, isolate
+from .taylor import Jet, taylor_enclose
 
 __all__ = ["GEOMETRIC", "Dual", "LocalPower", "Part", "local_outcome"]
 
@@ -282,7 +283,11 @@ def _series_div(a: Sequence[Any], b: Sequence[Any], n: int) -> list[Any]:
 
 
 def _enclose(centre: Any, box: Any, radii: Sequence[arb]) -> arb:
-    """``v_c + Σ D_i [−r_i, r_i]`` (real parts)."""
+    """``v_c + Σ D_i [−r_i, r_i]`` (real parts); with a second-order ``box`` (a
+    [`Jet`][seapass.robust.taylor.Jet]) and the gradient at the centre, the Taylor form
+    ([`taylor_enclose`][seapass.robust.taylor.taylor_enclose])."""
+    if isinstance(box, Jet) and isinstance(centre, Dual) and len(centre.d) == len(box.d):
+        return taylor_enclose(centre.v, centre.d, box, radii)
     v = centre.v if isinstance(centre, Dual) else centre
     out = arb(v.real if isinstance(v, acb) else v)
     for d, r in zip(box.d, radii, strict=True):
