@@ -76,7 +76,10 @@ def test_the_hessian_of_the_power_matches_central_differences(theta: float) -> N
                 w[b] += sb * hb
                 return at(w)
 
-            qa, qb = arb(fmpq(ha.numerator, ha.denominator)), arb(fmpq(hb.numerator, hb.denominator))
+            qa, qb = (
+                arb(fmpq(ha.numerator, ha.denominator)),
+                arb(fmpq(hb.numerator, hb.denominator)),
+            )
             fd = (shifted(1, 1) - shifted(1, -1) - shifted(-1, 1) + shifted(-1, -1)) / (4 * qa * qb)
             if a == b:  # the same variable shifted twice: (f(+2h) − 2f + f(−2h))/(4h²)
                 fd = (shifted(1, 1) - 2 * at(v) + shifted(-1, -1)) / (4 * qa * qa)
@@ -147,7 +150,9 @@ def test_property_every_plant_of_a_three_parameter_box_is_inside_the_taylor_encl
 
 
 def test_a_three_parameter_box_certified_by_taylor_agrees_with_200_plants() -> None:
-    sea = SEA(D1="k1 + b1*s", CA="kd + bd*s", values=dict(m=1.0, b=10, k1=1000, b1=300, kd=500, bd=300))
+    sea = SEA(
+        D1="k1 + b1*s", CA="kd + bd*s", values=dict(m=1.0, b=10, k1=1000, b1=300, kd=500, bd=300)
+    )
     box = {"m": (0.999, 1.001), "b": (9.99, 10.01), "b1": (299.7, 300.3)}
     r = robust_sampled_check(sea, loop=LOOP, box=box, budget=2, continuous_gate=False)
     assert r.outcome is Outcome.PASSIVE

@@ -224,7 +224,9 @@ class GainPower:
         self.power, self.comps, self.k = power, list(comps), k
         if getattr(power, "order", 1) == 2:  # affine in the gains: Hessian 0
             self.comps = [
-                p if isinstance(p, fmpq_poly) else [Jet(c.v, c.d, [acb(0)] * len(pairs(k))) for c in p]
+                p
+                if isinstance(p, fmpq_poly)
+                else [Jet(c.v, c.d, [acb(0)] * len(pairs(k))) for c in p]
                 for p in self.comps
             ]
         self.ok = power.ok

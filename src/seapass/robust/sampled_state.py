@@ -347,8 +347,6 @@ def _block(At: arb_mat, off: Sequence[arb_mat], size: int, pick: tuple[int, int]
     return [arb_mat([[e[r * n + i, c * n + j] for j in range(n)] for i in range(n)])]
 
 
-
-
 def _horner_z(p: Any, z: acb) -> acb:
     acc = acb(0)
     for c in reversed(p.coeffs()):
@@ -506,9 +504,7 @@ class Realization:
         C, dC, hC = self._C, self._dC, self._hC
         y = C * x
         ys = [dC[i] * x + C * xs[i] for i in range(k)]
-        yh = [
-            hC[q] * x + dC[i] * xs[j] + dC[j] * xs[i] + C * xh[q] for q, (i, j) in enumerate(ps)
-        ]
+        yh = [hC[q] * x + dC[i] * xs[j] + dC[j] * xs[i] + C * xh[q] for q, (i, j) in enumerate(ps)]
         half, z2 = self.T / 2, 2 * z
         cb = C * self._b
         dcb = [d * self._b for d in dC]

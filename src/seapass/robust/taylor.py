@@ -117,7 +117,10 @@ class Jet:
         return Jet(
             f,
             [-x * f2 for x in d],
-            [-x * f2 + 2 * d[i] * d[j] * f3 for (i, j), x in zip(pairs(len(d)), self.h, strict=True)],
+            [
+                -x * f2 + 2 * d[i] * d[j] * f3
+                for (i, j), x in zip(pairs(len(d)), self.h, strict=True)
+            ],
         )
 
     def __truediv__(self, o: Any) -> Jet:
