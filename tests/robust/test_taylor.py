@@ -6,6 +6,7 @@ sampled verdict at 200 plants."""
 
 from __future__ import annotations
 
+import json
 import random
 from fractions import Fraction as F
 
@@ -160,3 +161,18 @@ def test_a_three_parameter_box_certified_by_taylor_agrees_with_200_plants() -> N
     for _ in range(200):
         values = {n: rng.uniform(lo, hi) for n, (lo, hi) in box.items()}
         assert sampled_passivity(sea, loop=LOOP, values=values, continuous_gate=False).passive
+
+
+def test_the_cli_certifies_a_three_parameter_sampled_box_and_refuses_bad_input() -> None:
+    from helpers import run_main
+
+    argv = ["sampled", "check", "examples/ours.toml", "--set", "kd=500", "--budget", "2"]
+    box = ["--uncertain", "m=0.999:1.001", "--uncertain", "b=9.99:10.01",
+           "--uncertain", "b1=299.7:300.3"]  # fmt: skip
+    code, out, err = run_main([*argv, *box, "--json"])
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["status"] == "passive" and d["robust"] and d["sampled"] and d["boxes"] == 1
+    assert "Taylor" in d["method"]
+    code, out, err = run_main([*argv, "--uncertain", "m=1.001:0.999"])  # LO > HI
+    assert code == 2 and err.count("\n") == 1 and err.startswith("error:")
