@@ -176,3 +176,18 @@ def test_the_cli_certifies_a_three_parameter_sampled_box_and_refuses_bad_input()
     assert "Taylor" in d["method"]
     code, out, err = run_main([*argv, "--uncertain", "m=1.001:0.999"])  # LO > HI
     assert code == 2 and err.count("\n") == 1 and err.startswith("error:")
+
+
+@pytest.mark.parametrize("theta", [0.001, 0.05, 1.0, 3.0])
+def test_the_split_and_the_plain_realization_give_the_same_jets_at_a_point(theta: float) -> None:
+    setup = _setup()
+    v = {"m": F(98, 100), "b": F(9), "b1": F(310)}
+    with precision(256):
+        sp = _power(setup, _point(v), 2)
+        assert [r.split for r in sp.reals] == [0, setup.state.m0] and setup.state.m0 > 0
+        z = acb(0, theta).exp()
+        (s0, w0), (s1, w1) = (r.at(z, setup.state.m0) for r in sp.reals)
+        for a, b in [*((s0[k], s1[k]) for k in s0), (w0, w1)]:
+            for x, y in zip((a.v, *a.d, *a.h), (b.v, *b.d, *b.h), strict=True):
+                x, y = complex(acb(x).mid()), complex(acb(y).mid())
+                assert abs(x - y) <= 1e-25 + 1e-15 * max(abs(x), abs(y)), (theta, x, y)

@@ -235,9 +235,10 @@ class StatePower(LocalPower):
         self.reals = []
         for split in splits:
             r = Realization(c, nums, split, sg, self.T, self.k)
-            if not r.ok:
-                return
-            self.reals.append(r)
+            if not r.ok and not split:
+                return  # the plain realization is needed
+            if r.ok:  # the split one only tightens: without it the plain one stands
+                self.reals.append(r)
         self.phi = self.reals[0].phi
         self.C = {name: [x.v for x in cj] for name, cj in self.reals[0].cjets.items()}
         self.ok = True
