@@ -54,7 +54,20 @@ def _real(x: Any) -> Any:
 
 class Jet:
     """A ball value, its gradient ``d`` (``k`` balls) and Hessian ``h`` (the entries of
-    `pairs` ``(k)``), all enclosures over the same ball of parameters."""
+    `pairs` ``(k)``), all enclosures over the same ball of parameters.
+
+    Examples
+    --------
+    >>> from flint import arb
+    >>> x = Jet(arb(2), [arb(1)], [arb(0)])  # the variable at the point 2
+    >>> y = x * x * x
+    >>> (y.v, y.d[0], y.h[0])
+    (8.00000000000000, 12.0000000000000, 12.0000000000000)
+    >>> box = Jet(arb(2, 0.1), [arb(1)], [arb(0)])  # over [1.9, 2.1]
+    >>> enc = taylor_enclose(y.v, y.d, box * box * box, [arb(0.1)])
+    >>> enc.contains(arb(1.9) ** 3) and enc.contains(arb(2.1) ** 3), enc.rad() < 1.3
+    (True, True)
+    """
 
     __slots__ = ("d", "h", "v")
 
