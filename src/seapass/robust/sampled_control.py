@@ -54,6 +54,7 @@ from ..sampled.controllers import DiscreteController, controller_parts
 from ..sampled.verdict import joint_family
 from .sampled_local import Dual
 from .sampled_plant import ball_of
+from .taylor import Jet, pairs
 
 __all__ = ["GainModel", "GainPower", "check_gain_structure"]
 
@@ -196,6 +197,8 @@ def _horner(coeffs: Sequence[Any], x: Any) -> Any:
 
 
 def _pad(x: Any, k: int) -> Any:
+    if isinstance(x, Jet):
+        return x.padded(k)
     if isinstance(x, Dual) and len(x.d) < k:
         return Dual(x.v, [*x.d, *[acb(0)] * (k - len(x.d))])
     return x
@@ -219,6 +222,13 @@ class GainPower:
 
     def __init__(self, power: Any, comps: Sequence[Any], k: int) -> None:
         self.power, self.comps, self.k = power, list(comps), k
+        if getattr(power, "order", 1) == 2:  # affine in the gains: Hessian 0
+            self.comps = [
+                p
+                if isinstance(p, fmpq_poly)
+                else [Jet(c.v, c.d, [acb(0)] * len(pairs(k))) for c in p]
+                for p in self.comps
+            ]
         self.ok = power.ok
 
     @property

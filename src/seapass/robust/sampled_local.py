@@ -1,17 +1,15 @@
-"""Mean-value enclosures of the sampled power over a box of plants, decided piece by piece.
+"""Mean-value (and Taylor) enclosures of the sampled power over a box, decided by pieces.
 
 Ball arithmetic over a whole box (`ParametricPlant.sums`) loses the correlation between
-poles and residues: the enclosure of ``N(ω)`` grows like ``10⁴·δ`` for a relative box
-width ``δ``, and the global interpolation of the weighted power polynomial ``P̃(x)``
-(``x = cos ωT``) cannot resolve it near ``x = 1``, where the weight makes ``P̃`` tiny.
-This module removes both obstacles soundly:
+poles and residues (the enclosure of ``N(ω)`` grows like ``10⁴·δ`` for a relative box
+width ``δ``), and a global interpolation of ``P̃(x)`` (``x = cos ωT``) cannot resolve it
+near ``x = 1``, where the weight makes ``P̃`` tiny.  This module removes both soundly:
 
-* **Mean-value form.** Every quantity is a `Dual`: a ball and the balls of its
-  derivatives in the uncertain parameters (forward-mode chain rule in ball arithmetic;
-  a simple pole ``p`` has ``∂p/∂μ = −(∂f/∂μ)/(∂f/∂s)`` at ``p``).  Evaluated at the
-  box's centre (a point) it gives the value ``v_c``; evaluated on the box's balls it
-  gives enclosures ``D_i`` of the derivatives at every plant of the box.  By the mean
-  value theorem, the value at every plant lies in ``v_c + Σ_i D_i·[−r_i, r_i]``.
+* **Mean-value form.** Every quantity is a `Dual` (a ball and the balls of its
+  derivatives, forward mode; a simple pole has ``∂p/∂μ = −(∂f/∂μ)/(∂f/∂s)``).  At the
+  box's centre it gives ``v_c``, on the box's balls enclosures ``D_i`` of the derivatives:
+  every plant's value lies in ``v_c + Σ_i D_i·[−r_i, r_i]``; with a second-order box
+  ([`Jet`][seapass.robust.taylor.Jet]) the Taylor form is used and intersected with it.
 * **Local interpolation.** ``P̃`` (and ``M̃ = W·|d_A + n_A g|²``, which is ``|χ|²`` on
   the unit circle up to positive factors) is a polynomial in ``x`` of known bounded
   degree, so on any ``[a, b] ⊂ [−1, 1]`` it is recovered exactly from its values at the
@@ -42,6 +40,7 @@ from ..outcome import Outcome
 from ..sampled.alias import zeta_numerators
 from ..sampled.certified import Sign, interpolation_matrix, sign_on
 from .sampled_plant import ParametricPlant, Split, isolate
+from .taylor import Jet, taylor_enclose
 
 __all__ = ["GEOMETRIC", "Dual", "LocalPower", "Part", "local_outcome"]
 
@@ -282,7 +281,9 @@ def _series_div(a: Sequence[Any], b: Sequence[Any], n: int) -> list[Any]:
 
 
 def _enclose(centre: Any, box: Any, radii: Sequence[arb]) -> arb:
-    """``v_c + Σ D_i [−r_i, r_i]`` (real parts)."""
+    """``v_c + Σ D_i [−r_i, r_i]`` (real parts), or `taylor_enclose` for a `Jet` box."""
+    if isinstance(box, Jet) and isinstance(centre, Dual) and len(centre.d) == len(box.d):
+        return taylor_enclose(centre.v, centre.d, box, radii)
     v = centre.v if isinstance(centre, Dual) else centre
     out = arb(v.real if isinstance(v, acb) else v)
     for d, r in zip(box.d, radii, strict=True):
@@ -312,8 +313,8 @@ def local_outcome(
 
     Returns ``(outcome of the power, M̃ > 0 proven)``: ``PASSIVE`` when ``P̃ > 0`` is
     proven everywhere, ``NOT_PASSIVE`` when some piece has ``P̃ < 0`` proven for every
-    plant, ``UNDECIDED`` when ``budget`` pieces did not settle it (a piece counts once
-    per part it is decided on).
+    plant, ``UNDECIDED`` when ``budget`` pieces (once per part) did not settle it, or
+    when halving a piece at the finest parts twice does not narrow it (`STALL`).
 
     ``refine(level)`` (optional) returns ``(centre, box, radii)`` parts whose boxes cover
     the box (finer with the level, up to ``levels``): a piece whose node enclosures are
@@ -333,11 +334,11 @@ def local_outcome(
     # towards x = −1 (a lightly damped mode near the Nyquist frequency) pieces are halved
     # only where needed
     cuts = [Fraction(-1), Fraction(-1, 2), Fraction(0), *ends, Fraction(1)]
-    stack = [(a, b, 0) for a, b in reversed(list(itertools.pairwise(cuts)))]
+    stack = [(a, b, 0, math.inf, 0) for a, b in reversed(list(itertools.pairwise(cuts)))]
     pieces = 0
     power_ok, chi_ok = True, True
     while stack:
-        a, b, level = stack.pop()
+        a, b, level, before, stalls = stack.pop()
         parts = [(centre, box, radii)] if level == 0 or refine is None else refine(level)
         pieces += len(parts)  # the work: one part on one piece
         if pieces > budget:
@@ -366,13 +367,16 @@ def local_outcome(
         if done:
             continue
         if refine is not None and level < levels and wide > WIDE:
-            stack.append((a, b, min(levels, level + (1 if wide < 10 * WIDE else 2))))
+            stack.append((a, b, min(levels, level + (1 if wide < 10 * WIDE else 2)), wide, 0))
             continue
         if b - a < Fraction(1, 2**40):
             power_ok = chi_ok = False
             continue
+        if refine is not None and level == levels and wide > WIDE:
+            if (stalls := stalls + 1 if wide > STALL * before else 0) >= 2:
+                return Outcome.UNDECIDED, False
         mid = (a + b) / 2
-        stack += [(mid, b, level), (a, mid, level)]
+        stack += [(mid, b, level, wide, stalls), (a, mid, level, wide, stalls)]
     if not power_ok:
         return Outcome.UNDECIDED, False
     return Outcome.PASSIVE, chi_ok
@@ -380,6 +384,8 @@ def local_outcome(
 
 WIDE = 0.05
 """A node enclosure wider than this share of its value makes a piece split the box."""
+
+STALL = 0.9  # a halved piece at the finest parts not narrower than this share: a stall
 
 
 def _spread(values: Sequence[arb]) -> float:

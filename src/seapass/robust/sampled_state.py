@@ -41,6 +41,8 @@ from flint import acb, acb_mat, arb, arb_mat, fmpq, fmpq_mpoly
 
 from .sampled_local import Dual, LocalPower
 from .sampled_plant import ParametricPlant, Split
+from .sampled_realization import SPLIT_FROM, Realization, meet
+from .taylor import Jet, pairs
 
 __all__ = ["StatePower", "common_denominator"]
 
@@ -81,6 +83,40 @@ class StateData:
                 for p in plant.names]
             for k in names
         }  # fmt: skip
+        self._second: dict[str, Any] | None = None
+
+    def second(self) -> dict[str, Any]:
+        """Exact second derivatives (by `pairs`) of ``L`` and of the numerators (once)."""
+        if self._second is None:
+            plant, si = self.plant, self.plant.si
+            ps = pairs(len(plant.names))
+            L = common_denominator(plant, self.names)
+            out: dict[str, Any] = {
+                "": [Split.of(L.derivative(plant.names[i]).derivative(plant.names[j]), si)
+                     for i, j in ps]
+            }  # fmt: skip
+            for k in self.names:
+                num = plant.summands[k].num * divmod(L, plant.summands[k].den)[0]
+                out[k] = [
+                    Split.of(num.derivative(plant.names[i]).derivative(plant.names[j]), si)
+                    for i, j in ps
+                ]
+            self._second = out
+        return self._second
+
+    def jets(self, key: str, ball: Mapping[str, arb]) -> list[Jet]:
+        """Coefficients (in ``s``) of ``L`` (``key = ""``) or of a numerator as jets on
+        the ball: values, first and second derivatives, each enclosed over the ball."""
+        vn = self.plant.var_names
+        base = self.L if key == "" else self.nums[key]
+        firsts = self.dL if key == "" else self.dnums[key]
+        vals = base.at(vn, ball)
+        d1 = [f.at(vn, ball) for f in firsts]
+        d2 = [f.at(vn, ball) for f in self.second()[key]]
+        return [
+            Jet(_coeff(vals, j), [_coeff(d, j) for d in d1], [_coeff(d, j) for d in d2])
+            for j in range(self.n + 1)
+        ]
 
     def proper(self) -> bool:
         """Every summand strictly proper (relative degree ``≥ 1``): the closed form holds."""
@@ -112,15 +148,23 @@ class StatePower(LocalPower):
         *,
         derive: bool = True,
         basis: tuple[arb_mat, arb_mat] | None = None,
+        order: int | None = None,
     ) -> None:
         self.ok = False
         self.data = data
         self.T = arb(fmpq(period.numerator, period.denominator))
-        k = len(data.plant.names) if derive else 0
+        self.order = (1 if derive else 0) if order is None else order
+        k = len(data.plant.names) if self.order else 0
         self.k = k
         n, vn = data.n, data.plant.var_names
         self.n, self.m0 = n, data.m0
         sg = arb(fmpq(sigma.numerator, sigma.denominator))
+        self._cache: tuple[Any, Any] | None = None
+        if self.order == 2:
+            if basis is not None:
+                raise ValueError("a second-order state power takes no basis")
+            self._second_order(ball, sg)
+            return
         c = data.L.at(vn, ball)
         lead = c[n]
         if lead.contains(0) or not data.proper():
@@ -177,8 +221,27 @@ class StatePower(LocalPower):
         self.b = [
             acb(x) for x in (basis[1].entries()[n - 1 :: n] if basis else [0] * (n - 1) + [1])
         ]
-        self._cache: tuple[Any, Any] | None = None
         self.ok = all(x.is_finite() for x in self.phi.entries())
+
+    def _second_order(self, ball: Mapping[str, arb], sg: arb) -> None:
+        """Jets over the ball from two realizations, intersected at every ``z``: the
+        plain one, and one with the origin's alias terms exact (see `Realization`)."""
+        data = self.data
+        c = data.jets("", ball)
+        if c[self.n].v.contains(0) or not data.proper():
+            return
+        nums = {name: data.jets(name, ball) for name in data.nums}
+        splits = [0, self.m0] if 0 < self.m0 < self.n else [0]
+        self.reals = []
+        for split in splits:
+            r = Realization(c, nums, split, sg, self.T, self.k)
+            if not r.ok and not split:
+                return  # the plain realization is needed
+            if r.ok:  # the split one only tightens: without it the plain one stands
+                self.reals.append(r)
+        self.phi = self.reals[0].phi
+        self.C = {name: [x.v for x in cj] for name, cj in self.reals[0].cjets.items()}
+        self.ok = True
 
     @property
     def degree(self) -> int:
@@ -237,8 +300,28 @@ class StatePower(LocalPower):
         self._cache = (z, out)
         return out
 
+    def _at2(self, z: acb) -> tuple[dict[str, Jet], Jet]:
+        """Jets of the sums and of the weight at ``z`` (second order, over the ball)."""
+        if self._cache is not None and self._cache[0] is z:
+            return self._cache[1]
+        reals = self.reals
+        if len(reals) > 1 and z.real.upper() < SPLIT_FROM:
+            reals = reals[:1]  # away from z = 1 the split's two parts cancel: plain only
+        outs = [r.at(z, self.m0) for r in reals]
+        sums, weight = outs[0]
+        for s2, w2 in outs[1:]:
+            sums = {name: meet(v, s2[name]) for name, v in sums.items()}
+            weight = meet(weight, w2)
+        out = (sums, weight)
+        self._cache = (z, out)
+        return out
+
     def sums_at(self, z: acb) -> dict[str, Any]:
+        if self.order == 2:
+            return self._at2(z)[0]
         return self._at(z)[0]
 
     def weight(self, z: acb) -> Any:
+        if self.order == 2:
+            return self._at2(z)[1]
         return self._at(z)[1]

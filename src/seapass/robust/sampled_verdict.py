@@ -76,7 +76,8 @@ MAX_SAMPLED_BUDGET = 100_000
 BOX_PRECISION = 128
 PIECES = 1500  # pieces of [-1, 1] in cos(wT) (times parts) per sub-box before it is split
 METHOD = (
-    "branch and bound over the box: mean-value ball enclosures of state-space alias sums, "
+    "branch and bound over the box: second-order Taylor ball enclosures of state-space alias "
+    "sums, "
     "piecewise interpolation "
     "and Descartes on cos(wT), no characteristic root crossing the unit circle"
 )
@@ -202,13 +203,15 @@ class Setup:
         gains, the controller: exact at ``mid``, Dual over the box)."""
         point = {n: ball_of(c, c) for n, c in zip(self.names, mid, strict=True)}
         ball = {n: ball_of(lo, hi) for n, (lo, hi) in zip(self.names, box, strict=True)}
-        c = StatePower(self.state, point, self.period, sigma, derive=False)
-        b = StatePower(self.state, ball, self.period, sigma)
+        # second order: value and gradient at the centre, Hessian over the box
+        c = StatePower(self.state, point, self.period, sigma, order=1)
+        b = StatePower(self.state, ball, self.period, sigma, order=2)
         if self.model is None:
             return c, b
         k = self.offset
+        at = tuple((x, x) for x in mid[k:])
         return (
-            GainPower(c, self.model.exact(mid[k:]), 0),
+            GainPower(c, self.model.duals(at, k), len(box)),
             GainPower(b, self.model.duals(box[k:], k), len(box)),
         )
 
