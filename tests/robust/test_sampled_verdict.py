@@ -154,3 +154,26 @@ def test_cli_bad_boxes_give_one_error_line_and_exit_2(extra: list, needle: str) 
     assert code == 2 and out == ""
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and needle in lines[0]
+
+
+def test_a_controller_in_z_is_decided_over_the_box_without_a_continuous_gate() -> None:
+    # a z-controller has no continuous twin: the deployment gate of robust_check must not
+    # apply (it raised ContinuousOnlyError); the box verdict agrees with the plain sampled
+    # verdict at its corners and centre
+    from seapass.model.zcontroller import ZController
+
+    zpd = ZController(CA="kd + bd*500*(1 - z^-1)", rate=500.0)
+    sea = SEA(
+        D1="k1 + b1*s",
+        values={"m": 1.02, "b": 10.0, "k1": 1005.0, "b1": 2.0, "kd": 2000.0, "bd": 25.0},
+        discrete=zpd,
+    )
+    loop = SampledLoop(rate=500.0, delay=1)
+    result = robust_sampled_check(sea, loop=loop, box={"m": (1.0199, 1.0201)})
+    plain = [
+        sampled_passivity(sea, loop=loop, values={"m": m}).outcome for m in (1.0199, 1.02, 1.0201)
+    ]
+    assert result.outcome is Outcome.PASSIVE and plain == [Outcome.PASSIVE] * 3
+    over = robust_sampled_check(sea.with_values(kd=30000.0), loop=loop, box={"m": (1.0199, 1.0201)})
+    assert not sampled_passivity(sea.with_values(kd=30000.0), loop=loop).passive
+    assert over.outcome is Outcome.NOT_PASSIVE and over.worst is not None

@@ -381,7 +381,8 @@ def robust_sampled_check(
         ``undecided``, never passive.
     continuous_gate : bool, default True
         The deployment policy of `sampled_passivity`: also require continuous-time
-        passivity for every plant of the box (``robust_check``).
+        passivity for every plant of the box (``robust_check``).  A controller given in z
+        has no continuous counterpart, so the gate does not apply to it.
     throw : bool, default False
         Raise `NotPassiveError` unless passive.
 
@@ -467,7 +468,7 @@ def robust_sampled_check(
             f"within the budget of {budget} sub-boxes (raise budget, or narrow the box: the "
             "enclosures certify boxes of about 1e-4 relative width, see docs/robust.md)",
         )  # fmt: skip
-    if continuous_gate:
+    if continuous_gate and sea.discrete is None:  # a z-controller has no continuous twin
         from .verdict import robust_check
 
         cont = robust_check(sea, box=ubox)
