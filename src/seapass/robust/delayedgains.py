@@ -56,7 +56,10 @@ from .box import UncertainBox
 from .delayed import certify_delays, crossing_free, point_values, unstable_at
 from .delayform import DelayedFamily, high_cutoff, negative_on, value_at
 
-__all__ = ["MAX_DELAYED_SEGMENTS", "MAX_SEEDS", "robust_delayed_gain_set"]
+__all__ = ["MAX_DELAYED_SEGMENTS", "MAX_SEEDS", "SEGMENT_BUDGET", "robust_delayed_gain_set"]
+
+SEGMENT_BUDGET = 8000
+"""Default cells of one segment's certificate (a segment that needs more is halved)."""
 
 MAX_DELAYED_SEGMENTS = 64
 """Gain segments the inner set's bisection may certify (each a branch and bound)."""

@@ -301,8 +301,7 @@ def _delayed(
     fixed: Mapping[str, float], rtol: float, budget: int,
 ) -> RobustIntervals:  # fmt: skip
     from ..delay.structure import check_tau, delay_parameter
-    from .delayed import DEFAULT_DELAY_BUDGET
-    from .delayedgains import robust_delayed_gain_set
+    from .delayedgains import SEGMENT_BUDGET, robust_delayed_gain_set
 
     if isinstance(budget, bool) or not isinstance(budget, int) or not 1 <= budget <= MAX_BOX_BUDGET:
         raise ParameterError(
@@ -310,8 +309,14 @@ def _delayed(
             argument="budget",
         )
     name = delay_parameter(system)
+    if name in box.names or name == g:
+        raise ParameterError(
+            f"box[{name!r}]: {name} is the delay, not a plant or gain value; give it a value "
+            "(robust_delay_margin encloses the largest delay over a box)",
+            argument="box",
+        )
     fixed = {**fixed, name: float(ep.to_fraction(check_tau(fixed.get(name), name)))}
-    cells = DEFAULT_DELAY_BUDGET if budget == DEFAULT_BUDGET else budget
+    cells = SEGMENT_BUDGET if budget == DEFAULT_BUDGET else budget
     got = robust_delayed_gain_set(
         system, g, lo, hi, box=box, fixed=fixed, rtol=rtol, budget=cells
     )
