@@ -180,7 +180,9 @@ delay_time = 0.002
 def test_bound_with_a_box_at_the_files_latency_gives_inner_and_outer_sets(tmp_path) -> None:
     path = tmp_path / "wall.toml"
     path.write_text(WALL_DESIGN)
-    code, out, err = _cli(["bound", "kd", str(path), "--range", "kd=4000:5000", "--json"])
+    code, out, err = _cli(
+        ["bound", "kd", str(path), "--range", "kd=4000:4600", "--budget", "3000", "--json"]
+    )
     assert code == 0, err
     d = json.loads(out)
     assert d["robust"] is True and d["box"] == {"b": [9.0, 11.0]} and d["delay_time"] == 0.002

@@ -227,7 +227,9 @@ def unstable_at(fam: DelayedFamily, point: list[fmpq], tau: fmpq) -> bool:
     return stability_at(characteristic(fam.at(fam.den, point)), tau).stable is False
 
 
-def crossing_free(fam: DelayedFamily, box: UncertainBox, tau: fmpq, budget: int) -> tuple[bool, int]:
+def crossing_free(
+    fam: DelayedFamily, box: UncertainBox, tau: fmpq, budget: int
+) -> tuple[bool, int]:
     """No root of the loop is on the imaginary axis for any plant of ``box`` at the delay
     ``τ``, and the loop is retarded with a leading coefficient away from 0 on the box: the
     number of its roots in ``Re s > 0`` is then the same for every plant of the box
@@ -244,7 +246,9 @@ def crossing_free(fam: DelayedFamily, box: UncertainBox, tau: fmpq, budget: int)
     steps = max(1, math.ceil(float(omega1 * tau) / 2))
     if steps > budget:
         return False, 0
-    cells = [((omega1 * k / steps, omega1 * (k + 1) / steps), (tau, tau), *exact) for k in range(steps)]
+    cells = [
+        ((omega1 * k / steps, omega1 * (k + 1) / steps), (tau, tau), *exact) for k in range(steps)
+    ]
     status, _point, n = positive_on(form, cells, budget=budget)
     return status is CellStatus.PROVEN, n
 

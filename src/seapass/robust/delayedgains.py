@@ -36,7 +36,6 @@ References
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from fractions import Fraction
 from types import MappingProxyType
@@ -130,7 +129,9 @@ class _Search:
                 return w
         return None
 
-    def _grow(self, omega: fmpq, plant: Mapping[str, float], g: Fraction) -> tuple[Fraction, Fraction]:
+    def _grow(
+        self, omega: fmpq, plant: Mapping[str, float], g: Fraction
+    ) -> tuple[Fraction, Fraction]:
         """The widest segment around ``g`` found with the form proven negative at ``ω``."""
         scale = max(abs(self.hi), abs(self.lo), Fraction(1))
         ends = []
@@ -156,7 +157,9 @@ class _Search:
             ends.append(good)
         return ends[1], ends[0]
 
-    def _unstable(self, plant: Mapping[str, float], g: Fraction) -> tuple[Fraction, Fraction] | None:
+    def _unstable(
+        self, plant: Mapping[str, float], g: Fraction
+    ) -> tuple[Fraction, Fraction] | None:
         """A segment around ``g`` on which the loop at ``plant`` keeps a root in ``Re s > 0``:
         unstable at ``g`` and no root on the axis over the segment (`crossing_free`)."""
         point = [_q(plant[n]) if n != self.gain else _q(g) for n in self.names]

@@ -317,9 +317,7 @@ def _delayed(
         )
     fixed = {**fixed, name: float(ep.to_fraction(check_tau(fixed.get(name), name)))}
     cells = SEGMENT_BUDGET if budget == DEFAULT_BUDGET else budget
-    got = robust_delayed_gain_set(
-        system, g, lo, hi, box=box, fixed=fixed, rtol=rtol, budget=cells
-    )
+    got = robust_delayed_gain_set(system, g, lo, hi, box=box, fixed=fixed, rtol=rtol, budget=cells)
     return RobustIntervals(
         param=g, lo=float(lo), hi=float(hi), box=box, intervals=got["intervals"],
         outer=got["outer"], method=Method.CERTIFIED, delay=got["delay"], excluded=got["excluded"],
