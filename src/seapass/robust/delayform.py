@@ -447,21 +447,16 @@ def _enclose(form: AxisForm, cell: Cell) -> tuple[Any, Any, list[Any]]:
 
 
 def negative_on(form: AxisForm, cell: Cell) -> bool:
-    """``form < 0`` on the whole ``cell`` (variables ``ω, τ, p...``), proven by the
-    mean-value enclosure ``f(c) + Σ |∂_i f(cell)|·r_i < 0``."""
+    """``form < 0`` on the whole ``cell`` (``ω, τ, p...``): ``f(c) + Σ |∂_i f|·r_i < 0``."""
     with precision(PREC):
         vc, _low, spread = _enclose(form, cell)
-        high = vc
-        for s in spread:
-            high = high + s
-        return bool(high < 0)
+        return bool(sum(spread, vc) < 0)
 
 
 def value_at(form: AxisForm, point: Sequence[fmpq]) -> float:
     """The form at a point ``(ω, τ, p...)`` as a float (a search heuristic, not a proof)."""
     with precision(64):
-        v = form.value(arb(point[0]), arb(point[1]), [arb(c) for c in point[2:]])
-        return float(v.mid())
+        return float(form.value(arb(point[0]), arb(point[1]), [arb(c) for c in point[2:]]).mid())
 
 
 def positive_on(
