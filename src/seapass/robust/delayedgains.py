@@ -211,7 +211,7 @@ class _Search:
         if self.seeds >= MAX_SEEDS:
             return None
         self.seeds += 1
-        if omega is None or not self._negative(omega, plant, g, g):
+        if omega is None or omega <= 0 or not self._negative(omega, plant, g, g):
             omega = self._frequency(plant, g)
         if omega is None:
             seg = self._unstable(plant, g)
