@@ -21,6 +21,10 @@ plant in the box}`` of one parameter ``g`` within ``[lo, hi]``:
   the centre of the box and at every counterexample found (each plant's passive
   set contains ``G``).
 
+* **a delay** ``exp(-NAME*s)`` in the model: certified inner and outer sets at the
+  delay's value ([`seapass.robust.delayedgains`][seapass.robust.delayedgains]; the
+  result's ``delay`` and ``excluded`` are set).
+
 End points are rounded **inward** for ``intervals`` (every printed end is in ``G``)
 and outward for ``outer``.
 """
