@@ -34,7 +34,7 @@ box too (--uncertain, or a design file's [uncertainty] and [control] delay_time)
 robust set at the delay is certified: an inner set and an outer set ('no value outside');
 --budget counts the cells of one gain segment's certificate (default 8000 at a delay):
 
-  seapass bound kd --D1 k1 --CA "kd*exp(-tau*s)" --set m=1 --set k1=1000 \
+  seapass bound kd --D1 k1 --CA "kd*exp(-tau*s)" --set m=1 --set k1=1000 \\
       --set tau=0.002 --range kd=0:8000 --uncertain b=9:11 --json
 
 PARAM is the free parameter: give every other parameter with --set (or in the
