@@ -183,3 +183,66 @@ def test_check_decides_a_box_whose_faces_meet_at_a_lossless_corner() -> None:
     argv = ["check", *lp, "--set", "b=10", "--uncertain", "b1=0:50", "--uncertain", "m=0.5:2"]
     code, out, _err = _cli(argv)
     assert code == 0 and "passive for every plant" in out and "corner" in out
+
+
+# a virtual wall behind a loop latency: passive for kd <= b/tau at every plant (issue 26)
+WALL_DESIGN = """name = "wall"
+[model]
+D1 = "k1"
+CA = "kd"
+[parameters]
+m = 1.0
+b = 10.0
+k1 = 1000.0
+kd = 500.0
+[ranges]
+kd = [0.0, 8000.0]
+[uncertainty]
+b = [9.0, 11.0]
+[control]
+delay_time = 0.002
+"""
+
+
+def test_bound_with_a_box_at_the_files_latency_gives_inner_and_outer_sets(tmp_path) -> None:
+    path = tmp_path / "wall.toml"
+    path.write_text(WALL_DESIGN)
+    code, out, err = _cli(
+        ["bound", "kd", str(path), "--range", "kd=4000:4600", "--budget", "3000", "--json"]
+    )
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["robust"] is True and d["box"] == {"b": [9.0, 11.0]} and d["delay_time"] == 0.002
+    assert d["delay"] == {"name": "delay_time", "tau": 0.002} and d["method"] == "certified"
+    (a, b), = d["intervals"]  # fmt: skip
+    (c, e), = d["outer"]  # fmt: skip
+    assert c <= a < b <= 4500 <= e < 4500.01  # min b / tau
+    assert all(x["values"]["b"] == 9.0 or x["reason"] for x in d["excluded"])
+    code, text, err = _cli(["bound", "kd", str(path), "--range", "kd=4000:5000", "--budget", "50"])
+    assert code == 0 and "at delay_time = 0.002 s" in text and "no value outside" in text, err
+
+
+@pytest.mark.parametrize(
+    ("extra", "match"),
+    [
+        (["--delay-time", "-1"], "--delay-time"),
+        (["--budget", "100000000"], "--budget must be an integer in [1, 1000000]"),
+        (["--uncertain", "delay_time=0:1"], "delay_time"),
+    ],
+)
+def test_bad_delayed_bounds_are_one_error_line(tmp_path, extra: list[str], match: str) -> None:
+    path = tmp_path / "wall.toml"
+    path.write_text(WALL_DESIGN)
+    code, out, err = _cli(["bound", "kd", str(path), *extra])
+    assert code == 2 and out == "" and err.count("\n") == 1 and match in err, err
+    assert err.startswith("error: ")
+
+
+def test_sampled_commands_refuse_a_continuous_latency_with_a_box_and_say_how(tmp_path) -> None:
+    path = tmp_path / "wall.toml"
+    path.write_text(WALL_DESIGN)
+    for argv in (["sampled", "check", str(path), "--uncertain", "b=9:11"],
+                 ["sampled", "bound", "kd", str(path), "--robust"]):  # fmt: skip
+        code, out, err = _cli(argv)
+        assert code == 2 and out == "" and err.count("\n") == 1, err
+        assert "whole samples" in err and "--delay N" in err and "--delay-time 0" in err

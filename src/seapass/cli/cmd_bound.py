@@ -29,7 +29,13 @@ EXAMPLE = """examples:
 A design with a delay exp(-NAME*s) (NAME given with --set, in seconds) is decided at
 that delay: the intervals are certified whole (every gain in them), their printed ends
 are passive, 'edges' enclose the true ends, and a gap that cannot be certified is
-reported 'undecided' (never widened).  --points sets the gains decided first.
+reported 'undecided' (never widened).  --points sets the gains decided first.  With a
+box too (--uncertain, or a design file's [uncertainty] and [control] delay_time) the
+robust set at the delay is certified: an inner set and an outer set ('no value outside');
+--budget counts the cells of one gain segment's certificate (default 8000 at a delay):
+
+  seapass bound kd --D1 k1 --CA "kd*exp(-tau*s)" --set m=1 --set k1=1000 \\
+      --set tau=0.002 --range kd=0:8000 --uncertain b=9:11 --json
 
 PARAM is the free parameter: give every other parameter with --set (or in the
 design file), and not PARAM itself with --set (a value is never ignored; the

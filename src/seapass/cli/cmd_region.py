@@ -43,7 +43,9 @@ EXAMPLE = """examples:
 A range not given is the design file's [ranges], else [0, max(10*value, 1000)]
 around the file's value, else 0:1e5.  A design with a delay exp(-NAME*s) (NAME given
 with --set) is decided at that delay: each column's set of Y is certified whole
-(printed ends passive), gaps that cannot be certified are 'undecided' (--x-range, --y-range and --nx are the old
+(printed ends passive), gaps that cannot be certified are 'undecided'; with a box too
+(--uncertain), each column is the certified robust set at that delay (inner, and outer
+'no value outside').  (--x-range, --y-range and --nx are the old
 spellings of --range X=..., --range Y=... and --points).
 """
 

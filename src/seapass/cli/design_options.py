@@ -257,6 +257,14 @@ def design_from_args(
             msg = str(exc)[len(exc.argument) + 2 :]
             raise ParameterError(f"{where[exc.argument]}: {msg}") from None
         raise
+    sampled = getattr(getattr(args, "func", None), "__module__", "").endswith("cmd_sampled")
+    if resolved.delay_time and not getattr(args, "allow_delay", False) and sampled:
+        raise ParameterError(  # the sampled loop: its latency is whole samples (z^-d)
+            f"the loop latency delay_time = {resolved.delay_time:g} s (the design file's "
+            "[control] delay_time or --delay-time) is a continuous delay; the sampled commands "
+            "(with or without --uncertain) model the latency as whole samples of the loop: give "
+            "--delay N (or [control] delay = N) and --delay-time 0"
+        )
     if resolved.delay_time and not getattr(args, "allow_delay", False):
         raise ParameterError(
             f"the loop latency delay_time = {resolved.delay_time:g} s (the design file's "

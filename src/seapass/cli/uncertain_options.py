@@ -280,6 +280,8 @@ def run_robust_bound(args: argparse.Namespace, file: Any = None) -> int | None:
         print_json(result.to_dict())
         return 0
     span = box_text(box)
+    if result.delay is not None:  # the sets are at the design's delay
+        span += f"; at {result.delay['name']} = {result.delay['tau']:g} s"
     if not result.intervals:
         print(f"not passive for every plant ({span}) for any {args.param} in [{lo:g}, {hi:g}]")
     for a, b in result.intervals:  # rounded inward: the printed ends are robustly passive

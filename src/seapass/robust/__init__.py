@@ -22,7 +22,8 @@ sampled power over a box, decided piece by piece in ``cos ωT``) and
 [`delayform`][seapass.robust.delayform] (mean-value ball enclosures of a delayed real part
 over frequency × delays × box) and [`delayed`][seapass.robust.delayed]
 (`robust_delayed_check`, `robust_delay_margin`: delayed designs over a box; the result
-in [`delayresult`][seapass.robust.delayresult]),
+in [`delayresult`][seapass.robust.delayresult]; robust gain sets at a delay in
+[`delayedgains`][seapass.robust.delayedgains]),
 [`portfamily`][seapass.robust.portfamily] (a two-port's Llewellyn and passivity
 conditions as polynomials on the box), [`twoport`][seapass.robust.twoport]
 (`robust_two_port_check`: absolute stability and passivity of a two-port for every

@@ -3,7 +3,7 @@ plant of a box.
 
 `robust_delayed_check` decides whether a design with a delay ``exp(-NAME*s)`` is passive
 at its delay for every plant of a box; `robust_delay_margin` encloses
-``τ*_robust = min_box τ*(plant)``.  Both rest on one certificate (`_certify`): every plant
+``τ*_robust = min_box τ*(plant)``.  Both rest on one certificate (`certify_delays`): every plant
 of the box is passive for every delay in ``[τ_a, τ_b]`` when
 
 1. the structure is uniform on the box (checked on exact polynomials in the box
@@ -108,8 +108,8 @@ def _positive(exact: list[tuple[fmpq, fmpq]], num: Poly, den: Poly | None = None
     return over_box(exact, bound) is not None
 
 
-def _structure(fam: DelayedFamily, exact: list[tuple[fmpq, fmpq]]) -> str:
-    """Why the structure is not uniform on the box ("" when it is)."""
+def _retarded(fam: DelayedFamily, exact: list[tuple[fmpq, fmpq]]) -> str:
+    """Why the loop is not retarded with a leading coefficient away from 0 ("" when it is)."""
     dp = fam.dprime
     top = s_degree(dp[0])
     if any(s_degree(p) >= top for p in dp[1:]):
@@ -118,6 +118,17 @@ def _structure(fam: DelayedFamily, exact: list[tuple[fmpq, fmpq]]) -> str:
     sign = 1 if eval_ball(lead, 0, [ball(a, b) for a, b in exact]).mid() > 0 else -1
     if not _positive(exact, {k: sign * c for k, c in lead.items()}):
         return "the leading coefficient of the loop may vanish on the box"
+    return ""
+
+
+def _structure(fam: DelayedFamily, exact: list[tuple[fmpq, fmpq]]) -> str:
+    """Why the structure is not uniform on the box ("" when it is)."""
+    why = _retarded(fam, exact)
+    if why:
+        return why
+    dp = fam.dprime
+    top = s_degree(dp[0])
+    lead = coeff_of(dp[0], top)
     dn = max(s_degree(p) for p in fam.num)
     dd = top + fam.s_order
     if dn - dd >= 2:
@@ -146,22 +157,22 @@ def _structure(fam: DelayedFamily, exact: list[tuple[fmpq, fmpq]]) -> str:
 
 
 @dataclass(frozen=True, kw_only=True)
-class _Certificate:
+class DelayCertificate:
     outcome: Outcome
     cells: int
     detail: str
     point: tuple[fmpq, ...] | None = None  # (ω, τ, plant) where F < 0 is proven
 
 
-def _certify(
+def certify_delays(
     fam: DelayedFamily, box: UncertainBox, tau_a: fmpq, tau_b: fmpq, budget: int
-) -> _Certificate:
+) -> DelayCertificate:
     """Every plant of ``box`` passive for every delay in ``[tau_a, tau_b]``? (module docstring)."""
     exact = [(ep.rational(a), ep.rational(b)) for a, b in box.exact()]
     with precision(128):
         why = _structure(fam, exact)
     if why:
-        return _Certificate(outcome=Outcome.UNDECIDED, cells=0, detail=f"structure: {why}")
+        return DelayCertificate(outcome=Outcome.UNDECIDED, cells=0, detail=f"structure: {why}")
     centre = [ep.rational(Fraction(v)) for v in box.center().values()]
     den_c = fam.at(fam.den, centre)
     if tau_a == 0:
@@ -173,7 +184,7 @@ def _certify(
     else:
         stable = stability_at(characteristic(den_c), tau_a).stable is True
     if not stable:
-        return _Certificate(
+        return DelayCertificate(
             outcome=Outcome.UNDECIDED, cells=0, detail="the centre plant is not proven stable"
         )
     used = 0
@@ -181,14 +192,14 @@ def _certify(
         cuts = over_box(exact, lambda params, f=form: high_cutoff(f, tau_b == 0, params))
         omega1 = None if cuts is None else max(cuts)
         if omega1 is None:
-            return _Certificate(
+            return DelayCertificate(
                 outcome=Outcome.UNDECIDED,
                 cells=used,
                 detail=f"{what}: no uniform high-frequency bound",
             )
         steps = max(1, math.ceil(float(omega1 * tau_b) / 2))
         if steps > budget - used:  # bounded work: one cell per 2 rad of w*tau at least
-            return _Certificate(
+            return DelayCertificate(
                 outcome=Outcome.UNDECIDED, cells=used,
                 detail=f"{what}: the delay makes it oscillate {steps} times up to "
                 f"{float(omega1):.4g} rad/s, beyond the budget of {budget} cells",
@@ -198,19 +209,51 @@ def _certify(
         status, point, n = positive_on(form, cells, budget=budget - used)
         used += n
         if status is CellStatus.COUNTER and what == "Re Z(jw)":
-            return _Certificate(
+            return DelayCertificate(
                 outcome=Outcome.NOT_PASSIVE, cells=used, detail=f"{what} < 0 proven", point=point
             )
         if status is not CellStatus.PROVEN:
-            return _Certificate(outcome=Outcome.UNDECIDED, cells=used,
+            return DelayCertificate(outcome=Outcome.UNDECIDED, cells=used,
                 detail=f"{what} > 0 was not proven within the budget of {budget} cells",
             )  # fmt: skip
-    return _Certificate(
+    return DelayCertificate(
         outcome=Outcome.PASSIVE, cells=used, detail="certified for every plant of the box"
     )
 
 
-def _values(box: UncertainBox, point: tuple[fmpq, ...]) -> dict[str, float]:
+def unstable_at(fam: DelayedFamily, point: list[fmpq], tau: fmpq) -> bool:
+    """The loop ``D(s, e^{-sτ})`` at an exact parameter point has a root in ``Re s >= 0``
+    (proven by the delay module's crossing count; False when stable or undecided)."""
+    return stability_at(characteristic(fam.at(fam.den, point)), tau).stable is False
+
+
+def crossing_free(
+    fam: DelayedFamily, box: UncertainBox, tau: fmpq, budget: int
+) -> tuple[bool, int]:
+    """No root of the loop is on the imaginary axis for any plant of ``box`` at the delay
+    ``τ``, and the loop is retarded with a leading coefficient away from 0 on the box: the
+    number of its roots in ``Re s > 0`` is then the same for every plant of the box
+    (continuity of the roots of a retarded loop [1]_).  Returns ``(proven, cells used)``."""
+    exact = [(ep.rational(a), ep.rational(b)) for a, b in box.exact()]
+    with precision(128):
+        if _retarded(fam, exact):
+            return False, 0
+    form = fam.loop_magnitude()
+    cuts = over_box(exact, lambda params: high_cutoff(form, tau == 0, params))
+    if cuts is None:
+        return False, 0
+    omega1 = max(cuts)
+    steps = max(1, math.ceil(float(omega1 * tau) / 2))
+    if steps > budget:
+        return False, 0
+    cells = [
+        ((omega1 * k / steps, omega1 * (k + 1) / steps), (tau, tau), *exact) for k in range(steps)
+    ]
+    status, _point, n = positive_on(form, cells, budget=budget)
+    return status is CellStatus.PROVEN, n
+
+
+def point_values(box: UncertainBox, point: tuple[fmpq, ...]) -> dict[str, float]:
     out = {}
     for (name, (lo, hi)), q in zip(box.intervals.items(), point, strict=True):
         out[name] = min(max(float(ep.to_fraction(q)), lo), hi)
@@ -275,10 +318,10 @@ def robust_delayed_check(
         if w is not None:
             return done(Outcome.NOT_PASSIVE, w, 0, _worst_text(w))
     t = ep.rational(Fraction(repr(float(tau))) if isinstance(tau, float) else Fraction(tau))
-    cert = _certify(fam, checked, fmpq(0), t, budget)
+    cert = certify_delays(fam, checked, fmpq(0), t, budget)
     if cert.outcome is not Outcome.PASSIVE and t > 0:
-        again = _certify(fam, checked, t, t, budget)  # only at the delay
-        cert = _Certificate(
+        again = certify_delays(fam, checked, t, t, budget)  # only at the delay
+        cert = DelayCertificate(
             outcome=again.outcome, cells=cert.cells + again.cells, detail=again.detail,
             point=again.point,
         )  # fmt: skip
@@ -287,7 +330,7 @@ def robust_delayed_check(
                     f"passive at {fam.delay} = {float(tau):g} s for every plant of the box "
                     f"({cert.cells} cells)")  # fmt: skip
     if cert.point is not None:
-        w = verify(_values(checked, cert.point[2:]))
+        w = verify(point_values(checked, cert.point[2:]))
         if w is not None:
             return done(Outcome.NOT_PASSIVE, w, cert.cells, _worst_text(w))
     return done(Outcome.UNDECIDED, None, cert.cells, cert.detail)
@@ -387,13 +430,13 @@ def robust_delay_margin(
     while cells < budget:
         hi = best[1].exact[1]
         target = hi * (1 - backoff)
-        cert = _certify(fam, checked, fmpq(0), target, budget - cells)
+        cert = certify_delays(fam, checked, fmpq(0), target, budget - cells)
         cells += cert.cells
         if cert.outcome is Outcome.PASSIVE:
             lo = target
             break
         if cert.point is not None:
-            at = _values(checked, cert.point[2:])
+            at = point_values(checked, cert.point[2:])
             m = margin_at(at)
             if m.exact is not None and m.exact[1] < hi:
                 best = (at, m)

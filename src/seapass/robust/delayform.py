@@ -59,9 +59,11 @@ __all__ = [
     "coeff_of",
     "eval_ball",
     "high_cutoff",
+    "negative_on",
     "over_box",
     "positive_on",
     "s_degree",
+    "value_at",
 ]
 
 Poly = dict[tuple[int, ...], fmpq]
@@ -442,6 +444,19 @@ def _enclose(form: AxisForm, cell: Cell) -> tuple[Any, Any, list[Any]]:
     for s in spread:
         low = low - s
     return vc, low, spread
+
+
+def negative_on(form: AxisForm, cell: Cell) -> bool:
+    """``form < 0`` on the whole ``cell`` (``ω, τ, p...``): ``f(c) + Σ |∂_i f|·r_i < 0``."""
+    with precision(PREC):
+        vc, _low, spread = _enclose(form, cell)
+        return bool(sum(spread, vc) < 0)
+
+
+def value_at(form: AxisForm, point: Sequence[fmpq]) -> float:
+    """The form at a point ``(ω, τ, p...)`` as a float (a search heuristic, not a proof)."""
+    with precision(64):
+        return float(form.value(arb(point[0]), arb(point[1]), [arb(c) for c in point[2:]]).mid())
 
 
 def positive_on(

@@ -21,6 +21,10 @@ plant in the box}`` of one parameter ``g`` within ``[lo, hi]``:
   the centre of the box and at every counterexample found (each plant's passive
   set contains ``G``).
 
+* **a delay** ``exp(-NAME*s)`` in the model: certified inner and outer sets at the
+  delay's value ([`seapass.robust.delayedgains`][seapass.robust.delayedgains]; the
+  result's ``delay`` and ``excluded`` are set).
+
 End points are rounded **inward** for ``intervals`` (every printed end is in ``G``)
 and outward for ``outer``.
 """
@@ -40,7 +44,8 @@ from flint import fmpq_poly
 from ..analysis.region import critical_polynomials, passive_intervals
 from ..errors import ParameterError
 from ..exact import poly as ep
-from ..files.limits import check_rtol
+from ..files.limits import MAX_BOX_BUDGET, check_rtol
+from ..model.delayatom import model_delays
 from ..model.display import Shown, html_card, short_repr
 from ..model.expr import symbol, to_fraction
 from ..model.sea import SEA, Impedance
@@ -73,6 +78,13 @@ class RobustIntervals:
         (equal to ``intervals`` up to rounding with the exact method).
     method : Method
         ``"exact"`` (one uncertain parameter) or ``"certified"``.
+    delay : mapping or None
+        ``{"name": ..., "tau": seconds}`` for a delayed design (the sets are at that delay,
+        certified: [`seapass.robust.delayedgains`][seapass.robust.delayedgains]).
+    excluded : tuple of mapping
+        With a delay: the gain segments left out of ``outer``, each with a plant of the box
+        (``values``), the ``reason`` (``"negative_real_part"`` at ``frequency`` rad/s, or
+        ``"unstable"``) proven for every gain of the segment.
     """
 
     param: str
@@ -82,6 +94,8 @@ class RobustIntervals:
     intervals: tuple[tuple[float, float], ...] = ()
     outer: tuple[tuple[float, float], ...] = ()
     method: Method = Method.EXACT
+    delay: Mapping[str, Any] | None = None
+    excluded: tuple[Mapping[str, Any], ...] = ()
 
     def contains(self, value: float) -> bool:
         return any(a <= value <= b for a, b in self.intervals)
@@ -95,6 +109,15 @@ class RobustIntervals:
             "intervals": [list(iv) for iv in self.intervals],
             "outer": [list(iv) for iv in self.outer],
             "method": str(self.method),
+            **(
+                {}
+                if self.delay is None
+                else {
+                    "delay": dict(self.delay),
+                    "delay_time": self.delay["tau"],
+                    "excluded": [dict(x) for x in self.excluded],
+                }
+            ),
         }
 
     def plot(self, *, ax: Any = None, **kwargs: Any) -> Any:
@@ -115,6 +138,8 @@ class RobustIntervals:
 
     def _repr_html_(self) -> str:
         rows = [("search range", f"[{self.lo:g}, {self.hi:g}]")]
+        if self.delay is not None:
+            rows.append(("delay", f"{self.delay['name']} = {self.delay['tau']:g} s"))
         rows += [(k, f"[{a:g}, {b:g}]") for k, (a, b) in self.box.intervals.items()]
         rows += [("passive for every plant", pieces.text(self.intervals))]
         if self.method is not Method.EXACT:
@@ -275,6 +300,34 @@ def _certified(
     )
 
 
+def _delayed(
+    system: SEA | Impedance, g: str, lo: Fraction, hi: Fraction, box: UncertainBox,
+    fixed: Mapping[str, float], rtol: float, budget: int,
+) -> RobustIntervals:  # fmt: skip
+    from ..delay.structure import check_tau, delay_parameter
+    from .delayedgains import SEGMENT_BUDGET, robust_delayed_gain_set
+
+    if isinstance(budget, bool) or not isinstance(budget, int) or not 1 <= budget <= MAX_BOX_BUDGET:
+        raise ParameterError(
+            f"budget must be an integer in [1, {MAX_BOX_BUDGET}], got {budget!r}",
+            argument="budget",
+        )
+    name = delay_parameter(system)
+    if name in box.names or name == g:
+        raise ParameterError(
+            f"box[{name!r}]: {name} is the delay, not a plant or gain value; give it a value "
+            "(robust_delay_margin encloses the largest delay over a box)",
+            argument="box",
+        )
+    fixed = {**fixed, name: float(ep.to_fraction(check_tau(fixed.get(name), name)))}
+    cells = SEGMENT_BUDGET if budget == DEFAULT_BUDGET else budget
+    got = robust_delayed_gain_set(system, g, lo, hi, box=box, fixed=fixed, rtol=rtol, budget=cells)
+    return RobustIntervals(
+        param=g, lo=float(lo), hi=float(hi), box=box, intervals=got["intervals"],
+        outer=got["outer"], method=Method.CERTIFIED, delay=got["delay"], excluded=got["excluded"],
+    )  # fmt: skip
+
+
 def robust_passive_intervals(
     system: SEA | Impedance,
     param: str,
@@ -345,7 +398,8 @@ def robust_passive_intervals(
             expr=system.expr, values={k: v for k, v in system.values.items() if k != param}
         )
     )
-    checked = uncertain_box(free_sys, raw)
+    delayed = bool(model_delays(free_sys))
+    checked = uncertain_box(free_sys, raw, delay_ok=delayed)
     fixed = {
         k: float(v)
         for k, v in free_sys.values.items()
@@ -358,6 +412,8 @@ def robust_passive_intervals(
             f"no value for parameter(s) {', '.join(missing)}: give them, "
             f"e.g. values={{{missing[0]!r}: 1.0}}"
         )
+    if delayed:
+        return _delayed(free_sys, param, lo_q, hi_q, checked, fixed, rtol, budget)
     if len(checked.names) == 1:
         return _exact(free_sys, param, lo_q, hi_q, checked, fixed)
     return _certified(free_sys, param, lo_q, hi_q, checked, fixed, rtol, budget)

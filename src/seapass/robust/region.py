@@ -58,6 +58,10 @@ class RobustPassiveMap:
         The plant used for ``nominal`` (the box's centre unless given).
     method : Method
         ``"exact"`` (one uncertain parameter) or ``"certified"``.
+    delay : mapping or None
+        ``{"name": ..., "tau": seconds}`` for a delayed design: every column is the
+        certified robust set at that delay and ``nominal`` the certified intervals of
+        [`passive_gain_intervals`][seapass.delay.gainbound.passive_gain_intervals].
     """
 
     param_x: str
@@ -70,6 +74,7 @@ class RobustPassiveMap:
     nominal: tuple[Intervals, ...]
     nominal_values: Mapping[str, float]
     method: Method
+    delay: Mapping[str, Any] | None = None
 
     def robust_share(self) -> float:
         """Robust passive length over nominal passive length, summed over the columns.
@@ -96,6 +101,11 @@ class RobustPassiveMap:
             "nominal": lists(self.nominal),
             "nominal_values": dict(self.nominal_values),
             "method": str(self.method),
+            **(
+                {}
+                if self.delay is None
+                else {"delay": dict(self.delay), "delay_time": self.delay["tau"]}
+            ),
         }
 
     def plot(self, *, ax: Any = None, **kwargs: Any) -> Any:
@@ -228,12 +238,24 @@ def robust_passive_map(
                 f"nominal[{k!r}] = {v:g} lies outside its interval [{lo:g}, {hi:g}]",
                 argument="nominal",
             )
-    nominal_sets = tuple(
-        passive_intervals(
-            base, param_y, y_range[0], y_range[1], values={**nominal_values, param_x: float(xv)}
-        ).intervals
-        for xv in xs
-    )
+    delay = columns[0].delay
+    if delay is None:
+        nominal_sets = tuple(
+            passive_intervals(
+                base, param_y, y_range[0], y_range[1], values={**nominal_values, param_x: float(xv)}
+            ).intervals
+            for xv in xs
+        )
+    else:  # certified at the delay (every value of an interval proven passive)
+        from ..delay.gainbound import passive_gain_intervals
+
+        nominal_sets = tuple(
+            passive_gain_intervals(
+                base, param_y, float(y_range[0]), float(y_range[1]),
+                values={**nominal_values, param_x: float(xv), param_y: None}, points=9,
+            ).intervals
+            for xv in xs
+        )  # fmt: skip
     return RobustPassiveMap(
         param_x=param_x,
         param_y=param_y,
@@ -247,4 +269,5 @@ def robust_passive_map(
         method=Method.CERTIFIED
         if any(c.method is not Method.EXACT for c in columns)
         else Method.EXACT,
+        delay=delay,
     )

@@ -66,7 +66,8 @@ def robust_data(design: Design, *, budget: int = DEFAULT_BUDGET) -> dict[str, An
 
 def _delayed_data(design: Design, box: UncertainBox, *, budget: int) -> dict[str, Any]:
     """With a loop latency: the box verdict at ``delay_time`` and the robust delay margin
-    (`seapass.robust.delayed`); robust gain ranges over a box take no delay (none given)."""
+    (`seapass.robust.delayed`); the robust gain sets at the latency (`seapass bound`) are
+    too slow for a report stage, so none are given (``ranges_note`` says why)."""
     from ...robust.delayed import DEFAULT_DELAY_BUDGET, robust_delay_margin
 
     cells = DEFAULT_DELAY_BUDGET if budget == DEFAULT_BUDGET else budget
@@ -77,8 +78,10 @@ def _delayed_data(design: Design, box: UncertainBox, *, budget: int) -> dict[str
         "verdict": verdict.to_dict(),
         "delay_margin": margin.to_dict(),
         "ranges": [],
-        "ranges_note": f"not computed: the design has a loop latency ({design.delay_time:g} s), "
-        "and robust gain ranges over a box are decided without a delay",
+        "ranges_note": f"not computed here: at the loop latency ({design.delay_time:g} s) each "
+        "robust gain set is a certified bisection over gain x box (8 s to over a minute of CPU "
+        "per gain, measured in benchmarks/); run `seapass bound NAME DESIGN.toml` for the gain "
+        "you need (it uses the file's [uncertainty] and delay_time)",
     }
 
 
