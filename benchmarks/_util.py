@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 import tracemalloc
 from collections.abc import Callable
@@ -60,6 +61,8 @@ def rate(n: int, seconds: float) -> float:
 
 
 def fmt_rate(r: float) -> str:
+    if math.isnan(r):  # a peer that did not run here (e.g. no previous checkout)
+        return "n/a"
     if r >= 1e6:
         return f"{r / 1e6:.2f} M/s"
     if r >= 1e3:

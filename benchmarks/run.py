@@ -68,6 +68,12 @@ Measured with cProfile before optimizing (`python -m cProfile -s tottime`):
 """
 
 
+def _fmt_ratio(ratio: float) -> str:
+    if ratio != ratio:  # nan: the peer did not run
+        return "n/a"
+    return f"{ratio:,.{1 if ratio < 10 else 0}f}x"
+
+
 def _table(rows: list[Row]) -> list[str]:
     out = [
         "| task | ours | ours [designs/s] | peer | peer [designs/s] | ratio | notes |",
@@ -76,7 +82,7 @@ def _table(rows: list[Row]) -> list[str]:
     for r in rows:
         out.append(
             f"| {r.task} | {r.ours} | {fmt_rate(r.ours_rate)} | {r.peer} | "
-            f"{fmt_rate(r.peer_rate)} | {r.ratio:,.{1 if r.ratio < 10 else 0}f}x | {r.note} |"
+            f"{fmt_rate(r.peer_rate)} | {_fmt_ratio(r.ratio)} | {r.note} |"
         )
     return out
 
