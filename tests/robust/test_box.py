@@ -78,9 +78,9 @@ def test_the_error_names_the_python_argument() -> None:
         ["region", "kd", "k1", "--points", "2"],
     ],
 )
-def test_a_box_on_a_delayed_design_is_one_clear_error(argv: list[str], capsys) -> None:
-    # check --uncertain decides a delayed design (seapass.robust.delayed); bound and
-    # region over a box stay delay-free
+def test_a_box_on_a_delayed_design_needs_the_delay_aware_route(argv: list[str], capsys) -> None:
+    # the delay-free box machinery refuses a delayed design; check, bound and region over a
+    # box go through seapass.robust.delayed / delayedgains instead and answer at the delay
     from seapass.cli import main
     from seapass.errors import DelayError
     from seapass.model.sea import SEA
@@ -93,6 +93,6 @@ def test_a_box_on_a_delayed_design_is_one_clear_error(argv: list[str], capsys) -
     model = ["--D1", "k1", "--CA", "kd*exp(-tau*s)", "--set", "b=10", "--set", "tau=0.001"]
     if argv[0] != "region":
         model += ["--set", "k1=1000"]
-    assert main([*argv, *model, "--uncertain", "m=0.9:1.1"]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "need a delay-free design" in err[0], err
+    assert main([*argv, *model, "--uncertain", "m=0.9:1.1"]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == "" and "tau" in captured.out, captured

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import re
+from collections.abc import Sequence
 from typing import Any
 
 from ..errors import ParameterError
@@ -306,7 +307,7 @@ def run_robust_region(
 
     None when no source gives a box (the plain region runs); ``file`` as in `run_robust_check`.
     """
-    from ..exact.rounding import enclosure_text, exact_text, interval_text
+    from ..exact.rounding import enclosure_text, exact_text
     from ..robust.region import robust_passive_map
     from ..robust.verdict import Method
     from .common import save_plot
@@ -335,16 +336,28 @@ def run_robust_region(
         return 0
     span = ", ".join(f"{k} in [{a:g}, {b:g}]" for k, (a, b) in box.intervals.items())
     nominal = ", ".join(f"{k}={v:g}" for k, v in result.nominal_values.items())
-    print(f"robust: passive for every plant with {span} ({result.method}); nominal: {nominal}")
+    at = "" if result.delay is None else f" at {result.delay['name']} = {result.delay['tau']:g} s"
+    print(f"robust: passive for every plant with {span}{at} ({result.method}); nominal: {nominal}")
     for i, xv in enumerate(result.x):
-        robust = ", ".join(interval_text(a, b) for a, b in result.intervals[i]) or "none"
-        nom = ", ".join(interval_text(a, b) for a, b in result.nominal[i]) or "none"
+        robust = _pieces_text(result.intervals[i])
+        nom = _pieces_text(result.nominal[i])
         line = f"{args.x} = {exact_text(float(xv))}: robust {args.y} in {robust}; nominal {nom}"
         if result.method is not Method.EXACT:
             outer = ", ".join(enclosure_text(a, b) for a, b in result.outer[i]) or "empty"
             line += f"; outer {outer}"
         print(line)
     return 0
+
+
+def _pieces_text(intervals: Sequence[tuple[float, float]], *, most: int = 6) -> str:
+    """A passive set as text; a long list of pieces (e.g. values proven one by one at a
+    delay) is cut to its first and last pieces and a count (--json has them all)."""
+    from ..exact.rounding import interval_text
+
+    texts = [interval_text(a, b) for a, b in intervals]
+    if len(texts) > most:
+        texts = [*texts[:3], f"... ({len(texts)} pieces in all; --json lists them)", texts[-1]]
+    return ", ".join(texts) or "none"
 
 
 def add_sampled_uncertain_options(p: argparse.ArgumentParser) -> None:

@@ -86,7 +86,7 @@ class CornerSearch:
     charts: int = 0
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class _Step:
     """One blow-up: chart coordinates → coordinates of the parent box."""
 
@@ -107,7 +107,7 @@ class _Step:
         return tuple(x)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class _Chart:
     coeffs: np.ndarray
     box: tuple[tuple[fmpq, fmpq], ...]

@@ -320,10 +320,15 @@ def robust_delayed_gain_set(
     return {
         "intervals": pieces.as_floats(pieces.merge(inner), inward=True),
         "outer": pieces.as_floats(search.outer, inward=False),
-        "excluded": tuple(
-            MappingProxyType({k: v for k, v in x.items() if k != "exact"}) for x in excluded
-        ),
+        "excluded": tuple(MappingProxyType(_without_exact(x)) for x in excluded),
         "delay": MappingProxyType({"name": search.fam.delay, "tau": tau}),
         "cells": search.cells,
         "segments": seen,
     }
+
+
+def _without_exact(entry: Mapping[str, Any]) -> dict[str, Any]:
+    """An excluded segment for the result: its exact end points stay internal."""
+    out = dict(entry)
+    out.pop("exact", None)
+    return out
