@@ -49,7 +49,7 @@ BUDGET_FULL, BUDGET_QUICK = DEFAULT_BUDGET, 1000
 RANGE_RTOL = 1e-2
 """Relative tolerance of the robust gain sets at a loop latency (``seapass bound`` uses 1e-3)."""
 
-RANGE_CELLS_FULL, RANGE_CELLS_QUICK = 40_000, 10_000
+RANGE_CELLS_FULL, RANGE_CELLS_QUICK = 40_000, 20_000
 """Cells of all certificates of one robust gain set at a loop latency (full, ``--quick``)."""
 
 TITLE = "Robust passivity over the [uncertainty] box"
