@@ -246,3 +246,14 @@ def test_sampled_commands_refuse_a_continuous_latency_with_a_box_and_say_how(tmp
         code, out, err = _cli(argv)
         assert code == 2 and out == "" and err.count("\n") == 1, err
         assert "whole samples" in err and "--delay N" in err and "--delay-time 0" in err
+
+
+def test_bound_rtol_applies_with_a_box_only_and_is_checked() -> None:
+    code, out, err = _cli(["bound", "kd", *LP, "--set", "m=1", "--set", "b=10",
+                           "--set", "k1=1000", "--rtol", "1e-2"])  # fmt: skip
+    assert code == 2 and out == "" and err.startswith("error: --rtol applies with a box only")
+    assert err.count("\n") == 1
+    code, out, err = _cli(["bound", "kd", "--D1", "k1 + b1*s", "--CL", "kd", "--set", "m=1",
+                           "--set", "b=10", "--uncertain", "k1=800:1200", "--uncertain", "b1=0:5",
+                           "--rtol", "0.5"])  # fmt: skip
+    assert code == 2 and err.startswith("error: --rtol must be in") and "Traceback" not in err

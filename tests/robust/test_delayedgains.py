@@ -108,3 +108,20 @@ def test_a_small_budget_never_widens_the_inner_set() -> None:
     r = robust_passive_intervals(WALL, "kd", 0, 8000, box=BOX, rtol=1e-2, budget=1)
     assert r.intervals == () or all(b <= 4500 for _a, b in r.intervals)
     assert r.outer and r.outer[0][1] >= 4500
+
+
+def test_a_total_cell_cap_stops_the_work_and_never_widens_the_inner_set(
+    wall_set: RobustIntervals,
+) -> None:
+    """``max_cells`` bounds every certificate together: with none, nothing is certified (the
+    inner set is empty, ``exhausted``); with a few, the inner set is a subset of the full one."""
+    none = robust_passive_intervals(WALL, "kd", 0, 8000, box=BOX, rtol=1e-2, max_cells=0)
+    assert none.intervals == () and none.exhausted and none.cells == 0
+    assert none.outer and none.outer[0][1] >= 4500  # the outer set stays an enclosure
+    assert none.to_dict()["exhausted"] is True and wall_set.to_dict()["exhausted"] is False
+    few = robust_passive_intervals(WALL, "kd", 0, 8000, box=BOX, rtol=1e-2, max_cells=2000)
+    assert few.exhausted and few.cells <= 2000
+    assert all(any(c <= a and b <= d for c, d in wall_set.outer) for a, b in few.intervals)
+    assert all(b <= 4500 for _a, b in few.intervals)
+    with pytest.raises(ParameterError, match="max_cells must be None or an integer"):
+        robust_passive_intervals(WALL, "kd", 0, 8000, box=BOX, max_cells=-1)

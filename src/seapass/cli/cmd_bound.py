@@ -32,10 +32,11 @@ are passive, 'edges' enclose the true ends, and a gap that cannot be certified i
 reported 'undecided' (never widened).  --points sets the gains decided first.  With a
 box too (--uncertain, or a design file's [uncertainty] and [control] delay_time) the
 robust set at the delay is certified: an inner set and an outer set ('no value outside');
---budget counts the cells of one gain segment's certificate (default 8000 at a delay):
+--budget counts the cells of one gain segment's certificate (default 8000 at a delay);
+--rtol sets where the inner set stops bisecting (default 1e-3):
 
   seapass bound kd --D1 k1 --CA "kd*exp(-tau*s)" --set m=1 --set k1=1000 \\
-      --set tau=0.002 --range kd=0:8000 --uncertain b=9:11 --json
+      --set tau=0.002 --range kd=0:8000 --uncertain b=9:11 --rtol 1e-2 --json
 
 PARAM is the free parameter: give every other parameter with --set (or in the
 design file), and not PARAM itself with --set (a value is never ignored; the
@@ -58,6 +59,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg,
     add_uncertain_options(p)
     p.add_argument("--points", type=int, default=None,
                    help="with a delay only: gains decided first, evenly spaced (default 17)")  # fmt: skip
+    p.add_argument("--rtol", type=float, default=None,
+                   help="with a box only: relative width where the certified robust inner set "
+                   "stops bisecting (default 1e-3; analyze's robust stage uses 1e-2 at a "
+                   "latency)")  # fmt: skip
     add_json_option(p)
     p.set_defaults(func=run, allow_delay=True)
 
@@ -69,6 +74,13 @@ def run(args: argparse.Namespace) -> int:
     file = design_file_from_args(args)  # read once, passed along
     if wants_box(args, file) and (code := run_robust_bound(args, file)) is not None:
         return code  # a box: --uncertain, --robust, the file's [uncertainty]
+    if args.rtol is not None:
+        from ..errors import ParameterError
+
+        raise ParameterError(
+            "--rtol applies with a box only (--uncertain, --robust or the design file's "
+            "[uncertainty]); the bound without one is exact"
+        )
     resolved = design_from_args(args, {args.param: f"bound {args.param}"}, file=file)
     lo, hi = resolved.range_of(
         args.param, ranges_from_args(args, [args.param], strict=False)[args.param]

@@ -178,6 +178,7 @@ def cli_text(exc: ParameterError) -> ParameterError:
     msg = re.sub(r"e\.g\. box=\{'(\w+)': \([^)]*\)\}", r"e.g. --uncertain \1=LO:HI", msg)
     msg = re.sub(r"^budget ", "--budget ", msg)
     msg = re.sub(r"^confidence ", "--confidence ", msg)
+    msg = re.sub(r"^rtol must", "--rtol must", msg).replace("; got rtol=", "; got --rtol ")
     return ParameterError(msg.replace("drop the confidence", "drop --confidence"))
 
 
@@ -274,7 +275,11 @@ def run_robust_bound(args: argparse.Namespace, file: Any = None) -> int | None:
     if box is None:
         return None
     try:
-        result = robust_passive_intervals(system, args.param, lo, hi, box=box, budget=args.budget)
+        rtol = getattr(args, "rtol", None)
+        result = robust_passive_intervals(
+            system, args.param, lo, hi, box=box, budget=args.budget,
+            **({} if rtol is None else {"rtol": rtol}),
+        )  # fmt: skip
     except ParameterError as exc:
         raise cli_text(exc) from None
     if args.json:

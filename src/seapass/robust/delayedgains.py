@@ -88,9 +88,10 @@ class _Search:
 
     def __init__(
         self, system: SEA | Impedance, gain: str, lo: Fraction, hi: Fraction,
-        box: UncertainBox, fixed: Mapping[str, Any], budget: int,
+        box: UncertainBox, fixed: Mapping[str, Any], budget: int, max_cells: int | None = None,
     ) -> None:  # fmt: skip
         self.gain, self.lo, self.hi, self.box, self.budget = gain, lo, hi, box, budget
+        self.max_cells, self.exhausted = max_cells, False
         self.system, self.fixed = system, fixed
         self.names = tuple(sorted({*box.names, gain}))
         self.fam = DelayedFamily.of(system, self.names, fixed)
@@ -99,7 +100,22 @@ class _Search:
         self.outer: pieces.Pieces = [(lo, hi)]
         self.excluded: list[dict[str, Any]] = []
         self.cells = 0
+        self.unstable_cells = 0  # of them, spent growing unstable segments (outer set)
         self.seeds = 0
+
+    def allowance(self, wanted: int, *, outer: bool = False) -> int:
+        """Cells the next certificate may spend: ``wanted``, cut to what ``max_cells`` leaves
+        (0: none left; the certificate is not tried and ``exhausted`` is set).  Growing
+        unstable segments (``outer``) may spend half of ``max_cells`` only, so that the inner
+        set's certificates, tried after the seeds, keep the other half."""
+        if self.max_cells is None:
+            return wanted
+        left = max(0, self.max_cells - self.cells)
+        if outer:
+            left = min(left, max(0, self.max_cells // 2 - self.unstable_cells))
+        if left < wanted:
+            self.exhausted = True
+        return min(wanted, left)
 
     # -- outer set: excluded segments ---------------------------------------------------
     def _cell(self, omega: fmpq, plant: Mapping[str, float], a: Fraction, b: Fraction) -> Any:
@@ -172,8 +188,12 @@ class _Search:
         def free(a: Fraction, b: Fraction) -> bool:
             sides = {k: (plant[k], plant[k]) for k in self.box.names}
             seg = UncertainBox(intervals={**sides, self.gain: (float(a), float(b))})
-            ok, n = crossing_free(self.fam, seg, self.tau, min(self.budget, CROSSING_BUDGET))
+            cells = self.allowance(min(self.budget, CROSSING_BUDGET), outer=True)
+            if cells == 0:  # the total is spent: nothing proven, nothing excluded
+                return False
+            ok, n = crossing_free(self.fam, seg, self.tau, cells)
             self.cells += n
+            self.unstable_cells += n
             return ok
 
         scale = max(abs(self.hi), abs(self.lo), Fraction(1))
@@ -246,7 +266,10 @@ class _Search:
     # -- inner set: certified segments ----------------------------------------------------
     def certify(self, a: Fraction, b: Fraction) -> bool:
         seg = UncertainBox(intervals={**self.box.intervals, self.gain: (float(a), float(b))})
-        cert = certify_delays(self.fam, seg, self.tau, self.tau, self.budget)
+        cells = self.allowance(self.budget)
+        if cells == 0:  # the total is spent: not certified (never passive by default)
+            return False
+        cert = certify_delays(self.fam, seg, self.tau, self.tau, cells)
         self.cells += cert.cells
         if cert.outcome is Outcome.PASSIVE:
             return True
@@ -270,16 +293,20 @@ def robust_delayed_gain_set(
     fixed: Mapping[str, Any],
     rtol: float,
     budget: int,
+    max_cells: int | None = None,
 ) -> dict[str, Any]:
     """Certified inner and outer sets of ``gain`` over ``box`` at the design's delay.
 
     ``system`` has a delay ``exp(-NAME*s)`` whose value is in ``fixed`` with every other
     parameter but ``gain`` and the box (checked by the caller,
     [`robust_passive_intervals`][seapass.robust.intervals.robust_passive_intervals]).
-    Returns ``{"intervals", "outer", "excluded", "delay", "cells", "segments"}``:
-    inner and outer sets as float pairs (inner rounded inward, outer outward), the
-    excluded segments with their failing plant and frequency, the delay
-    ``{"name", "tau"}`` and the counted work.
+    ``max_cells`` (None: no cap) bounds the cells of all certificates together; once spent,
+    no further segment is certified or excluded, so the inner set is what was certified
+    before (possibly empty) and the outer set is wider, never wrong.
+    Returns ``{"intervals", "outer", "excluded", "delay", "cells", "segments",
+    "exhausted"}``: inner and outer sets as float pairs (inner rounded inward, outer
+    outward), the excluded segments with their failing plant and frequency, the delay
+    ``{"name", "tau"}``, the counted work and whether ``max_cells`` ran out.
 
     Examples
     --------
@@ -292,7 +319,7 @@ def robust_delayed_gain_set(
     >>> r["intervals"][-1][1] <= 4500 <= r["outer"][0][1] < 4600      # b/tau at the smallest b
     True
     """
-    search = _Search(system, gain, lo, hi, box, fixed, budget)
+    search = _Search(system, gain, lo, hi, box, fixed, budget, max_cells)
     tau = float(fixed[search.fam.delay])
     plants = [*box.corners(), box.center()]
     uniq = list({tuple(sorted(p.items())): p for p in plants}.values())
@@ -324,6 +351,7 @@ def robust_delayed_gain_set(
         "delay": MappingProxyType({"name": search.fam.delay, "tau": tau}),
         "cells": search.cells,
         "segments": seen,
+        "exhausted": search.exhausted,
     }
 
 

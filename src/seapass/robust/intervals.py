@@ -85,6 +85,11 @@ class RobustIntervals:
         With a delay: the gain segments left out of ``outer``, each with a plant of the box
         (``values``), the ``reason`` (``"negative_real_part"`` at ``frequency`` rad/s, or
         ``"unstable"``) proven for every gain of the segment.
+    cells : int
+        With a delay: the cells of all its certificates (counted work).
+    exhausted : bool
+        With a delay: ``max_cells`` ran out, so the inner set is what was certified until
+        then (possibly empty) and the outer set is wider than it would otherwise be.
     """
 
     param: str
@@ -96,6 +101,8 @@ class RobustIntervals:
     method: Method = Method.EXACT
     delay: Mapping[str, Any] | None = None
     excluded: tuple[Mapping[str, Any], ...] = ()
+    cells: int = 0
+    exhausted: bool = False
 
     def contains(self, value: float) -> bool:
         return any(a <= value <= b for a, b in self.intervals)
@@ -116,6 +123,8 @@ class RobustIntervals:
                     "delay": dict(self.delay),
                     "delay_time": self.delay["tau"],
                     "excluded": [dict(x) for x in self.excluded],
+                    "cells": self.cells,
+                    "exhausted": self.exhausted,
                 }
             ),
         }
@@ -302,7 +311,7 @@ def _certified(
 
 def _delayed(
     system: SEA | Impedance, g: str, lo: Fraction, hi: Fraction, box: UncertainBox,
-    fixed: Mapping[str, float], rtol: float, budget: int,
+    fixed: Mapping[str, float], rtol: float, budget: int, max_cells: int | None,
 ) -> RobustIntervals:  # fmt: skip
     from ..delay.structure import check_tau, delay_parameter
     from .delayedgains import SEGMENT_BUDGET, robust_delayed_gain_set
@@ -321,10 +330,12 @@ def _delayed(
         )
     fixed = {**fixed, name: float(ep.to_fraction(check_tau(fixed.get(name), name)))}
     cells = SEGMENT_BUDGET if budget == DEFAULT_BUDGET else budget
-    got = robust_delayed_gain_set(system, g, lo, hi, box=box, fixed=fixed, rtol=rtol, budget=cells)
+    got = robust_delayed_gain_set(system, g, lo, hi, box=box, fixed=fixed, rtol=rtol, budget=cells,
+                                  max_cells=max_cells)  # fmt: skip
     return RobustIntervals(
         param=g, lo=float(lo), hi=float(hi), box=box, intervals=got["intervals"],
         outer=got["outer"], method=Method.CERTIFIED, delay=got["delay"], excluded=got["excluded"],
+        cells=got["cells"], exhausted=got["exhausted"],
     )  # fmt: skip
 
 
@@ -338,6 +349,7 @@ def robust_passive_intervals(
     values: Mapping[str, float] | None = None,
     rtol: float = 1e-3,
     budget: int = DEFAULT_BUDGET,
+    max_cells: int | None = None,
 ) -> RobustIntervals:
     """Values of ``param`` in ``[lo, hi]`` for which ``system`` is passive for every plant in ``box``.
 
@@ -357,6 +369,10 @@ def robust_passive_intervals(
         Relative width below which the certified inner set stops bisecting.
     budget : int
         Branch-and-bound budget of each certified box verdict.
+    max_cells : int or None
+        With a delay only: the cells of all certificates of the gain set together (None: no
+        cap beyond ``budget`` per segment); once spent, nothing more is certified or
+        excluded (``exhausted`` is set, the inner set is never widened).
 
     Returns
     -------
@@ -412,8 +428,14 @@ def robust_passive_intervals(
             f"no value for parameter(s) {', '.join(missing)}: give them, "
             f"e.g. values={{{missing[0]!r}: 1.0}}"
         )
+    if max_cells is not None and (
+        isinstance(max_cells, bool) or not isinstance(max_cells, int) or max_cells < 0
+    ):
+        raise ParameterError(
+            f"max_cells must be None or an integer >= 0, got {max_cells!r}", argument="max_cells"
+        )
     if delayed:
-        return _delayed(free_sys, param, lo_q, hi_q, checked, fixed, rtol, budget)
+        return _delayed(free_sys, param, lo_q, hi_q, checked, fixed, rtol, budget, max_cells)
     if len(checked.names) == 1:
         return _exact(free_sys, param, lo_q, hi_q, checked, fixed)
     return _certified(free_sys, param, lo_q, hi_q, checked, fixed, rtol, budget)
