@@ -161,9 +161,14 @@ def stage_robust(design: Design, context: StageContext) -> Section:
         title="Gain values passive for every plant in the box (the others at their values)",
         columns=("parameter", "value", "searched", "robust passive set", "outer set", "method"),
         rows=tuple(rows),
-        note="Ends rounded inward: a printed end is itself robustly passive. With several "
-        "uncertain parameters the set is a certified inner set; no value outside the outer "
-        "set is robustly passive." + latency,
+        note="Ends rounded inward: a printed end is itself robustly passive. "
+        + (
+            "At the latency every set is a certified inner set"
+            if "delay_margin" in data
+            else "With several uncertain parameters the set is a certified inner set"
+        )
+        + "; no value outside the outer set is robustly passive."
+        + latency,
     )
     status = Outcome(v["status"])
     at_latency = f" at the loop latency {design.delay_time:g} s" if design.delay_time else ""
