@@ -36,7 +36,7 @@ References
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from fractions import Fraction
 from types import MappingProxyType
 from typing import Any
@@ -150,28 +150,10 @@ class _Search:
     ) -> tuple[Fraction, Fraction]:
         """The widest segment around ``g`` found with the form proven negative at ``ω``."""
         scale = max(abs(self.hi), abs(self.lo), Fraction(1))
-        ends = []
-        for limit in (self.hi, self.lo):
-            good, step = g, scale * Fraction(1, 2**20)
-            bad: Fraction | None = None
-            for _ in range(GROW_STEPS):
-                if bad is None:
-                    trial = g + step if limit > g else g - step
-                    trial = min(trial, limit) if limit > g else max(trial, limit)
-                else:
-                    trial = Fraction(float((good + bad) / 2))
-                    if trial in (good, bad):
-                        break
-                seg = (min(g, trial), max(g, trial))
-                if self._negative(omega, plant, *seg):
-                    good = trial
-                    if trial == limit:
-                        break
-                    step *= 4
-                else:
-                    bad = trial
-            ends.append(good)
-        return ends[1], ends[0]
+        return _grow_around(
+            g, self.lo, self.hi, scale * Fraction(1, 2**20), GROW_STEPS,
+            lambda a, b: self._negative(omega, plant, a, b),
+        )  # fmt: skip
 
     def _unstable(
         self, plant: Mapping[str, float], g: Fraction
@@ -197,26 +179,8 @@ class _Search:
             return ok
 
         scale = max(abs(self.hi), abs(self.lo), Fraction(1))
-        ends = []
-        for limit in (self.hi, self.lo):
-            good, step = g, scale * Fraction(1, 2**10)
-            bad: Fraction | None = None
-            for _ in range(UNSTABLE_STEPS):
-                if bad is None:
-                    trial = min(g + step, limit) if limit > g else max(g - step, limit)
-                else:
-                    trial = Fraction(float((good + bad) / 2))
-                if trial in (good, bad):
-                    break
-                if free(min(g, trial), max(g, trial)):
-                    good = trial
-                    if trial == limit:
-                        break
-                    step *= 4
-                else:
-                    bad = trial
-            ends.append(good)
-        return (ends[1], ends[0]) if ends[1] < ends[0] else None
+        a, b = _grow_around(g, self.lo, self.hi, scale * Fraction(1, 2**10), UNSTABLE_STEPS, free)
+        return (a, b) if a < b else None
 
     def seed(
         self, plant: Mapping[str, float], g: Fraction, omega: fmpq | None = None
@@ -360,3 +324,36 @@ def _without_exact(entry: Mapping[str, Any]) -> dict[str, Any]:
     out = dict(entry)
     out.pop("exact", None)
     return out
+
+
+def _grow_around(
+    g: Fraction,
+    lo: Fraction,
+    hi: Fraction,
+    first: Fraction,
+    steps: int,
+    holds: Callable[[Fraction, Fraction], bool],
+) -> tuple[Fraction, Fraction]:
+    """The widest segment ``[a, b]`` around ``g`` within ``[lo, hi]`` on which ``holds(a, b)``
+    was proven: steps growing fourfold from ``first``, then bisection of the first failure,
+    at most ``steps`` tests per side (every end returned is one that was proven)."""
+    ends = []
+    for limit in (hi, lo):
+        good, step = g, first
+        bad: Fraction | None = None
+        for _ in range(steps):
+            if bad is None:
+                trial = min(g + step, limit) if limit > g else max(g - step, limit)
+            else:
+                trial = Fraction(float((good + bad) / 2))
+            if trial in (good, bad):
+                break
+            if holds(min(g, trial), max(g, trial)):
+                good = trial
+                if trial == limit:
+                    break
+                step *= 4
+            else:
+                bad = trial
+        ends.append(good)
+    return ends[1], ends[0]
