@@ -152,7 +152,7 @@ class RobustIntervals:
         rows += [(k, f"[{a:g}, {b:g}]") for k, (a, b) in self.box.intervals.items()]
         rows += [("passive for every plant", pieces.text(self.intervals))]
         if self.method is not Method.EXACT:
-            rows.append(("outer enclosure", pieces.text(self.outer)))
+            rows.append(("outer enclosure", pieces.text(self.outer, outer=True)))
         return html_card(f"Robust passive set of {self.param}", rows)
 
 

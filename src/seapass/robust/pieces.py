@@ -17,6 +17,8 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 from fractions import Fraction
 
+from ..exact.rounding import enclosure_text, interval_text
+
 __all__ = [
     "Pieces",
     "as_floats",
@@ -35,9 +37,13 @@ Pieces = list[tuple[Fraction, Fraction]]
 """Closed intervals ``[lo, hi]`` with exact ends."""
 
 
-def text(ivs: tuple[tuple[float, float], ...]) -> str:
-    """``[a, b], [c, d]`` (6 significant digits) or ``none``."""
-    return ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in ivs) or "none"
+def text(ivs: tuple[tuple[float, float], ...], *, outer: bool = False) -> str:
+    """``[a, b], [c, d]`` (6 significant digits) or ``none``: a certified (inner) set with
+    its ends rounded inward, so that every printed end is itself in the set; an ``outer``
+    set with its ends rounded outward, so that the printed set still encloses it."""
+    if outer:
+        return ", ".join(enclosure_text(a, b, digits=6) for a, b in ivs) or "none"
+    return ", ".join(interval_text(a, b) for a, b in ivs) or "none"
 
 
 def down(x: Fraction) -> float:

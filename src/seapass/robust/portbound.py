@@ -119,7 +119,7 @@ class RobustPortIntervals:
         rows = [("search range", f"[{self.lo:g}, {self.hi:g}]")]
         rows += [(k, f"[{a:g}, {b:g}]") for k, (a, b) in self.box.intervals.items()]
         rows += [(f"{self.criterion.label} for every plant", pieces.text(self.intervals))]
-        rows.append(("outer enclosure", pieces.text(self.outer)))
+        rows.append(("outer enclosure", pieces.text(self.outer, outer=True)))
         return html_card(f"Robust set of {self.param} ({self.criterion.label})", rows)
 
 

@@ -167,7 +167,7 @@ class RobustSampledIntervals:
             {
                 "param": self.param,
                 "intervals": Shown(text(self.intervals)),
-                "outer": Shown(text(self.outer)),
+                "outer": Shown(text(self.outer, outer=True)),
                 "undecided": len(self.undecided) or None,
             },
         )
@@ -179,8 +179,8 @@ class RobustSampledIntervals:
         rows += [
             ("loop", self.loop.summary),
             ("passive for every plant (certified)", text(self.intervals)),
-            ("outer enclosure", text(self.outer)),
-            ("undecided", text(self.undecided)),
+            ("outer enclosure", text(self.outer, outer=True)),
+            ("undecided", text(self.undecided, outer=True)),
             ("budget used", f"{self.budget_used} of {self.budget}"),
         ]
         for w in self.failing[:10]:
