@@ -224,17 +224,20 @@ def cli_words(text: str, argument: str | None = None) -> str:
 
     >>> cli_words("widen the box (tune={'kd': (lo, hi)})")
     'widen the box (--tune kd=LO:HI)'
+    >>> cli_words("tune['bd']: no default box; give it as tune={'bd': (lo, hi)}", "tune")
+    '--tune bd: no default box; give it as --tune bd=LO:HI'
     >>> cli_words("rtol must be in [1e-12, 0.01]; got rtol=0", "rtol")
     '--rtol must be in [1e-12, 0.01]; got --rtol 0'
     """
-    msg = text
+    # the spelled-out Python forms first: the generic "argument=" rewrite below would
+    # otherwise turn "tune={'kd': (lo, hi)}" into "--tune {'kd': (lo, hi)}"
+    msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"e.g. --set \1=VALUE", text)
+    msg = re.sub(r"tune=\{'(\w+)': \([^)]*\)\}", r"--tune \1=LO:HI", msg)
     if argument and msg.startswith(f"{argument}: "):
         msg = f"{cli_flag(argument)}: {msg[len(argument) + 2 :]}"
     elif argument and re.fullmatch(r"[a-z][a-z0-9_]*", argument):  # "rtol must ...; rtol=0"
         flag = cli_flag(argument)
         msg = re.sub(rf"(?<![\w.'\[-]){argument}(=| )", lambda m: f"{flag} ", msg)
-    msg = re.sub(r"e\.g\. values=\{'(\w+)': [^}]*\}", r"e.g. --set \1=VALUE", msg)
-    msg = re.sub(r"tune=\{'(\w+)': \([^)]*\)\}", r"--tune \1=LO:HI", msg)
     msg = re.sub(r"^(CA|CL)_z: ", r"--\1-z: ", msg)  # a controller in z (ZController)
     msg = re.sub(
         r"(values|tune|units|budgets)\['(\w+)'\]",
